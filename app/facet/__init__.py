@@ -1,0 +1,53 @@
+"""facet: a headless-first Python GPU renderer on moderngl.
+
+Public API (imported lazily, so ``import facet.geometry`` never loads GL)::
+
+    import facet
+    mesh = facet.Mesh.load("bunny.obj")
+    scene = facet.Scene()
+    scene.add(mesh, facet.Material(color=(0.9, 0.6, 0.3)))
+    scene.add_light(facet.DirectionalLight(direction=(-1, -1, -1)))
+    with facet.Renderer(640, 480) as r:
+        frame = r.render(scene, facet.Camera.frame(scene.bounds, aspect=640 / 480))
+    frame.save("bunny.png")
+
+Errors a user can cause raise ``facet.FacetError`` subclasses.
+"""
+
+from importlib import import_module
+
+__version__ = "0.1.0"
+
+_EXPORTS = {
+    "Camera": "facet.geometry.camera",
+    "Intrinsics": "facet.geometry.camera",
+    "transforms": "facet.geometry",
+    "Mesh": "facet.scene.mesh",
+    "Material": "facet.scene.material",
+    "DirectionalLight": "facet.scene.light",
+    "PointLight": "facet.scene.light",
+    "SpotLight": "facet.scene.light",
+    "Scene": "facet.scene.scene",
+    "Renderer": "facet.render.renderer",
+    "Frame": "facet.render.renderer",
+    "SHADING_MODELS": "facet.render.forward",
+    "FacetError": "facet.errors",
+    "InputError": "facet.errors",
+    "MeshError": "facet.errors",
+    "ShaderError": "facet.errors",
+    "ContextError": "facet.errors",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        value = getattr(import_module(_EXPORTS[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'facet' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

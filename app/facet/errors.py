@@ -1,0 +1,34 @@
+"""The exceptions facet raises for problems a user can fix.
+
+Every error a user can cause is a ``FacetError``; the CLI prints its message on one line and
+exits with status 2. Anything else escaping is a bug in facet.
+"""
+
+
+class FacetError(Exception):
+    """Base class: a problem with the user's input or environment, with a message that says
+    what went wrong, where, and how to fix it."""
+
+
+class InputError(FacetError, ValueError):
+    """A bad argument or value (size, vector, option)."""
+
+
+class MeshError(FacetError):
+    """A mesh file that cannot be read: missing, unknown format, truncated, empty, not finite."""
+
+
+class ShaderError(FacetError):
+    """A GLSL problem: missing include, include cycle, or a compile/link error.
+
+    ``str(err)`` reads like a compiler: ``glsl/lib/lighting.glsl:12:19: error: ...``.
+    ``diagnostics`` holds (path, line, column, severity, message) tuples.
+    """
+
+    def __init__(self, message: str, diagnostics=()):
+        super().__init__(message)
+        self.diagnostics = list(diagnostics)
+
+
+class ContextError(FacetError):
+    """No OpenGL context could be made (missing EGL/Mesa, no driver)."""

@@ -1,0 +1,198 @@
+"""Cameras: the viewing transformation plus a perspective, parallel or intrinsics projection.
+
+A ``Camera`` holds ``view`` (world -> camera space, OpenGL axes: x right, y up, looking down -z)
+and the parameters of its projection. ``projection(width, height)`` builds the clip matrix for
+an image of that size.
+
+Images are row 0 = top. OpenCV intrinsics (fx, fy, cx, cy) use pixel centres at integer
+coordinates and the origin at the top-left corner, so pixel (i, j) covers
+[i - 0.5, i + 0.5] x [j - 0.5, j + 0.5]; a point OpenCV projects to (u, v) lands in the pixel
+(round(u), round(v)). OpenCV's camera axes are x right, y down, z forward; they differ from
+OpenGL's by a flip of y and z.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+from . import transforms as T
+
+# OpenCV camera axes (x right, y down, z forward) <-> OpenGL camera axes (x right, y up, -z fwd).
+CV_TO_GL = np.diag([1.0, -1.0, -1.0, 1.0])
+
+# Padding around a framed bounding box, as a factor on the tight fit.
+FRAME_MARGIN = 1.05
+# Default viewing direction for framing: from the front (+z), a little right and above.
+DEFAULT_DIRECTION = (-0.55, -0.4, -1.0)
+
+
+@dataclass
+class Intrinsics:
+    """OpenCV pinhole intrinsics for an image of ``width`` x ``height`` pixels."""
+
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+    width: int
+    height: int
+
+    @property
+    def K(self) -> np.ndarray:  # noqa: N802 - the usual name
+        """The 3x3 camera matrix."""
+        return np.array([[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]])
+
+
+class Camera:
+    """A camera: ``view`` (4x4 world -> camera) and one projection.
+
+    Build one with ``Camera.look_at``, ``Camera.from_intrinsics`` or ``Camera.frame``.
+    Exactly one of ``fov_y`` (perspective, degrees), ``ortho_height`` (parallel projection,
+    scene units tall) or ``intrinsics`` is set.
+    """
+
+    def __init__(self, view, *, fov_y: float | None = 45.0, ortho_height: float | None = None,
+                 intrinsics: Intrinsics | None = None, near: float = 0.1, far: float = 100.0):
+        self.view = np.array(view, dtype=np.float64).reshape(4, 4)
+        if not np.all(np.isfinite(self.view)):
+            raise InputError("camera view matrix must be finite")
+        self.fov_y = None if (ortho_height is not None or intrinsics is not None) else fov_y
+        self.ortho_height = ortho_height
+        self.intrinsics = intrinsics
+        self.near = float(near)
+        self.far = float(far)
+        if ortho_height is not None and not ortho_height > 0:
+            raise InputError(f"ortho_height must be > 0, got {ortho_height}")
+        # Validates near/far and fov up front, so a bad camera fails where it is made.
+        self.projection(1, 1) if intrinsics is None else self.projection(
+            intrinsics.width, intrinsics.height)
+
+    @property
+    def is_orthographic(self) -> bool:
+        return self.ortho_height is not None
+
+    @property
+    def eye(self) -> np.ndarray:
+        """Camera position in world space, (3,)."""
+        return np.linalg.inv(self.view)[:3, 3]
+
+    @property
+    def forward(self) -> np.ndarray:
+        """Unit viewing direction in world space, (3,)."""
+        return -self.view[2, :3] / np.linalg.norm(self.view[2, :3])
+
+    # -- constructors ------------------------------------------------------------------------
+    @classmethod
+    def look_at(cls, eye, target, up=(0.0, 1.0, 0.0), *, fov_y: float = 45.0,
+                ortho_height: float | None = None, near: float = 0.1,
+                far: float = 100.0) -> Camera:
+        """Camera at ``eye`` looking at ``target``; perspective unless ``ortho_height`` is given."""
+        return cls(T.look_at(eye, target, up), fov_y=fov_y, ortho_height=ortho_height,
+                   near=near, far=far)
+
+    @classmethod
+    def from_intrinsics(cls, fx: float, fy: float, cx: float, cy: float, width: int,
+                        height: int, pose=None, *, near: float = 0.01,
+                        far: float = 100.0) -> Camera:
+        """Camera from OpenCV intrinsics.
+
+        ``pose`` is the 4x4 camera-to-world transform in OpenCV camera axes (x right, y down,
+        z forward), i.e. the inverse of OpenCV's extrinsics [R | t]. Default: identity.
+        """
+        vals = np.array([fx, fy, cx, cy], dtype=np.float64)
+        if not np.all(np.isfinite(vals)) or fx <= 0 or fy <= 0:
+            raise InputError(f"intrinsics need finite fx, fy > 0, got {vals.tolist()}")
+        if int(width) < 1 or int(height) < 1:
+            raise InputError(f"intrinsics image size must be >= 1, got {width}x{height}")
+        pose = np.eye(4) if pose is None else np.asarray(pose, dtype=np.float64).reshape(4, 4)
+        view = CV_TO_GL @ np.linalg.inv(pose)
+        k = Intrinsics(float(fx), float(fy), float(cx), float(cy), int(width), int(height))
+        return cls(view, intrinsics=k, near=near, far=far)
+
+    @classmethod
+    def frame(cls, bounds, direction=DEFAULT_DIRECTION, up=(0.0, 1.0, 0.0), *,
+              fov_y: float = 40.0, aspect: float = 1.0, ortho: bool = False,
+              margin: float = FRAME_MARGIN) -> Camera:
+        """A camera looking along ``direction`` that fits the box ``bounds`` (2, 3) in view.
+
+        The distance is the smallest for which all eight box corners fall inside the frustum
+        (for an image of the given ``aspect`` = width / height), times ``margin``.
+        """
+        b = np.asarray(bounds, dtype=np.float64).reshape(2, 3)
+        if not np.all(np.isfinite(b)):
+            raise InputError("frame: bounds must be finite")
+        d = T._vec3(direction, "direction")
+        if np.linalg.norm(d) == 0:
+            raise InputError("frame: direction must not be zero")
+        d = d / np.linalg.norm(d)
+        center = b.mean(axis=0)
+        radius = max(np.linalg.norm(b[1] - b[0]) / 2.0, 1e-6)
+        corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
+        # Corners in the basis of a camera at `center` (x right, y up, z towards the viewer).
+        rot = T.look_at(center, center + d, up)[:3, :3]
+        local = (corners - center) @ rot.T
+        tan_y = np.tan(np.radians(fov_y) / 2.0)
+        if ortho:
+            half = max(np.abs(local[:, 1]).max(), np.abs(local[:, 0]).max() / aspect, 1e-6)
+            dist = 2.0 * radius * margin
+            height = 2.0 * half * margin
+        else:
+            need = np.maximum(np.abs(local[:, 0]) / (tan_y * aspect), np.abs(local[:, 1]) / tan_y)
+            dist = max(float((local[:, 2] + need).max()) * margin, 1e-6)
+            height = None
+        eye = center - d * dist
+        near = max(dist - radius * 1.01, radius * 1e-3)
+        far = dist + radius * 1.01
+        return cls(T.look_at(eye, center, up), fov_y=fov_y, ortho_height=height,
+                   near=near, far=far)
+
+    # -- projection --------------------------------------------------------------------------
+    def projection(self, width: int, height: int) -> np.ndarray:
+        """The 4x4 view -> clip matrix for an image of ``width`` x ``height`` pixels."""
+        if self.intrinsics is not None:
+            return self._intrinsics_projection(width, height)
+        aspect = width / height
+        if self.ortho_height is not None:
+            h = self.ortho_height / 2.0
+            return T.orthographic(-h * aspect, h * aspect, -h, h, self.near, self.far)
+        return T.perspective(self.fov_y, aspect, self.near, self.far)
+
+    def _intrinsics_projection(self, width: int, height: int) -> np.ndarray:
+        k = self.intrinsics
+        if (width, height) != (k.width, k.height):
+            raise InputError(f"camera intrinsics are for {k.width}x{k.height} images, "
+                             f"but the render is {width}x{height}")
+        T._check_depth_range(self.near, self.far, perspective=True)
+        n, f = self.near, self.far
+        # Derived from u = fx x_cv / z_cv + cx with x_cv = x, y_cv = -y, z_cv = -z (GL view
+        # space) and NDC x = 2 (u + 0.5) / W - 1, NDC y = 1 - 2 (v + 0.5) / H (row 0 at top).
+        m = np.zeros((4, 4))
+        m[0, 0] = 2.0 * k.fx / width
+        m[0, 2] = 1.0 - 2.0 * (k.cx + 0.5) / width
+        m[1, 1] = 2.0 * k.fy / height
+        m[1, 2] = 2.0 * (k.cy + 0.5) / height - 1.0
+        m[2, 2] = -(f + n) / (f - n)
+        m[2, 3] = -2.0 * f * n / (f - n)
+        m[3, 2] = -1.0
+        return m
+
+    def K(self, width: int, height: int) -> np.ndarray:  # noqa: N802
+        """OpenCV camera matrix for an image of this size (perspective cameras only)."""
+        if self.intrinsics is not None:
+            return self.intrinsics.K
+        if self.fov_y is None:
+            raise InputError("an orthographic camera has no pinhole intrinsics")
+        f = height / 2.0 / np.tan(np.radians(self.fov_y) / 2.0)
+        return np.array([[f, 0.0, (width - 1) / 2.0], [0.0, f, (height - 1) / 2.0],
+                         [0.0, 0.0, 1.0]])
+
+    def __repr__(self) -> str:
+        kind = ("intrinsics" if self.intrinsics else
+                f"ortho_height={self.ortho_height:g}" if self.is_orthographic else
+                f"fov_y={self.fov_y:g}")
+        return f"Camera(eye={np.round(self.eye, 4).tolist()}, {kind}, near={self.near:g}, " \
+               f"far={self.far:g})"

@@ -1,0 +1,191 @@
+"""The 4x4 homogeneous matrices of the notes: modelling, viewing and projection transforms.
+
+Conventions (stated here once, used everywhere in facet):
+
+* Matrices are 4x4 float64 numpy arrays acting on **column vectors**, right-handed axes.
+  A point goes from object space to clip space as ``p_clip = P @ V @ M @ p``.
+* Composition reads right to left: ``R @ Sh`` means "shear, then rotate". To apply
+  ``A`` first and then ``B``, write ``B @ A`` (or ``compose(A, B)``).
+* Angles are in **degrees** throughout the public API (rotations and field of view).
+* Camera (view) space is OpenGL's: x right, y up, the camera looks down -z.
+* ``perspective`` and ``orthographic`` map view space to OpenGL clip space
+  (NDC z in [-1, 1], near plane to -1).
+
+numpy arrays are row-major; uploading to GLSL (column-major) transposes them, in one helper
+(``facet.gl.resources.mat_bytes``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+def _vec3(v, name: str) -> np.ndarray:
+    a = np.asarray(v, dtype=np.float64).reshape(-1)
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise InputError(f"{name} must be 3 finite numbers, got {v!r}")
+    return a
+
+
+def identity() -> np.ndarray:
+    """The 4x4 identity."""
+    return np.eye(4)
+
+
+def translate(offset) -> np.ndarray:
+    """Translation by ``offset`` (3,): p' = p + offset."""
+    m = np.eye(4)
+    m[:3, 3] = _vec3(offset, "offset")
+    return m
+
+
+def scale(factor) -> np.ndarray:
+    """Scale about the origin: a number (uniform) or three per-axis factors."""
+    f = np.asarray(factor, dtype=np.float64).reshape(-1)
+    if f.size == 1:
+        f = np.repeat(f, 3)
+    return np.diag([*_vec3(f, "factor"), 1.0])
+
+
+def rotate(axis, degrees: float) -> np.ndarray:
+    """Rotation by ``degrees`` about a unit-normalised ``axis`` through the origin.
+
+    Counter-clockwise when looking from the tip of ``axis`` towards the origin (right-hand
+    rule). Rodrigues' formula: R = cos t I + sin t [a]x + (1 - cos t) a a^T.
+    """
+    a = _vec3(axis, "axis")
+    n = np.linalg.norm(a)
+    if n == 0.0:
+        raise InputError("rotation axis must not be the zero vector")
+    a = a / n
+    t = np.radians(degrees)
+    c, s = np.cos(t), np.sin(t)
+    cross = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+    m = np.eye(4)
+    m[:3, :3] = c * np.eye(3) + s * cross + (1.0 - c) * np.outer(a, a)
+    return m
+
+
+def rotate_x(degrees: float) -> np.ndarray:
+    """Rotation about +x (y towards z)."""
+    return rotate((1, 0, 0), degrees)
+
+
+def rotate_y(degrees: float) -> np.ndarray:
+    """Rotation about +y (z towards x)."""
+    return rotate((0, 1, 0), degrees)
+
+
+def rotate_z(degrees: float) -> np.ndarray:
+    """Rotation about +z (x towards y)."""
+    return rotate((0, 0, 1), degrees)
+
+
+def shear(**amounts: float) -> np.ndarray:
+    """Shear: ``shear(xy=a)`` adds ``a * y`` to x; any of xy, xz, yx, yz, zx, zy.
+
+    The first letter is the coordinate that changes, the second the one it grows with,
+    so ``shear(xy=0.5, zx=1)`` is x' = x + 0.5 y, z' = z + x.
+    """
+    m = np.eye(4)
+    for key, value in amounts.items():
+        if len(key) != 2 or key[0] not in _AXES or key[1] not in _AXES or key[0] == key[1]:
+            raise InputError(f"shear key must be two different axes like 'xy', got {key!r}")
+        if not np.isfinite(value):
+            raise InputError(f"shear amount {key}={value!r} must be finite")
+        m[_AXES[key[0]], _AXES[key[1]]] = float(value)
+    return m
+
+
+def compose(*steps: np.ndarray) -> np.ndarray:
+    """The matrix that applies ``steps`` first to last: compose(A, B, C) = C @ B @ A."""
+    m = np.eye(4)
+    for step in steps:
+        m = np.asarray(step, dtype=np.float64) @ m
+    return m
+
+
+def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
+    """The viewing transformation: world space -> camera space (OpenGL axes).
+
+    The camera sits at ``eye`` looking at ``target``; ``up`` picks the roll. Its rows are the
+    camera basis u (right), v (up), w (backwards, -view direction) and the translation -R·eye.
+    """
+    eye, target, up = _vec3(eye, "eye"), _vec3(target, "target"), _vec3(up, "up")
+    w = eye - target
+    if np.linalg.norm(w) == 0.0:
+        raise InputError("look_at: eye and target are the same point")
+    w = w / np.linalg.norm(w)
+    u = np.cross(up, w)
+    if np.linalg.norm(u) < 1e-9 * max(np.linalg.norm(up), 1e-300):
+        raise InputError("look_at: up is parallel to the viewing direction; choose another up")
+    u = u / np.linalg.norm(u)
+    v = np.cross(w, u)
+    m = np.eye(4)
+    m[0, :3], m[1, :3], m[2, :3] = u, v, w
+    m[:3, 3] = -m[:3, :3] @ eye
+    return m
+
+
+def perspective(fov_y: float, aspect: float, near: float, far: float) -> np.ndarray:
+    """Perspective projection (OpenGL clip space) with vertical field of view ``fov_y`` degrees."""
+    if not 0.0 < fov_y < 180.0:
+        raise InputError(f"fov_y must be in (0, 180) degrees, got {fov_y}")
+    _check_depth_range(near, far, perspective=True)
+    if aspect <= 0:
+        raise InputError(f"aspect must be > 0, got {aspect}")
+    f = 1.0 / np.tan(np.radians(fov_y) / 2.0)
+    m = np.zeros((4, 4))
+    m[0, 0] = f / aspect
+    m[1, 1] = f
+    m[2, 2] = -(far + near) / (far - near)
+    m[2, 3] = -2.0 * far * near / (far - near)
+    m[3, 2] = -1.0
+    return m
+
+
+def orthographic(left: float, right: float, bottom: float, top: float,
+                 near: float, far: float) -> np.ndarray:
+    """Parallel projection of the view-space box [left, right] x [bottom, top] x [-far, -near]."""
+    if right == left or top == bottom:
+        raise InputError("orthographic: the box has zero width or height")
+    _check_depth_range(near, far, perspective=False)
+    m = np.eye(4)
+    m[0, 0] = 2.0 / (right - left)
+    m[1, 1] = 2.0 / (top - bottom)
+    m[2, 2] = -2.0 / (far - near)
+    m[0, 3] = -(right + left) / (right - left)
+    m[1, 3] = -(top + bottom) / (top - bottom)
+    m[2, 3] = -(far + near) / (far - near)
+    return m
+
+
+def _check_depth_range(near: float, far: float, perspective: bool) -> None:
+    if not (np.isfinite(near) and np.isfinite(far)) or far <= near:
+        raise InputError(f"need near < far, got near={near}, far={far}")
+    if perspective and near <= 0:
+        raise InputError(f"perspective near must be > 0, got {near}")
+
+
+def normal_matrix(m) -> np.ndarray:
+    """(M^-1)^T of the upper 3x3: transforms normals so they stay perpendicular to surfaces.
+
+    A tangent t transforms as M t; a normal n must keep n·t = 0, so n' = G n with
+    G^T M = I, i.e. G = (M^-1)^T (the notes' argument). Raises ValueError for a singular M.
+    """
+    a = np.asarray(m, dtype=np.float64)[:3, :3]
+    if abs(np.linalg.det(a)) < 1e-12:
+        raise InputError("normal_matrix: the transform is singular (zero scale?)")
+    return np.linalg.inv(a).T
+
+
+def transform_points(m, points) -> np.ndarray:
+    """Apply a 4x4 matrix to (N, 3) points, with the perspective divide."""
+    p = np.asarray(points, dtype=np.float64)
+    h = p @ m[:3, :3].T + m[:3, 3]
+    w = p @ m[3, :3] + m[3, 3]
+    return h / w[:, None]

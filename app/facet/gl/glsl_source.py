@@ -1,0 +1,124 @@
+"""GLSL source assembly: finding shader files, ``#include`` expansion, and the line table.
+
+Pure Python (no GL), so it is testable anywhere. ``expand(path)`` returns the expanded text and
+a table from each expanded line to the (file, line) it came from; ``facet.gl.shaders`` maps
+driver error logs through it. Rules:
+
+* ``#version`` only on line 1 of a stage file (.vert/.frag/.comp); defines go right after it.
+* ``#include "name"`` looks next to the including file first, then in each search root
+  (the bundled ``glsl/`` directory last). Each file is included once per program.
+* A cycle is an error showing the chain; a missing file is an error at the including
+  file and line.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import ShaderError
+
+_INCLUDE = re.compile(r'^\s*#\s*include\s+(?:"([^"]+)"|<([^>]+)>)\s*(?://.*)?$')
+_VERSION = re.compile(r"^\s*#\s*version\b")
+
+
+def glsl_root() -> Path:
+    """The bundled shader directory: ``facet/glsl`` in a wheel, ``<repo>/glsl`` in a checkout."""
+    package = Path(__file__).resolve().parents[1]  # .../facet
+    for candidate in (package / "glsl", package.parents[1] / "glsl"):
+        if (candidate / "lib" / "lighting.glsl").is_file():
+            return candidate
+    raise ShaderError(f"facet's shader directory is missing (looked in {package / 'glsl'} "
+                      f"and {package.parents[1] / 'glsl'}); reinstall facet")
+
+
+def display_path(path: Path) -> str:
+    """A short name for messages: ``glsl/...`` for bundled shaders, else relative to cwd."""
+    path = Path(path).resolve()
+    try:
+        return "glsl/" + path.relative_to(glsl_root()).as_posix()
+    except (ValueError, ShaderError):
+        pass
+    try:
+        return path.relative_to(Path.cwd()).as_posix()
+    except ValueError:
+        return str(path)
+
+
+@dataclass
+class ExpandedSource:
+    """Expanded GLSL. ``origin[i]`` is the (display path, 1-based line) of expanded line i+1."""
+
+    text: str
+    origin: list[tuple[str, int]]
+    files: list[Path] = field(default_factory=list)  # every file read, stage file first
+
+    def locate(self, line: int) -> tuple[str, int]:
+        """(file, line) of 1-based expanded ``line``; out-of-range lines clamp to the ends."""
+        if not self.origin:
+            return ("<empty>", line)
+        return self.origin[min(max(line, 1), len(self.origin)) - 1]
+
+
+def expand(path, defines: dict[str, object] | None = None,
+           search: tuple[Path, ...] = ()) -> ExpandedSource:
+    """Read the stage file ``path`` and expand its includes; see the module docstring."""
+    stage = Path(path)
+    if not stage.is_file():
+        raise ShaderError(f"{display_path(stage)}: no such shader file")
+    roots = tuple(Path(p) for p in search) + (glsl_root(),)
+    out_lines: list[str] = []
+    origin: list[tuple[str, int]] = []
+    files: list[Path] = []
+    done: set[Path] = set()
+
+    def emit(text: str, where: tuple[str, int]) -> None:
+        out_lines.append(text)
+        origin.append(where)
+
+    def include(file: Path, chain: list[Path], is_stage: bool) -> None:
+        file = file.resolve()
+        if file in chain:
+            names = " -> ".join(display_path(p) for p in [*chain, file])
+            raise ShaderError(f"{display_path(chain[-1])}: error: #include cycle: {names}")
+        if file in done:
+            return
+        done.add(file)
+        files.append(file)
+        name = display_path(file)
+        try:
+            text = file.read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            raise ShaderError(f"{name}: error: not a text file (GLSL must be UTF-8)") from None
+        for number, line in enumerate(text.splitlines(), start=1):
+            if _VERSION.match(line):
+                if not (is_stage and number == 1):
+                    raise ShaderError(f"{name}:{number}:1: error: #version belongs on line 1 "
+                                      "of a stage file only (.vert/.frag/.comp)")
+                emit(line, (name, number))
+                for key, value in (defines or {}).items():
+                    emit(f"#define {key} {'' if value is None else value}".rstrip(),
+                         ("<defines>", len(origin)))
+                continue
+            m = _INCLUDE.match(line)
+            if not m:
+                emit(line, (name, number))
+                continue
+            target = m.group(1) or m.group(2)
+            for base in (file.parent, *roots):
+                candidate = base / target
+                if candidate.is_file():
+                    include(candidate, [*chain, file], is_stage=False)
+                    break
+            else:
+                searched = ", ".join(display_path(b) for b in (file.parent, *roots))
+                col = line.index(target) + 1 if target in line else 1
+                raise ShaderError(f'{name}:{number}:{col}: error: cannot find include '
+                                  f'"{target}" (searched {searched})')
+
+    include(stage, [], is_stage=True)
+    if not out_lines or not _VERSION.match(out_lines[0]):
+        raise ShaderError(f"{display_path(stage)}:1:1: error: a stage file must start with "
+                          "#version (for example '#version 330 core')")
+    return ExpandedSource("\n".join(out_lines) + "\n", origin, files)

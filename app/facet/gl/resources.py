@@ -1,0 +1,81 @@
+"""GPU copies of scene data, cached per renderer and keyed by the scene objects themselves.
+
+A mesh is uploaded once (one call per buffer: interleaved float32 position+normal, uint32
+indices); a vertex array is made once per (mesh, program). Entries whose mesh was garbage
+collected are released on the next ``sweep()``; ``release()`` frees everything.
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import moderngl
+import numpy as np
+
+from ..scene.mesh import Mesh
+
+
+class MeshBuffers:
+    """The vertex and index buffers of one mesh, and its vertex arrays per program."""
+
+    def __init__(self, ctx: moderngl.Context, mesh: Mesh):
+        interleaved = np.hstack([mesh.positions, mesh.normals]).astype(np.float32, copy=False)
+        self.vbo = ctx.buffer(interleaved)  # (N, 6) float32: position xyz, normal xyz
+        self.ibo = ctx.buffer(mesh.faces)  # (F, 3) uint32
+        self.index_count = mesh.faces.size
+        self.vaos: dict[int, moderngl.VertexArray] = {}
+
+    def vao(self, ctx: moderngl.Context, program: moderngl.Program) -> moderngl.VertexArray:
+        key = program.glo
+        if key not in self.vaos:
+            names = [n for n in ("in_position", "in_normal") if n in program]
+            fmt = "3f 3f" if names == ["in_position", "in_normal"] else "3f 3x4"
+            self.vaos[key] = ctx.vertex_array(program, [(self.vbo, fmt, *names)],
+                                              index_buffer=self.ibo, index_element_size=4)
+        return self.vaos[key]
+
+    def release(self) -> None:
+        for vao in self.vaos.values():
+            vao.release()
+        self.vaos.clear()
+        self.vbo.release()
+        self.ibo.release()
+
+
+class ResourceCache:
+    """Mesh -> MeshBuffers, weakly keyed so dropped meshes free their GPU memory."""
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        self._entries: dict[int, tuple[weakref.ref, MeshBuffers]] = {}
+        self.uploads = 0  # meshes uploaded so far (tests check caching with it)
+
+    def buffers(self, mesh: Mesh) -> MeshBuffers:
+        entry = self._entries.get(id(mesh))
+        if entry is not None and entry[0]() is mesh:
+            return entry[1]
+        if entry is not None:  # id reused by a new object: the old mesh is gone
+            entry[1].release()
+        bufs = MeshBuffers(self.ctx, mesh)
+        self._entries[id(mesh)] = (weakref.ref(mesh), bufs)
+        self.uploads += 1
+        return bufs
+
+    def sweep(self) -> None:
+        """Release the buffers of meshes that no longer exist."""
+        for key in [k for k, (ref, _) in self._entries.items() if ref() is None]:
+            self._entries.pop(key)[1].release()
+
+    def forget_program(self, program: moderngl.Program) -> None:
+        for _, bufs in self._entries.values():
+            vao = bufs.vaos.pop(program.glo, None)
+            if vao is not None:
+                vao.release()
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def release(self) -> None:
+        for _, bufs in self._entries.values():
+            bufs.release()
+        self._entries.clear()

@@ -1,0 +1,124 @@
+"""Compiling GLSL programs, and turning driver logs into compiler-style errors.
+
+Driver logs number lines of the expanded source (Mesa: ``0:12(5): error: ...`` with 0-based
+columns; NVIDIA: ``0(12) : error C1008: ...``). ``compile_program`` maps them through the
+include table of ``facet.gl.glsl_source`` and raises one ``ShaderError`` reading
+``glsl/lib/lighting.glsl:12:6: error: ...`` with two lines of context.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import moderngl
+import numpy as np
+
+from ..errors import ShaderError
+from .glsl_source import ExpandedSource, display_path, expand
+
+_MESA = re.compile(r"^\s*\d+:(\d+)\((\d+)\):\s*(error|warning)\s*:?\s*(.*)$", re.I)
+_NVIDIA = re.compile(r"^\s*\d+\((\d+)\)\s*:\s*(error|warning)\s*\w*\s*:?\s*(.*)$", re.I)
+_STAGE_HEADERS = {"vertex_shader": "vertex", "fragment_shader": "fragment",
+                  "geometry_shader": "geometry", "compute_shader": "compute"}
+_UNIFORM_DECL = re.compile(r"\buniform\s+(?:\w+\s+)*?\w+\s+(\w+)")
+
+
+def parse_log(log: str) -> list[tuple[int, int, str, str]]:
+    """(line, column or 0, severity, message) for each diagnostic in a driver log.
+
+    Columns come back 1-based (Mesa's are 0-based; NVIDIA gives none, reported as 0).
+    """
+    found = []
+    for raw in log.splitlines():
+        if m := _MESA.match(raw):
+            found.append((int(m[1]), int(m[2]) + 1, m[3].lower(), m[4].strip()))
+        elif m := _NVIDIA.match(raw):
+            found.append((int(m[1]), 0, m[2].lower(), m[3].strip()))
+    return found
+
+
+def _context_lines(path: str, line: int, column: int, files: list[Path]) -> list[str]:
+    """The error line, the two before it, and a caret under the column."""
+    source = next((f for f in files if display_path(f) == path), None)
+    if source is None:
+        return []
+    text = source.read_text(encoding="utf-8").splitlines()
+    out = [f"{n:5d} | {text[n - 1]}" for n in range(max(1, line - 2), line + 1)
+           if n <= len(text)]
+    if column > 0 and out:
+        out.append("      | " + " " * (column - 1) + "^")
+    return out
+
+
+def map_log(log: str, sources: dict[str, ExpandedSource]) -> ShaderError:
+    """Build the ``ShaderError`` for a failed compile/link log (sections per stage)."""
+    stage, lines, diagnostics = None, [], []
+    for raw in log.splitlines():
+        key = raw.strip().lower()
+        if key in _STAGE_HEADERS:
+            stage = _STAGE_HEADERS[key]
+            continue
+        parsed = parse_log(raw)
+        if parsed and stage in sources:
+            line, col, severity, message = parsed[0]
+            path, src_line = sources[stage].locate(line)
+            diagnostics.append((path, src_line, col, severity, message))
+            lines.append(f"{path}:{src_line}:{col}: {severity}: {message}" if col else
+                         f"{path}:{src_line}: {severity}: {message}")
+            if severity == "error" and sum(d[3] == "error" for d in diagnostics) == 1:
+                lines.extend(_context_lines(path, src_line, col, sources[stage].files))
+        elif raw.strip().lower().startswith("error") or ": error" in raw.lower():
+            lines.append(f"{_link_label(sources)}: {raw.strip()}")
+    if not lines:
+        lines = [f"{_link_label(sources)}: error: {log.strip()}"]
+    return ShaderError("\n".join(lines), diagnostics)
+
+
+def _link_label(sources: dict[str, ExpandedSource]) -> str:
+    names = [src.origin[0][0] for src in sources.values() if src.origin]
+    return " + ".join(names) + " (link)"
+
+
+def compile_program(ctx: moderngl.Context, vertex, fragment, defines=None,
+                    search=()) -> Program:
+    """Expand, compile and link a vertex + fragment program; ``ShaderError`` on failure."""
+    sources = {"vertex": expand(vertex, defines, search),
+               "fragment": expand(fragment, defines, search)}
+    try:
+        prog = ctx.program(vertex_shader=sources["vertex"].text,
+                           fragment_shader=sources["fragment"].text)
+    except moderngl.Error as exc:
+        raise map_log(str(exc), sources) from None
+    return Program(prog, sources)
+
+
+class Program:
+    """A linked program and its expanded sources, with loud uniform writes."""
+
+    def __init__(self, program: moderngl.Program, sources: dict[str, ExpandedSource]):
+        self.gl = program
+        self.sources = sources
+        self._declared = {name for src in sources.values()
+                          for name in _UNIFORM_DECL.findall(src.text)}
+
+    def set(self, name: str, value) -> None:
+        """Write uniform ``name``. Declared-but-optimised-away uniforms are skipped; a name the
+        shader never declares is an error (a typo must not pass silently)."""
+        if name in self.gl:
+            member = self.gl[name]
+            if isinstance(value, np.ndarray) and value.ndim == 2:
+                member.write(mat_bytes(value))
+            else:
+                member.value = value
+        elif name not in self._declared:
+            raise ShaderError(f"no uniform named '{name}' in "
+                              f"{' + '.join(s.origin[0][0] for s in self.sources.values())}")
+
+    def release(self) -> None:
+        self.gl.release()
+
+
+def mat_bytes(m) -> bytes:
+    """A row-major numpy matrix as GLSL's column-major float32 bytes (the one transposition)."""
+    return np.ascontiguousarray(np.asarray(m, dtype=np.float32).T).tobytes()

@@ -1,0 +1,121 @@
+"""The forward Phong pass: one draw per scene object into the current target.
+
+Shading models map to programs through ``SHADING_MODELS`` (model -> stage files + define);
+programs are compiled on first use and reused. Per frame the pass writes the camera and
+light uniforms (lights through one std140 uniform block, re-uploaded only when they change)
+and per object its matrices and material.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..geometry import transforms as T
+from ..geometry.camera import Camera
+from ..gl.glsl_source import glsl_root
+from ..gl.resources import ResourceCache
+from ..gl.shaders import Program, compile_program
+from ..scene.light import DirectionalLight, PointLight, SpotLight
+from ..scene.scene import MAX_LIGHTS, Scene
+
+LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in lighting.glsl
+LIGHTS_BINDING = 0
+
+
+@dataclass(frozen=True)
+class ProgramSpec:
+    vertex: str
+    fragment: str
+    define: str
+
+
+SHADING_MODELS: dict[str, ProgramSpec] = {
+    "phong": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_PHONG"),
+    "blinn": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_BLINN"),
+    "gouraud": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_GOURAUD"),
+    "flat": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_FLAT"),
+    "unlit": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_UNLIT"),
+    "normals": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_NORMALS"),
+}
+
+
+def check_shading(name: str) -> str:
+    if name not in SHADING_MODELS:
+        raise InputError(f"unknown shading model {name!r}; choose one of "
+                         f"{', '.join(SHADING_MODELS)}")
+    return name
+
+
+def pack_lights(scene: Scene) -> bytes:
+    """The std140 ``Lights`` block of glsl/lib/lights.glsl: ambient, count, 4 vec4 per light."""
+    block = np.zeros(2 * 4 + MAX_LIGHTS * 16, dtype=np.float32)
+    block[0:3] = scene.ambient
+    block[4:8] = np.array([len(scene.lights), 0, 0, 0], dtype=np.int32).view(np.float32)
+    for i, light in enumerate(scene.lights):
+        pos, direction, color, falloff = block[8 + 16 * i: 24 + 16 * i].reshape(4, 4)
+        pos[3] = LIGHT_KIND[type(light)]
+        color[:3] = light.color * light.intensity
+        if hasattr(light, "position"):
+            pos[:3] = light.position
+            falloff[:3] = light.attenuation
+        if hasattr(light, "direction"):
+            direction[:3] = light.direction
+        if isinstance(light, SpotLight):
+            direction[3] = np.cos(np.radians(light.inner_angle))
+            color[3] = np.cos(np.radians(light.outer_angle))
+    return block.tobytes()
+
+
+class ForwardPass:
+    """Draws a scene with one of the shading models; owns its programs and light buffer."""
+
+    def __init__(self, ctx, cache: ResourceCache):
+        self.ctx = ctx
+        self.cache = cache
+        self.programs: dict[str, Program] = {}
+        self.lights_ubo = ctx.buffer(reserve=len(pack_lights(Scene())))
+        self._lights_bytes = b""
+
+    def program(self, shading: str) -> Program:
+        if shading not in self.programs:
+            spec = SHADING_MODELS[check_shading(shading)]
+            root = glsl_root()
+            prog = compile_program(self.ctx, root / spec.vertex, root / spec.fragment,
+                                   {spec.define: None, "MAX_LIGHTS": MAX_LIGHTS})
+            if "Lights" in prog.gl:
+                prog.gl["Lights"].binding = LIGHTS_BINDING
+            self.programs[shading] = prog
+        return self.programs[shading]
+
+    def draw(self, scene: Scene, camera: Camera, width: int, height: int,
+             shading: str) -> None:
+        """Draw every object of ``scene`` into the bound framebuffer."""
+        prog = self.program(shading)
+        lights = pack_lights(scene)
+        if lights != self._lights_bytes:
+            self.lights_ubo.write(lights)
+            self._lights_bytes = lights
+        self.lights_ubo.bind_to_uniform_block(LIGHTS_BINDING)
+        prog.set("u_view", camera.view)
+        prog.set("u_projection", camera.projection(width, height))
+        # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
+        eye = (*(-camera.forward), 0.0) if camera.is_orthographic else (*camera.eye, 1.0)
+        prog.set("u_eye_world", tuple(float(v) for v in eye))
+        for obj in scene.objects:
+            m = obj.material
+            prog.set("u_model", obj.transform)
+            prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
+            prog.set("u_color", tuple(float(c) for c in m.color))
+            prog.set("u_k", (m.ka, m.kd, m.ks, m.shininess))
+            prog.set("u_object_id", obj.id + 1)  # 0 is "nothing" in the id target
+            self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
+
+    def release(self) -> None:
+        for prog in self.programs.values():
+            self.cache.forget_program(prog.gl)
+            prog.release()
+        self.programs.clear()
+        self.lights_ubo.release()

@@ -1,0 +1,96 @@
+"""Light sources, in world space.
+
+* ``DirectionalLight``: infinitely distant; ``direction`` is where the light travels
+  (so the vector towards the light is ``-direction``).
+* ``PointLight``: at ``position``; intensity falls off as 1 / (c + l d + q d^2) with
+  ``attenuation = (c, l, q)`` and d the distance to the light.
+* ``SpotLight``: a point light limited to a cone around ``direction``: full inside
+  ``inner_angle``, smoothly to zero at ``outer_angle`` (degrees, half-angles).
+
+Each contributes ``I_i = color * intensity`` (times attenuation and cone factor) to the
+shading equation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+from .material import as_color
+
+
+def _vec3(v, name: str, nonzero: bool = False) -> np.ndarray:
+    a = np.asarray(v, dtype=np.float64).reshape(-1)
+    if a.shape != (3,) or not np.all(np.isfinite(a)):
+        raise InputError(f"{name} must be 3 finite numbers, got {v!r}")
+    if nonzero and not np.linalg.norm(a) > 0:
+        raise InputError(f"{name} must not be the zero vector")
+    return a
+
+
+def _intensity(v) -> float:
+    if not (np.isfinite(v) and v >= 0):
+        raise InputError(f"light intensity must be a number >= 0, got {v!r}")
+    return float(v)
+
+
+def _attenuation(v) -> np.ndarray:
+    a = _vec3(v, "attenuation")
+    if a.min() < 0 or a.sum() <= 0:
+        raise InputError(f"attenuation (c, l, q) must be >= 0 and not all zero, got {v!r}")
+    return a
+
+
+@dataclass
+class DirectionalLight:
+    direction: np.ndarray = field(default_factory=lambda: np.array([-1.0, -1.0, -1.0]))
+    color: np.ndarray = field(default_factory=lambda: np.ones(3))
+    intensity: float = 1.0
+
+    def __post_init__(self):
+        d = _vec3(self.direction, "light direction", nonzero=True)
+        self.direction = d / np.linalg.norm(d)
+        self.color = as_color(self.color, "light color")
+        self.intensity = _intensity(self.intensity)
+
+
+@dataclass
+class PointLight:
+    position: np.ndarray = field(default_factory=lambda: np.array([0.0, 5.0, 5.0]))
+    color: np.ndarray = field(default_factory=lambda: np.ones(3))
+    intensity: float = 1.0
+    attenuation: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0]))
+
+    def __post_init__(self):
+        self.position = _vec3(self.position, "light position")
+        self.color = as_color(self.color, "light color")
+        self.intensity = _intensity(self.intensity)
+        self.attenuation = _attenuation(self.attenuation)
+
+
+@dataclass
+class SpotLight:
+    position: np.ndarray = field(default_factory=lambda: np.array([0.0, 5.0, 5.0]))
+    direction: np.ndarray = field(default_factory=lambda: np.array([0.0, -1.0, -1.0]))
+    color: np.ndarray = field(default_factory=lambda: np.ones(3))
+    intensity: float = 1.0
+    attenuation: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0]))
+    inner_angle: float = 20.0
+    outer_angle: float = 30.0
+
+    def __post_init__(self):
+        self.position = _vec3(self.position, "light position")
+        d = _vec3(self.direction, "light direction", nonzero=True)
+        self.direction = d / np.linalg.norm(d)
+        self.color = as_color(self.color, "light color")
+        self.intensity = _intensity(self.intensity)
+        self.attenuation = _attenuation(self.attenuation)
+        if not 0 <= self.inner_angle <= self.outer_angle < 90:
+            raise InputError("spot light needs 0 <= inner_angle <= outer_angle < 90 degrees, "
+                             f"got {self.inner_angle}, {self.outer_angle}")
+
+
+Light = DirectionalLight | PointLight | SpotLight

@@ -1,0 +1,45 @@
+"""Phong materials: the constants of the notes' shading equation.
+
+``I = I_a k_a C + sum_i I_i (k_d C max(N·L_i, 0) + k_s max(R_i·V, 0)^n)``; ``color`` is C
+(linear floats in [0, 1]), ``shininess`` is n. The specular highlight takes the light's colour.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+
+
+def as_color(value, name: str, channels=(3,)) -> np.ndarray:
+    """Validate a colour: a number (grey) or 3 (or 4, where allowed) floats in [0, 1]."""
+    a = np.asarray(value, dtype=np.float64).reshape(-1)
+    if a.size == 1:
+        a = np.repeat(a, 3)
+    if a.size not in channels or not np.all(np.isfinite(a)) or a.min() < 0 or a.max() > 1:
+        want = " or ".join(str(c) for c in channels)
+        raise InputError(f"{name} must be a grey level or {want} floats in [0, 1], got {value!r}")
+    return a
+
+
+@dataclass
+class Material:
+    """Phong material. ``color`` (3,) floats in [0, 1]; ``ka``, ``kd``, ``ks`` >= 0;
+    ``shininess`` (the exponent n) >= 0."""
+
+    color: np.ndarray = field(default_factory=lambda: np.array([0.8, 0.8, 0.8]))
+    ka: float = 1.0
+    kd: float = 0.8
+    ks: float = 0.3
+    shininess: float = 32.0
+    name: str = ""
+
+    def __post_init__(self):
+        self.color = as_color(self.color, "material color")
+        for key in ("ka", "kd", "ks", "shininess"):
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
+                raise InputError(f"material {key} must be a number >= 0, got {v!r}")
+            setattr(self, key, float(v))

@@ -1,0 +1,87 @@
+"""A scene: meshes placed by model matrices, their materials, lights, ambient and background.
+
+No GL lives here; a ``Renderer`` caches GPU copies keyed by these objects.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..geometry import transforms as T
+from .light import DirectionalLight, Light, PointLight, SpotLight
+from .material import Material, as_color
+from .mesh import Mesh
+
+# The shader's light array size; also the most lights a scene may hold.
+MAX_LIGHTS = 16
+
+
+@dataclass
+class SceneObject:
+    """One placed mesh. ``transform``: 4x4 object -> world. ``id``: its label in id buffers."""
+
+    id: int
+    mesh: Mesh
+    material: Material
+    transform: np.ndarray = field(default_factory=lambda: np.eye(4))
+
+    @property
+    def world_bounds(self) -> np.ndarray:
+        b = self.mesh.bounds
+        corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
+        w = T.transform_points(self.transform, corners)
+        return np.stack([w.min(axis=0), w.max(axis=0)])
+
+
+class Scene:
+    """Objects, lights, ambient light ``I_a`` and background colour.
+
+    Parameters
+    ----------
+    ambient : grey level or (3,) floats in [0, 1], the ambient intensity I_a
+    background : (3,) or (4,) floats in [0, 1]; alpha 0 gives a transparent background
+    """
+
+    def __init__(self, ambient=0.1, background=(0.0, 0.0, 0.0, 1.0)):
+        self.ambient = as_color(ambient, "ambient")
+        bg = as_color(background, "background", channels=(3, 4))
+        self.background = np.append(bg, 1.0) if bg.size == 3 else bg
+        self.objects: list[SceneObject] = []
+        self.lights: list[Light] = []
+
+    def add(self, mesh: Mesh, material: Material | None = None, transform=None) -> int:
+        """Place ``mesh`` in the scene; returns its object id (0, 1, 2, ...).
+
+        ``material`` defaults to the mesh file's own material, else a grey ``Material()``.
+        ``transform`` is the 4x4 object -> world matrix (default identity).
+        """
+        if not isinstance(mesh, Mesh):
+            raise InputError(f"Scene.add expects a facet.Mesh, got {type(mesh).__name__}")
+        m = np.eye(4) if transform is None else np.asarray(transform, dtype=np.float64)
+        if m.shape != (4, 4) or not np.all(np.isfinite(m)):
+            raise InputError(f"transform must be a finite 4x4 matrix, got shape {m.shape}")
+        T.normal_matrix(m)  # rejects singular transforms here rather than at draw time
+        material = material or mesh.material or Material()
+        obj = SceneObject(len(self.objects), mesh, material, m)
+        self.objects.append(obj)
+        return obj.id
+
+    def add_light(self, light: Light) -> Light:
+        """Add a light (at most ``MAX_LIGHTS``)."""
+        if not isinstance(light, (DirectionalLight, PointLight, SpotLight)):
+            raise InputError(f"add_light expects a facet light, got {type(light).__name__}")
+        if len(self.lights) >= MAX_LIGHTS:
+            raise InputError(f"a scene holds at most {MAX_LIGHTS} lights")
+        self.lights.append(light)
+        return light
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """World-space bounds of all objects, (2, 3)."""
+        if not self.objects:
+            raise InputError("the scene is empty; add a mesh first")
+        b = np.array([o.world_bounds for o in self.objects])
+        return np.stack([b[:, 0].min(axis=0), b[:, 1].max(axis=0)])

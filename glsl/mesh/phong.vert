@@ -1,0 +1,40 @@
+#version 330 core
+// Object -> world -> view -> clip. Lighting inputs go out in world space; depth along the
+// camera axis (-z in view space) goes out for the linear depth buffer.
+// SHADE_GOURAUD evaluates the shading equation here, per vertex, for both faces.
+
+in vec3 in_position;  // object space
+in vec3 in_normal;    // object space
+
+uniform mat4 u_model;         // object -> world
+uniform mat4 u_view;          // world -> view (OpenGL camera axes)
+uniform mat4 u_projection;    // view -> clip
+uniform mat3 u_normal_matrix; // (M^-1)^T of u_model's upper 3x3
+
+out vec3 v_pos_world;
+out vec3 v_normal_world;
+out float v_depth_view;
+
+#ifdef SHADE_GOURAUD
+#include "lib/lights.glsl"
+uniform vec4 u_eye_world;  // xyz: eye position (w = 1) or direction towards the eye (w = 0)
+uniform vec3 u_color;      // material C
+uniform vec4 u_k;          // (k_a, k_d, k_s, n)
+out vec3 v_color_front;
+out vec3 v_color_back;
+#endif
+
+void main() {
+    vec4 pos_world = u_model * vec4(in_position, 1.0);
+    vec4 pos_view = u_view * pos_world;
+    gl_Position = u_projection * pos_view;
+    v_pos_world = pos_world.xyz;
+    v_normal_world = u_normal_matrix * in_normal;
+    v_depth_view = -pos_view.z;
+#ifdef SHADE_GOURAUD
+    vec3 N = normalize(v_normal_world);
+    vec3 V = normalize(u_eye_world.xyz - pos_world.xyz * u_eye_world.w);
+    v_color_front = shade_scene(pos_world.xyz, N, V, u_color, u_k, false);
+    v_color_back = shade_scene(pos_world.xyz, -N, V, u_color, u_k, false);
+#endif
+}
