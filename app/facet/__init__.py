@@ -30,7 +30,7 @@ _EXPORTS = {
     "Scene": "facet.scene.scene",
     "Renderer": "facet.render.renderer",
     "Frame": "facet.render.renderer",
-    "SHADING_MODELS": "facet.render.forward",
+    "SHADING_MODELS": "facet.render.shading",
     "FacetError": "facet.errors",
     "InputError": "facet.errors",
     "MeshError": "facet.errors",

@@ -150,6 +150,14 @@ class Camera:
         return cls(T.look_at(eye, center, up), fov_y=fov_y, ortho_height=height,
                    near=near, far=far)
 
+    @classmethod
+    def looking_at_bounds(cls, eye, target, up, bounds, *, fov_y: float = 40.0,
+                          ortho_height: float | None = None) -> Camera:
+        """``look_at`` with near and far planes fitted around the box ``bounds`` (2, 3)."""
+        view = T.look_at(eye, target, up)
+        near, far = depth_range(view, bounds)
+        return cls(view, fov_y=fov_y, ortho_height=ortho_height, near=near, far=far)
+
     # -- projection --------------------------------------------------------------------------
     def projection(self, width: int, height: int) -> np.ndarray:
         """The 4x4 view -> clip matrix for an image of ``width`` x ``height`` pixels."""
@@ -196,3 +204,15 @@ class Camera:
                 f"fov_y={self.fov_y:g}")
         return f"Camera(eye={np.round(self.eye, 4).tolist()}, {kind}, near={self.near:g}, " \
                f"far={self.far:g})"
+
+
+def depth_range(view, bounds) -> tuple[float, float]:
+    """(near, far) that contain the box ``bounds`` (2, 3) seen through ``view``, with a margin;
+    near stays positive (a box partly behind the camera is clipped there)."""
+    b = np.asarray(bounds, dtype=np.float64).reshape(2, 3)
+    corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
+    depth = -(corners @ view[:3, :3].T + view[:3, 3])[:, 2]  # distance along the view axis
+    extent = max(float(depth.max() - depth.min()), float(np.linalg.norm(b[1] - b[0])), 1e-6)
+    far = max(float(depth.max()) + 0.01 * extent, 1e-3 * extent)
+    near = max(float(depth.min()) - 0.01 * extent, far * 1e-4)
+    return near, far

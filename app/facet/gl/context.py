@@ -33,7 +33,6 @@ def describe(ctx: moderngl.Context) -> dict[str, object]:
         "vendor": info.get("GL_VENDOR"),
         "renderer": info.get("GL_RENDERER"),
         "version": info.get("GL_VERSION"),
-        "glsl": info.get("GL_SHADING_LANGUAGE_VERSION"),
         "max_texture_size": info.get("GL_MAX_TEXTURE_SIZE"),
         "max_renderbuffer_size": info.get("GL_MAX_RENDERBUFFER_SIZE"),
         "max_viewport_dims": info.get("GL_MAX_VIEWPORT_DIMS"),

@@ -17,7 +17,8 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import ShaderError
+from ..errors import FacetError, ShaderError
+from ..paths import data_dir
 
 _INCLUDE = re.compile(r'^\s*#\s*include\s+(?:"([^"]+)"|<([^>]+)>)\s*(?://.*)?$')
 _VERSION = re.compile(r"^\s*#\s*version\b")
@@ -25,12 +26,7 @@ _VERSION = re.compile(r"^\s*#\s*version\b")
 
 def glsl_root() -> Path:
     """The bundled shader directory: ``facet/glsl`` in a wheel, ``<repo>/glsl`` in a checkout."""
-    package = Path(__file__).resolve().parents[1]  # .../facet
-    for candidate in (package / "glsl", package.parents[1] / "glsl"):
-        if (candidate / "lib" / "lighting.glsl").is_file():
-            return candidate
-    raise ShaderError(f"facet's shader directory is missing (looked in {package / 'glsl'} "
-                      f"and {package.parents[1] / 'glsl'}); reinstall facet")
+    return data_dir("glsl", "lib/lighting.glsl")
 
 
 def display_path(path: Path) -> str:
@@ -38,7 +34,7 @@ def display_path(path: Path) -> str:
     path = Path(path).resolve()
     try:
         return "glsl/" + path.relative_to(glsl_root()).as_posix()
-    except (ValueError, ShaderError):
+    except (ValueError, FacetError):
         pass
     try:
         return path.relative_to(Path.cwd()).as_posix()

@@ -1,5 +1,2 @@
-"""Render passes over a scene and a camera: the Renderer and its Frame."""
-
-from .renderer import Frame, Renderer
-
-__all__ = ["Frame", "Renderer"]
+"""Render passes over a scene and a camera. Import ``facet.render.renderer`` for the Renderer
+(this package's ``__init__`` stays empty so that ``facet.render.shading`` needs no GL)."""

@@ -1,6 +1,6 @@
 """The forward Phong pass: one draw per scene object into the current target.
 
-Shading models map to programs through ``SHADING_MODELS`` (model -> stage files + define);
+Shading models map to programs through ``facet.render.shading.SHADING_MODELS``;
 programs are compiled on first use and reused. Per frame the pass writes the camera and
 light uniforms (lights through one std140 uniform block, re-uploaded only when they change)
 and per object its matrices and material.
@@ -8,11 +8,8 @@ and per object its matrices and material.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from ..errors import InputError
 from ..geometry import transforms as T
 from ..geometry.camera import Camera
 from ..gl.glsl_source import glsl_root
@@ -20,33 +17,10 @@ from ..gl.resources import ResourceCache
 from ..gl.shaders import Program, compile_program
 from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.scene import MAX_LIGHTS, Scene
+from .shading import SHADING_MODELS, check_shading
 
 LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in lighting.glsl
 LIGHTS_BINDING = 0
-
-
-@dataclass(frozen=True)
-class ProgramSpec:
-    vertex: str
-    fragment: str
-    define: str
-
-
-SHADING_MODELS: dict[str, ProgramSpec] = {
-    "phong": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_PHONG"),
-    "blinn": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_BLINN"),
-    "gouraud": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_GOURAUD"),
-    "flat": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_FLAT"),
-    "unlit": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_UNLIT"),
-    "normals": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_NORMALS"),
-}
-
-
-def check_shading(name: str) -> str:
-    if name not in SHADING_MODELS:
-        raise InputError(f"unknown shading model {name!r}; choose one of "
-                         f"{', '.join(SHADING_MODELS)}")
-    return name
 
 
 def pack_lights(scene: Scene) -> bytes:

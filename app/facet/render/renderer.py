@@ -21,7 +21,8 @@ from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import Targets
 from ..scene.scene import Scene
-from .forward import ForwardPass, check_shading
+from .forward import ForwardPass
+from .shading import check_shading
 
 OUTPUTS = ("color", "depth", "ids")
 

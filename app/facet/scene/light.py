@@ -94,3 +94,15 @@ class SpotLight:
 
 
 Light = DirectionalLight | PointLight | SpotLight
+
+
+# Default rig in camera space (x right, y up, looking down -z), as directions of travel:
+# a key light from the upper left behind the viewer and a dimmer fill from the right.
+_RIG = (((0.45, -0.55, -1.0), 0.85), ((-0.8, -0.1, -0.6), 0.3))
+
+
+def camera_rig(view) -> list[DirectionalLight]:
+    """The default key + fill lights for a camera with 4x4 world->camera matrix ``view``,
+    turned into world space so they light what the camera sees."""
+    to_world = np.linalg.inv(np.asarray(view, dtype=np.float64)[:3, :3])
+    return [DirectionalLight(direction=to_world @ np.array(d), intensity=i) for d, i in _RIG]

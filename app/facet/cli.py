@@ -1,0 +1,193 @@
+"""The ``facet`` command line: ``facet render`` and ``facet info``.
+
+A user's mistake prints one line ``facet: error: ...`` on stderr and exits with status 2,
+leaving no output file. Heavy modules (numpy, trimesh, moderngl, Pillow) are imported inside
+the commands, so ``facet --help`` starts instantly and each command loads only what it uses.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+EXIT_USAGE = 2
+
+RENDER_EPILOG = """\
+conventions:
+  world axes are right-handed with y up; the camera looks down its -z axis.
+  images have row 0 at the top. --depth writes linear depth along the camera axis in scene
+  units, float32, 0 where nothing was hit (perspective and --ortho alike).
+  colours are floats in [0, 1]. Angles are in degrees.
+
+lights (repeat --light for several; default: a key and a fill light set from the camera):
+  dir:DX,DY,DZ[:R,G,B[:INTENSITY]]             directional; D is where the light travels
+  point:X,Y,Z[:R,G,B[:INTENSITY]]              point light at X,Y,Z
+  spot:X,Y,Z:DX,DY,DZ[:R,G,B[:INTENSITY[:DEG]]] spot light, cone half-angle DEG (default 30)
+
+examples:
+  facet render bunny.obj -o bunny.png
+  facet render bunny.obj -o bunny.png --size 1280x720 --msaa 4 --depth bunny-depth.npy
+  facet render part.stl -o part.png --ortho --shading flat --light dir:-1,-2,-1
+"""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports a usage error in one line (plus where to find help)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _floats(text: str, n: tuple[int, ...], what: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    import math
+
+    if len(values) not in n or not all(math.isfinite(v) for v in values):
+        want = " or ".join(str(k) for k in n)
+        raise argparse.ArgumentTypeError(f"{what}: expected {want} comma-separated numbers, "
+                                         f"got {text!r}")
+    return values
+
+
+def _vec3(text: str) -> list[float]:
+    return _floats(text, (3,), "vector")
+
+
+def _color(text: str) -> list[float]:
+    values = _floats(text, (3,), "colour")
+    if min(values) < 0 or max(values) > 1:
+        raise argparse.ArgumentTypeError(f"colour {text!r}: each channel must be in [0, 1]")
+    return values
+
+
+def _background(text: str) -> list[float]:
+    values = _floats(text, (3, 4), "background")
+    if min(values) < 0 or max(values) > 1:
+        raise argparse.ArgumentTypeError(f"background {text!r}: each channel must be in [0, 1]")
+    return values
+
+
+def _size(text: str) -> tuple[int, int]:
+    parts = text.lower().split("x")
+    try:
+        w, h = (int(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size: expected WIDTHxHEIGHT like 800x600, "
+                                         f"got {text!r}") from None
+    if w < 1 or h < 1:
+        raise argparse.ArgumentTypeError(f"size {text!r}: width and height must be >= 1")
+    return w, h
+
+
+def _light(text: str):
+    """Parse a --light spec (see RENDER_EPILOG) into a facet light."""
+    from .scene.light import DirectionalLight, PointLight, SpotLight
+
+    kind, _, rest = text.partition(":")
+    fields = rest.split(":") if rest else []
+    shapes = {"dir": 1, "directional": 1, "point": 1, "spot": 2}
+    if kind not in shapes or len(fields) < shapes[kind]:
+        raise argparse.ArgumentTypeError(
+            f"light {text!r}: expected dir:DX,DY,DZ, point:X,Y,Z or spot:X,Y,Z:DX,DY,DZ "
+            "(optionally followed by :R,G,B:INTENSITY)")
+    geo = [_vec3(f) for f in fields[:shapes[kind]]]
+    extra = fields[shapes[kind]:]
+    max_extra = 3 if kind == "spot" else 2
+    if len(extra) > max_extra:
+        raise argparse.ArgumentTypeError(f"light {text!r}: too many ':' fields")
+    color = _color(extra[0]) if extra else [1.0, 1.0, 1.0]
+    intensity = _floats(extra[1], (1,), f"light {text!r} intensity")[0] if len(extra) > 1 \
+        else 1.0
+    try:
+        if kind in ("dir", "directional"):
+            return DirectionalLight(direction=geo[0], color=color, intensity=intensity)
+        if kind == "point":
+            return PointLight(position=geo[0], color=color, intensity=intensity)
+        angle = _floats(extra[2], (1,), f"light {text!r} angle")[0] if len(extra) > 2 else 30.0
+        return SpotLight(position=geo[0], direction=geo[1], color=color, intensity=intensity,
+                         inner_angle=0.8 * angle, outer_angle=angle)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"light {text!r}: {exc}") from None
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from .render.shading import SHADING_MODELS
+
+    SHADING_CHOICES = tuple(SHADING_MODELS)
+
+    parser = _Parser(prog="facet", description="facet: headless GPU rendering of meshes with "
+                     "Phong shading (OpenGL through EGL; Mesa llvmpipe when there is no GPU).")
+    parser.add_argument("--version", action="version", version="facet 0.1.0")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    r = sub.add_parser("render", help="render a mesh to a PNG (and depth to .npy)",
+                       description="Render MODEL (OBJ, STL, PLY, OFF, GLB/glTF) headlessly to "
+                       "an image. Without MODEL, renders facet's bundled default model.",
+                       epilog=RENDER_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    r.add_argument("model", nargs="?", help="mesh file (default: the bundled torus knot)")
+    r.add_argument("-o", "--output", metavar="OUT.png",
+                   help="image to write (default: MODEL's name with .png, in the current folder)")
+    r.add_argument("--size", type=_size, default=(800, 600), metavar="WxH",
+                   help="image size in pixels (default 800x600)")
+    r.add_argument("--eye", type=_vec3, metavar="X,Y,Z",
+                   help="camera position (default: framed to fit the model)")
+    r.add_argument("--target", type=_vec3, metavar="X,Y,Z",
+                   help="point the camera looks at (default: the model's centre)")
+    r.add_argument("--up", type=_vec3, default=[0.0, 1.0, 0.0], metavar="X,Y,Z",
+                   help="camera up direction (default 0,1,0)")
+    r.add_argument("--fov", type=float, default=40.0, metavar="DEG",
+                   help="vertical field of view in degrees (default 40)")
+    r.add_argument("--ortho", action="store_true",
+                   help="parallel (orthographic) projection, sized to fit the model")
+    r.add_argument("--light", type=_light, action="append", default=[], metavar="KIND:...",
+                   help="add a light (see below); repeatable")
+    r.add_argument("--color", type=_color, metavar="R,G,B",
+                   help="material colour, floats in [0, 1] (default: the file's or grey)")
+    r.add_argument("--shading", default="phong", choices=SHADING_CHOICES, metavar="MODEL",
+                   help=f"shading model: {', '.join(SHADING_CHOICES)} (default phong)")
+    r.add_argument("--msaa", type=int, default=4, choices=(0, 2, 4, 8), metavar="N",
+                   help="multisample anti-aliasing samples for colour: 0, 2, 4 or 8 (default 4)")
+    r.add_argument("--background", type=_background, default=[0.0, 0.0, 0.0, 1.0],
+                   metavar="R,G,B[,A]", help="background colour; A=0 for transparent "
+                   "(default 0,0,0)")
+    r.add_argument("--depth", metavar="OUT.npy", help="also write linear depth (float32 .npy)")
+    r.add_argument("--ids", metavar="OUT.npy",
+                   help="also write object ids (int32 .npy, -1 = background)")
+    r.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    sub.add_parser("info", help="print the OpenGL vendor, renderer, version and limits",
+                   description="Create a headless context and print what it offers.")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    from .errors import FacetError
+
+    try:
+        if args.command == "render":
+            from .render_command import run_render
+
+            for path in run_render(args):
+                if not args.quiet:
+                    print(path)
+        elif args.command == "info":
+            from .gl.context import create_headless, describe
+
+            ctx = create_headless()
+            for key, value in describe(ctx).items():
+                print(f"{key:22} {value}")
+            ctx.release()
+    except FacetError as exc:
+        print(f"facet: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as exc:  # unwritable output folder, disk full, ...
+        name = f"{exc.filename}: " if exc.filename else ""
+        print(f"facet: error: {name}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        return 130
+    return 0

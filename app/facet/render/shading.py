@@ -1,0 +1,34 @@
+"""The shading-model table: model name -> the GLSL stages and define that implement it.
+
+No GL here, so the CLI can list the models without loading moderngl.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..errors import InputError
+
+
+@dataclass(frozen=True)
+class ProgramSpec:
+    vertex: str  # path under glsl/
+    fragment: str
+    define: str  # selects the model inside the shared stage files
+
+
+SHADING_MODELS: dict[str, ProgramSpec] = {
+    "phong": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_PHONG"),
+    "blinn": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_BLINN"),
+    "gouraud": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_GOURAUD"),
+    "flat": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_FLAT"),
+    "unlit": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_UNLIT"),
+    "normals": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_NORMALS"),
+}
+
+
+def check_shading(name: str) -> str:
+    if name not in SHADING_MODELS:
+        raise InputError(f"unknown shading model {name!r}; choose one of "
+                         f"{', '.join(SHADING_MODELS)}")
+    return name

@@ -1,0 +1,65 @@
+"""Writes facet's own small models into this folder. Run once: python models/make_models.py
+
+* default.obj + default.mtl: a (2, 3) torus knot tube, the model ``facet render`` draws when
+  given none (warm orange Phong material in the MTL).
+* icosphere.ply: a unit icosphere (subdivision 3, 1280 faces), binary PLY.
+* cube.stl: a unit cube centred at the origin, STL (triangle soup, no shared vertices).
+* torus.off: a torus (major radius 1, minor 0.3), OFF.
+
+Deterministic: the same numpy and trimesh give the same bytes.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+HERE = Path(__file__).resolve().parent
+
+
+def torus_knot(p: int = 2, q: int = 3, segments: int = 240, sides: int = 20,
+               tube: float = 0.28) -> trimesh.Trimesh:
+    """A tube of radius ``tube`` around the (p, q) torus knot curve."""
+    t = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    r = 2.0 + np.cos(q * t)
+    curve = np.stack([r * np.cos(p * t), r * np.sin(p * t), -np.sin(q * t)], axis=1) * 0.5
+    tangent = np.roll(curve, -1, axis=0) - np.roll(curve, 1, axis=0)
+    tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
+    # Tube frame: the component of the position (from the knot's centre) across the tangent.
+    normal = curve - np.sum(curve * tangent, axis=1, keepdims=True) * tangent
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    binormal = np.cross(tangent, normal)
+    a = np.linspace(0.0, 2.0 * np.pi, sides, endpoint=False)
+    ring = np.cos(a)[None, :, None] * normal[:, None] + np.sin(a)[None, :, None] * binormal[:, None]
+    vertices = (curve[:, None] + tube * ring).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(segments), np.arange(sides), indexing="ij")
+    i1, j1 = (i + 1) % segments, (j + 1) % sides
+    v00, v01 = i * sides + j, i * sides + j1
+    v10, v11 = i1 * sides + j, i1 * sides + j1
+    faces = np.concatenate([np.stack([v00, v10, v11], -1).reshape(-1, 3),
+                            np.stack([v00, v11, v01], -1).reshape(-1, 3)])
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    if mesh.volume < 0:  # make the winding counter-clockwise seen from outside
+        mesh.invert()
+    return mesh
+
+
+def main() -> None:
+    knot = torus_knot()
+    (HERE / "default.mtl").write_text(
+        "# facet's default material: warm orange, moderately glossy\n"
+        "newmtl knot\nKa 1 1 1\nKd 0.90 0.45 0.15\nKs 0.5 0.5 0.5\nNs 64\n")
+    lines = ["# facet default model: (2, 3) torus knot, written by models/make_models.py",
+             "mtllib default.mtl", "usemtl knot"]
+    lines += [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in knot.vertices]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in knot.faces]
+    (HERE / "default.obj").write_text("\n".join(lines) + "\n")
+    trimesh.creation.icosphere(subdivisions=3).export(HERE / "icosphere.ply")
+    trimesh.creation.box().export(HERE / "cube.stl")
+    trimesh.creation.torus(major_radius=1.0, minor_radius=0.3).export(HERE / "torus.off")
+
+
+if __name__ == "__main__":
+    main()
