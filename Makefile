@@ -1,0 +1,37 @@
+# facet: two commands on a fresh clone.
+#   make render   create .venv, install facet, render the bundled model to out/default.png
+#   make test     install the dev dependencies too and run the whole test suite
+#   make bench    run the benchmarks (prints tables; asserts nothing)
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+PIP    := $(BIN)/python -m pip --disable-pip-version-check -q
+
+.PHONY: render test bench lint check-gl clean
+
+check-gl:
+	@sh tools/check-gl.sh
+
+$(VENV)/.installed: pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(PIP) install -e .
+	@touch $@
+
+$(VENV)/.installed-dev: $(VENV)/.installed
+	$(PIP) install -e '.[dev]'
+	@touch $@
+
+render: check-gl $(VENV)/.installed
+	@$(BIN)/facet render -o out/default.png
+
+test: check-gl $(VENV)/.installed-dev
+	$(BIN)/python -m pytest
+
+bench: check-gl $(VENV)/.installed-dev
+	$(BIN)/python benchmarks/run.py
+
+lint: $(VENV)/.installed-dev
+	$(BIN)/ruff check app tests benchmarks models
+
+clean:
+	rm -rf $(VENV) out dist build

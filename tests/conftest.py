@@ -1,0 +1,74 @@
+"""Shared fixtures: renderers over real headless EGL (cached per size), the GL error check
+after each test, small meshes, and the real-world models folder."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED_MODELS = ROOT.parent / "shared" / "models"
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # tests/reference.py
+
+
+def shared_model(name: str) -> Path:
+    path = SHARED_MODELS / name
+    if not path.is_file():
+        pytest.skip(f"real-world model {name} not found in {SHARED_MODELS} "
+                    "(the shared models folder sits beside the repository)")
+    return path
+
+
+@pytest.fixture(scope="session")
+def _renderer_pool():
+    from facet.render.renderer import Renderer
+
+    pool: dict[tuple[int, int, int], Renderer] = {}
+
+    def get(width: int, height: int, msaa: int = 0) -> Renderer:
+        key = (width, height, msaa)
+        if key not in pool:
+            pool[key] = Renderer(width, height, msaa=msaa)
+        return pool[key]
+
+    yield get
+    for r in pool.values():
+        r.close()
+
+
+@pytest.fixture
+def renderer(_renderer_pool):
+    """``renderer(w, h, msaa=0)`` -> a Renderer; after the test, GL must report no error."""
+    used = []
+
+    def get(width: int, height: int, msaa: int = 0):
+        r = _renderer_pool(width, height, msaa)
+        used.append(r)
+        return r
+
+    yield get
+    for r in used:
+        assert r.ctx.error == "GL_NO_ERROR"
+
+
+def sphere_mesh(subdivisions: int = 6, radius: float = 1.0):
+    """A fine icosphere with exact sphere normals (positions / radius)."""
+    import trimesh
+
+    from facet.scene.mesh import Mesh
+
+    ico = trimesh.creation.icosphere(subdivisions=subdivisions)
+    v = np.asarray(ico.vertices) / np.linalg.norm(ico.vertices, axis=1, keepdims=True)
+    return Mesh(v * radius, ico.faces, v, name="icosphere")
+
+
+def quad_mesh(size: float = 1.0, z: float = 0.0):
+    """A square in the z = ``z`` plane facing +z, side 2 * size."""
+    from facet.scene.mesh import Mesh
+
+    s = size
+    pos = [[-s, -s, z], [s, -s, z], [s, s, z], [-s, s, z]]
+    return Mesh(pos, [[0, 1, 2], [0, 2, 3]], [[0, 0, 1]] * 4, name="quad")

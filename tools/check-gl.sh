@@ -1,0 +1,14 @@
+#!/bin/sh
+# Mesa's EGL and software rasteriser are facet's only system requirement; say in one line
+# what to install when they are missing.
+missing=""
+ldconfig -p 2>/dev/null | grep -q 'libEGL\.so\.1 ' || missing="$missing libegl1"
+found=""
+for f in /usr/lib/*/dri/swrast_dri.so /usr/lib/dri/swrast_dri.so /usr/lib64/dri/swrast_dri.so; do
+  [ -e "$f" ] && found=1
+done
+[ -n "$found" ] || missing="$missing libgl1-mesa-dri"
+if [ -n "$missing" ]; then
+  echo "facet needs Mesa's EGL and llvmpipe: sudo apt-get install$missing" >&2
+  exit 1
+fi
