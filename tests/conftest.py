@@ -51,7 +51,7 @@ def renderer(_renderer_pool):
 
     yield get
     for r in used:
-        assert r.ctx.error == "GL_NO_ERROR"
+        assert r.gl_error() == "GL_NO_ERROR"
 
 
 def sphere_mesh(subdivisions: int = 6, radius: float = 1.0):

@@ -80,6 +80,11 @@ class Renderer:
         shading = check_shading(shading or self.shading)
         if camera is None:
             camera = Camera.frame(scene.bounds, aspect=self.width / self.height)
+        # Several renderers (contexts) may live in one thread: make ours current.
+        with self.ctx:
+            return self._render(scene, camera, shading, outputs)
+
+    def _render(self, scene: Scene, camera: Camera, shading: str, outputs) -> Frame:
         w, h, t = self.width, self.height, self.targets
         want_aux = "depth" in outputs or "ids" in outputs
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
@@ -105,10 +110,16 @@ class Renderer:
         if self._closed:
             return
         self._closed = True
-        self.forward.release()
-        self.cache.release()
-        self.targets.release()
+        with self.ctx:
+            self.forward.release()
+            self.cache.release()
+            self.targets.release()
         self.ctx.release()
+
+    def gl_error(self) -> str:
+        """The context's pending GL error ('GL_NO_ERROR' when all is well)."""
+        with self.ctx:
+            return self.ctx.error
 
     def __enter__(self) -> Renderer:
         return self
