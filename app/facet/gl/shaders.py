@@ -1,7 +1,8 @@
 """Compiling GLSL programs, and turning driver logs into compiler-style errors.
 
-Driver logs number lines of the expanded source (Mesa: ``0:12(5): error: ...`` with 0-based
-columns; NVIDIA: ``0(12) : error C1008: ...``). ``compile_program`` maps them through the
+Driver logs number lines of the expanded source (Mesa: ``0:12(5): error: ...``; NVIDIA:
+``0(12) : error C1008: ...``, no column). Mesa's columns are 1-based but count each run of
+blanks as one column; ``mesa_column`` turns them into real columns using the source line. ``compile_program`` maps them through the
 include table of ``facet.gl.glsl_source`` and raises one ``ShaderError`` reading
 ``glsl/lib/lighting.glsl:12:6: error: ...`` with two lines of context.
 """
@@ -27,15 +28,29 @@ _UNIFORM_DECL = re.compile(r"\buniform\s+(?:\w+\s+)*?\w+\s+(\w+)")
 def parse_log(log: str) -> list[tuple[int, int, str, str]]:
     """(line, column or 0, severity, message) for each diagnostic in a driver log.
 
-    Columns come back 1-based (Mesa's are 0-based; NVIDIA gives none, reported as 0).
+    Columns are the driver's own (Mesa's, see ``mesa_column``); NVIDIA gives none: 0.
     """
     found = []
     for raw in log.splitlines():
         if m := _MESA.match(raw):
-            found.append((int(m[1]), int(m[2]) + 1, m[3].lower(), m[4].strip()))
+            found.append((int(m[1]), int(m[2]), m[3].lower(), m[4].strip()))
         elif m := _NVIDIA.match(raw):
             found.append((int(m[1]), 0, m[2].lower(), m[3].strip()))
     return found
+
+
+def mesa_column(line_text: str, column: int) -> int:
+    """The real 1-based column of Mesa's ``column`` in ``line_text`` (Mesa counts a run of
+    spaces/tabs as one column)."""
+    mesa, i = 1, 0
+    while i < len(line_text) and mesa < column:
+        if line_text[i] in " \t":
+            while i < len(line_text) and line_text[i] in " \t":
+                i += 1
+        else:
+            i += 1
+        mesa += 1
+    return i + 1
 
 
 def _context_lines(path: str, line: int, column: int, files: list[Path]) -> list[str]:
@@ -62,6 +77,9 @@ def map_log(log: str, sources: dict[str, ExpandedSource]) -> ShaderError:
         parsed = parse_log(raw)
         if parsed and stage in sources:
             line, col, severity, message = parsed[0]
+            if col and _MESA.match(raw):
+                expanded = sources[stage].text.splitlines()
+                col = mesa_column(expanded[line - 1], col) if line <= len(expanded) else col
             path, src_line = sources[stage].locate(line)
             diagnostics.append((path, src_line, col, severity, message))
             lines.append(f"{path}:{src_line}:{col}: {severity}: {message}" if col else

@@ -97,8 +97,8 @@ def load_mesh(path) -> Mesh:
         tm = loaded
         material = _material_from_trimesh(tm)
     if not isinstance(tm, trimesh.Trimesh):
-        raise MeshError(f"{p}: contains {type(tm).__name__}, not a triangle mesh "
-                        "(point clouds and lines cannot be rendered as surfaces)")
+        kind = "points" if "Point" in type(tm).__name__ else "lines or curves"
+        raise MeshError(f"{p}: the file has 0 faces (it holds only {kind}); nothing to render")
     vertices = np.asarray(tm.vertices)
     faces = np.asarray(tm.faces)
     if len(faces) == 0:
