@@ -86,7 +86,8 @@ def load_mesh(path) -> Mesh:
                         "is it truncated or in another format?") from None
     if isinstance(loaded, trimesh.Scene):
         if not loaded.geometry:
-            raise MeshError(f"{p}: the file contains no geometry")
+            raise MeshError(f"{p}: cannot read the file: no geometry found; is it truncated or "
+                            "in another format?")
         material = None
         for geom in loaded.geometry.values():
             material = material or _material_from_trimesh(geom)
