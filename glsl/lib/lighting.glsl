@@ -9,25 +9,32 @@ const int LIGHT_DIRECTIONAL = 0;
 const int LIGHT_POINT = 1;
 const int LIGHT_SPOT = 2;
 
-// x^n with 0^0 = 1, which GLSL's pow leaves undefined.
+// Written without branches: a software rasteriser shades many pixels in lockstep, and
+// selects are cheaper there than divergent control flow.
+
+// Smallest base given to pow: pow(0, n) is undefined in GLSL; MIN_POW_BASE^0 = 1 and
+// MIN_POW_BASE^n underflows to 0 for any shininess n >= 1, as x^n should.
+const float MIN_POW_BASE = 1e-30;
+
+// max(x, 0)^n with 0^0 = 1.
 float safe_pow(float x, float n) {
-    return n == 0.0 ? 1.0 : pow(max(x, 0.0), n);
+    return pow(max(x, MIN_POW_BASE), n);
 }
 
 // Diffuse + specular of one light with intensity I (colour x intensity x falloff).
 vec3 phong_light(vec3 N, vec3 L, vec3 V, vec3 C, float kd, float ks, float n, vec3 I) {
     float n_dot_l = dot(N, L);
-    if (n_dot_l <= 0.0) return vec3(0.0);
     vec3 R = reflect(-L, N);  // = 2 (N.L) N - L
-    return I * (kd * C * n_dot_l + ks * safe_pow(dot(R, V), n));
+    float specular = n_dot_l > 0.0 ? safe_pow(dot(R, V), n) : 0.0;
+    return I * (kd * C * max(n_dot_l, 0.0) + ks * specular);
 }
 
 // The same with Blinn's halfway vector H = (L + V) / |L + V| in place of R.V.
 vec3 blinn_light(vec3 N, vec3 L, vec3 V, vec3 C, float kd, float ks, float n, vec3 I) {
     float n_dot_l = dot(N, L);
-    if (n_dot_l <= 0.0) return vec3(0.0);
     vec3 H = normalize(L + V);
-    return I * (kd * C * n_dot_l + ks * safe_pow(dot(N, H), n));
+    float specular = n_dot_l > 0.0 ? safe_pow(dot(N, H), n) : 0.0;
+    return I * (kd * C * max(n_dot_l, 0.0) + ks * specular);
 }
 
 // 1 / (c + l d + q d^2) for attenuation k = (c, l, q) at distance d.
@@ -39,6 +46,6 @@ float light_attenuation(vec3 k, float d) {
 // travel: unit vector from the light to the point; axis: unit spot direction.
 float spot_cone(vec3 travel, vec3 axis, float cos_inner, float cos_outer) {
     float c = dot(travel, axis);
-    if (cos_inner <= cos_outer) return c >= cos_outer ? 1.0 : 0.0;
-    return smoothstep(cos_outer, cos_inner, c);
+    // A hard cone when inner == outer (smoothstep is undefined for equal edges).
+    return cos_inner > cos_outer ? smoothstep(cos_outer, cos_inner, c) : step(cos_outer, c);
 }

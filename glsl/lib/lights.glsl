@@ -19,10 +19,25 @@ layout(std140) uniform Lights {
     LightData u_lights[MAX_LIGHTS];
 };
 
+// facet compiles one program per light set (LIGHT_COUNT and LIGHT_KIND_LIST defined): the
+// loop has a constant trip count and known kinds, so the compiler unrolls it and drops the
+// branches; without them the loop runs over u_light_count with kinds read at run time.
+#if defined(LIGHT_COUNT) && LIGHT_COUNT > 0
+const int LIGHT_KINDS[LIGHT_COUNT] = LIGHT_KIND_LIST;
+#define LIGHT_KIND(i) LIGHT_KINDS[i]
+#else
+#define LIGHT_KIND(i) int(u_lights[i].position.w)
+#endif
+#ifdef LIGHT_COUNT
+#define LIGHTS_IN_USE LIGHT_COUNT
+#else
+#define LIGHTS_IN_USE u_light_count.x
+#endif
+
 // Unit vector from p towards light i, and the light's intensity arriving at p.
 vec3 incident_light(int i, vec3 p, out vec3 L) {
     LightData light = u_lights[i];
-    int kind = int(light.position.w);
+    int kind = LIGHT_KIND(i);
     if (kind == LIGHT_DIRECTIONAL) {
         L = -light.direction.xyz;
         return light.color.rgb;
@@ -40,7 +55,7 @@ vec3 incident_light(int i, vec3 p, out vec3 L) {
 // k = (k_a, k_d, k_s, n). blinn selects the halfway-vector specular.
 vec3 shade_scene(vec3 p, vec3 N, vec3 V, vec3 C, vec4 k, bool blinn) {
     vec3 I = u_ambient.rgb * k.x * C;
-    for (int i = 0; i < u_light_count.x; ++i) {
+    for (int i = 0; i < LIGHTS_IN_USE; ++i) {
         vec3 L;
         vec3 Ii = incident_light(i, p, L);
         I += blinn ? blinn_light(N, L, V, C, k.y, k.z, k.w, Ii)

@@ -19,16 +19,24 @@ uniform vec4 u_k;          // (k_a, k_d, k_s, n)
 uniform int u_object_id;
 
 layout(location = 0) out vec4 f_color;
+// COLOR_ONLY drops the depth and id outputs: writing outputs that have no attachment still
+// costs a software rasteriser time, so colour-only passes use a program without them.
+#ifndef COLOR_ONLY
 layout(location = 1) out float f_depth;  // linear depth along the camera axis, scene units
 layout(location = 2) out int f_object_id;
+#endif
 
 void main() {
+#ifndef COLOR_ONLY
     f_depth = v_depth_view;
     f_object_id = u_object_id;
+#endif
     vec3 V = normalize(u_eye_world.xyz - v_pos_world * u_eye_world.w);
 #if defined(SHADE_FLAT)
-    // The face's geometric normal from screen-space derivatives; it always faces the viewer.
+    // The face's geometric normal from screen-space derivatives, turned towards the viewer
+    // (its sign depends on the window's y direction, which facet flips for readback).
     vec3 N = normalize(cross(dFdx(v_pos_world), dFdy(v_pos_world)));
+    N = dot(N, V) < 0.0 ? -N : N;
 #else
     // Two-sided lighting: back faces (open meshes, holes) are lit from their visible side.
     vec3 N = normalize(v_normal_world) * (gl_FrontFacing ? 1.0 : -1.0);

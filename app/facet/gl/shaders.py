@@ -119,11 +119,12 @@ class Program:
         self.sources = sources
         self._declared = {name for src in sources.values()
                           for name in _UNIFORM_DECL.findall(src.text)}
+        self._active = set(program)  # members the linker kept (uniforms, blocks, attributes)
 
     def set(self, name: str, value) -> None:
         """Write uniform ``name``. Declared-but-optimised-away uniforms are skipped; a name the
         shader never declares is an error (a typo must not pass silently)."""
-        if name in self.gl:
+        if name in self._active:
             member = self.gl[name]
             if isinstance(value, np.ndarray) and value.ndim == 2:
                 member.write(mat_bytes(value))

@@ -8,6 +8,10 @@ path: the bit pattern of 0.0 is integer 0, so "clear to 0" is the only exact int
 With MSAA a multisampled colour target is drawn and resolved into attachment 0; depth and ids
 come from a single-sample pass into attachments 1 and 2 (never blended, sampled at pixel
 centres, exactly as without MSAA).
+
+Offscreen targets are drawn upside down (``FLIP_Y``: clip-space y negated, front faces
+clockwise), so that GL's bottom-up rows read back as an image with row 0 at the top, straight
+into the numpy array with no flipping copy.
 """
 
 from __future__ import annotations
@@ -19,6 +23,8 @@ from ..errors import InputError
 from .context import max_image_size
 
 MSAA_CHOICES = (0, 2, 4, 8)
+# Clip-space y flip applied to offscreen renders (see the module docstring).
+FLIP_Y = np.diag([1.0, -1.0, 1.0, 1.0])
 
 
 class Targets:
@@ -73,31 +79,32 @@ class Targets:
         """Average the samples of the multisampled colour into attachment 0."""
         self.ctx.copy_framebuffer(self.color_only, self.multisample)
 
+    def _read(self, fbo, attachment: int, components: int, dtype) -> np.ndarray:
+        shape = (self.height, self.width) + ((components,) if components > 1 else ())
+        out = np.empty(shape, dtype=dtype)
+        # Rows were drawn flipped (FLIP_Y), so GL's first row is the image's top row.
+        fbo.read_into(out, components=components, attachment=attachment,
+                      dtype=np.dtype(dtype).str[1:].replace("u1", "f1"))
+        return out
+
     def read_color(self) -> np.ndarray:
         """(H, W, 4) uint8, row 0 at the top."""
-        data = self.color_only.read(components=4, attachment=0, dtype="f1")
-        return _flip(np.frombuffer(data, np.uint8).reshape(self.height, self.width, 4))
+        return self._read(self.color_only, 0, 4, np.uint8)
 
     def read_depth(self) -> np.ndarray:
         """(H, W) float32 linear depth, 0 where nothing was hit, row 0 at the top."""
-        data = self.full.read(components=1, attachment=1, dtype="f4")
-        return _flip(np.frombuffer(data, np.float32).reshape(self.height, self.width))
+        return self._read(self.full, 1, 1, np.float32)
 
     def read_ids(self) -> np.ndarray:
         """(H, W) int32 object ids, -1 for background, row 0 at the top."""
-        data = self.full.read(components=1, attachment=2, dtype="i4")
-        ids = np.frombuffer(data, np.int32).reshape(self.height, self.width)
-        return _flip(ids) - 1
+        ids = self._read(self.full, 2, 1, np.int32)
+        ids -= 1
+        return ids
 
     def release(self) -> None:
         for obj in reversed(self._own):
             obj.release()
         self._own.clear()
-
-
-def _flip(a: np.ndarray) -> np.ndarray:
-    """GL rows run bottom-up; images run top-down."""
-    return np.ascontiguousarray(a[::-1])
 
 
 def check_size(ctx: moderngl.Context, width, height) -> None:

@@ -15,6 +15,7 @@ from ..geometry.camera import Camera
 from ..gl.glsl_source import glsl_root
 from ..gl.resources import ResourceCache
 from ..gl.shaders import Program, compile_program
+from ..gl.targets import FLIP_Y
 from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.scene import MAX_LIGHTS, Scene
 from .shading import SHADING_MODELS, check_shading
@@ -53,28 +54,44 @@ class ForwardPass:
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights(Scene())))
         self._lights_bytes = b""
 
-    def program(self, shading: str) -> Program:
-        if shading not in self.programs:
+    def program(self, shading: str, light_kinds: tuple[int, ...] | None = None,
+                aux: bool = True) -> Program:
+        """The program for a shading model, specialised to a light set: ``light_kinds`` (the
+        LIGHT_* kind of each light, in order) becomes compile-time constants. ``aux=False``
+        leaves out the depth and id outputs (colour-only targets)."""
+        key = (shading, light_kinds, aux)
+        if key not in self.programs:
             spec = SHADING_MODELS[check_shading(shading)]
+            defines = {spec.define: None, "MAX_LIGHTS": MAX_LIGHTS}
+            if not aux:
+                defines["COLOR_ONLY"] = None
+            if light_kinds is not None:
+                n = len(light_kinds)
+                defines["LIGHT_COUNT"] = n
+                if n:
+                    defines["LIGHT_KIND_LIST"] = f"int[{n}]({', '.join(map(str, light_kinds))})"
             root = glsl_root()
-            prog = compile_program(self.ctx, root / spec.vertex, root / spec.fragment,
-                                   {spec.define: None, "MAX_LIGHTS": MAX_LIGHTS})
+            prog = compile_program(self.ctx, root / spec.vertex, root / spec.fragment, defines)
             if "Lights" in prog.gl:
                 prog.gl["Lights"].binding = LIGHTS_BINDING
-            self.programs[shading] = prog
-        return self.programs[shading]
+            self.programs[key] = prog
+        return self.programs[key]
 
-    def draw(self, scene: Scene, camera: Camera, width: int, height: int,
-             shading: str) -> None:
-        """Draw every object of ``scene`` into the bound framebuffer."""
-        prog = self.program(shading)
+    def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
+             aux: bool, flip_y: bool = True) -> None:
+        """Draw every object of ``scene`` into the bound framebuffer; ``aux``: it has the depth
+        and id attachments too. ``flip_y``: draw upside down for top-down readback."""
+        prog = self.program(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights), aux)
         lights = pack_lights(scene)
         if lights != self._lights_bytes:
             self.lights_ubo.write(lights)
             self._lights_bytes = lights
         self.lights_ubo.bind_to_uniform_block(LIGHTS_BINDING)
         prog.set("u_view", camera.view)
-        prog.set("u_projection", camera.projection(width, height))
+        projection = camera.projection(width, height)
+        prog.set("u_projection", FLIP_Y @ projection if flip_y else projection)
+        # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise.
+        self.ctx.front_face = "cw" if flip_y else "ccw"
         # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
         eye = (*(-camera.forward), 0.0) if camera.is_orthographic else (*camera.eye, 1.0)
         prog.set("u_eye_world", tuple(float(v) for v in eye))

@@ -92,13 +92,13 @@ class Renderer:
         if self.msaa:
             if want_aux:  # exact, unblended depth and ids at pixel centres
                 t.begin_full(bg)
-                self.forward.draw(scene, camera, w, h, "unlit")
+                self.forward.draw(scene, camera, w, h, "unlit", aux=True)
             t.begin_multisample(bg)
-            self.forward.draw(scene, camera, w, h, shading)
+            self.forward.draw(scene, camera, w, h, shading, aux=False)
             t.resolve()
         else:
             t.begin_full(bg) if want_aux else t.begin_color(bg)
-            self.forward.draw(scene, camera, w, h, shading)
+            self.forward.draw(scene, camera, w, h, shading, aux=want_aux)
         frame = Frame(t.read_color() if "color" in outputs else None,
                       t.read_depth() if "depth" in outputs else None,
                       t.read_ids() if "ids" in outputs else None, camera)

@@ -1,0 +1,146 @@
+"""facet's benchmarks: frame time and cold start, side by side with the bare moderngl floor.
+
+    python benchmarks/run.py [--quick] [--frames N]
+
+Prints tables; asserts nothing. Frame time is render + colour readback at 1024x1024 on
+icospheres of ~20k, ~330k and ~1.3M faces, with and without 4x MSAA (facet with one
+directional light and ``outputs=("color",)``, like the floor; also facet with every output).
+Cold start is a whole process (start, imports, context, load, first frame, PNG written),
+for `facet render` and `benchmarks/floor.py`, with its peak resident memory.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from floor import Floor  # noqa: E402
+
+import facet  # noqa: E402
+from facet.render.renderer import Renderer  # noqa: E402
+
+SIZE = 1024
+SUBDIVISIONS = {5: "20k", 7: "330k", 8: "1.3M"}
+SHARED = HERE.parents[1] / "shared" / "models"
+
+
+def icosphere(subdivisions: int):
+    ico = trimesh.creation.icosphere(subdivisions=subdivisions)
+    return np.asarray(ico.vertices, "f4"), np.asarray(ico.faces, "u4")
+
+
+def time_interleaved(fns, frames: int) -> list[float]:
+    """Median seconds per call of each function, calling them in turn frame by frame so that
+    drift in machine load (2 shared cores) hits every contender alike."""
+    for fn in fns:
+        fn()  # warm-up: first-use compilation, uploads
+    samples = [[] for _ in fns]
+    for _ in range(frames):
+        for fn, out in zip(fns, samples):
+            t = time.perf_counter()
+            fn()
+            out.append(time.perf_counter() - t)
+    return [statistics.median(s) for s in samples]
+
+
+def frame_table(frames: int, subdivisions) -> None:
+    print(f"\nFrame time, {SIZE}x{SIZE}, render + colour readback (median of {frames})")
+    print(f"{'faces':>8} {'AA':>5} | {'floor ms':>9} {'fps':>6} | {'facet ms':>9} {'fps':>6} "
+          f"{'ratio':>6} | {'facet all outputs ms':>21}")
+    for sub in subdivisions:
+        pos, faces = icosphere(sub)
+        mesh = facet.Mesh(pos, faces, pos)  # unit sphere: normals = positions
+        scene = facet.Scene()
+        scene.add(mesh)
+        scene.add_light(facet.DirectionalLight((-0.5, -0.6, -0.6)))
+        for msaa in (0, 4):
+            floor = Floor(SIZE, SIZE, msaa)
+            floor.upload(pos, pos, faces)
+            camera = facet.Camera.look_at(floor.eye, floor.target, fov_y=40.0,
+                                          near=floor.near, far=floor.far)
+
+            def floor_frame():
+                with floor.ctx:  # several contexts live in this process
+                    floor.frame()
+
+            with Renderer(SIZE, SIZE, msaa=msaa) as r:
+                t_floor, t_facet, t_all = time_interleaved(
+                    [floor_frame, lambda: r.render(scene, camera, outputs=("color",)),
+                     lambda: r.render(scene, camera)], frames)
+            floor.ctx.release()
+            print(f"{len(faces):>8} {('4x' if msaa else 'none'):>5} | {t_floor * 1e3:9.1f} "
+                  f"{1 / t_floor:6.1f} | {t_facet * 1e3:9.1f} {1 / t_facet:6.1f} "
+                  f"{t_facet / t_floor:6.2f} | {t_all * 1e3:21.1f}")
+
+
+def run_process(cmd) -> tuple[float, float]:
+    """Wall time (s) and peak RSS (MiB) of one whole process."""
+    t = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - t
+    if status != 0:
+        raise SystemExit(f"benchmark command failed: {' '.join(map(str, cmd))}\n"
+                         f"{proc.stderr.read().decode()}")
+    return wall, usage.ru_maxrss / 1024
+
+
+def cold_table(runs: int, models) -> None:
+    print(f"\nCold start: whole process to PNG written, {SIZE}x{SIZE}, no AA, one light "
+          f"(median of {runs}; peak RSS)")
+    print(f"{'model':>22} | {'floor s':>8} {'MiB':>6} | {'facet s':>8} {'MiB':>6} "
+          f"{'ratio':>6} {'mem':>5}")
+    facet_cmd = [sys.executable, "-m", "facet", "render", "--size", f"{SIZE}x{SIZE}",
+                 "--msaa", "0", "--light", "dir:-0.5,-0.6,-0.6", "-q"]
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, path in models:
+            out = Path(tmp) / "out.png"
+            floor = [run_process([sys.executable, str(HERE / "floor.py"), str(path), str(out),
+                                  "--size", f"{SIZE}x{SIZE}"]) for _ in range(runs)]
+            ours = [run_process([*facet_cmd, str(path), "-o", str(out)]) for _ in range(runs)]
+            tf, mf = statistics.median(w for w, _ in floor), max(m for _, m in floor)
+            to, mo = statistics.median(w for w, _ in ours), max(m for _, m in ours)
+            print(f"{name:>22} | {tf:8.2f} {mf:6.0f} | {to:8.2f} {mo:6.0f} {to / tf:6.2f} "
+                  f"{mo / mf:5.2f}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="small meshes and few repetitions")
+    ap.add_argument("--frames", type=int, default=None)
+    a = ap.parse_args()
+    subs = [5] if a.quick else list(SUBDIVISIONS)
+    frames = a.frames or (5 if a.quick else 15)
+    import moderngl
+
+    ctx = moderngl.create_context(standalone=True, backend="egl")
+    print(f"GL: {ctx.info['GL_RENDERER']} / {ctx.info['GL_VERSION']}; "
+          f"{os.cpu_count()} CPUs; numpy {np.__version__}")
+    ctx.release()
+    frame_table(frames, subs)
+    with tempfile.TemporaryDirectory() as tmp:
+        models = []
+        if (SHARED / "stanford-bunny.obj").is_file():
+            models.append(("stanford-bunny (69k)", SHARED / "stanford-bunny.obj"))
+        else:
+            print(f"(bunny not found in {SHARED}; cold start on icospheres only)")
+        sub = 5 if a.quick else 8
+        ply = Path(tmp) / f"icosphere{sub}.ply"
+        trimesh.creation.icosphere(subdivisions=sub).export(ply)
+        models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
+        cold_table(2 if a.quick else 5, models)
+
+
+if __name__ == "__main__":
+    main()
