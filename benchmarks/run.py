@@ -25,10 +25,9 @@ import trimesh
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from floor import Floor  # noqa: E402
-
 import facet  # noqa: E402
 from facet.render.renderer import Renderer  # noqa: E402
+from floor import Floor  # noqa: E402
 
 SIZE = 1024
 SUBDIVISIONS = {5: "20k", 7: "330k", 8: "1.3M"}
@@ -47,11 +46,30 @@ def time_interleaved(fns, frames: int) -> list[float]:
         fn()  # warm-up: first-use compilation, uploads
     samples = [[] for _ in fns]
     for _ in range(frames):
-        for fn, out in zip(fns, samples):
+        for fn, out in zip(fns, samples, strict=True):
             t = time.perf_counter()
             fn()
             out.append(time.perf_counter() - t)
     return [statistics.median(s) for s in samples]
+
+
+def _compare(pos, faces, scene, msaa: int, frames: int) -> list[float]:
+    """Seconds per frame: the floor, facet colour only, facet with all outputs."""
+    floor = Floor(SIZE, SIZE, msaa)
+    floor.upload(pos, pos, faces)
+    camera = facet.Camera.look_at(floor.eye, floor.target, fov_y=40.0, near=floor.near,
+                                  far=floor.far)
+
+    def floor_frame():
+        with floor.ctx:  # several contexts live in this process
+            floor.frame()
+
+    with Renderer(SIZE, SIZE, msaa=msaa) as r:
+        times = time_interleaved([floor_frame,
+                                  lambda: r.render(scene, camera, outputs=("color",)),
+                                  lambda: r.render(scene, camera)], frames)
+    floor.ctx.release()
+    return times
 
 
 def frame_table(frames: int, subdivisions) -> None:
@@ -65,35 +83,20 @@ def frame_table(frames: int, subdivisions) -> None:
         scene.add(mesh)
         scene.add_light(facet.DirectionalLight((-0.5, -0.6, -0.6)))
         for msaa in (0, 4):
-            floor = Floor(SIZE, SIZE, msaa)
-            floor.upload(pos, pos, faces)
-            camera = facet.Camera.look_at(floor.eye, floor.target, fov_y=40.0,
-                                          near=floor.near, far=floor.far)
-
-            def floor_frame():
-                with floor.ctx:  # several contexts live in this process
-                    floor.frame()
-
-            with Renderer(SIZE, SIZE, msaa=msaa) as r:
-                t_floor, t_facet, t_all = time_interleaved(
-                    [floor_frame, lambda: r.render(scene, camera, outputs=("color",)),
-                     lambda: r.render(scene, camera)], frames)
-            floor.ctx.release()
+            t_floor, t_facet, t_all = _compare(pos, faces, scene, msaa, frames)
             print(f"{len(faces):>8} {('4x' if msaa else 'none'):>5} | {t_floor * 1e3:9.1f} "
                   f"{1 / t_floor:6.1f} | {t_facet * 1e3:9.1f} {1 / t_facet:6.1f} "
                   f"{t_facet / t_floor:6.2f} | {t_all * 1e3:21.1f}")
 
 
 def run_process(cmd) -> tuple[float, float]:
-    """Wall time (s) and peak RSS (MiB) of one whole process."""
-    t = time.perf_counter()
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall = time.perf_counter() - t
-    if status != 0:
-        raise SystemExit(f"benchmark command failed: {' '.join(map(str, cmd))}\n"
-                         f"{proc.stderr.read().decode()}")
-    return wall, usage.ru_maxrss / 1024
+    """Wall time (s) and peak RSS (MiB) of one whole process (see benchmarks/measure.py)."""
+    res = subprocess.run([sys.executable, str(HERE / "measure.py"), *map(str, cmd)],
+                         capture_output=True, text=True)
+    if res.returncode != 0:
+        raise SystemExit(f"benchmark command failed: {' '.join(map(str, cmd))}\n{res.stderr}")
+    wall, peak_kib = res.stdout.split()
+    return float(wall), int(peak_kib) / 1024
 
 
 def cold_table(runs: int, models) -> None:

@@ -66,7 +66,8 @@ def phong(points, normals, to_eye, color, material, lights, ambient, blinn=False
             falloff = 1.0 / (c + lin * d + q * d * d)
             if kind == "SpotLight":
                 cos = np.sum(-L * np.asarray(light.direction), axis=-1)
-                lo, hi = np.cos(np.radians(light.outer_angle)), np.cos(np.radians(light.inner_angle))
+                lo = np.cos(np.radians(light.outer_angle))
+                hi = np.cos(np.radians(light.inner_angle))
                 s = np.clip((cos - lo) / (hi - lo), 0, 1)
                 falloff = falloff * s * s * (3 - 2 * s)
         n_dot_l = np.sum(normals * L, axis=-1)

@@ -44,7 +44,8 @@ def test_round_trip_png_and_depth(tmp_path, sphere_file, capsys):
     assert hit[24, 32] and abs(d[24, 32] - 3.0) < 0.01
     camera = Camera.look_at((0, 0, 4), (0, 0, 0), fov_y=40)
     lights = [DirectionalLight((0, 0, -1))]
-    ref, mask, ref_depth = sphere_reference(camera, 64, 48, (0, 0, 0), 1.0, Material(color=(1, 0, 0)), lights, 0.1)
+    ref, mask, ref_depth = sphere_reference(camera, 64, 48, (0, 0, 0), 1.0,
+                                            Material(color=(1, 0, 0)), lights, 0.1)
     inner = erode(mask, 2)
     assert np.abs(img / 255.0 - ref)[inner].max() <= 3 / 255
     assert np.abs(d - ref_depth)[inner].max() < 1e-3

@@ -2,12 +2,12 @@
 
 import numpy as np
 import pytest
-from conftest import quad_mesh, sphere_mesh
-from reference import erode, linear_depth, pixel_rays, sphere_reference
 
+from conftest import quad_mesh, sphere_mesh
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
 from facet.scene import DirectionalLight, Material, Scene
+from reference import erode, linear_depth, pixel_rays, sphere_reference
 
 SIZE = 64
 
@@ -87,7 +87,7 @@ def test_intrinsics_reprojection(renderer):
     world = (np.column_stack([pts_cv, np.ones(len(z))]) @ pose.T)[:, :3]
     scene = Scene()
     marker = sphere_mesh(3, 1.0)
-    for p, depth in zip(world, z):  # a marker about 2 px in radius at each point
+    for p, depth in zip(world, z, strict=True):  # a marker about 2 px in radius at each point
         scene.add(marker, Material(), transform=T.compose(T.scale(2.0 * depth / fx),
                                                           T.translate(p)))
     scene.add_light(DirectionalLight((0, 0, 1)))

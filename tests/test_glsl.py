@@ -19,7 +19,8 @@ def _write(root, files):
 
 def test_include_expands_once_and_maps_lines(tmp_path):
     _write(tmp_path, {
-        "a.frag": '#version 330 core\n#include "lib/b.glsl"\n#include "lib/b.glsl"\nvoid main(){}\n',
+        "a.frag": '#version 330 core\n#include "lib/b.glsl"\n#include "lib/b.glsl"\n'
+                  "void main(){}\n",
         "lib/b.glsl": '// b line 1\n#include "c.glsl"\nfloat b() { return c(); }\n',
         "lib/c.glsl": "float c() { return 1.0; }\n",
     })

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 import trimesh
-from conftest import shared_model
 
+from conftest import shared_model
 from facet.errors import FacetError, MeshError
 from facet.scene import Mesh
 from facet.scene.mesh import smooth_normals

@@ -6,8 +6,8 @@ import resource
 
 import numpy as np
 import pytest
-from conftest import sphere_mesh
 
+from conftest import sphere_mesh
 from facet.errors import InputError
 from facet.geometry.camera import Camera
 from facet.render.renderer import Renderer
@@ -62,11 +62,11 @@ def test_long_runs_do_not_leak():
     memory settles. Measured on llvmpipe: ~0.1 MB growth; keeping every mesh's buffers (no
     sweep) grows ~40 MB, and 30 unclosed renderers ~240 MB."""
     with Renderer(128, 128, msaa=4) as r:
-        for i in range(40):
+        for _ in range(40):
             r.render(_scene(sphere_mesh(4)), CAMERA)
         gc.collect()
         before = _rss_mb()
-        for i in range(300):
+        for _ in range(300):
             r.render(_scene(sphere_mesh(4)), CAMERA)
         gc.collect()
         growth = _rss_mb() - before

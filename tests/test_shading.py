@@ -7,11 +7,11 @@ silhouette masks must overlap with IoU >= 0.99.
 
 import numpy as np
 import pytest
-from conftest import sphere_mesh
-from reference import erode, iou, sphere_reference
 
+from conftest import sphere_mesh
 from facet.geometry.camera import Camera
 from facet.scene import DirectionalLight, Material, PointLight, Scene, SpotLight
+from reference import erode, iou, sphere_reference
 
 SIZE = 96
 TOL = 2.0 / 255.0
@@ -143,3 +143,21 @@ def test_transform_and_normal_matrix(renderer):
     inner = erode(hit, 2)
     assert iou(frame.object_ids == 0, hit) > 0.99
     assert np.abs(frame.color[..., :3] / 255 - rgb)[inner].max() <= TOL
+
+
+def test_many_mixed_lights(renderer):
+    """Nine lights of all three kinds at once (the shader holds up to 16)."""
+    camera, material = CAMERAS["perspective"](), MATERIALS["glossy"]
+    lights = []
+    for i in range(3):
+        a = np.radians(120 * i)
+        lights.append(DirectionalLight((np.cos(a), -0.5, np.sin(a) - 0.5), (0.3, 0.3, 0.3), 0.6))
+        lights.append(PointLight((2 * np.cos(a), 1.5, 2 * np.sin(a) + 2), (0.4, 0.3, 0.2), 1.5,
+                                 (1, 0.1, 0.1)))
+        lights.append(SpotLight((np.cos(a), 2, 2), (-np.cos(a), -2, -2), (0.2, 0.3, 0.5), 1.0,
+                                inner_angle=10 + 5 * i, outer_angle=20 + 5 * i))
+    scene, frame = _render_sphere(renderer, camera, material, lights)
+    rgb, mask, _ = sphere_reference(camera, SIZE, SIZE, (0, 0, 0), 1.0, material,
+                                    scene.lights, scene.ambient)
+    inner = erode(mask, 2)
+    assert np.abs(frame.color[..., :3] / 255.0 - rgb)[inner].max() <= TOL

@@ -18,7 +18,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-
 from . import transforms as T
 
 # OpenCV camera axes (x right, y down, z forward) <-> OpenGL camera axes (x right, y up, -z fwd).

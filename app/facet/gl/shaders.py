@@ -2,9 +2,10 @@
 
 Driver logs number lines of the expanded source (Mesa: ``0:12(5): error: ...``; NVIDIA:
 ``0(12) : error C1008: ...``, no column). Mesa's columns are 1-based but count each run of
-blanks as one column; ``mesa_column`` turns them into real columns using the source line. ``compile_program`` maps them through the
-include table of ``facet.gl.glsl_source`` and raises one ``ShaderError`` reading
-``glsl/lib/lighting.glsl:12:6: error: ...`` with two lines of context.
+blanks as one column; ``mesa_column`` turns them into real columns using the source line.
+``compile_program`` maps them through the include table of ``facet.gl.glsl_source`` and
+raises one ``ShaderError`` reading ``glsl/lib/lighting.glsl:12:6: error: ...`` with two
+lines of context.
 """
 
 from __future__ import annotations

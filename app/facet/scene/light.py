@@ -18,7 +18,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-
 from .material import as_color
 
 

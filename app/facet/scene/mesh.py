@@ -23,15 +23,16 @@ def smooth_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """Area-weighted vertex normals, (N, 3) float32.
 
     Each face adds its unnormalised cross product (|cross| = 2 x area) to its three vertices,
-    summed with ``np.bincount`` (no Python loop). Vertices used by no face, or whose normals
-    cancel, get +z.
+    summed with ``np.bincount`` (no Python loop over vertices; the sums run in float64).
+    Vertices used by no face, or whose normals cancel, get +z.
     """
-    p = positions.astype(np.float64)
-    tri = p[faces]
-    face_n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    idx = faces.reshape(-1)
-    rep = np.repeat(face_n, 3, axis=0)
-    n = np.stack([np.bincount(idx, rep[:, k], minlength=len(p)) for k in range(3)], axis=1)
+    p = np.asarray(positions, dtype=np.float32)
+    a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
+    face_n = np.cross(b - a, c - a)
+    n = np.zeros((len(p), 3))
+    for corner in range(3):
+        for k in range(3):
+            n[:, k] += np.bincount(faces[:, corner], face_n[:, k], minlength=len(p))
     length = np.linalg.norm(n, axis=1)
     ok = length > 0
     n[ok] /= length[ok, None]
@@ -119,10 +120,9 @@ class Mesh:
 
     @property
     def bounds(self) -> np.ndarray:
-        """Axis-aligned bounds of the vertices used by faces, (2, 3) float64: min, max."""
-        used = self.positions[np.unique(self.faces)] if self.face_count < 1_000_000 \
-            else self.positions
-        return np.stack([used.min(axis=0), used.max(axis=0)]).astype(np.float64)
+        """Axis-aligned bounds of the vertices, (2, 3) float64: min, max."""
+        return np.stack([self.positions.min(axis=0),
+                         self.positions.max(axis=0)]).astype(np.float64)
 
     def flat_shaded(self) -> Mesh:
         """A copy with one vertex per face corner and the face's geometric normal on each."""

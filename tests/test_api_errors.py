@@ -1,0 +1,100 @@
+"""The Python API raises documented FacetError subclasses for a user's mistakes, and the
+headless context failure says what to install."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import sphere_mesh
+from facet.errors import ContextError, FacetError, InputError
+from facet.geometry.camera import Camera
+from facet.render.renderer import Renderer
+from facet.scene import DirectionalLight, Material, Mesh, PointLight, Scene, SpotLight
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    (dict(width=0, height=10), "width must be between 1 and"),
+    (dict(width=10, height=10**6), "height must be between 1 and"),
+    (dict(width=10.5, height=10), "must be an integer"),
+    (dict(width=10, height=10, msaa=3), "msaa must be one of"),
+    (dict(width=10, height=10, shading="toon"), "unknown shading model"),
+])
+def test_renderer_arguments(kwargs, message):
+    with pytest.raises(InputError, match=message):
+        Renderer(**kwargs)
+
+
+def test_msaa_beyond_the_driver_limit(renderer):
+    max_samples = renderer(16, 16).ctx.max_samples
+    if max_samples >= 8:
+        with Renderer(16, 16, msaa=8) as r:
+            assert r.msaa == 8
+    else:
+        with pytest.raises(InputError, match=f"max {max_samples} samples"):
+            Renderer(16, 16, msaa=8)
+
+
+def test_render_arguments(renderer):
+    r = renderer(16, 16)
+    scene = Scene()
+    with pytest.raises(InputError, match="scene is empty"):
+        r.render(scene)  # no camera to frame an empty scene with
+    scene.add(sphere_mesh(1))
+    with pytest.raises(InputError, match="unknown outputs"):
+        r.render(scene, outputs=("color", "normals"))
+    intr = Camera.from_intrinsics(10, 10, 7.5, 7.5, 32, 32)
+    with pytest.raises(InputError, match="intrinsics are for 32x32"):
+        r.render(scene, intr)
+
+
+@pytest.mark.parametrize("make,message", [
+    (lambda: Mesh([[0, 0, 0], [1, 0, 0]], [[0, 1, 2]]), "face indices must be in"),
+    (lambda: Mesh(np.zeros((3, 3)), np.zeros((0, 3), int)), "no faces"),
+    (lambda: Mesh([[0, 0, 0], [np.nan, 0, 0], [0, 1, 0]], [[0, 1, 2]]), "NaN or infinite"),
+    (lambda: Material(color=(1.5, 0, 0)), "material color"),
+    (lambda: Material(shininess=-1), "shininess must be a number >= 0"),
+    (lambda: DirectionalLight(direction=(0, 0, 0)), "zero vector"),
+    (lambda: PointLight(attenuation=(0, 0, 0)), "attenuation"),
+    (lambda: SpotLight(inner_angle=40, outer_angle=30), "inner_angle <= outer_angle"),
+    (lambda: Scene(background=(1, 1)), "background"),
+    (lambda: Scene().add("bunny.obj"), "expects a facet.Mesh"),
+    (lambda: Scene().add(sphere_mesh(0), transform=np.zeros((4, 4))), "singular"),
+    (lambda: Camera.look_at((0, 0, 1), (0, 0, 1)), "same point"),
+    (lambda: Camera.look_at((0, 0, 1), (0, 0, 0), near=2, far=1), "near < far"),
+    (lambda: Camera.look_at((0, 0, 1), (0, 0, 0), ortho_height=-1), "ortho_height"),
+    (lambda: Camera.from_intrinsics(-5, 5, 1, 1, 4, 4), "fx, fy > 0"),
+])
+def test_scene_and_camera_validation(make, message):
+    with pytest.raises(FacetError, match=message):
+        make()
+
+
+def test_too_many_lights():
+    scene = Scene()
+    for _ in range(16):
+        scene.add_light(DirectionalLight())
+    with pytest.raises(InputError, match="at most 16 lights"):
+        scene.add_light(DirectionalLight())
+
+
+def test_no_context_error_says_what_to_install(tmp_path):
+    """With EGL pointed at no vendor library, context creation fails with one clear line."""
+    env = {**os.environ, "__EGL_VENDOR_LIBRARY_FILENAMES": str(tmp_path / "none.json"),
+           "PYTHONPATH": str(ROOT / "app")}
+    res = subprocess.run([sys.executable, "-m", "facet", "info"], capture_output=True,
+                         text=True, env=env)
+    assert res.returncode == 2
+    assert "Traceback" not in res.stderr and len(res.stderr.strip().splitlines()) == 1
+    assert "cannot create a headless OpenGL" in res.stderr
+    assert "apt-get install libegl1 libgl1-mesa-dri" in res.stderr
+    code = ("from facet.errors import ContextError\nfrom facet.render.renderer import Renderer\n"
+            "try:\n    Renderer(8, 8)\nexcept ContextError as e:\n    print('ContextError')")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert res.stdout.strip() == "ContextError"
+    assert issubclass(ContextError, FacetError)
