@@ -51,6 +51,9 @@ def test_round_trip_png_and_depth(tmp_path, sphere_file, capsys):
     assert np.abs(d - ref_depth)[inner].max() < 1e-3
     assert np.all(img[~hit] == [0, 0, 255]) and np.all(d[~hit] == 0)
     assert not list(tmp_path.glob(".*tmp"))  # no temporary files left behind
+    umask = os.umask(0)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's private 0600
 
 
 def test_ortho_shading_and_light_kinds(tmp_path, sphere_file):
