@@ -8,7 +8,7 @@ in vec3 in_normal;    // object space
 
 uniform mat4 u_model;         // object -> world
 uniform mat4 u_view;          // world -> view (OpenGL camera axes)
-uniform mat4 u_projection;    // view -> clip
+uniform mat4 u_mvp;           // object -> clip: projection * view * model, composed in float64
 uniform mat3 u_normal_matrix; // (M^-1)^T of u_model's upper 3x3
 
 out vec3 v_pos_world;
@@ -26,11 +26,10 @@ out vec3 v_color_back;
 
 void main() {
     vec4 pos_world = u_model * vec4(in_position, 1.0);
-    vec4 pos_view = u_view * pos_world;
-    gl_Position = u_projection * pos_view;
+    gl_Position = u_mvp * vec4(in_position, 1.0);
     v_pos_world = pos_world.xyz;
     v_normal_world = u_normal_matrix * in_normal;
-    v_depth_view = -pos_view.z;
+    v_depth_view = -dot(vec4(u_view[0][2], u_view[1][2], u_view[2][2], u_view[3][2]), pos_world);
 #ifdef SHADE_GOURAUD
     vec3 N = normalize(v_normal_world);
     vec3 V = normalize(u_eye_world.xyz - pos_world.xyz * u_eye_world.w);

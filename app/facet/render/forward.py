@@ -89,7 +89,7 @@ class ForwardPass:
         self.lights_ubo.bind_to_uniform_block(LIGHTS_BINDING)
         prog.set("u_view", camera.view)
         projection = camera.projection(width, height)
-        prog.set("u_projection", FLIP_Y @ projection if flip_y else projection)
+        view_projection = (FLIP_Y @ projection if flip_y else projection) @ camera.view
         # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise.
         self.ctx.front_face = "cw" if flip_y else "ccw"
         # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
@@ -98,6 +98,7 @@ class ForwardPass:
         for obj in scene.objects:
             m = obj.material
             prog.set("u_model", obj.transform)
+            prog.set("u_mvp", view_projection @ obj.transform)
             prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
             prog.set("u_color", tuple(float(c) for c in m.color))
             prog.set("u_k", (m.ka, m.kd, m.ks, m.shininess))
