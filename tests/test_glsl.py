@@ -120,7 +120,7 @@ def test_unknown_uniform_is_an_error(renderer):
     r = renderer(16, 16)
     with r.ctx:
         prog = r.forward.program("unlit", ())
-        prog.set("u_eye_world", (0.0, 0.0, 1.0, 1.0))  # declared, maybe optimised away: fine
+        prog.set("u_eye_world", (0.0, 0.0, 1.0))  # declared, maybe optimised away: fine
         with pytest.raises(ShaderError, match="no uniform named 'u_colour'"):
             prog.set("u_colour", (1.0, 0.0, 0.0))
 

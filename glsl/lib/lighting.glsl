@@ -21,20 +21,22 @@ float safe_pow(float x, float n) {
     return pow(max(x, MIN_POW_BASE), n);
 }
 
-// Diffuse + specular of one light with intensity I (colour x intensity x falloff).
-vec3 phong_light(vec3 N, vec3 L, vec3 V, vec3 C, float kd, float ks, float n, vec3 I) {
+// Diffuse + specular of one light. The light's intensity I and the material come
+// pre-multiplied: diffuse = I k_d C, specular = I k_s, so this returns
+// I (k_d C max(N.L, 0) + k_s max(R.V, 0)^n) with the specular term only where N.L > 0.
+vec3 phong_light(vec3 N, vec3 L, vec3 V, vec3 diffuse, vec3 specular, float n) {
     float n_dot_l = dot(N, L);
     vec3 R = reflect(-L, N);  // = 2 (N.L) N - L
-    float specular = n_dot_l > 0.0 ? safe_pow(dot(R, V), n) : 0.0;
-    return I * (kd * C * max(n_dot_l, 0.0) + ks * specular);
+    float highlight = n_dot_l > 0.0 ? safe_pow(dot(R, V), n) : 0.0;
+    return diffuse * max(n_dot_l, 0.0) + specular * highlight;
 }
 
 // The same with Blinn's halfway vector H = (L + V) / |L + V| in place of R.V.
-vec3 blinn_light(vec3 N, vec3 L, vec3 V, vec3 C, float kd, float ks, float n, vec3 I) {
+vec3 blinn_light(vec3 N, vec3 L, vec3 V, vec3 diffuse, vec3 specular, float n) {
     float n_dot_l = dot(N, L);
     vec3 H = normalize(L + V);
-    float specular = n_dot_l > 0.0 ? safe_pow(dot(N, H), n) : 0.0;
-    return I * (kd * C * max(n_dot_l, 0.0) + ks * specular);
+    float highlight = n_dot_l > 0.0 ? safe_pow(dot(N, H), n) : 0.0;
+    return diffuse * max(n_dot_l, 0.0) + specular * highlight;
 }
 
 // 1 / (c + l d + q d^2) for attenuation k = (c, l, q) at distance d.

@@ -1,5 +1,8 @@
 // The scene's lights as a uniform block, and the whole shading equation over them.
 // World space throughout. Filled by facet.render.forward (std140, 4 vec4 per light).
+// Per draw, facet also sets the products of each light with the object's material, so the
+// per-fragment work is only what varies per fragment:
+//   u_ambient_term = I_a k_a C, u_light_diffuse[i] = I_i k_d C, u_light_specular[i] = I_i k_s.
 #include "lib/lighting.glsl"
 
 #ifndef MAX_LIGHTS
@@ -34,32 +37,44 @@ const int LIGHT_KINDS[LIGHT_COUNT] = LIGHT_KIND_LIST;
 #define LIGHTS_IN_USE u_light_count.x
 #endif
 
-// Unit vector from p towards light i, and the light's intensity arriving at p.
-vec3 incident_light(int i, vec3 p, out vec3 L) {
+#ifdef LIGHT_COUNT
+#define LIGHT_ARRAY_SIZE (LIGHT_COUNT > 0 ? LIGHT_COUNT : 1)
+#else
+#define LIGHT_ARRAY_SIZE MAX_LIGHTS
+#endif
+uniform vec3 u_ambient_term;                     // I_a k_a C
+uniform vec3 u_light_diffuse[LIGHT_ARRAY_SIZE];  // I_i k_d C
+uniform vec3 u_light_specular[LIGHT_ARRAY_SIZE]; // I_i k_s
+uniform float u_shininess;                       // n
+
+// Unit vector from p towards light i, and the fraction of the light's intensity that
+// arrives at p (1 for directional lights; attenuation and cone for point and spot lights).
+float incident_light(int i, vec3 p, out vec3 L) {
     LightData light = u_lights[i];
     int kind = LIGHT_KIND(i);
     if (kind == LIGHT_DIRECTIONAL) {
         L = -light.direction.xyz;
-        return light.color.rgb;
+        return 1.0;
     }
     vec3 to_light = light.position.xyz - p;
     float d = length(to_light);
     L = to_light / max(d, 1e-9);
-    vec3 I = light.color.rgb * light_attenuation(light.falloff.xyz, d);
-    if (kind == LIGHT_SPOT) I *= spot_cone(-L, light.direction.xyz, light.direction.w,
-                                           light.color.w);
-    return I;
+    float falloff = light_attenuation(light.falloff.xyz, d);
+    if (kind == LIGHT_SPOT) falloff *= spot_cone(-L, light.direction.xyz, light.direction.w,
+                                                 light.color.w);
+    return falloff;
 }
 
-// I = I_a k_a C + sum_i (diffuse + specular), clamped to [0, 1].
-// k = (k_a, k_d, k_s, n). blinn selects the halfway-vector specular.
-vec3 shade_scene(vec3 p, vec3 N, vec3 V, vec3 C, vec4 k, bool blinn) {
-    vec3 I = u_ambient.rgb * k.x * C;
+// I = I_a k_a C + sum_i (diffuse + specular), clamped to [0, 1]. blinn selects the
+// halfway-vector specular.
+vec3 shade_scene(vec3 p, vec3 N, vec3 V, bool blinn) {
+    vec3 I = u_ambient_term;
     for (int i = 0; i < LIGHTS_IN_USE; ++i) {
         vec3 L;
-        vec3 Ii = incident_light(i, p, L);
-        I += blinn ? blinn_light(N, L, V, C, k.y, k.z, k.w, Ii)
-                   : phong_light(N, L, V, C, k.y, k.z, k.w, Ii);
+        float falloff = incident_light(i, p, L);
+        I += falloff * (blinn
+            ? blinn_light(N, L, V, u_light_diffuse[i], u_light_specular[i], u_shininess)
+            : phong_light(N, L, V, u_light_diffuse[i], u_light_specular[i], u_shininess));
     }
     return clamp(I, 0.0, 1.0);
 }

@@ -1,7 +1,8 @@
 #version 330 core
 // Per-fragment shading in world space, plus the exact (never blended) linear depth and
-// object id. The shading model is chosen by a define (facet.render.forward.SHADING_MODELS):
-// SHADE_PHONG, SHADE_BLINN, SHADE_GOURAUD, SHADE_FLAT, SHADE_UNLIT, SHADE_NORMALS.
+// object id. The shading model is chosen by a define (facet.render.shading.SHADING_MODELS):
+// SHADE_PHONG, SHADE_BLINN, SHADE_GOURAUD, SHADE_FLAT, SHADE_UNLIT, SHADE_NORMALS;
+// VIEW_ORTHOGRAPHIC is defined for parallel projections.
 
 in vec3 v_pos_world;
 in vec3 v_normal_world;
@@ -13,9 +14,9 @@ in vec3 v_color_back;
 
 #include "lib/lights.glsl"
 
-uniform vec4 u_eye_world;  // xyz: eye position (w = 1) or direction towards the eye (w = 0)
-uniform vec3 u_color;      // material C, linear [0, 1]
-uniform vec4 u_k;          // (k_a, k_d, k_s, n)
+// Eye position in world space; with VIEW_ORTHOGRAPHIC, the unit direction towards the viewer.
+uniform vec3 u_eye_world;
+uniform vec3 u_color;      // material C, linear [0, 1] (unlit)
 uniform int u_object_id;
 
 layout(location = 0) out vec4 f_color;
@@ -31,7 +32,11 @@ void main() {
     f_depth = v_depth_view;
     f_object_id = u_object_id;
 #endif
-    vec3 V = normalize(u_eye_world.xyz - v_pos_world * u_eye_world.w);
+#ifdef VIEW_ORTHOGRAPHIC
+    vec3 V = u_eye_world;  // parallel projection: the same direction to the viewer everywhere
+#else
+    vec3 V = normalize(u_eye_world - v_pos_world);
+#endif
 #if defined(SHADE_FLAT)
     // The face's geometric normal from screen-space derivatives, turned towards the viewer
     // (its sign depends on the window's y direction, which facet flips for readback).
@@ -48,9 +53,9 @@ void main() {
 #elif defined(SHADE_NORMALS)
     vec3 rgb = normalize(v_normal_world) * 0.5 + 0.5;  // world-space normal as colour
 #elif defined(SHADE_BLINN)
-    vec3 rgb = shade_scene(v_pos_world, N, V, u_color, u_k, true);
+    vec3 rgb = shade_scene(v_pos_world, N, V, true);
 #else  // SHADE_PHONG, SHADE_FLAT
-    vec3 rgb = shade_scene(v_pos_world, N, V, u_color, u_k, false);
+    vec3 rgb = shade_scene(v_pos_world, N, V, false);
 #endif
     f_color = vec4(rgb, 1.0);
 }

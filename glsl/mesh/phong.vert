@@ -17,9 +17,7 @@ out float v_depth_view;
 
 #ifdef SHADE_GOURAUD
 #include "lib/lights.glsl"
-uniform vec4 u_eye_world;  // xyz: eye position (w = 1) or direction towards the eye (w = 0)
-uniform vec3 u_color;      // material C
-uniform vec4 u_k;          // (k_a, k_d, k_s, n)
+uniform vec3 u_eye_world;  // eye position; the direction to the viewer with VIEW_ORTHOGRAPHIC
 out vec3 v_color_front;
 out vec3 v_color_back;
 #endif
@@ -32,8 +30,12 @@ void main() {
     v_depth_view = -dot(vec4(u_view[0][2], u_view[1][2], u_view[2][2], u_view[3][2]), pos_world);
 #ifdef SHADE_GOURAUD
     vec3 N = normalize(v_normal_world);
-    vec3 V = normalize(u_eye_world.xyz - pos_world.xyz * u_eye_world.w);
-    v_color_front = shade_scene(pos_world.xyz, N, V, u_color, u_k, false);
-    v_color_back = shade_scene(pos_world.xyz, -N, V, u_color, u_k, false);
+#ifdef VIEW_ORTHOGRAPHIC
+    vec3 V = u_eye_world;
+#else
+    vec3 V = normalize(u_eye_world - pos_world.xyz);
+#endif
+    v_color_front = shade_scene(pos_world.xyz, N, V, false);
+    v_color_back = shade_scene(pos_world.xyz, -N, V, false);
 #endif
 }

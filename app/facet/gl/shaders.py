@@ -135,6 +135,18 @@ class Program:
             raise ShaderError(f"no uniform named '{name}' in "
                               f"{' + '.join(s.origin[0][0] for s in self.sources.values())}")
 
+    def set_array(self, name: str, values: np.ndarray) -> None:
+        """Write a float vector array uniform from (N, k) values, zero-padded to its length."""
+        if name not in self._active:
+            self.set(name, None)  # raises for an undeclared name; skips an optimised-away one
+            return
+        member = self.gl[name]
+        width = member.dimension
+        data = np.zeros((member.array_length, width), dtype=np.float32)
+        rows = np.asarray(values, dtype=np.float32).reshape(-1, width)[: member.array_length]
+        data[: len(rows)] = rows
+        member.write(data.tobytes())
+
     def release(self) -> None:
         self.gl.release()
 

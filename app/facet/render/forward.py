@@ -55,16 +55,19 @@ class ForwardPass:
         self._lights_bytes = b""
 
     def program(self, shading: str, light_kinds: tuple[int, ...] | None = None,
-                aux: bool = True) -> Program:
+                aux: bool = True, orthographic: bool = False) -> Program:
         """The program for a shading model, specialised to a light set: ``light_kinds`` (the
         LIGHT_* kind of each light, in order) becomes compile-time constants. ``aux=False``
-        leaves out the depth and id outputs (colour-only targets)."""
-        key = (shading, light_kinds, aux)
+        leaves out the depth and id outputs (colour-only targets); ``orthographic`` makes the
+        view direction a constant."""
+        key = (shading, light_kinds, aux, orthographic)
         if key not in self.programs:
             spec = SHADING_MODELS[check_shading(shading)]
             defines = {spec.define: None, "MAX_LIGHTS": MAX_LIGHTS}
             if not aux:
                 defines["COLOR_ONLY"] = None
+            if orthographic:
+                defines["VIEW_ORTHOGRAPHIC"] = None
             if light_kinds is not None:
                 n = len(light_kinds)
                 defines["LIGHT_COUNT"] = n
@@ -81,7 +84,8 @@ class ForwardPass:
              aux: bool, flip_y: bool = True) -> None:
         """Draw every object of ``scene`` into the bound framebuffer; ``aux``: it has the depth
         and id attachments too. ``flip_y``: draw upside down for top-down readback."""
-        prog = self.program(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights), aux)
+        prog = self.program(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights), aux,
+                            camera.is_orthographic)
         lights = pack_lights(scene)
         if lights != self._lights_bytes:
             self.lights_ubo.write(lights)
@@ -93,15 +97,21 @@ class ForwardPass:
         # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise.
         self.ctx.front_face = "cw" if flip_y else "ccw"
         # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
-        eye = (*(-camera.forward), 0.0) if camera.is_orthographic else (*camera.eye, 1.0)
+        eye = -camera.forward if camera.is_orthographic else camera.eye
         prog.set("u_eye_world", tuple(float(v) for v in eye))
+        intensities = np.array([x.color * x.intensity for x in scene.lights]).reshape(-1, 3)
         for obj in scene.objects:
             m = obj.material
             prog.set("u_model", obj.transform)
             prog.set("u_mvp", view_projection @ obj.transform)
             prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
             prog.set("u_color", tuple(float(c) for c in m.color))
-            prog.set("u_k", (m.ka, m.kd, m.ks, m.shininess))
+            # The material's products with each light (see glsl/lib/lights.glsl), computed
+            # once per draw instead of once per fragment.
+            prog.set("u_ambient_term", tuple(float(c) for c in scene.ambient * m.ka * m.color))
+            prog.set_array("u_light_diffuse", intensities * (m.kd * m.color))
+            prog.set_array("u_light_specular", intensities * m.ks)
+            prog.set("u_shininess", m.shininess)
             prog.set("u_object_id", obj.id + 1)  # 0 is "nothing" in the id target
             self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
 
