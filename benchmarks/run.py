@@ -27,6 +27,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import facet  # noqa: E402
 from facet.render.renderer import Renderer  # noqa: E402
+
 from floor import Floor  # noqa: E402
 
 SIZE = 1024

@@ -9,11 +9,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import sphere_mesh
 from facet.errors import ContextError, FacetError, InputError
 from facet.geometry.camera import Camera
 from facet.render.renderer import Renderer
 from facet.scene import DirectionalLight, Material, Mesh, PointLight, Scene, SpotLight
+
+from conftest import sphere_mesh
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -47,7 +48,7 @@ def test_render_arguments(renderer):
         r.render(scene)  # no camera to frame an empty scene with
     scene.add(sphere_mesh(1))
     with pytest.raises(InputError, match="unknown outputs"):
-        r.render(scene, outputs=("color", "normals"))
+        r.render(scene, outputs=("color", "albedo"))
     intr = Camera.from_intrinsics(10, 10, 7.5, 7.5, 32, 32)
     with pytest.raises(InputError, match="intrinsics are for 32x32"):
         r.render(scene, intr)

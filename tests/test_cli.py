@@ -14,6 +14,7 @@ from PIL import Image
 from facet.cli import main
 from facet.geometry.camera import Camera
 from facet.scene import DirectionalLight, Material
+
 from reference import erode, sphere_reference
 
 ROOT = Path(__file__).resolve().parents[1]

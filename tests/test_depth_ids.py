@@ -3,10 +3,11 @@
 import numpy as np
 import pytest
 
-from conftest import quad_mesh, sphere_mesh
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
 from facet.scene import DirectionalLight, Material, Scene
+
+from conftest import quad_mesh, sphere_mesh
 from reference import erode, linear_depth, pixel_rays, sphere_reference
 
 SIZE = 64

@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 import trimesh
 
-from conftest import shared_model
 from facet.errors import FacetError, MeshError
 from facet.scene import Mesh
 from facet.scene.mesh import smooth_normals
+
+from conftest import shared_model
 
 
 def test_smooth_normals_of_a_sphere_point_outwards():

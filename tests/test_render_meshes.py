@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 import trimesh
 
-from conftest import shared_model
 from facet.geometry.camera import Camera
 from facet.scene import DirectionalLight, Mesh, Scene
 from facet.scene.light import camera_rig
+
+from conftest import shared_model
 
 SIZE = 96
 

@@ -7,11 +7,12 @@ import resource
 import numpy as np
 import pytest
 
-from conftest import sphere_mesh
 from facet.errors import InputError
 from facet.geometry.camera import Camera
 from facet.render.renderer import Renderer
 from facet.scene import DirectionalLight, Scene
+
+from conftest import sphere_mesh
 
 CAMERA = Camera.look_at((0, 0, 4), (0, 0, 0))
 

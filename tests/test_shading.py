@@ -8,9 +8,10 @@ silhouette masks must overlap with IoU >= 0.99.
 import numpy as np
 import pytest
 
-from conftest import sphere_mesh
 from facet.geometry.camera import Camera
 from facet.scene import DirectionalLight, Material, PointLight, Scene, SpotLight
+
+from conftest import sphere_mesh
 from reference import erode, iou, sphere_reference
 
 SIZE = 96

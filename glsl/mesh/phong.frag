@@ -7,6 +7,7 @@
 in vec3 v_pos_world;
 in vec3 v_normal_world;
 in float v_depth_view;
+in vec2 v_uv;
 #ifdef SHADE_GOURAUD
 in vec3 v_color_front;
 in vec3 v_color_back;
@@ -20,17 +21,36 @@ uniform vec3 u_color;      // material C, linear [0, 1] (unlit)
 uniform int u_object_id;
 
 layout(location = 0) out vec4 f_color;
-// COLOR_ONLY drops the depth and id outputs: writing outputs that have no attachment still
-// costs a software rasteriser time, so colour-only passes use a program without them.
-#ifndef COLOR_ONLY
-layout(location = 1) out float f_depth;  // linear depth along the camera axis, scene units
-layout(location = 2) out int f_object_id;
+// Auxiliary outputs exist only when asked for (OUT_<NAME> = its location, see
+// facet.gl.targets): writing outputs nobody reads still costs a software rasteriser time.
+#ifdef OUT_DEPTH
+layout(location = OUT_DEPTH) out float f_depth;  // linear depth along the camera axis
+#endif
+#ifdef OUT_IDS
+layout(location = OUT_IDS) out int f_object_id;  // object id + 1
+#endif
+#ifdef OUT_NORMALS
+layout(location = OUT_NORMALS) out vec4 f_normal;  // world space, facing the viewer
+#endif
+#ifdef OUT_POSITION
+layout(location = OUT_POSITION) out vec4 f_position;  // world space
+#endif
+#ifdef OUT_UV
+layout(location = OUT_UV) out vec2 f_uv;
 #endif
 
 void main() {
-#ifndef COLOR_ONLY
+#ifdef OUT_DEPTH
     f_depth = v_depth_view;
+#endif
+#ifdef OUT_IDS
     f_object_id = u_object_id;
+#endif
+#ifdef OUT_POSITION
+    f_position = vec4(v_pos_world, 1.0);
+#endif
+#ifdef OUT_UV
+    f_uv = v_uv;
 #endif
 #ifdef VIEW_ORTHOGRAPHIC
     vec3 V = u_eye_world;  // parallel projection: the same direction to the viewer everywhere
@@ -45,6 +65,9 @@ void main() {
 #else
     // Two-sided lighting: back faces (open meshes, holes) are lit from their visible side.
     vec3 N = normalize(v_normal_world) * (gl_FrontFacing ? 1.0 : -1.0);
+#endif
+#ifdef OUT_NORMALS
+    f_normal = vec4(N, 0.0);
 #endif
 #if defined(SHADE_GOURAUD)
     vec3 rgb = gl_FrontFacing ? v_color_front : v_color_back;

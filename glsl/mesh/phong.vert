@@ -5,6 +5,7 @@
 
 in vec3 in_position;  // object space
 in vec3 in_normal;    // object space
+in vec2 in_uv;        // texture coordinates ((0, 0) for meshes without them)
 
 uniform mat4 u_model;         // object -> world
 uniform mat4 u_view;          // world -> view (OpenGL camera axes)
@@ -14,6 +15,7 @@ uniform mat3 u_normal_matrix; // (M^-1)^T of u_model's upper 3x3
 out vec3 v_pos_world;
 out vec3 v_normal_world;
 out float v_depth_view;
+out vec2 v_uv;
 
 #ifdef SHADE_GOURAUD
 #include "lib/lights.glsl"
@@ -27,6 +29,7 @@ void main() {
     gl_Position = u_mvp * vec4(in_position, 1.0);
     v_pos_world = pos_world.xyz;
     v_normal_world = u_normal_matrix * in_normal;
+    v_uv = in_uv;
     v_depth_view = -dot(vec4(u_view[0][2], u_view[1][2], u_view[2][2], u_view[3][2]), pos_world);
 #ifdef SHADE_GOURAUD
     vec3 N = normalize(v_normal_world);

@@ -197,6 +197,31 @@ class Camera:
         return np.array([[f, 0.0, (width - 1) / 2.0], [0.0, f, (height - 1) / 2.0],
                          [0.0, 0.0, 1.0]])
 
+    def describe(self, width: int, height: int) -> dict:
+        """Plain data for re-projecting a render of ``width`` x ``height`` (JSON-ready).
+
+        ``world_to_camera`` uses OpenCV axes (x right, y down, z forward), matching ``K``;
+        ``world_to_camera_opengl`` is ``view`` (x right, y up, z backwards);
+        ``projection_opengl`` maps OpenGL camera space to clip space. ``K`` is None for
+        orthographic cameras, which give ``ortho_height`` (scene units) instead.
+        """
+        info = {
+            "model": "orthographic" if self.is_orthographic else "perspective",
+            "width": int(width), "height": int(height),
+            "near": self.near, "far": self.far,
+            "K": None if self.is_orthographic else self.K(width, height).tolist(),
+            "world_to_camera": (CV_TO_GL @ self.view).tolist(),
+            "world_to_camera_opengl": self.view.tolist(),
+            "projection_opengl": self.projection(width, height).tolist(),
+            "eye": self.eye.tolist(),
+        }
+        if self.is_orthographic:
+            info["ortho_height"] = self.ortho_height
+        else:
+            info["fov_y"] = float(2 * np.degrees(np.arctan(height / 2 / self.K(width,
+                                                                               height)[1, 1])))
+        return info
+
     def __repr__(self) -> str:
         kind = ("intrinsics" if self.intrinsics else
                 f"ortho_height={self.ortho_height:g}" if self.is_orthographic else

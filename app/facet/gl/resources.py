@@ -22,22 +22,36 @@ class MeshBuffers:
         interleaved = np.hstack([mesh.positions, mesh.normals]).astype(np.float32, copy=False)
         self.vbo = ctx.buffer(interleaved)  # (N, 6) float32: position xyz, normal xyz
         self.ibo = ctx.buffer(mesh.faces)  # (F, 3) uint32
+        # Optional per-vertex attributes, one buffer each: attribute -> (buffer, format).
+        self.extra: dict[str, tuple[moderngl.Buffer, str]] = {}
+        if mesh.uvs is not None:
+            self.extra["in_uv"] = (ctx.buffer(mesh.uvs), "2f")
+        colors = getattr(mesh, "colors", None)
+        if colors is not None:
+            self.extra["in_color"] = (ctx.buffer(colors), "4f")
         self.index_count = mesh.faces.size
         self.vaos: dict[int, moderngl.VertexArray] = {}
 
     def vao(self, ctx: moderngl.Context, program: moderngl.Program) -> moderngl.VertexArray:
+        """The vertex array binding this mesh to ``program``'s active attributes; attributes
+        the mesh lacks keep GL's default value (0, 0, 0, 1)."""
         key = program.glo
         if key not in self.vaos:
             names = [n for n in ("in_position", "in_normal") if n in program]
             fmt = "3f 3f" if names == ["in_position", "in_normal"] else "3f 3x4"
-            self.vaos[key] = ctx.vertex_array(program, [(self.vbo, fmt, *names)],
-                                              index_buffer=self.ibo, index_element_size=4)
+            content = [(self.vbo, fmt, *names)]
+            content += [(buf, f, name) for name, (buf, f) in self.extra.items()
+                        if name in program]
+            self.vaos[key] = ctx.vertex_array(program, content, index_buffer=self.ibo,
+                                              index_element_size=4)
         return self.vaos[key]
 
     def release(self) -> None:
         for vao in self.vaos.values():
             vao.release()
         self.vaos.clear()
+        for buf, _ in self.extra.values():
+            buf.release()
         self.vbo.release()
         self.ibo.release()
 

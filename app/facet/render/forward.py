@@ -15,7 +15,7 @@ from ..geometry.camera import Camera
 from ..gl.glsl_source import glsl_root
 from ..gl.resources import ResourceCache
 from ..gl.shaders import Program, compile_program
-from ..gl.targets import FLIP_Y
+from ..gl.targets import FLIP_Y, aux_locations
 from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.scene import MAX_LIGHTS, Scene
 from .shading import SHADING_MODELS, check_shading
@@ -55,17 +55,17 @@ class ForwardPass:
         self._lights_bytes = b""
 
     def program(self, shading: str, light_kinds: tuple[int, ...] | None = None,
-                aux: bool = True, orthographic: bool = False) -> Program:
+                aux: tuple[str, ...] = (), orthographic: bool = False) -> Program:
         """The program for a shading model, specialised to a light set: ``light_kinds`` (the
-        LIGHT_* kind of each light, in order) becomes compile-time constants. ``aux=False``
-        leaves out the depth and id outputs (colour-only targets); ``orthographic`` makes the
-        view direction a constant."""
-        key = (shading, light_kinds, aux, orthographic)
+        LIGHT_* kind of each light, in order) becomes compile-time constants. ``aux`` names
+        the auxiliary outputs to write (facet.gl.targets); ``orthographic`` makes the view
+        direction a constant."""
+        key = (shading, light_kinds, tuple(aux), orthographic)
         if key not in self.programs:
             spec = SHADING_MODELS[check_shading(shading)]
             defines = {spec.define: None, "MAX_LIGHTS": MAX_LIGHTS}
-            if not aux:
-                defines["COLOR_ONLY"] = None
+            for name, location in aux_locations(aux).items():
+                defines[f"OUT_{name.upper()}"] = location
             if orthographic:
                 defines["VIEW_ORTHOGRAPHIC"] = None
             if light_kinds is not None:
@@ -81,11 +81,11 @@ class ForwardPass:
         return self.programs[key]
 
     def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
-             aux: bool, flip_y: bool = True) -> None:
-        """Draw every object of ``scene`` into the bound framebuffer; ``aux``: it has the depth
-        and id attachments too. ``flip_y``: draw upside down for top-down readback."""
-        prog = self.program(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights), aux,
-                            camera.is_orthographic)
+             aux: tuple[str, ...] = (), flip_y: bool = True) -> None:
+        """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
+        channels too. ``flip_y``: draw upside down for top-down readback."""
+        prog = self.program(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights),
+                            tuple(aux_locations(aux)), camera.is_orthographic)
         lights = pack_lights(scene)
         if lights != self._lights_bytes:
             self.lights_ubo.write(lights)

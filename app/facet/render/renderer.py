@@ -1,12 +1,16 @@
 """``Renderer`` (owns a GL context and everything made in it) and ``Frame`` (its results).
 
     with Renderer(640, 480, msaa=4) as r:
-        frame = r.render(scene, camera)
+        frame = r.render(scene, camera, outputs=("color", "depth", "ids", "normals"))
         frame.color       # (H, W, 4) uint8, row 0 at the top
         frame.depth       # (H, W) float32, linear depth along the camera axis, 0 = no hit
         frame.object_ids  # (H, W) int32, -1 = background
+        frame.normals     # (H, W, 3) float32 world-space unit normals, 0 = no hit
+        frame.position    # (H, W, 3) float32 world-space positions, 0 = no hit
+        frame.uv          # (H, W, 2) float32 texture coordinates, 0 = no hit or no uvs
 
-Depth and ids are never blended: they come from a single-sample pass whatever ``msaa`` is.
+Only colour is anti-aliased: every other channel comes from a single-sample pass at pixel
+centres whatever ``msaa`` is, so values are exact and labels never blend.
 """
 
 from __future__ import annotations
@@ -24,7 +28,11 @@ from ..scene.scene import Scene
 from .forward import ForwardPass
 from .shading import check_shading
 
-OUTPUTS = ("color", "depth", "ids")
+OUTPUTS = ("color", "depth", "ids", "normals", "position", "uv")
+DEFAULT_OUTPUTS = ("color", "depth", "ids")
+# Output name -> the auxiliary render channel that holds it (facet.gl.targets.AUX_CHANNELS).
+_CHANNEL = {"depth": "depth", "ids": "ids", "normals": "normals", "position": "position",
+            "uv": "uv"}
 
 
 @dataclass
@@ -35,6 +43,20 @@ class Frame:
     depth: np.ndarray | None
     object_ids: np.ndarray | None
     camera: Camera
+    normals: np.ndarray | None = None
+    position: np.ndarray | None = None
+    uv: np.ndarray | None = None
+    size: tuple[int, int] = (0, 0)  # (width, height)
+
+    def camera_normals(self) -> np.ndarray:
+        """Normals in camera space (OpenGL axes: x right, y up, z towards the viewer)."""
+        if self.normals is None:
+            raise InputError("this frame has no normals; render with outputs=(..., 'normals')")
+        return (self.normals @ self.camera.view[:3, :3].T).astype(np.float32)
+
+    def camera_info(self) -> dict:
+        """The camera as plain data (see ``Camera.describe``) for this image size."""
+        return self.camera.describe(*self.size)
 
     def save(self, path):
         """Write the colour image (PNG; RGBA if the background is transparent)."""
@@ -70,7 +92,7 @@ class Renderer:
         return glcontext.describe(self.ctx)
 
     def render(self, scene: Scene, camera: Camera | None = None, *, shading: str | None = None,
-               outputs=OUTPUTS) -> Frame:
+               outputs=DEFAULT_OUTPUTS) -> Frame:
         """Render ``scene`` through ``camera`` (default: ``Camera.frame`` of the scene)."""
         if self._closed:
             raise InputError("this Renderer is closed")
@@ -86,22 +108,26 @@ class Renderer:
 
     def _render(self, scene: Scene, camera: Camera, shading: str, outputs) -> Frame:
         w, h, t = self.width, self.height, self.targets
-        want_aux = "depth" in outputs or "ids" in outputs
+        aux = tuple(_CHANNEL[o] for o in OUTPUTS if o in outputs and o in _CHANNEL)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         bg = tuple(float(c) for c in scene.background)
         if self.msaa:
-            if want_aux:  # exact, unblended depth and ids at pixel centres
-                t.begin_full(bg)
-                self.forward.draw(scene, camera, w, h, "unlit", aux=True)
+            if aux:  # exact, unblended channels at pixel centres
+                t.begin_aux(aux, bg)
+                self.forward.draw(scene, camera, w, h, "unlit", aux=aux)
             t.begin_multisample(bg)
-            self.forward.draw(scene, camera, w, h, shading, aux=False)
+            self.forward.draw(scene, camera, w, h, shading)
             t.resolve()
         else:
-            t.begin_full(bg) if want_aux else t.begin_color(bg)
-            self.forward.draw(scene, camera, w, h, shading, aux=want_aux)
-        frame = Frame(t.read_color() if "color" in outputs else None,
-                      t.read_depth() if "depth" in outputs else None,
-                      t.read_ids() if "ids" in outputs else None, camera)
+            t.begin_aux(aux, bg) if aux else t.begin_color(bg)
+            self.forward.draw(scene, camera, w, h, shading, aux=aux)
+        read = {name: t.read_aux(name) for name in aux}
+        for name in ("normals", "position"):  # stored as RGBA32F: drop w
+            if name in read:
+                read[name] = np.ascontiguousarray(read[name][..., :3])
+        frame = Frame(t.read_color() if "color" in outputs else None, read.get("depth"),
+                      read.get("ids"), camera, read.get("normals"), read.get("position"),
+                      read.get("uv"), (w, h))
         self.cache.sweep()
         return frame
 
