@@ -1,6 +1,7 @@
 """The command line: round trips to PNG and depth .npy, and every bad input -> one line on
 stderr, exit status 2, no traceback, no output file."""
 
+import json
 import os
 import subprocess
 import sys
@@ -33,7 +34,8 @@ def test_round_trip_png_and_depth(tmp_path, sphere_file, capsys):
                  "0,0,4", "--depth", str(depth), "--ids", str(ids), "--color", "1,0,0",
                  "--light", "dir:0,0,-1", "--msaa", "0", "--background", "0,0,1"])
     assert code == 0
-    assert capsys.readouterr().out.split() == [str(out), str(depth), str(ids)]
+    assert capsys.readouterr().out.split() == [str(out), str(depth), str(ids),
+                                               str(tmp_path / "s.json")]
     img = np.asarray(Image.open(out))
     assert img.shape == (48, 64, 3)
     d, i = np.load(depth), np.load(ids)
@@ -74,7 +76,7 @@ def test_default_model_and_python_m(tmp_path):
     res = subprocess.run([sys.executable, "-m", "facet", "render", "-o", "knot.png", "--size",
                           "96x64"], cwd=tmp_path, capture_output=True, text=True, env=env)
     assert res.returncode == 0, res.stderr
-    assert res.stdout.strip() == "knot.png"
+    assert res.stdout.split() == ["knot.png", "knot.json"]
     img = np.asarray(Image.open(tmp_path / "knot.png"))
     orange = (img[..., 0] > 120) & (img[..., 2] < img[..., 0] * 0.6)
     assert orange.mean() > 0.1  # the bundled orange torus knot
@@ -143,6 +145,7 @@ def test_bad_input(tmp_path, sphere_file, capsys, case):
     assert len(err.strip().splitlines()) == 1, err
     assert "Traceback" not in err
     assert not list(tmp_path.glob("out*")) and not list(tmp_path.glob("*.npy"))
+    assert not list(tmp_path.glob("*.json"))
     assert not list(tmp_path.glob(".*tmp"))
 
 
@@ -156,3 +159,69 @@ def test_console_script_and_no_traceback_from_a_real_process(tmp_path):
     assert res.returncode == 2
     assert res.stderr.startswith("facet: error: ") and "Traceback" not in res.stderr
     assert not (tmp_path / "o.png").exists()
+
+
+def test_out_dir_writes_every_channel(tmp_path, sphere_file, capsys):
+    out = tmp_path / "renders"
+    code = main(["render", str(sphere_file), "--size", "48x40", "--eye", "0,0,4",
+                 "--outputs", "color,depth,ids,normals,position,uv", "--out-dir", str(out),
+                 "--png16", "--normals-space", "camera"])
+    assert code == 0
+    names = {Path(p).name for p in capsys.readouterr().out.split()}
+    assert names == {"color.png", "depth.npy", "depth.png", "depth_mm.png", "ids.npy",
+                     "ids.png", "normals.npy", "normals.png", "position.npy", "uv.npy",
+                     "uv.png", "camera.json"}
+    from facet.image.png16 import decode_png16
+
+    depth, ids = np.load(out / "depth.npy"), np.load(out / "ids.npy")
+    hit = ids == 0
+    mm = decode_png16((out / "depth_mm.png").read_bytes())
+    assert np.array_equal(mm[hit], np.rint(depth[hit] * 1000).astype(np.uint16))
+    assert np.all(mm[~hit] == 0)
+    n = np.load(out / "normals.npy")
+    assert n.shape == (40, 48, 3) and n[20, 24, 2] > 0.99  # camera space: facing us
+    n16 = decode_png16((out / "normals.png").read_bytes())
+    assert n16.dtype == np.uint16 and abs(int(n16[20, 24, 2]) - 65535) < 400
+    preview = np.asarray(Image.open(out / "depth.png"))
+    assert preview.shape == (40, 48, 3) and np.all(preview[~hit] == 0)
+    assert len(np.unique(preview[hit].reshape(-1, 3), axis=0)) > 5  # a visible ramp
+    info = json.loads((out / "camera.json").read_text())
+    assert info["width"] == 48 and info["height"] == 40 and len(info["K"]) == 3
+    pos = np.load(out / "position.npy")
+    assert np.allclose(np.linalg.norm(pos[hit], axis=1), 1, atol=0.01)
+
+
+def test_bits_and_dithering_from_the_cli(tmp_path, sphere_file):
+    for extra, check in (
+        (["--bits", "16"], lambda a: a.dtype == np.uint16 and a.shape == (32, 32, 3)),
+        (["--bits", "3", "--dither", "bayer4"],
+         lambda a: a.ndim == 2 and len(np.unique(a)) <= 8),
+        (["--bits", "5,6,5", "--dither", "floyd-steinberg"],
+         lambda a: len(np.unique(a[..., 0])) <= 32 and len(np.unique(a[..., 1])) <= 64),
+        (["--palette", "6"], lambda a: len(np.unique(a.reshape(-1, 3), axis=0)) <= 6),
+    ):
+        out = tmp_path / "q.png"
+        assert main(["render", str(sphere_file), "-o", str(out), "--size", "32x32",
+                     "-q", *extra]) == 0
+        if extra[:2] == ["--bits", "16"]:
+            from facet.image.png16 import decode_png16
+
+            image = decode_png16(out.read_bytes())
+        else:
+            image = np.asarray(Image.open(out))
+        assert check(image), extra
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--outputs", "color,albedo", "--out-dir", "{tmp}/r"], "unknown channel 'albedo'"),
+    (["--outputs", "depth"], "--outputs needs --out-dir"),
+    (["--out-dir", "{tmp}/r", "-o", "{tmp}/x.png"], "leave out -o"),
+    (["--bits", "12"], "each 1..8"),
+    (["--palette", "1"], "choose 2..256"),
+])
+def test_bad_output_options(tmp_path, sphere_file, capsys, args, message):
+    args = [a.format(tmp=tmp_path) for a in args]
+    code = main(["render", str(sphere_file), *args])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "r").exists() and not list(tmp_path.glob("*.png"))

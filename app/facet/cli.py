@@ -28,6 +28,11 @@ examples:
   facet render bunny.obj -o bunny.png
   facet render bunny.obj -o bunny.png --size 1280x720 --msaa 4 --depth bunny-depth.npy
   facet render part.stl -o part.png --ortho --shading flat --light dir:-1,-2,-1
+  facet render bunny.obj --outputs color,depth,normals,ids --out-dir renders/ --png16
+  facet render bunny.obj -o banding.png --bits 4 --dither floyd-steinberg
+
+Every render also writes its camera as JSON beside the image (K, world-to-camera, near/far,
+size): OUT.json for -o OUT.png, camera.json in --out-dir.
 """
 
 
@@ -156,6 +161,26 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--depth", metavar="OUT.npy", help="also write linear depth (float32 .npy)")
     r.add_argument("--ids", metavar="OUT.npy",
                    help="also write object ids (int32 .npy, -1 = background)")
+    out = r.add_argument_group("dataset outputs and colour quantisation")
+    out.add_argument("--outputs", metavar="LIST",
+                     help="channels to write into --out-dir: any of color,depth,ids,normals,"
+                     "position,uv (default color)")
+    out.add_argument("--out-dir", metavar="DIR", help="write each channel as files in DIR "
+                     "(PNG, exact .npy, previews, camera.json) instead of -o")
+    out.add_argument("--png16", action="store_true",
+                     help="also write depth in millimetres and normals as 16-bit PNG")
+    out.add_argument("--normals-space", choices=("world", "camera"), default="world",
+                     help="space of the normals output (default world)")
+    out.add_argument("--bits", default="8", metavar="N|R,G,B",
+                     help="colour bits per channel: 8 (default), 16 (16-bit PNG), three values "
+                     "like 5,6,5, or one value below 8 for grey (e.g. 4)")
+    out.add_argument("--dither", default="none",
+                     choices=("none", "bayer4", "bayer8", "floyd-steinberg"),
+                     help="dithering when reducing bits or palettes (default none)")
+    out.add_argument("--palette", type=int, metavar="N",
+                     help="reduce the colour image to N colours (2..256)")
+    out.add_argument("--palette-method", choices=("median-cut", "kmeans"),
+                     default="median-cut", help="palette method (default median-cut)")
     r.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     sub.add_parser("info", help="print the OpenGL vendor, renderer, version and limits",
                    description="Create a headless context and print what it offers.")

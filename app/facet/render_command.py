@@ -10,9 +10,19 @@ from pathlib import Path
 from .errors import InputError
 
 
-def _output_paths(args) -> tuple[Path, Path | None, Path | None]:
+def _output_paths(args) -> tuple[Path | None, Path | None, Path | None]:
     from .image.writers import check_image_path
 
+    if args.out_dir:
+        if args.output or args.depth or args.ids:
+            raise InputError("--out-dir writes every output itself; leave out -o, --depth "
+                             "and --ids (or drop --out-dir)")
+        out = Path(args.out_dir)
+        if out.exists() and not out.is_dir():
+            raise InputError(f"--out-dir {out}: exists and is not a directory")
+        return None, None, None
+    if args.outputs:
+        raise InputError("--outputs needs --out-dir to know where to write the channels")
     model = Path(args.model) if args.model else None
     image = Path(args.output) if args.output else Path((model.stem if model else "default")
                                                        + ".png")
@@ -51,6 +61,8 @@ def _camera(args, bounds):
 
 def run_render(args) -> list[Path]:
     """Render as the arguments say; returns the paths written."""
+    from .image.outputs import ColorOptions, parse_channels, save_color, write_camera_json
+    from .image.quantize import parse_bits
     from .paths import default_model
     from .scene.light import camera_rig
     from .scene.material import Material
@@ -60,6 +72,11 @@ def run_render(args) -> list[Path]:
     if not 1 <= args.fov < 180:
         raise InputError(f"--fov must be in [1, 180) degrees, got {args.fov:g}")
     image_path, depth_path, ids_path = _output_paths(args)
+    channels = parse_channels(args.outputs) if args.outputs else ("color",)
+    color_options = ColorOptions(parse_bits(args.bits), args.dither, args.palette,
+                                 args.palette_method)
+    if color_options.palette is not None and not 2 <= color_options.palette <= 256:
+        raise InputError(f"--palette {color_options.palette}: choose 2..256 colours")
     mesh = Mesh.load(args.model or default_model())
     scene = Scene(background=args.background)
     material = mesh.material or Material()
@@ -73,14 +90,21 @@ def run_render(args) -> list[Path]:
 
     from .render.renderer import Renderer  # GL is loaded only once the inputs are good
 
-    outputs = ["color"] + (["depth"] if depth_path else []) + (["ids"] if ids_path else [])
-    with Renderer(*args.size, msaa=args.msaa, shading=args.shading) as renderer:
-        frame = renderer.render(scene, camera, outputs=outputs)
+    outputs = set(channels) | ({"depth"} if depth_path else set()) | (
+        {"ids"} if ids_path else set())
+    with Renderer(*args.size, msaa=args.msaa, shading=args.shading,
+                  float_color=color_options.needs_float) as renderer:
+        frame = renderer.render(scene, camera, outputs=tuple(outputs))
+    from .image.outputs import write_outputs
     from .image.writers import save_array
 
-    written = [frame.save(image_path)]
+    if args.out_dir:
+        return write_outputs(frame, args.out_dir, channels, color_options, png16=args.png16,
+                             normals_space=args.normals_space)
+    written = [save_color(image_path, frame.color, color_options)]
     if depth_path:
         written.append(save_array(depth_path, frame.depth))
     if ids_path:
         written.append(save_array(ids_path, frame.object_ids))
+    written.append(write_camera_json(image_path.with_suffix(".json"), frame.camera_info()))
     return written

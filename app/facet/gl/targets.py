@@ -40,6 +40,11 @@ AUX_CHANNELS = {
 }
 
 
+# Colour target formats: RGBA8 (uint8 readback) or RGBA32F (float32 readback, for 16-bit
+# output and dithering from the unrounded shading values).
+COLOR_DTYPES = {"f1": np.uint8, "f4": np.float32}
+
+
 def aux_locations(channels) -> dict[str, int]:
     """Fragment output location of each requested auxiliary channel (1, 2, ... in order)."""
     wanted = [c for c in AUX_CHANNELS if c in channels]
@@ -54,16 +59,21 @@ FLIP_Y = np.diag([1.0, -1.0, 1.0, 1.0])
 class Targets:
     """All framebuffers for one image size and sample count."""
 
-    def __init__(self, ctx: moderngl.Context, width: int, height: int, msaa: int = 0):
+    def __init__(self, ctx: moderngl.Context, width: int, height: int, msaa: int = 0,
+                 color_dtype: str = "f1"):
         check_size(ctx, width, height)
         if msaa not in MSAA_CHOICES:
             raise InputError(f"msaa must be one of {MSAA_CHOICES}, got {msaa!r}")
         if msaa > ctx.max_samples:
             raise InputError(f"msaa={msaa} is more than this GL supports "
                              f"(max {ctx.max_samples} samples on {ctx.info['GL_RENDERER']})")
+        if color_dtype not in COLOR_DTYPES:
+            raise InputError(f"color_dtype must be one of {tuple(COLOR_DTYPES)}, got "
+                             f"{color_dtype!r}")
         self.ctx, self.width, self.height, self.msaa = ctx, width, height, msaa
+        self.color_dtype = color_dtype
         size = (width, height)
-        self.color = ctx.renderbuffer(size, 4)
+        self.color = ctx.renderbuffer(size, 4, dtype=color_dtype)
         self.zbuffer = ctx.depth_renderbuffer(size)
         self.color_only = ctx.framebuffer([self.color], self.zbuffer)
         self._own = [self.color, self.zbuffer, self.color_only]
@@ -71,7 +81,7 @@ class Targets:
         self._targets: dict[tuple[str, ...], moderngl.Framebuffer] = {}
         self.multisample = None
         if msaa:
-            self.ms_color = ctx.renderbuffer(size, 4, samples=msaa)
+            self.ms_color = ctx.renderbuffer(size, 4, samples=msaa, dtype=color_dtype)
             self.ms_z = ctx.depth_renderbuffer(size, samples=msaa)
             self.multisample = ctx.framebuffer([self.ms_color], self.ms_z)
             self._own += [self.ms_color, self.ms_z, self.multisample]
@@ -113,8 +123,8 @@ class Targets:
         self.ctx.copy_framebuffer(self.color_only, self.multisample)
 
     def read_color(self) -> np.ndarray:
-        """(H, W, 4) uint8, row 0 at the top."""
-        return self._read(self.color_only, 4, "f1", np.uint8)
+        """(H, W, 4) uint8 (or float32 for a float colour target), row 0 at the top."""
+        return self._read(self.color_only, 4, self.color_dtype, COLOR_DTYPES[self.color_dtype])
 
     def read_aux(self, name: str) -> np.ndarray:
         """(H, W) or (H, W, k) array of an auxiliary channel drawn by the last ``begin_aux``

@@ -52,17 +52,38 @@ def check_image_path(path) -> Path:
 
 
 def save_image(path, rgba: np.ndarray) -> Path:
-    """Write (H, W, 3|4) uint8 to a PNG. An all-opaque RGBA image is stored as RGB."""
+    """Write (H, W) grey or (H, W, 3|4) uint8 to a PNG. An all-opaque RGBA image is stored
+    as RGB."""
     from PIL import Image  # Pillow is imported only by commands that write images
 
     p = check_image_path(path)
     a = np.asarray(rgba)
-    if a.ndim != 3 or a.shape[2] not in (3, 4) or a.dtype != np.uint8:
-        raise InputError(f"save_image expects (H, W, 3|4) uint8, got {a.shape} {a.dtype}")
-    if a.shape[2] == 4 and np.all(a[..., 3] == 255):
+    if a.dtype != np.uint8 or not (a.ndim == 2 or (a.ndim == 3 and a.shape[2] in (3, 4))):
+        raise InputError(f"save_image expects (H, W) or (H, W, 3|4) uint8, got {a.shape} "
+                         f"{a.dtype}")
+    if a.ndim == 3 and a.shape[2] == 4 and np.all(a[..., 3] == 255):
         a = a[..., :3]
     with write_atomic(p) as tmp:
         Image.fromarray(np.ascontiguousarray(a)).save(tmp, format=IMAGE_FORMATS[p.suffix.lower()])
+    return p
+
+
+def to_uint8(color: np.ndarray) -> np.ndarray:
+    """8-bit colour: uint8 passes through, floats in [0, 1] are rounded."""
+    a = np.asarray(color)
+    if a.dtype == np.uint8:
+        return a
+    return np.rint(np.clip(a, 0.0, 1.0) * 255.0).astype(np.uint8)
+
+
+def save_png16(path, image: np.ndarray) -> Path:
+    """Write a (H, W) or (H, W, 3) uint16 image as a 16-bit PNG."""
+    from .png16 import encode_png16
+
+    p = check_image_path(path)
+    data = encode_png16(image)
+    with write_atomic(p) as tmp:
+        tmp.write_bytes(data)
     return p
 
 

@@ -60,25 +60,29 @@ class Frame:
 
     def save(self, path):
         """Write the colour image (PNG; RGBA if the background is transparent)."""
-        from ..image.writers import save_image
+        from ..image.writers import save_image, to_uint8
 
         if self.color is None:
             raise InputError("this frame has no colour output to save")
-        return save_image(path, self.color)
+        return save_image(path, to_uint8(self.color))
 
 
 class Renderer:
     """Headless renderer of ``width`` x ``height`` images with optional MSAA (0, 2, 4, 8).
 
+    ``float_color=True`` keeps colour as float32 in [0, 1] (``frame.color`` is float32) for
+    16-bit output and dithering; by default it is RGBA8 (uint8).
+
     ``close()`` (or leaving a ``with`` block) releases the context and every GL object.
     """
 
     def __init__(self, width: int = 800, height: int = 600, msaa: int = 0, *,
-                 shading: str = "phong"):
+                 shading: str = "phong", float_color: bool = False):
         self.shading = check_shading(shading)
         self.ctx = glcontext.create_headless()
         try:
-            self.targets = Targets(self.ctx, width, height, msaa)
+            self.targets = Targets(self.ctx, width, height, msaa,
+                                   color_dtype="f4" if float_color else "f1")
         except BaseException:
             self.ctx.release()
             raise
