@@ -28,6 +28,9 @@ _EXPORTS = {
     "PointLight": "facet.scene.light",
     "SpotLight": "facet.scene.light",
     "Scene": "facet.scene.scene",
+    "RenderSettings": "facet.scene.scene",
+    "load_scene": "facet.scene",
+    "primitives": "facet.scene",
     "Renderer": "facet.render.renderer",
     "Frame": "facet.render.renderer",
     "SHADING_MODELS": "facet.render.shading",
@@ -36,6 +39,7 @@ _EXPORTS = {
     "MeshError": "facet.errors",
     "ShaderError": "facet.errors",
     "ContextError": "facet.errors",
+    "SceneError": "facet.errors",
 }
 
 __all__ = sorted(_EXPORTS)

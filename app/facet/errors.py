@@ -32,3 +32,9 @@ class ShaderError(FacetError):
 
 class ContextError(FacetError):
     """No OpenGL context could be made (missing EGL/Mesa, no driver)."""
+
+
+class SceneError(InputError):
+    """A scene file that cannot be used: bad TOML, a wrong type, an unknown key, a missing
+    file, a parent cycle. The message names the file and the key path, e.g.
+    ``scene.toml: objects[2].material.shininess: expected a number >= 0, got "shiny"``."""

@@ -3,7 +3,14 @@
 from .light import DirectionalLight, PointLight, SpotLight
 from .material import Material
 from .mesh import Mesh
-from .scene import MAX_LIGHTS, Scene, SceneObject
+from .scene import MAX_LIGHTS, RenderSettings, Scene, SceneObject
+
+
+def load_scene(path) -> Scene:
+    """Read a TOML scene file (see docs/scene-format.md) into a ``Scene``."""
+    from .scenefile import load_scene as _load
+
+    return _load(path)
 
 __all__ = ["DirectionalLight", "PointLight", "SpotLight", "Material", "Mesh", "Scene",
-           "SceneObject", "MAX_LIGHTS"]
+           "SceneObject", "MAX_LIGHTS", "RenderSettings", "load_scene"]

@@ -70,20 +70,28 @@ def _material_from_trimesh(tm) -> Material | None:
     return None
 
 
-def load_mesh(path) -> Mesh:
-    """Load ``path`` into one ``Mesh``; raises ``MeshError`` naming the file on any failure."""
-    p = _check_path(path)
+def _read(p: Path):
+    """trimesh's object for a checked path (a Trimesh, a Scene, or something else)."""
     import trimesh  # imported here: commands that load no mesh do not pay for it
 
     try:
-        loaded = trimesh.load(str(p), file_type=FORMATS[p.suffix.lower().lstrip(".")],
-                              process=False)
+        return trimesh.load(str(p), file_type=FORMATS[p.suffix.lower().lstrip(".")],
+                            process=False)
     except FacetError:
         raise
     except Exception as exc:  # trimesh raises many types for bad files; report them as one
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise MeshError(f"{p}: cannot read the file as {p.suffix.lower()} ({detail}); "
                         "is it truncated or in another format?") from None
+
+
+def load_mesh(path) -> Mesh:
+    """Load ``path`` into one ``Mesh`` (a scene graph is baked into one world-space mesh);
+    raises ``MeshError`` naming the file on any failure."""
+    import trimesh
+
+    p = _check_path(path)
+    loaded = _read(p)
     if isinstance(loaded, trimesh.Scene):
         if not loaded.geometry:
             raise MeshError(f"{p}: cannot read the file: no geometry found; is it truncated or "
@@ -94,9 +102,41 @@ def load_mesh(path) -> Mesh:
         # Bake every node's transform into its geometry (scene graph -> one world mesh).
         tm = loaded.to_geometry() if hasattr(loaded, "to_geometry") else \
             loaded.dump(concatenate=True)
-    else:
-        tm = loaded
-        material = _material_from_trimesh(tm)
+        return _to_mesh(tm, p, material)
+    return _to_mesh(loaded, p, _material_from_trimesh(loaded))
+
+
+def load_parts(path) -> list[tuple[str, Mesh, np.ndarray]]:
+    """The parts of a mesh file as (node name, mesh, 4x4 node -> file transform).
+
+    glTF/GLB keep their node hierarchy: one part per node that holds geometry, with the
+    node's world transform from the file's scene graph; a mesh used by several nodes is
+    converted once. Other formats give one part with the identity.
+    """
+    import trimesh
+
+    p = _check_path(path)
+    loaded = _read(p)
+    if not isinstance(loaded, trimesh.Scene):
+        return [(p.stem, _to_mesh(loaded, p, _material_from_trimesh(loaded)), np.eye(4))]
+    if not loaded.geometry:
+        raise MeshError(f"{p}: cannot read the file: no geometry found; is it truncated or "
+                        "in another format?")
+    meshes: dict[str, Mesh] = {}
+    parts = []
+    for node in loaded.graph.nodes_geometry:
+        matrix, geom_name = loaded.graph[node]
+        if geom_name not in meshes:
+            geom = loaded.geometry[geom_name]
+            meshes[geom_name] = _to_mesh(geom, p, _material_from_trimesh(geom))
+        parts.append((str(node), meshes[geom_name], np.asarray(matrix, dtype=np.float64)))
+    return parts
+
+
+def _to_mesh(tm, p: Path, material) -> Mesh:
+    """A facet Mesh from one trimesh geometry, with the checks every file gets."""
+    import trimesh
+
     if not isinstance(tm, trimesh.Trimesh):
         kind = "points" if "Point" in type(tm).__name__ else "lines or curves"
         raise MeshError(f"{p}: the file has 0 faces (it holds only {kind}); nothing to render")

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry import transforms as T
+from ..geometry.camera import Camera
 from .light import DirectionalLight, Light, PointLight, SpotLight
 from .material import Material, as_color
 from .mesh import Mesh
@@ -27,6 +28,7 @@ class SceneObject:
     mesh: Mesh
     material: Material
     transform: np.ndarray = field(default_factory=lambda: np.eye(4))
+    name: str = ""
 
     @property
     def world_bounds(self) -> np.ndarray:
@@ -36,8 +38,20 @@ class SceneObject:
         return np.stack([w.min(axis=0), w.max(axis=0)])
 
 
+@dataclass
+class RenderSettings:
+    """How a scene wants to be rendered (a scene file's [render] table); the CLI's options
+    override these. ``camera`` names one of ``Scene.cameras`` (None: the first, else framed)."""
+
+    size: tuple[int, int] = (800, 600)
+    shading: str = "phong"
+    msaa: int = 4
+    outputs: tuple[str, ...] = ("color",)
+    camera: str | None = None
+
+
 class Scene:
-    """Objects, lights, ambient light ``I_a`` and background colour.
+    """Objects, lights, ambient light ``I_a``, background colour, and named cameras.
 
     Parameters
     ----------
@@ -51,8 +65,11 @@ class Scene:
         self.background = np.append(bg, 1.0) if bg.size == 3 else bg
         self.objects: list[SceneObject] = []
         self.lights: list[Light] = []
+        self.cameras: dict[str, Camera] = {}
+        self.settings = RenderSettings()
 
-    def add(self, mesh: Mesh, material: Material | None = None, transform=None) -> int:
+    def add(self, mesh: Mesh, material: Material | None = None, transform=None, *,
+            name: str = "") -> int:
         """Place ``mesh`` in the scene; returns its object id (0, 1, 2, ...).
 
         ``material`` defaults to the mesh file's own material, else a grey ``Material()``.
@@ -65,7 +82,7 @@ class Scene:
             raise InputError(f"transform must be a finite 4x4 matrix, got shape {m.shape}")
         T.normal_matrix(m)  # rejects singular transforms here rather than at draw time
         material = material or mesh.material or Material()
-        obj = SceneObject(len(self.objects), mesh, material, m)
+        obj = SceneObject(len(self.objects), mesh, material, m, name or mesh.name)
         self.objects.append(obj)
         return obj.id
 
@@ -77,6 +94,24 @@ class Scene:
             raise InputError(f"a scene holds at most {MAX_LIGHTS} lights")
         self.lights.append(light)
         return light
+
+    def add_camera(self, name: str, camera: Camera) -> Camera:
+        """Name a camera (scene files select cameras by name)."""
+        if not isinstance(camera, Camera):
+            raise InputError(f"add_camera expects a facet.Camera, got {type(camera).__name__}")
+        self.cameras[name] = camera
+        return camera
+
+    def camera(self, name: str | None = None) -> Camera | None:
+        """The camera called ``name``; without a name the settings' camera, else the first
+        one, else None (the renderer then frames the scene)."""
+        name = name or self.settings.camera
+        if name is not None:
+            if name not in self.cameras:
+                known = ", ".join(self.cameras) or "none"
+                raise InputError(f"no camera named {name!r} (cameras: {known})")
+            return self.cameras[name]
+        return next(iter(self.cameras.values()), None)
 
     @property
     def bounds(self) -> np.ndarray:

@@ -1,0 +1,433 @@
+"""TOML scene files -> ``facet.Scene`` (see docs/scene-format.md for the format).
+
+A scene file is a thin layer over the Python API: every table maps to one constructor
+(``Material``, ``DirectionalLight``, ``Camera.look_at``, ``Scene.add`` ...). Nothing in a
+scene file is ever executed; it is parsed with ``tomllib`` and validated key by key. Every
+error names the file, the key path and what was expected, for example
+``scene.toml: objects[2].material.shininess: expected a number >= 0, got "shiny"``; unknown
+keys are errors with a did-you-mean.
+"""
+
+from __future__ import annotations
+
+import difflib
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import FacetError, SceneError
+from ..geometry import transforms as T
+from ..geometry.camera import Camera, depth_range
+from .light import DirectionalLight, PointLight, SpotLight
+from .material import Material
+from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
+from .scene import RenderSettings, Scene
+
+TOP = ("render", "materials", "objects", "lights", "cameras")
+RENDER = ("size", "background", "shading", "msaa", "outputs", "camera")
+MATERIAL = ("color", "ka", "kd", "ks", "shininess")
+OBJECT = ("name", "mesh", "primitive", "material", "transform", "matrix", "parent", "flat",
+          *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
+LIGHT = {"ambient": ("color", "intensity"),
+         "directional": ("direction", "color", "intensity"),
+         "point": ("position", "color", "intensity", "attenuation"),
+         "spot": ("position", "direction", "color", "intensity", "attenuation",
+                  "inner_angle", "outer_angle")}
+CAMERA = {"perspective": ("eye", "target", "up", "fov", "near", "far"),
+          "orthographic": ("eye", "target", "up", "height", "near", "far"),
+          "intrinsics": ("fx", "fy", "cx", "cy", "width", "height", "pose", "near", "far")}
+TRANSFORM_OPS = ("translate", "scale", "rotate", "shear", "matrix")
+
+
+def _show(value) -> str:
+    return f'"{value}"' if isinstance(value, str) else repr(value)
+
+
+class _Reader:
+    """Validation helpers that raise ``SceneError`` with file and key path."""
+
+    def __init__(self, path: Path):
+        self.path = path
+
+    def fail(self, where: str, message: str):
+        raise SceneError(f"{self.path.name}: {where}: {message}" if where else
+                         f"{self.path.name}: {message}")
+
+    def table(self, value, where: str, allowed) -> dict:
+        if not isinstance(value, dict):
+            self.fail(where, f"expected a table, got {_show(value)}")
+        for key in value:
+            if key not in allowed:
+                close = difflib.get_close_matches(key, list(allowed), n=1)
+                hint = f"; did you mean '{close[0]}'?" if close else \
+                    f"; expected one of {', '.join(allowed)}"
+                self.fail(f"{where}.{key}" if where else key, f"unknown key{hint}")
+        return value
+
+    def number(self, value, where: str, minimum=None, above=None) -> float:
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and \
+            np.isfinite(value)
+        if ok and minimum is not None:
+            ok = value >= minimum
+        if ok and above is not None:
+            ok = value > above
+        if not ok:
+            bound = f" >= {minimum:g}" if minimum is not None else \
+                f" > {above:g}" if above is not None else ""
+            self.fail(where, f"expected a number{bound}, got {_show(value)}")
+        return float(value)
+
+    def vector(self, value, where: str, n: int = 3) -> np.ndarray:
+        if not (isinstance(value, list) and len(value) == n):
+            self.fail(where, f"expected {n} numbers, got {_show(value)}")
+        return np.array([self.number(v, f"{where}[{i}]") for i, v in enumerate(value)])
+
+    def matrix(self, value, where: str) -> np.ndarray:
+        if not (isinstance(value, list) and len(value) == 4):
+            self.fail(where, f"expected a 4x4 matrix (4 rows of 4 numbers), got {_show(value)}")
+        return np.array([self.vector(row, f"{where}[{i}]", 4) for i, row in enumerate(value)])
+
+    def color(self, value, where: str, channels=(3,)) -> np.ndarray:
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            value = [value] * 3
+        n = len(value) if isinstance(value, list) and len(value) in channels else channels[0]
+        c = self.vector(value, where, n)
+        if c.min() < 0 or c.max() > 1:
+            self.fail(where, f"expected colour values in [0, 1], got {_show(value)}")
+        return c
+
+    def string(self, value, where: str) -> str:
+        if not isinstance(value, str) or not value:
+            self.fail(where, f"expected a non-empty string, got {_show(value)}")
+        return value
+
+    def choice(self, value, where: str, options) -> str:
+        self.string(value, where)
+        if value not in options:
+            close = difflib.get_close_matches(value, list(options), n=1)
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            self.fail(where, f"expected one of {', '.join(options)}, got {_show(value)}{hint}")
+        return value
+
+    def integer(self, value, where: str, minimum: int = 1) -> int:
+        if not isinstance(value, int) or isinstance(value, bool) or value < minimum:
+            self.fail(where, f"expected an integer >= {minimum}, got {_show(value)}")
+        return value
+
+
+def load_scene(path) -> Scene:
+    """Read a TOML scene file into a ``Scene`` (with its cameras and render settings)."""
+    path = Path(path)
+    if not path.is_file():
+        raise SceneError(f"{path}: no such scene file" if not path.exists() else
+                         f"{path}: is a directory, expected a scene file")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path.name}: invalid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise SceneError(f"{path.name}: not a text file (TOML must be UTF-8)") from None
+    return _SceneBuilder(_Reader(path), path.parent).build(data)
+
+
+class _SceneBuilder:
+    def __init__(self, r: _Reader, base: Path):
+        self.r, self.base = r, base
+        self.parts_cache: dict[Path, list] = {}
+
+    def build(self, data: dict) -> Scene:
+        r = self.r
+        r.table(data, "", TOP)
+        settings, background = self.render_settings(data.get("render", {}))
+        scene = Scene(background=background)
+        scene.settings = settings
+        materials = {name: self.material(m, f"materials.{name}")
+                     for name, m in r.table(data.get("materials", {}), "materials",
+                                            _Any()).items()}
+        self.objects(scene, data.get("objects", []), materials)
+        self.lights(scene, data.get("lights", []))
+        cameras = r.table(data.get("cameras", {}), "cameras", _Any())
+        for name, cam in cameras.items():
+            scene.add_camera(name, self.camera(cam, f"cameras.{name}", scene))
+        if settings.camera is not None and settings.camera not in scene.cameras:
+            close = difflib.get_close_matches(settings.camera, list(scene.cameras), n=1)
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            r.fail("render.camera", f"no camera named {_show(settings.camera)}{hint}")
+        return scene
+
+    def render_settings(self, t: dict):
+        r = self.r
+        r.table(t, "render", RENDER)
+        s = RenderSettings()
+        if "size" in t:
+            size = t["size"]
+            if not (isinstance(size, list) and len(size) == 2):
+                r.fail("render.size", f"expected [width, height], got {_show(size)}")
+            s.size = (r.integer(size[0], "render.size[0]"), r.integer(size[1], "render.size[1]"))
+        background = r.color(t["background"], "render.background", (3, 4)) \
+            if "background" in t else (0.0, 0.0, 0.0, 1.0)
+        if "shading" in t:
+            from ..render.shading import SHADING_MODELS
+
+            s.shading = r.choice(t["shading"], "render.shading", tuple(SHADING_MODELS))
+        if "msaa" in t:
+            s.msaa = int(r.choice(str(t["msaa"]), "render.msaa", ("0", "2", "4", "8")))
+        if "outputs" in t:
+            from ..image.outputs import CHANNELS
+
+            outs = t["outputs"]
+            if not isinstance(outs, list) or not outs:
+                r.fail("render.outputs", f"expected a list of channels, got {_show(outs)}")
+            s.outputs = tuple(r.choice(o, f"render.outputs[{i}]", CHANNELS)
+                              for i, o in enumerate(outs))
+        if "camera" in t:
+            s.camera = r.string(t["camera"], "render.camera")
+        return s, background
+
+    def material(self, t, where: str) -> Material:
+        r = self.r
+        r.table(t, where, MATERIAL)
+        kw = {"color": r.color(t["color"], f"{where}.color")} if "color" in t else {}
+        for key in ("ka", "kd", "ks", "shininess"):
+            if key in t:
+                kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+        return Material(**kw, name=where.rsplit(".", 1)[-1])
+
+    def objects(self, scene: Scene, items, materials: dict) -> None:
+        r = self.r
+        if not isinstance(items, list):
+            r.fail("objects", "expected an array of tables ([[objects]])")
+        nodes = {}
+        for i, t in enumerate(items):
+            where = f"objects[{i}]"
+            r.table(t, where, OBJECT)
+            name = r.string(t["name"], f"{where}.name") if "name" in t else f"object{i}"
+            if name in nodes:
+                r.fail(f"{where}.name", f"the name {_show(name)} is already used by "
+                       f"{nodes[name]['where']}")
+            nodes[name] = {"where": where, "t": t, "local": self.local_transform(t, where)}
+        order = self.resolve_parents(nodes)
+        for name in order:
+            node = nodes[name]
+            t, where = node["t"], node["where"]
+            parent = t.get("parent")
+            node["world"] = (nodes[parent]["world"] if parent else np.eye(4)) @ node["local"]
+            material = None
+            if "material" in t:
+                material = self.object_material(t["material"], f"{where}.material", materials)
+            for part_name, mesh, matrix in self.geometry(t, where):
+                try:
+                    scene.add(mesh, material, node["world"] @ matrix, name=part_name or name)
+                except FacetError as exc:
+                    r.fail(where, str(exc))
+
+    def resolve_parents(self, nodes: dict) -> list[str]:
+        """Node names with every parent before its children; cycles and unknown parents fail."""
+        r, order, state = self.r, [], {}
+        for name in nodes:
+            chain = []
+            current = name
+            while current is not None and state.get(current) != "done":
+                if current in chain:
+                    loop = " -> ".join([*chain[chain.index(current):], current])
+                    r.fail(f"{nodes[name]['where']}.parent", f"parent cycle: {loop}")
+                chain.append(current)
+                parent = nodes[current]["t"].get("parent")
+                if parent is not None:
+                    parent = r.string(parent, f"{nodes[current]['where']}.parent")
+                    if parent not in nodes:
+                        close = difflib.get_close_matches(parent, list(nodes), n=1)
+                        hint = f" (did you mean '{close[0]}'?)" if close else ""
+                        r.fail(f"{nodes[current]['where']}.parent",
+                               f"no object named {_show(parent)}{hint}")
+                current = parent
+            for n in reversed(chain):
+                state[n] = "done"
+                order.append(n)
+        return order
+
+    def local_transform(self, t: dict, where: str) -> np.ndarray:
+        r = self.r
+        if "matrix" in t and "transform" in t:
+            r.fail(where, "give either 'transform' (a list of steps) or 'matrix', not both")
+        if "matrix" in t:
+            m = r.matrix(t["matrix"], f"{where}.matrix")
+        else:
+            steps = t.get("transform", [])
+            if not isinstance(steps, list):
+                r.fail(f"{where}.transform", "expected a list of steps like "
+                       "[{scale = 2}, {translate = [0, 1, 0]}]")
+            m = T.compose(*(self.step(s, f"{where}.transform[{i}]")
+                            for i, s in enumerate(steps)))
+        if abs(np.linalg.det(m[:3, :3])) < 1e-12:
+            r.fail(f"{where}.transform", "the transform is singular (a zero scale?)")
+        return m
+
+    def step(self, s, where: str) -> np.ndarray:
+        r = self.r
+        r.table(s, where, TRANSFORM_OPS)
+        if len(s) != 1:
+            r.fail(where, f"each step holds exactly one operation ({', '.join(TRANSFORM_OPS)})")
+        op, v = next(iter(s.items()))
+        at = f"{where}.{op}"
+        if op == "translate":
+            return T.translate(r.vector(v, at))
+        if op == "scale":
+            f = r.vector(v, at) if isinstance(v, list) else np.repeat(r.number(v, at), 3)
+            if np.any(f == 0):
+                r.fail(at, f"a scale of 0 flattens the object; got {_show(v)}")
+            return T.scale(f)
+        if op == "rotate":
+            r.table(v, at, ("axis", "degrees"))
+            if "degrees" not in v or "axis" not in v:
+                r.fail(at, 'expected {axis = "x"|"y"|"z"|[x, y, z], degrees = number}')
+            axis = v["axis"]
+            if isinstance(axis, str):
+                axis = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}.get(axis) or r.fail(
+                    f"{at}.axis", f'expected "x", "y", "z" or [x, y, z], got {_show(axis)}')
+            else:
+                axis = r.vector(axis, f"{at}.axis")
+                if not np.linalg.norm(axis) > 0:
+                    r.fail(f"{at}.axis", "the rotation axis must not be [0, 0, 0]")
+            return T.rotate(axis, r.number(v["degrees"], f"{at}.degrees"))
+        if op == "shear":
+            pairs = ("xy", "xz", "yx", "yz", "zx", "zy")
+            r.table(v, at, pairs)
+            return T.shear(**{k: r.number(x, f"{at}.{k}") for k, x in v.items()})
+        return r.matrix(v, at)
+
+    def object_material(self, value, where: str, materials: dict) -> Material:
+        if isinstance(value, str):
+            if value not in materials:
+                close = difflib.get_close_matches(value, list(materials), n=1)
+                hint = f" (did you mean '{close[0]}'?)" if close else ""
+                self.r.fail(where, f"no material named {_show(value)}{hint}")
+            return materials[value]
+        return self.material(value, where)
+
+    def geometry(self, t: dict, where: str) -> list:
+        r = self.r
+        if "mesh" in t and "primitive" in t:
+            r.fail(where, "give either 'mesh' (a file) or 'primitive', not both")
+        kind = t.get("primitive")
+        params = [p for p in t if p in {p for ps in PRIMITIVE_PARAMS.values() for p in ps}]
+        if kind is None and params:
+            r.fail(f"{where}.{params[0]}", "size parameters belong to a 'primitive'")
+        if "mesh" in t:
+            path = self.base / r.string(t["mesh"], f"{where}.mesh")
+            if path not in self.parts_cache:
+                from .loading import load_parts
+
+                try:
+                    self.parts_cache[path] = load_parts(path)
+                except FacetError as exc:
+                    r.fail(f"{where}.mesh", str(exc))
+            parts = self.parts_cache[path]
+            if t.get("flat"):
+                parts = [(n, m.flat_shaded(), x) for n, m, x in parts]
+            return [(n if len(parts) > 1 else None, m, x) for n, m, x in parts]
+        if kind is None:
+            return []  # a group node: only a transform for its children
+        kind = r.choice(kind, f"{where}.primitive", tuple(PRIMITIVES))
+        for p in params:
+            if p not in PRIMITIVE_PARAMS[kind]:
+                r.fail(f"{where}.{p}", f"{kind} takes {', '.join(PRIMITIVE_PARAMS[kind])}")
+        kwargs = {}
+        for p in params:
+            v = t[p]
+            kwargs[p] = r.vector(v, f"{where}.{p}", len(v)) if isinstance(v, list) else \
+                r.number(v, f"{where}.{p}", above=0)
+        try:
+            mesh = PRIMITIVES[kind](**kwargs)
+        except FacetError as exc:
+            r.fail(where, str(exc))
+        return [(None, mesh.flat_shaded() if t.get("flat") else mesh, np.eye(4))]
+
+    def lights(self, scene: Scene, items) -> None:
+        r = self.r
+        if not isinstance(items, list):
+            r.fail("lights", "expected an array of tables ([[lights]])")
+        ambient_seen = False
+        for i, t in enumerate(items):
+            where = f"lights[{i}]"
+            if not isinstance(t, dict) or "type" not in t:
+                r.fail(where, f"expected a table with type = {' | '.join(LIGHT)}")
+            kind = r.choice(t["type"], f"{where}.type", tuple(LIGHT))
+            r.table(t, where, ("type", *LIGHT[kind]))
+            kw = {}
+            for key in LIGHT[kind]:
+                if key not in t:
+                    continue
+                at = f"{where}.{key}"
+                if key == "color":
+                    kw[key] = r.color(t[key], at)
+                elif key in ("direction", "position", "attenuation"):
+                    kw[key] = r.vector(t[key], at)
+                else:
+                    kw[key] = r.number(t[key], at, minimum=0)
+            try:
+                if kind == "ambient":
+                    if ambient_seen:
+                        r.fail(where, "only one ambient light per scene")
+                    ambient_seen = True
+                    scene.ambient = np.clip(kw.get("color", np.ones(3)) *
+                                            kw.get("intensity", 1.0), 0, 1)
+                    continue
+                cls = {"directional": DirectionalLight, "point": PointLight,
+                       "spot": SpotLight}[kind]
+                scene.add_light(cls(**kw))
+            except SceneError:
+                raise
+            except FacetError as exc:
+                r.fail(where, str(exc))
+
+    def camera(self, t, where: str, scene: Scene) -> Camera:
+        r = self.r
+        if not isinstance(t, dict) or "type" not in t:
+            r.fail(where, f"expected a table with type = {' | '.join(CAMERA)}")
+        kind = r.choice(t["type"], f"{where}.type", tuple(CAMERA))
+        r.table(t, where, ("type", *CAMERA[kind]))
+        near = r.number(t["near"], f"{where}.near", above=0) if "near" in t else None
+        far = r.number(t["far"], f"{where}.far", above=0) if "far" in t else None
+        try:
+            if kind == "intrinsics":
+                for key in ("fx", "fy", "cx", "cy", "width", "height"):
+                    if key not in t:
+                        r.fail(where, f"an intrinsics camera needs {key}")
+                pose = r.matrix(t["pose"], f"{where}.pose") if "pose" in t else None
+                return Camera.from_intrinsics(
+                    r.number(t["fx"], f"{where}.fx", above=0),
+                    r.number(t["fy"], f"{where}.fy", above=0),
+                    r.number(t["cx"], f"{where}.cx"), r.number(t["cy"], f"{where}.cy"),
+                    r.integer(t["width"], f"{where}.width"),
+                    r.integer(t["height"], f"{where}.height"), pose,
+                    near=near or 0.01, far=far or 100.0)
+            if "eye" not in t:
+                r.fail(where, f"a {kind} camera needs eye (and usually target)")
+            eye = r.vector(t["eye"], f"{where}.eye")
+            target = r.vector(t["target"], f"{where}.target") if "target" in t else \
+                scene.bounds.mean(axis=0)
+            up = r.vector(t["up"], f"{where}.up") if "up" in t else np.array([0.0, 1.0, 0.0])
+            view = T.look_at(eye, target, up)
+            fitted = depth_range(view, scene.bounds) if scene.objects else (0.1, 100.0)
+            near, far = near or fitted[0], far or fitted[1]
+            if kind == "orthographic":
+                height = r.number(t.get("height", 0), f"{where}.height", above=0)
+                return Camera(view, ortho_height=height, near=near, far=far)
+            fov = r.number(t.get("fov", 40.0), f"{where}.fov", above=0)
+            return Camera(view, fov_y=fov, near=near, far=far)
+        except SceneError:
+            raise
+        except FacetError as exc:
+            message = str(exc)
+            if "up is parallel" in message:
+                message = "the camera looks along its up vector; choose another 'up'"
+            r.fail(where, message)
+
+
+class _Any(tuple):
+    """Allows any key (named tables such as [materials.NAME])."""
+
+    def __contains__(self, key) -> bool:
+        return True
