@@ -30,6 +30,8 @@ examples:
   facet render part.stl -o part.png --ortho --shading flat --light dir:-1,-2,-1
   facet render bunny.obj --outputs color,depth,normals,ids --out-dir renders/ --png16
   facet render bunny.obj -o banding.png --bits 4 --dither floyd-steinberg
+  facet render scene.toml --camera top -o top.png
+  facet render bunny.obj --turntable 36 -o spin.gif
 
 Every render also writes its camera as JSON beside the image (K, world-to-camera, near/far,
 size): OUT.json for -o OUT.png, camera.json in --out-dir.
@@ -132,11 +134,12 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Render MODEL (OBJ, STL, PLY, OFF, GLB/glTF) headlessly to "
                        "an image. Without MODEL, renders facet's bundled default model.",
                        epilog=RENDER_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    r.add_argument("model", nargs="?", help="mesh file (default: the bundled torus knot)")
+    r.add_argument("model", nargs="?", help="mesh file or .toml scene file (default: the "
+                   "bundled torus knot)")
     r.add_argument("-o", "--output", metavar="OUT.png",
                    help="image to write (default: MODEL's name with .png, in the current folder)")
-    r.add_argument("--size", type=_size, default=(800, 600), metavar="WxH",
-                   help="image size in pixels (default 800x600)")
+    r.add_argument("--size", type=_size, metavar="WxH",
+                   help="image size in pixels (default: the scene file's, else 800x600)")
     r.add_argument("--eye", type=_vec3, metavar="X,Y,Z",
                    help="camera position (default: framed to fit the model)")
     r.add_argument("--target", type=_vec3, metavar="X,Y,Z",
@@ -151,13 +154,18 @@ def build_parser() -> argparse.ArgumentParser:
                    help="add a light (see below); repeatable")
     r.add_argument("--color", type=_color, metavar="R,G,B",
                    help="material colour, floats in [0, 1] (default: the file's or grey)")
-    r.add_argument("--shading", default="phong", choices=SHADING_CHOICES, metavar="MODEL",
+    r.add_argument("--shading", choices=SHADING_CHOICES, metavar="MODEL",
                    help=f"shading model: {', '.join(SHADING_CHOICES)} (default phong)")
-    r.add_argument("--msaa", type=int, default=4, choices=(0, 2, 4, 8), metavar="N",
+    r.add_argument("--msaa", type=int, choices=(0, 2, 4, 8), metavar="N",
                    help="multisample anti-aliasing samples for colour: 0, 2, 4 or 8 (default 4)")
-    r.add_argument("--background", type=_background, default=[0.0, 0.0, 0.0, 1.0],
-                   metavar="R,G,B[,A]", help="background colour; A=0 for transparent "
-                   "(default 0,0,0)")
+    r.add_argument("--background", type=_background, metavar="R,G,B[,A]",
+                   help="background colour; A=0 for transparent (default 0,0,0)")
+    r.add_argument("--camera", metavar="NAME", help="which of the scene file's cameras to use")
+    r.add_argument("--turntable", type=int, metavar="N",
+                   help="render N frames orbiting the model; -o takes .gif, .mp4 or a "
+                   "pattern like frames/{:04d}.png")
+    r.add_argument("--fps", type=float, default=30.0,
+                   help="frame rate of GIF/MP4 turntables (default 30)")
     r.add_argument("--depth", metavar="OUT.npy", help="also write linear depth (float32 .npy)")
     r.add_argument("--ids", metavar="OUT.npy",
                    help="also write object ids (int32 .npy, -1 = background)")

@@ -1,6 +1,8 @@
 """``facet render``: from parsed command-line arguments to files on disk.
 
-Outputs are validated before any work, rendered in one pass, and each written atomically.
+Precedence for every setting: the command line, then the scene file's [render] table, then
+facet's defaults. Outputs are validated before any work, and each file is written atomically;
+sequences (turntables) are encoded on a background thread while rendering goes on.
 """
 
 from __future__ import annotations
@@ -10,7 +12,9 @@ from pathlib import Path
 from .errors import InputError
 
 
-def _output_paths(args) -> tuple[Path | None, Path | None, Path | None]:
+def _targets(args):
+    """Validate where things go: (image path or sequence path, depth, ids), before any work."""
+    from .image.sequence import check_sequence_path
     from .image.writers import check_image_path
 
     if args.out_dir:
@@ -24,9 +28,14 @@ def _output_paths(args) -> tuple[Path | None, Path | None, Path | None]:
     if args.outputs:
         raise InputError("--outputs needs --out-dir to know where to write the channels")
     model = Path(args.model) if args.model else None
-    image = Path(args.output) if args.output else Path((model.stem if model else "default")
-                                                       + ".png")
-    check_image_path(image)
+    default = (model.stem if model else "default") + (".gif" if args.turntable else ".png")
+    image = Path(args.output) if args.output else Path(default)
+    if args.turntable:
+        check_sequence_path(args.output or default)
+        if args.depth or args.ids:
+            raise InputError("a turntable writes depth and ids with --outputs and --out-dir")
+    else:
+        check_image_path(image)
     extra = []
     for flag, value in (("--depth", args.depth), ("--ids", args.ids)):
         if value is not None and Path(value).suffix.lower() != ".npy":
@@ -35,15 +44,15 @@ def _output_paths(args) -> tuple[Path | None, Path | None, Path | None]:
     for path in (image, *extra):
         if path is not None and path.is_dir():
             raise InputError(f"{path}: is a directory; give a file name for the output")
-    return image, *extra
+    return (args.output or default) if args.turntable else image, *extra
 
 
-def _camera(args, bounds):
+def _camera(args, bounds, size):
     import numpy as np
 
     from .geometry.camera import DEFAULT_DIRECTION, Camera
 
-    w, h = args.size
+    w, h = size
     target = np.asarray(args.target if args.target else bounds.mean(axis=0))
     if args.eye is None:
         direction = DEFAULT_DIRECTION if args.target is None else \
@@ -59,43 +68,90 @@ def _camera(args, bounds):
                                     ortho_height=height)
 
 
-def run_render(args) -> list[Path]:
-    """Render as the arguments say; returns the paths written."""
-    from .image.outputs import ColorOptions, parse_channels, save_color, write_camera_json
-    from .image.quantize import parse_bits
+def _scene(args):
+    """The scene to render: a scene file, or one mesh (the bundled default without MODEL)."""
     from .paths import default_model
-    from .scene.light import camera_rig
     from .scene.material import Material
     from .scene.mesh import Mesh
     from .scene.scene import Scene
+    from .scene.scenefile import load_scene
 
-    if not 1 <= args.fov < 180:
-        raise InputError(f"--fov must be in [1, 180) degrees, got {args.fov:g}")
-    image_path, depth_path, ids_path = _output_paths(args)
-    channels = parse_channels(args.outputs) if args.outputs else ("color",)
-    color_options = ColorOptions(parse_bits(args.bits), args.dither, args.palette,
-                                 args.palette_method)
-    if color_options.palette is not None and not 2 <= color_options.palette <= 256:
-        raise InputError(f"--palette {color_options.palette}: choose 2..256 colours")
+    if args.model and Path(args.model).suffix.lower() == ".toml":
+        if args.color is not None:
+            raise InputError("--color applies to a single model; set materials in the scene "
+                             "file instead")
+        return load_scene(args.model)
     mesh = Mesh.load(args.model or default_model())
-    scene = Scene(background=args.background)
+    scene = Scene()
     material = mesh.material or Material()
     if args.color is not None:
         material = Material(args.color, material.ka, material.kd, material.ks,
                             material.shininess, material.name)
     scene.add(mesh, material)
-    camera = _camera(args, scene.bounds)
-    for light in args.light or camera_rig(camera.view):
-        scene.add_light(light)
+    return scene
+
+
+def run_render(args) -> list[Path]:
+    """Render as the arguments say; returns the paths written."""
+    import numpy as np
+
+    from .image.outputs import ColorOptions, parse_channels
+    from .image.quantize import parse_bits
+    from .scene.light import camera_rig
+
+    if not 1 <= args.fov < 180:
+        raise InputError(f"--fov must be in [1, 180) degrees, got {args.fov:g}")
+    if args.turntable is not None and not 1 <= args.turntable <= 100_000:
+        raise InputError(f"--turntable needs 1..100000 frames, got {args.turntable}")
+    if not 0 < args.fps <= 240:
+        raise InputError(f"--fps must be in (0, 240], got {args.fps:g}")
+    target, depth_path, ids_path = _targets(args)
+    color_options = ColorOptions(parse_bits(args.bits), args.dither, args.palette,
+                                 args.palette_method)
+    if color_options.palette is not None and not 2 <= color_options.palette <= 256:
+        raise InputError(f"--palette {color_options.palette}: choose 2..256 colours")
+    if args.turntable and not args.out_dir and color_options.bits == (16,):
+        raise InputError("16-bit colour cannot go into a GIF, MP4 or 8-bit PNG sequence; "
+                         "use --out-dir for 16-bit frames")
+    scene = _scene(args)
+    settings = scene.settings
+    if args.background is not None:
+        scene.background = np.append(args.background, 1.0)[:4] if len(args.background) == 3 \
+            else np.asarray(args.background)
+    size = args.size or settings.size
+    channels = parse_channels(args.outputs) if args.outputs else (
+        settings.outputs if args.out_dir else ("color",))
+    if args.eye is not None or args.ortho or args.target is not None or not scene.cameras:
+        camera = _camera(args, scene.bounds, size)
+    else:
+        camera = scene.camera(args.camera)
+    headlights = not args.light and not scene.lights
+    if args.light:
+        scene.lights = []
+        for light in args.light:
+            scene.add_light(light)
+    elif headlights:  # the default rig is placed relative to the camera, frame by frame
+        for light in camera_rig(camera.view):
+            scene.add_light(light)
 
     from .render.renderer import Renderer  # GL is loaded only once the inputs are good
 
     outputs = set(channels) | ({"depth"} if depth_path else set()) | (
         {"ids"} if ids_path else set())
-    with Renderer(*args.size, msaa=args.msaa, shading=args.shading,
+    with Renderer(*size, msaa=settings.msaa if args.msaa is None else args.msaa,
+                  shading=args.shading or settings.shading,
                   float_color=color_options.needs_float) as renderer:
+        if args.turntable:
+            from .render_sequence import render_turntable
+
+            return render_turntable(renderer, scene, camera, args, channels, target,
+                                    color_options, tuple(outputs), headlights)
         frame = renderer.render(scene, camera, outputs=tuple(outputs))
-    from .image.outputs import write_outputs
+    return _write_single(frame, args, channels, target, depth_path, ids_path, color_options)
+
+
+def _write_single(frame, args, channels, image_path, depth_path, ids_path, color_options):
+    from .image.outputs import save_color, write_camera_json, write_outputs
     from .image.writers import save_array
 
     if args.out_dir:

@@ -197,6 +197,18 @@ class Camera:
         return np.array([[f, 0.0, (width - 1) / 2.0], [0.0, f, (height - 1) / 2.0],
                          [0.0, 0.0, 1.0]])
 
+    def orbit(self, center, axis, degrees: float) -> Camera:
+        """This camera moved ``degrees`` around the line through ``center`` along ``axis``
+        (right-handed), still looking the same way relative to the centre. Projection,
+        near and far are kept."""
+        m = T.compose(T.translate(-np.asarray(center, dtype=np.float64)),
+                      T.rotate(axis, degrees), T.translate(center))
+        # The camera's pose (camera -> world) is moved by m, so the view is view @ m^-1.
+        moved = Camera(self.view @ np.linalg.inv(m), fov_y=self.fov_y,
+                       ortho_height=self.ortho_height, intrinsics=self.intrinsics,
+                       near=self.near, far=self.far)
+        return moved
+
     def describe(self, width: int, height: int) -> dict:
         """Plain data for re-projecting a render of ``width`` x ``height`` (JSON-ready).
 

@@ -1,0 +1,139 @@
+"""Writing frame sequences (GIF, MP4, numbered PNGs) on a background thread.
+
+The render loop hands each finished frame to a ``BackgroundWriter`` and goes on rendering
+while a worker thread encodes and writes (Pillow, ffmpeg and zlib release the GIL). The
+queue is bounded, so a slow disk slows the loop down instead of filling memory. The first
+error in the worker is raised again by ``close()``.
+
+Sequence targets (``open_sequence``):
+* ``spin.gif``: looping GIF through imageio/Pillow;
+* ``spin.mp4``: H.264 through imageio-ffmpeg (its bundled ffmpeg binary);
+* a pattern such as ``frames/{:04d}.png``: one PNG per frame.
+GIF and MP4 are written to a temporary name and renamed when complete.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import queue
+import tempfile
+import threading
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .writers import save_image
+
+QUEUE_FRAMES = 8
+VIDEO_FORMATS = (".gif", ".mp4")
+
+
+class BackgroundWriter:
+    """Runs submitted callables in order on one worker thread."""
+
+    def __init__(self, max_pending: int = QUEUE_FRAMES):
+        self._queue: queue.Queue = queue.Queue(max_pending)
+        self._error: BaseException | None = None
+        self._thread = threading.Thread(target=self._run, name="facet-writer", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while True:
+            job = self._queue.get()
+            if job is None:
+                return
+            if self._error is None:
+                try:
+                    job[0](*job[1])
+                except BaseException as exc:  # handed to the caller by close()
+                    self._error = exc
+
+    def submit(self, fn, *args) -> None:
+        if self._error is not None:
+            self.close()
+        self._queue.put((fn, args))
+
+    def close(self) -> None:
+        """Wait for every job; raise the first error one of them hit."""
+        if self._thread.is_alive():
+            self._queue.put(None)
+            self._thread.join()
+        if self._error is not None:
+            error, self._error = self._error, None
+            raise error
+
+
+def check_sequence_path(path) -> str:
+    """'gif', 'mp4' or 'pattern' for a sequence target; InputError for anything else."""
+    text = str(path)
+    if Path(text).suffix.lower() in VIDEO_FORMATS:
+        return Path(text).suffix.lower()[1:]
+    if "{" in text:
+        try:
+            names = {text.format(0), text.format(1)}
+        except (IndexError, KeyError, ValueError):
+            raise InputError(f"{text}: a frame pattern takes one number, like "
+                             "frames/{:04d}.png") from None
+        if len(names) != 2 or Path(text.format(0)).suffix.lower() != ".png":
+            raise InputError(f"{text}: a frame pattern must number PNG files, like "
+                             "frames/{:04d}.png")
+        return "pattern"
+    raise InputError(f"{text}: a sequence is written as .gif, .mp4 or a numbered PNG pattern "
+                     "like frames/{:04d}.png")
+
+
+class SequenceSink:
+    """Receives frames (uint8 (H, W, 3|4)) in order and writes them on the writer thread."""
+
+    def __init__(self, path, fps: float, writer: BackgroundWriter):
+        self.path, self.kind, self.writer = str(path), check_sequence_path(path), writer
+        self.fps = fps
+        self._video = None
+        self._tmp: str | None = None
+        self.written: list[Path] = []
+
+    def add(self, index: int, rgba: np.ndarray) -> None:
+        self.writer.submit(self._write, index, rgba)
+
+    def _write(self, index: int, rgba: np.ndarray) -> None:
+        if self.kind == "pattern":
+            self.written.append(save_image(self.path.format(index), rgba))
+            return
+        if self._video is None:
+            import imageio.v2 as iio
+
+            target = Path(self.path)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            fd, self._tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=target.suffix,
+                                             dir=target.parent)
+            os.close(fd)
+            if self.kind == "gif":
+                self._video = iio.get_writer(self._tmp, format="GIF", mode="I", loop=0,
+                                             duration=1000.0 / self.fps)
+            else:
+                self._video = iio.get_writer(self._tmp, format="FFMPEG", fps=self.fps,
+                                             codec="libx264", quality=8, macro_block_size=2)
+        self._video.append_data(np.ascontiguousarray(rgba[..., :3]))
+
+    def finish(self) -> list[Path]:
+        """Queue the final step (closing the video and renaming it into place)."""
+        self.writer.submit(self._finish)
+        return [Path(self.path)] if self.kind != "pattern" else self.written
+
+    def _finish(self) -> None:
+        if self._video is not None:
+            self._video.close()
+            os.chmod(self._tmp, 0o644)
+            os.replace(self._tmp, self.path)
+            self._video = None
+
+    def abort(self) -> None:
+        """Drop a half-written video (called when rendering fails)."""
+        if self._video is not None:
+            with contextlib.suppress(Exception):
+                self._video.close()
+        if self._tmp:
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(self._tmp)

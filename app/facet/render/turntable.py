@@ -1,0 +1,32 @@
+"""Turntables: a camera orbiting the scene at a fixed step, rendered frame by frame."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import numpy as np
+
+from ..errors import InputError
+from ..geometry.camera import Camera
+from ..scene.scene import Scene
+
+MAX_FRAMES = 100_000
+
+
+def orbit_cameras(camera: Camera, center, frames: int, axis=(0.0, 1.0, 0.0)) -> list[Camera]:
+    """``frames`` cameras, ``360 / frames`` degrees apart, orbiting ``center`` about the
+    world-space ``axis`` (default: y, the world's up)."""
+    if not isinstance(frames, (int, np.integer)) or not 1 <= frames <= MAX_FRAMES:
+        raise InputError(f"a turntable needs 1..{MAX_FRAMES} frames, got {frames!r}")
+    return [camera.orbit(center, axis, 360.0 * i / frames) for i in range(frames)]
+
+
+def turntable(renderer, scene: Scene, frames: int, camera: Camera | None = None,
+              axis=(0.0, 1.0, 0.0), **render_kwargs) -> Iterator:
+    """Yield ``frames`` Frames of ``scene`` seen from a camera orbiting the scene's centre
+    about ``axis`` (``camera`` default: the scene's camera, else framed to fit)."""
+    if camera is None:
+        camera = scene.camera() or Camera.frame(scene.bounds,
+                                                aspect=renderer.width / renderer.height)
+    for cam in orbit_cameras(camera, scene.bounds.mean(axis=0), frames, axis):
+        yield renderer.render(scene, cam, **render_kwargs)
