@@ -1,0 +1,77 @@
+"""Turntables: orbit cameras, the Python iterator, and GIF / MP4 / PNG-sequence / dataset
+round trips from the CLI."""
+
+import imageio.v3 as iio
+import numpy as np
+import pytest
+
+from facet.cli import main
+from facet.geometry.camera import Camera
+from facet.render.turntable import orbit_cameras, turntable
+from facet.scene import Scene
+
+from conftest import sphere_mesh
+
+
+def test_orbit_cameras_keep_distance_and_step_evenly():
+    cam = Camera.look_at((0, 1, 3), (0, 0, 0))
+    cams = orbit_cameras(cam, (0, 0, 0), 8)
+    eyes = np.array([c.eye for c in cams])
+    assert np.allclose(np.linalg.norm(eyes, axis=1), np.linalg.norm(cam.eye))
+    assert np.allclose(eyes[:, 1], 1)  # about the world's y axis
+    angles = np.degrees(np.arctan2(eyes[:, 0], eyes[:, 2]))
+    assert np.allclose(np.diff(np.unwrap(angles, period=360)), 45)
+    for c in cams:  # every camera still looks at the centre
+        assert np.allclose(np.cross(c.forward, -c.eye / np.linalg.norm(c.eye)), 0, atol=1e-9)
+
+
+def test_turntable_iterator(renderer):
+    scene = Scene()
+    scene.add(sphere_mesh(2), transform=np.diag([1.0, 1.0, 0.3, 1.0]))  # a flattened disc
+    frames = list(turntable(renderer(32, 32), scene, 4, outputs=("ids",)))
+    assert len(frames) == 4
+    areas = [int((f.object_ids == 0).sum()) for f in frames]
+    assert areas[0] != areas[1] and areas[0] == pytest.approx(areas[2], abs=3)
+
+
+@pytest.mark.parametrize("target,reader", [("spin.gif", "gif"), ("spin.mp4", "mp4"),
+                                           ("frames/{:04d}.png", "png")])
+def test_cli_turntable_round_trip(tmp_path, monkeypatch, target, reader):
+    monkeypatch.chdir(tmp_path)
+    assert main(["render", "--turntable", "6", "-o", target, "--size", "48x32", "-q"]) == 0
+    if reader == "png":
+        files = sorted((tmp_path / "frames").glob("*.png"))
+        assert [f.name for f in files] == [f"{i:04d}.png" for i in range(6)]
+        frames = np.stack([iio.imread(f) for f in files])
+    else:
+        frames = iio.imread(tmp_path / target, index=None)
+    assert frames.shape[:3] == (6, 32, 48)
+    assert frames.reshape(6, -1).std(axis=1).min() > 5  # not blank
+    assert np.abs(frames[0].astype(int) - frames[1]).mean() > 1  # the view moves
+    assert not list(tmp_path.glob(".*"))  # no temporary files left
+
+
+def test_cli_turntable_dataset(tmp_path):
+    out = tmp_path / "ds"
+    assert main(["render", "--turntable", "3", "--outputs", "color,depth,ids", "--out-dir",
+                 str(out), "--size", "32x32", "-q"]) == 0
+    for i in range(3):
+        for name in ("color.png", "depth.npy", "ids.npy", "camera.json"):
+            assert (out / f"{i:04d}_{name}").is_file()
+    d0, d1 = np.load(out / "0000_depth.npy"), np.load(out / "0001_depth.npy")
+    assert d0.shape == (32, 32) and not np.array_equal(d0, d1)
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--turntable", "0", "-o", "x.gif"], "--turntable needs 1..100000 frames"),
+    (["--turntable", "4", "-o", "x.avi"], "written as .gif, .mp4 or a numbered PNG pattern"),
+    (["--turntable", "4", "-o", "frames/{:04d}.jpg"], "must number PNG files"),
+    (["--turntable", "4", "-o", "x.gif", "--bits", "16"], "16-bit colour cannot go"),
+    (["--turntable", "4", "-o", "x.gif", "--fps", "0"], "--fps must be in"),
+])
+def test_bad_turntables(tmp_path, monkeypatch, capsys, args, message):
+    monkeypatch.chdir(tmp_path)
+    code = main(["render", *args])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1
+    assert not list(tmp_path.iterdir())
