@@ -45,7 +45,8 @@ name = "box"
 primitive = "cube"
 size = [0.5, 0.3, 0.5]
 parent = "table"
-transform = [{shear = {xy = 0.3}}, {rotate = {axis = "y", degrees = 30}}, {translate = [-0.6, 0, 0]}]
+transform = [{shear = {xy = 0.3}}, {rotate = {axis = "y", degrees = 30}},
+             {translate = [-0.6, 0, 0]}]
 
 [[lights]]
 type = "ambient"
