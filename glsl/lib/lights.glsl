@@ -65,16 +65,18 @@ float incident_light(int i, vec3 p, out vec3 L) {
     return falloff;
 }
 
-// I = I_a k_a C + sum_i (diffuse + specular), clamped to [0, 1]. blinn selects the
-// halfway-vector specular.
-vec3 shade_scene(vec3 p, vec3 N, vec3 V, bool blinn) {
-    vec3 I = u_ambient_term;
+// I = I_a k_a C + sum_i (diffuse + specular), clamped to [0, 1]. ``albedo`` multiplies C
+// where it varies over the surface (texture x vertex colour; vec3(1) for plain materials).
+// blinn selects the halfway-vector specular.
+vec3 shade_scene(vec3 p, vec3 N, vec3 V, vec3 albedo, bool blinn) {
+    vec3 I = u_ambient_term * albedo;
     for (int i = 0; i < LIGHTS_IN_USE; ++i) {
         vec3 L;
         float falloff = incident_light(i, p, L);
+        vec3 diffuse = u_light_diffuse[i] * albedo;
         I += falloff * (blinn
-            ? blinn_light(N, L, V, u_light_diffuse[i], u_light_specular[i], u_shininess)
-            : phong_light(N, L, V, u_light_diffuse[i], u_light_specular[i], u_shininess));
+            ? blinn_light(N, L, V, diffuse, u_light_specular[i], u_shininess)
+            : phong_light(N, L, V, diffuse, u_light_specular[i], u_shininess));
     }
     return clamp(I, 0.0, 1.0);
 }

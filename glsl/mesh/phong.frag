@@ -8,6 +8,14 @@ in vec3 v_pos_world;
 in vec3 v_normal_world;
 in float v_depth_view;
 in vec2 v_uv;
+#ifdef HAS_VERTEX_COLORS
+in vec3 v_color;
+#endif
+#ifdef HAS_TEXTURE
+// The material's texture. Uploaded as sRGB (decoded to linear when sampled) in the sRGB
+// colour mode, as plain RGBA8 (bytes / 255) otherwise; mipmapped, trilinear.
+uniform sampler2D u_texture;
+#endif
 #ifdef SHADE_GOURAUD
 in vec3 v_color_front;
 in vec3 v_color_back;
@@ -69,16 +77,24 @@ void main() {
 #ifdef OUT_NORMALS
     f_normal = vec4(N, 0.0);
 #endif
+    // What multiplies the material colour C at this point (1 for plain materials).
+    vec3 albedo = vec3(1.0);
+#ifdef HAS_TEXTURE
+    albedo *= texture(u_texture, v_uv).rgb;
+#endif
+#if defined(HAS_VERTEX_COLORS) && !defined(SHADE_GOURAUD)
+    albedo *= v_color;
+#endif
 #if defined(SHADE_GOURAUD)
-    vec3 rgb = gl_FrontFacing ? v_color_front : v_color_back;
+    vec3 rgb = (gl_FrontFacing ? v_color_front : v_color_back) * albedo;
 #elif defined(SHADE_UNLIT)
-    vec3 rgb = u_color;
+    vec3 rgb = u_color * albedo;
 #elif defined(SHADE_NORMALS)
     vec3 rgb = normalize(v_normal_world) * 0.5 + 0.5;  // world-space normal as colour
 #elif defined(SHADE_BLINN)
-    vec3 rgb = shade_scene(v_pos_world, N, V, true);
+    vec3 rgb = shade_scene(v_pos_world, N, V, albedo, true);
 #else  // SHADE_PHONG, SHADE_FLAT
-    vec3 rgb = shade_scene(v_pos_world, N, V, false);
+    vec3 rgb = shade_scene(v_pos_world, N, V, albedo, false);
 #endif
     f_color = vec4(rgb, 1.0);
 }

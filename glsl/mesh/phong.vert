@@ -6,6 +6,11 @@
 in vec3 in_position;  // object space
 in vec3 in_normal;    // object space
 in vec2 in_uv;        // texture coordinates ((0, 0) for meshes without them)
+#ifdef HAS_VERTEX_COLORS
+in vec4 in_color;     // per-vertex colour; sRGB-encoded when COLOR_SRGB is defined
+out vec3 v_color;     // linear with COLOR_SRGB, else as given
+#include "lib/color.glsl"
+#endif
 
 uniform mat4 u_model;         // object -> world
 uniform mat4 u_view;          // world -> view (OpenGL camera axes)
@@ -30,6 +35,13 @@ void main() {
     v_pos_world = pos_world.xyz;
     v_normal_world = u_normal_matrix * in_normal;
     v_uv = in_uv;
+#ifdef HAS_VERTEX_COLORS
+#ifdef COLOR_SRGB
+    v_color = srgb_to_linear(in_color.rgb);
+#else
+    v_color = in_color.rgb;
+#endif
+#endif
     v_depth_view = -dot(vec4(u_view[0][2], u_view[1][2], u_view[2][2], u_view[3][2]), pos_world);
 #ifdef SHADE_GOURAUD
     vec3 N = normalize(v_normal_world);
@@ -38,7 +50,13 @@ void main() {
 #else
     vec3 V = normalize(u_eye_world - pos_world.xyz);
 #endif
-    v_color_front = shade_scene(pos_world.xyz, N, V, false);
-    v_color_back = shade_scene(pos_world.xyz, -N, V, false);
+#ifdef HAS_VERTEX_COLORS
+    vec3 albedo = v_color;
+#else
+    vec3 albedo = vec3(1.0);
+#endif
+    // Per-vertex lighting; a texture, if any, modulates the result per fragment.
+    v_color_front = shade_scene(pos_world.xyz, N, V, albedo, false);
+    v_color_back = shade_scene(pos_world.xyz, -N, V, albedo, false);
 #endif
 }

@@ -1,18 +1,21 @@
 """GPU copies of scene data, cached per renderer and keyed by the scene objects themselves.
 
 A mesh is uploaded once (one call per buffer: interleaved float32 position+normal, uint32
-indices); a vertex array is made once per (mesh, program). Entries whose mesh was garbage
+indices, and uvs / vertex colours when it has them); a vertex array is made once per (mesh,
+program); a texture once per colour mode. Entries whose mesh or texture was garbage
 collected are released on the next ``sweep()``; ``release()`` frees everything.
 """
 
 from __future__ import annotations
 
+import warnings
 import weakref
 
 import moderngl
 import numpy as np
 
 from ..scene.mesh import Mesh
+from ..scene.texture import Texture
 
 
 class MeshBuffers:
@@ -56,13 +59,53 @@ class MeshBuffers:
         self.ibo.release()
 
 
+GL_SRGB8_ALPHA8 = 0x8C43
+
+
+def upload_texture(ctx: moderngl.Context, texture: Texture, srgb: bool) -> moderngl.Texture:
+    """A mipmapped, trilinear, repeating GL texture of ``texture`` (rows flipped: GL's first
+    row is v = 0, the image's bottom). ``srgb``: decode sRGB to linear when sampling.
+    Images beyond the GL size limit are downscaled with a warning."""
+    pixels = texture.pixels
+    limit = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
+    w, h = texture.size
+    if max(w, h) > limit:
+        from PIL import Image
+
+        scale = limit / max(w, h)
+        size = (max(1, int(w * scale)), max(1, int(h * scale)))
+        warnings.warn(f"texture {texture.name} is {w}x{h}, larger than this GL's limit of "
+                      f"{limit}; downscaled to {size[0]}x{size[1]}", stacklevel=3)
+        pixels = np.asarray(Image.fromarray(pixels).resize(size, Image.Resampling.LANCZOS))
+    data = np.ascontiguousarray(pixels[::-1])
+    tex = ctx.texture((data.shape[1], data.shape[0]), 4, data.tobytes(),
+                      internal_format=GL_SRGB8_ALPHA8 if srgb else None)
+    tex.build_mipmaps()
+    tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    tex.repeat_x = tex.repeat_y = True
+    return tex
+
+
 class ResourceCache:
-    """Mesh -> MeshBuffers, weakly keyed so dropped meshes free their GPU memory."""
+    """Mesh -> MeshBuffers and Texture -> GL texture, weakly keyed so that dropped meshes and
+    textures free their GPU memory."""
 
     def __init__(self, ctx: moderngl.Context):
         self.ctx = ctx
         self._entries: dict[int, tuple[weakref.ref, MeshBuffers]] = {}
+        self._textures: dict[tuple[int, bool], tuple[weakref.ref, moderngl.Texture]] = {}
         self.uploads = 0  # meshes uploaded so far (tests check caching with it)
+
+    def texture(self, texture: Texture, srgb: bool) -> moderngl.Texture:
+        key = (id(texture), srgb)
+        entry = self._textures.get(key)
+        if entry is not None and entry[0]() is texture:
+            return entry[1]
+        if entry is not None:
+            entry[1].release()
+        tex = upload_texture(self.ctx, texture, srgb)
+        self._textures[key] = (weakref.ref(texture), tex)
+        return tex
 
     def buffers(self, mesh: Mesh) -> MeshBuffers:
         entry = self._entries.get(id(mesh))
@@ -76,9 +119,11 @@ class ResourceCache:
         return bufs
 
     def sweep(self) -> None:
-        """Release the buffers of meshes that no longer exist."""
+        """Release the GPU copies of meshes and textures that no longer exist."""
         for key in [k for k, (ref, _) in self._entries.items() if ref() is None]:
             self._entries.pop(key)[1].release()
+        for key in [k for k, (ref, _) in self._textures.items() if ref() is None]:
+            self._textures.pop(key)[1].release()
 
     def forget_program(self, program: moderngl.Program) -> None:
         for _, bufs in self._entries.values():
@@ -93,3 +138,6 @@ class ResourceCache:
         for _, bufs in self._entries.values():
             bufs.release()
         self._entries.clear()
+        for _, tex in self._textures.values():
+            tex.release()
+        self._textures.clear()

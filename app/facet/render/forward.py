@@ -8,6 +8,8 @@ and per object its matrices and material.
 
 from __future__ import annotations
 
+from dataclasses import dataclass, replace
+
 import numpy as np
 
 from ..geometry import transforms as T
@@ -16,6 +18,7 @@ from ..gl.glsl_source import glsl_root
 from ..gl.resources import ResourceCache
 from ..gl.shaders import Program, compile_program
 from ..gl.targets import FLIP_Y, aux_locations
+from ..image.colorspace import srgb_to_linear
 from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.scene import MAX_LIGHTS, Scene
 from .shading import SHADING_MODELS, check_shading
@@ -24,15 +27,15 @@ LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in li
 LIGHTS_BINDING = 0
 
 
-def pack_lights(scene: Scene) -> bytes:
+def pack_lights(scene: Scene, to_linear=np.asarray) -> bytes:
     """The std140 ``Lights`` block of glsl/lib/lights.glsl: ambient, count, 4 vec4 per light."""
     block = np.zeros(2 * 4 + MAX_LIGHTS * 16, dtype=np.float32)
-    block[0:3] = scene.ambient
+    block[0:3] = to_linear(scene.ambient)
     block[4:8] = np.array([len(scene.lights), 0, 0, 0], dtype=np.int32).view(np.float32)
     for i, light in enumerate(scene.lights):
         pos, direction, color, falloff = block[8 + 16 * i: 24 + 16 * i].reshape(4, 4)
         pos[3] = LIGHT_KIND[type(light)]
-        color[:3] = light.color * light.intensity
+        color[:3] = to_linear(light.color) * light.intensity
         if hasattr(light, "position"):
             pos[:3] = light.position
             falloff[:3] = light.attenuation
@@ -44,75 +47,102 @@ def pack_lights(scene: Scene) -> bytes:
     return block.tobytes()
 
 
+@dataclass(frozen=True)
+class Variant:
+    """Everything a program is specialised on (each becomes a define in glsl/mesh)."""
+
+    shading: str
+    light_kinds: tuple[int, ...] = ()  # LIGHT_* of each light, in order
+    aux: tuple[str, ...] = ()  # auxiliary outputs (facet.gl.targets)
+    orthographic: bool = False  # the view direction is a constant
+    texture: bool = False
+    vertex_colors: bool = False
+    srgb: bool = False  # vertex colours are sRGB-encoded
+
+    def defines(self) -> dict:
+        spec = SHADING_MODELS[check_shading(self.shading)]
+        d = {spec.define: None, "MAX_LIGHTS": MAX_LIGHTS, "LIGHT_COUNT": len(self.light_kinds)}
+        if self.light_kinds:
+            kinds = ", ".join(map(str, self.light_kinds))
+            d["LIGHT_KIND_LIST"] = f"int[{len(self.light_kinds)}]({kinds})"
+        for name, location in aux_locations(self.aux).items():
+            d[f"OUT_{name.upper()}"] = location
+        flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
+                 "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb}
+        d.update({k: None for k, on in flags.items() if on})
+        return d
+
+
 class ForwardPass:
     """Draws a scene with one of the shading models; owns its programs and light buffer."""
 
     def __init__(self, ctx, cache: ResourceCache):
         self.ctx = ctx
         self.cache = cache
-        self.programs: dict[str, Program] = {}
+        self.programs: dict[Variant, Program] = {}
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights(Scene())))
         self._lights_bytes = b""
 
-    def program(self, shading: str, light_kinds: tuple[int, ...] | None = None,
-                aux: tuple[str, ...] = (), orthographic: bool = False) -> Program:
-        """The program for a shading model, specialised to a light set: ``light_kinds`` (the
-        LIGHT_* kind of each light, in order) becomes compile-time constants. ``aux`` names
-        the auxiliary outputs to write (facet.gl.targets); ``orthographic`` makes the view
-        direction a constant."""
-        key = (shading, light_kinds, tuple(aux), orthographic)
-        if key not in self.programs:
-            spec = SHADING_MODELS[check_shading(shading)]
-            defines = {spec.define: None, "MAX_LIGHTS": MAX_LIGHTS}
-            for name, location in aux_locations(aux).items():
-                defines[f"OUT_{name.upper()}"] = location
-            if orthographic:
-                defines["VIEW_ORTHOGRAPHIC"] = None
-            if light_kinds is not None:
-                n = len(light_kinds)
-                defines["LIGHT_COUNT"] = n
-                if n:
-                    defines["LIGHT_KIND_LIST"] = f"int[{n}]({', '.join(map(str, light_kinds))})"
+    def program(self, variant: Variant) -> Program:
+        """The compiled program for ``variant`` (compiled on first use, then reused)."""
+        if variant not in self.programs:
+            spec = SHADING_MODELS[check_shading(variant.shading)]
             root = glsl_root()
-            prog = compile_program(self.ctx, root / spec.vertex, root / spec.fragment, defines)
+            prog = compile_program(self.ctx, root / spec.vertex, root / spec.fragment,
+                                   variant.defines())
             if "Lights" in prog.gl:
                 prog.gl["Lights"].binding = LIGHTS_BINDING
-            self.programs[key] = prog
-        return self.programs[key]
+            self.programs[variant] = prog
+        return self.programs[variant]
 
     def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
-             aux: tuple[str, ...] = (), flip_y: bool = True) -> None:
+             aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False) -> None:
         """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
-        channels too. ``flip_y``: draw upside down for top-down readback."""
-        prog = self.program(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights),
-                            tuple(aux_locations(aux)), camera.is_orthographic)
-        lights = pack_lights(scene)
+        channels too. ``flip_y``: draw upside down for top-down readback. ``srgb``: inputs
+        are sRGB-encoded and are linearised (facet.image.colorspace)."""
+        to_linear = srgb_to_linear if srgb else np.asarray
+        lights = pack_lights(scene, to_linear)
         if lights != self._lights_bytes:
             self.lights_ubo.write(lights)
             self._lights_bytes = lights
         self.lights_ubo.bind_to_uniform_block(LIGHTS_BINDING)
-        prog.set("u_view", camera.view)
         projection = camera.projection(width, height)
         view_projection = (FLIP_Y @ projection if flip_y else projection) @ camera.view
         # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise.
         self.ctx.front_face = "cw" if flip_y else "ccw"
         # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
-        eye = -camera.forward if camera.is_orthographic else camera.eye
-        prog.set("u_eye_world", tuple(float(v) for v in eye))
-        intensities = np.array([x.color * x.intensity for x in scene.lights]).reshape(-1, 3)
+        eye = tuple(float(v) for v in (-camera.forward if camera.is_orthographic
+                                       else camera.eye))
+        base = Variant(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights),
+                       tuple(aux_locations(aux)), camera.is_orthographic, srgb=srgb)
+        intensities = np.array([to_linear(x.color) * x.intensity
+                                for x in scene.lights]).reshape(-1, 3)
+        ambient = to_linear(scene.ambient)
+        ready: set[Variant] = set()
         for obj in scene.objects:
             m = obj.material
+            variant = replace(base, texture=m.texture is not None,
+                              vertex_colors=obj.mesh.colors is not None)
+            prog = self.program(variant)
+            if variant not in ready:  # per-frame uniforms, once per program
+                prog.set("u_view", camera.view)
+                prog.set("u_eye_world", eye)
+                ready.add(variant)
+            color = to_linear(m.color)
             prog.set("u_model", obj.transform)
             prog.set("u_mvp", view_projection @ obj.transform)
             prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
-            prog.set("u_color", tuple(float(c) for c in m.color))
+            prog.set("u_color", tuple(float(c) for c in color))
             # The material's products with each light (see glsl/lib/lights.glsl), computed
             # once per draw instead of once per fragment.
-            prog.set("u_ambient_term", tuple(float(c) for c in scene.ambient * m.ka * m.color))
-            prog.set_array("u_light_diffuse", intensities * (m.kd * m.color))
+            prog.set("u_ambient_term", tuple(float(c) for c in ambient * m.ka * color))
+            prog.set_array("u_light_diffuse", intensities * (m.kd * color))
             prog.set_array("u_light_specular", intensities * m.ks)
             prog.set("u_shininess", m.shininess)
             prog.set("u_object_id", obj.id + 1)  # 0 is "nothing" in the id target
+            if m.texture is not None:
+                self.cache.texture(m.texture, srgb).use(location=0)
+                prog.set("u_texture", 0)
             self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
 
     def release(self) -> None:

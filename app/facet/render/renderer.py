@@ -24,6 +24,7 @@ from ..geometry.camera import Camera
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import Targets
+from ..image.colorspace import linear_to_srgb, srgb_to_linear
 from ..scene.scene import Scene
 from .forward import ForwardPass
 from .shading import check_shading
@@ -71,18 +72,23 @@ class Renderer:
     """Headless renderer of ``width`` x ``height`` images with optional MSAA (0, 2, 4, 8).
 
     ``float_color=True`` keeps colour as float32 in [0, 1] (``frame.color`` is float32) for
-    16-bit output and dithering; by default it is RGBA8 (uint8).
+    16-bit output and dithering; by default it is RGBA8 (uint8). ``srgb=True`` treats input
+    colours as sRGB, lights in linear space and returns sRGB-encoded float colour
+    (facet.image.colorspace states both modes).
 
     ``close()`` (or leaving a ``with`` block) releases the context and every GL object.
     """
 
     def __init__(self, width: int = 800, height: int = 600, msaa: int = 0, *,
-                 shading: str = "phong", float_color: bool = False):
+                 shading: str = "phong", float_color: bool = False, srgb: bool = False):
         self.shading = check_shading(shading)
+        self.srgb = bool(srgb)
         self.ctx = glcontext.create_headless()
         try:
+            # The sRGB mode lights in linear space, which needs more than 8 bits to keep
+            # dark tones from banding before the encoding: it always uses a float target.
             self.targets = Targets(self.ctx, width, height, msaa,
-                                   color_dtype="f4" if float_color else "f1")
+                                   color_dtype="f4" if float_color or srgb else "f1")
         except BaseException:
             self.ctx.release()
             raise
@@ -114,22 +120,29 @@ class Renderer:
         w, h, t = self.width, self.height, self.targets
         aux = tuple(_CHANNEL[o] for o in OUTPUTS if o in outputs and o in _CHANNEL)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        bg = tuple(float(c) for c in scene.background)
+        bg = np.asarray(scene.background, dtype=np.float64)
+        if self.srgb:
+            bg = np.append(srgb_to_linear(bg[:3]), bg[3])
+        bg = tuple(float(c) for c in bg)
+        srgb = self.srgb
         if self.msaa:
             if aux:  # exact, unblended channels at pixel centres
                 t.begin_aux(aux, bg)
-                self.forward.draw(scene, camera, w, h, "unlit", aux=aux)
+                self.forward.draw(scene, camera, w, h, "unlit", aux=aux, srgb=srgb)
             t.begin_multisample(bg)
-            self.forward.draw(scene, camera, w, h, shading)
+            self.forward.draw(scene, camera, w, h, shading, srgb=srgb)
             t.resolve()
         else:
             t.begin_aux(aux, bg) if aux else t.begin_color(bg)
-            self.forward.draw(scene, camera, w, h, shading, aux=aux)
+            self.forward.draw(scene, camera, w, h, shading, aux=aux, srgb=srgb)
         read = {name: t.read_aux(name) for name in aux}
         for name in ("normals", "position"):  # stored as RGBA32F: drop w
             if name in read:
                 read[name] = np.ascontiguousarray(read[name][..., :3])
-        frame = Frame(t.read_color() if "color" in outputs else None, read.get("depth"),
+        color = t.read_color() if "color" in outputs else None
+        if color is not None and self.srgb:
+            color[..., :3] = linear_to_srgb(color[..., :3])
+        frame = Frame(color, read.get("depth"),
                       read.get("ids"), camera, read.get("normals"), read.get("position"),
                       read.get("uv"), (w, h))
         self.cache.sweep()

@@ -5,10 +5,14 @@ NaN/inf vertices) becomes one ``MeshError`` that names the file and says what to
 
 Materials found in the file map to Phong (``facet.scene.Material``):
 
-* OBJ/MTL: C = Kd, k_d = 1, k_s = mean(Ks), n = Ns, k_a = 1.
+* OBJ/MTL: C = Kd, k_d = 1, k_s = mean(Ks), n = Ns, k_a = 1; map_Kd becomes the texture.
 * glTF/GLB (metallic-roughness): C = baseColorFactor.rgb, k_d = 1,
   k_s = 0.5 (1 - roughness), n = 2 / alpha^2 - 2 with alpha = max(roughness^2, 0.05)
-  (the Blinn-Phong exponent that matches a GGX lobe of that roughness), clamped to [1, 512].
+  (the Blinn-Phong exponent that matches a GGX lobe of that roughness), clamped to [1, 512];
+  baseColorTexture becomes the texture.
+
+Per-vertex colours (PLY, OBJ's "v x y z r g b" extension, glTF COLOR_0) become
+``Mesh.colors``.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ import numpy as np
 from ..errors import FacetError, MeshError
 from .material import Material
 from .mesh import Mesh
+from .texture import Texture
 
 # Extensions we accept (lower case, no dot) and the trimesh file_type for each.
 FORMATS = {"obj": "obj", "stl": "stl", "ply": "ply", "off": "off", "glb": "glb",
@@ -53,9 +58,11 @@ def _material_from_trimesh(tm) -> Material | None:
     if "kd" in kwargs:  # an MTL file's own values (trimesh invents defaults otherwise)
         ks = np.clip(np.mean(kwargs.get("ks", [0.0])), 0.0, 1.0)
         ns = float(kwargs.get("ns", 32.0))
+        image = getattr(mat, "image", None)  # map_Kd
         return Material(color=np.clip(np.asarray(kwargs["kd"], dtype=float)[:3], 0, 1),
                         ka=1.0, kd=1.0, ks=float(ks), shininess=max(ns, 0.0),
-                        name=getattr(mat, "name", "") or "")
+                        name=getattr(mat, "name", "") or "",
+                        texture=None if image is None else Texture.from_pil(image, "map_Kd"))
     base = getattr(mat, "baseColorFactor", None)
     if base is not None:
         base = np.asarray(base, dtype=float)[:3]
@@ -65,8 +72,11 @@ def _material_from_trimesh(tm) -> Material | None:
         rough = 1.0 if rough is None else float(np.clip(rough, 0.0, 1.0))
         alpha = max(rough * rough, 0.05)
         shininess = float(np.clip(2.0 / alpha**2 - 2.0, 1.0, 512.0))
+        image = getattr(mat, "baseColorTexture", None)
         return Material(color=np.clip(base, 0, 1), ka=1.0, kd=1.0, ks=0.5 * (1.0 - rough),
-                        shininess=shininess, name=getattr(mat, "name", "") or "")
+                        shininess=shininess, name=getattr(mat, "name", "") or "",
+                        texture=None if image is None else
+                        Texture.from_pil(image, "baseColorTexture"))
     return None
 
 
@@ -160,7 +170,13 @@ def _to_mesh(tm, p: Path, material) -> Mesh:
     uv = getattr(tm.visual, "uv", None)
     if uv is not None and len(uv) != len(vertices):
         uv = None
+    colors = None  # per-vertex colours: PLY red/green/blue, OBJ "v x y z r g b", COLOR_0
+    if getattr(tm.visual, "kind", None) == "vertex":
+        colors = np.asarray(tm.visual.vertex_colors, dtype=np.uint8)
+        if len(colors) != len(vertices):
+            colors = None
     try:
-        return Mesh(vertices, faces, normals, uv, name=p.name, material=material)
+        return Mesh(vertices, faces, normals, uv, name=p.name, material=material,
+                    colors=colors)
     except FacetError as exc:
         raise MeshError(f"{p}: {exc}") from None

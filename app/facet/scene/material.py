@@ -27,7 +27,9 @@ def as_color(value, name: str, channels=(3,)) -> np.ndarray:
 @dataclass
 class Material:
     """Phong material. ``color`` (3,) floats in [0, 1]; ``ka``, ``kd``, ``ks`` >= 0;
-    ``shininess`` (the exponent n) >= 0."""
+    ``shininess`` (the exponent n) >= 0. ``texture`` (a ``facet.scene.texture.Texture``)
+    multiplies ``color`` at each point by the image at the mesh's texture coordinates; the
+    mesh's vertex colours, if any, multiply it too."""
 
     color: np.ndarray = field(default_factory=lambda: np.array([0.8, 0.8, 0.8]))
     ka: float = 1.0
@@ -35,9 +37,15 @@ class Material:
     ks: float = 0.3
     shininess: float = 32.0
     name: str = ""
+    texture: object = None
 
     def __post_init__(self):
+        from .texture import Texture
+
         self.color = as_color(self.color, "material color")
+        if self.texture is not None and not isinstance(self.texture, Texture):
+            raise InputError(f"material texture must be a facet Texture, got "
+                             f"{type(self.texture).__name__}")
         for key in ("ka", "kd", "ks", "shininess"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):

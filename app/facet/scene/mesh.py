@@ -49,12 +49,13 @@ class Mesh:
     faces : (F, 3) integer indices into positions, F >= 1
     normals : (N, 3) optional; computed (area-weighted, smooth) when omitted
     uvs : (N, 2) optional texture coordinates
+    colors : (N, 3|4) optional per-vertex colours, floats in [0, 1] (or uint8 0..255)
     name : label used in messages
     material : the ``Material`` the file defined, if any (``Scene.add`` uses it by default)
     """
 
     def __init__(self, positions, faces, normals=None, uvs=None, *, name: str = "mesh",
-                 material=None):
+                 material=None, colors=None):
         self.name = name
         pos = np.asarray(positions, dtype=np.float32)
         if pos.ndim != 2 or pos.shape[1] != 3:
@@ -91,6 +92,20 @@ class Mesh:
             uv = np.asarray(uvs, dtype=np.float32)
             if uv.shape != (len(pos), 2):
                 raise InputError(f"{name}: uvs must have shape ({len(pos)}, 2), got {uv.shape}")
+        col = None
+        if colors is not None:
+            col = np.asarray(colors)
+            if col.dtype == np.uint8:
+                col = col / 255.0
+            col = col.astype(np.float32)
+            if col.ndim != 2 or col.shape[0] != len(pos) or col.shape[1] not in (3, 4):
+                raise InputError(f"{name}: colors must have shape ({len(pos)}, 3|4), got "
+                                 f"{col.shape}")
+            if not np.all(np.isfinite(col)) or col.min() < 0 or col.max() > 1:
+                raise InputError(f"{name}: vertex colours must be in [0, 1]")
+            if col.shape[1] == 3:
+                col = np.hstack([col, np.ones((len(col), 1), np.float32)])
+        self.colors = None if col is None else _readonly(col)
         self.positions = _readonly(pos)
         self.faces = _readonly(fac)
         self.normals = _readonly(nrm.astype(np.float32))
@@ -132,8 +147,9 @@ class Mesh:
         n = np.where(length > 0, n / np.where(length > 0, length, 1), (0.0, 0.0, 1.0))
         faces = np.arange(3 * self.face_count, dtype=np.uint32).reshape(-1, 3)
         uvs = None if self.uvs is None else self.uvs[self.faces].reshape(-1, 2)
+        colors = None if self.colors is None else self.colors[self.faces].reshape(-1, 4)
         return Mesh(tri.reshape(-1, 3), faces, np.repeat(n, 3, axis=0), uvs,
-                    name=self.name, material=self.material)
+                    name=self.name, material=self.material, colors=colors)
 
     def __repr__(self) -> str:
         return f"Mesh({self.name!r}, vertices={self.vertex_count}, faces={self.face_count})"

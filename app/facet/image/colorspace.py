@@ -1,0 +1,28 @@
+"""Colour management, stated once.
+
+facet has two colour modes:
+
+* default ("as the notes"): every colour value (material colours, light colours, texture
+  bytes / 255, vertex colours) goes into the shading equation as given, and the equation's
+  result is written as the pixel value. The analytic tests rely on this.
+* sRGB (``--srgb``, ``Renderer(srgb=True)``): inputs are taken to be sRGB-encoded and are
+  linearised (textures by the GPU's sRGB sampling, everything else by ``srgb_to_linear``),
+  lighting happens in linear space on a float target (so MSAA averages linear light), and
+  the result is encoded back to sRGB for output.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def srgb_to_linear(c) -> np.ndarray:
+    """The sRGB decoding curve (IEC 61966-2-1), elementwise on values in [0, 1]."""
+    c = np.asarray(c, dtype=np.float64)
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def linear_to_srgb(c) -> np.ndarray:
+    """The sRGB encoding curve, elementwise on values in [0, 1] (clipped first)."""
+    c = np.clip(np.asarray(c, dtype=np.float64), 0.0, 1.0)
+    return np.where(c <= 0.0031308, c * 12.92, 1.055 * c ** (1 / 2.4) - 0.055)

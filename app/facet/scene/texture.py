@@ -1,0 +1,74 @@
+"""Textures as images in memory (no GL): what a material's diffuse colour is multiplied by.
+
+``Texture.pixels`` is (H, W, 4) uint8, row 0 at the top, values as stored in the image file
+(sRGB-encoded for ordinary images). Texture coordinates follow OpenGL: (0, 0) is the
+bottom-left corner of the image, (1, 1) the top-right. How the bytes become colours is the
+renderer's colour mode (see facet.render.colors).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".bmp", ".tga", ".tif", ".tiff", ".webp")
+
+
+class Texture:
+    """An RGBA8 image to sample. ``pixels``: (H, W, 3|4) uint8 (alpha 255 is added)."""
+
+    def __init__(self, pixels, name: str = "texture"):
+        a = np.asarray(pixels)
+        if a.dtype != np.uint8 or a.ndim != 3 or a.shape[2] not in (3, 4) or min(a.shape[:2]) < 1:
+            raise InputError(f"texture {name}: expected (H, W, 3|4) uint8 pixels, got "
+                             f"{a.shape} {a.dtype}")
+        if a.shape[2] == 3:
+            a = np.concatenate([a, np.full(a.shape[:2] + (1,), 255, np.uint8)], axis=2)
+        self.pixels = np.ascontiguousarray(a)
+        self.pixels.setflags(write=False)
+        self.name = name
+
+    @classmethod
+    def from_pil(cls, image, name: str = "texture") -> Texture:
+        return cls(np.asarray(image.convert("RGBA")), name)
+
+    @classmethod
+    def load(cls, path) -> Texture:
+        """Read an image file through Pillow; ``InputError`` naming the file if it cannot."""
+        from PIL import Image, UnidentifiedImageError
+
+        p = Path(path)
+        if not p.is_file():
+            raise InputError(f"{p}: no such texture file" if not p.exists() else
+                             f"{p}: is a directory, expected an image")
+        try:
+            with Image.open(p) as img:
+                return cls.from_pil(img, p.name)
+        except (UnidentifiedImageError, OSError, ValueError) as exc:
+            raise InputError(f"{p}: cannot read the texture image ({exc})") from None
+
+    @classmethod
+    def checker(cls, squares: int = 8, size: int = 512,
+                colors=((0.85, 0.85, 0.85), (0.25, 0.25, 0.25))) -> Texture:
+        """A ``squares`` x ``squares`` checkerboard (``size`` pixels square), for models with
+        texture coordinates but no image. The bottom-left square has the first colour."""
+        if not (1 <= squares <= size and 1 <= size <= 8192):
+            raise InputError(f"checker: need 1 <= squares <= size <= 8192, got {squares}, "
+                             f"{size}")
+        c = np.rint(np.asarray(colors, dtype=np.float64) * 255).astype(np.uint8)
+        idx = np.arange(size) * squares // size
+        # Row 0 is the top of the image, i.e. v = 1: count squares from the bottom row.
+        rows = (squares - 1 - idx)[:, None]
+        pattern = (rows + idx[None, :]) % 2
+        return cls(c[pattern], f"checker{squares}")
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(width, height) in pixels."""
+        return self.pixels.shape[1], self.pixels.shape[0]
+
+    def __repr__(self) -> str:
+        return f"Texture({self.name!r}, {self.size[0]}x{self.size[1]})"

@@ -1,0 +1,10 @@
+// Colour-space conversions (pure functions). sRGB uses the exact piecewise curve of
+// IEC 61966-2-1, not a 2.2 power.
+
+vec3 srgb_to_linear(vec3 c) {
+    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(0.04045, c));
+}
+
+vec3 linear_to_srgb(vec3 c) {
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
+}
