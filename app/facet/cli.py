@@ -154,6 +154,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="add a light (see below); repeatable")
     r.add_argument("--color", type=_color, metavar="R,G,B",
                    help="material colour, floats in [0, 1] (default: the file's or grey)")
+    r.add_argument("--texture", metavar="IMAGE|checker",
+                   help="diffuse texture for the model (needs texture coordinates); "
+                   "'checker' generates a checkerboard")
+    r.add_argument("--srgb", action="store_true",
+                   help="colour management: treat input colours and textures as sRGB, light "
+                   "in linear space, write sRGB (default: the shading value as is)")
     r.add_argument("--shading", choices=SHADING_CHOICES, metavar="MODEL",
                    help=f"shading model: {', '.join(SHADING_CHOICES)} (default phong)")
     r.add_argument("--msaa", type=int, choices=(0, 2, 4, 8), metavar="N",

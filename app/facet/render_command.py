@@ -77,18 +77,27 @@ def _scene(args):
     from .scene.scenefile import load_scene
 
     if args.model and Path(args.model).suffix.lower() == ".toml":
-        if args.color is not None:
-            raise InputError("--color applies to a single model; set materials in the scene "
-                             "file instead")
+        if args.color is not None or args.texture is not None:
+            raise InputError("--color and --texture apply to a single model; set materials "
+                             "in the scene file instead")
         return load_scene(args.model)
+    texture = _texture(args.texture) if args.texture else None
     mesh = Mesh.load(args.model or default_model())
+    if texture is not None and mesh.uvs is None:
+        raise InputError(f"--texture: {mesh.name} has no texture coordinates to map an image "
+                         "with")
     scene = Scene()
-    material = mesh.material or Material()
-    if args.color is not None:
-        material = Material(args.color, material.ka, material.kd, material.ks,
-                            material.shininess, material.name)
+    m = mesh.material or Material()
+    material = Material(m.color if args.color is None else args.color, m.ka, m.kd, m.ks,
+                        m.shininess, m.name, texture or m.texture)
     scene.add(mesh, material)
     return scene
+
+
+def _texture(value: str):
+    from .scene.texture import Texture
+
+    return Texture.checker() if value == "checker" else Texture.load(value)
 
 
 def run_render(args) -> list[Path]:
@@ -140,7 +149,8 @@ def run_render(args) -> list[Path]:
         {"ids"} if ids_path else set())
     with Renderer(*size, msaa=settings.msaa if args.msaa is None else args.msaa,
                   shading=args.shading or settings.shading,
-                  float_color=color_options.needs_float) as renderer:
+                  float_color=color_options.needs_float,
+                  srgb=args.srgb or settings.srgb) as renderer:
         if args.turntable:
             from .render_sequence import render_turntable
 

@@ -48,6 +48,7 @@ class RenderSettings:
     msaa: int = 4
     outputs: tuple[str, ...] = ("color",)
     camera: str | None = None
+    srgb: bool = False  # colour management (facet.image.colorspace)
 
 
 class Scene:

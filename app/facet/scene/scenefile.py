@@ -25,8 +25,8 @@ from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
 from .scene import RenderSettings, Scene
 
 TOP = ("render", "materials", "objects", "lights", "cameras")
-RENDER = ("size", "background", "shading", "msaa", "outputs", "camera")
-MATERIAL = ("color", "ka", "kd", "ks", "shininess")
+RENDER = ("size", "background", "shading", "msaa", "outputs", "camera", "srgb")
+MATERIAL = ("color", "ka", "kd", "ks", "shininess", "texture")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "matrix", "parent", "flat",
           *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
 LIGHT = {"ambient": ("color", "intensity"),
@@ -135,6 +135,7 @@ class _SceneBuilder:
     def __init__(self, r: _Reader, base: Path):
         self.r, self.base = r, base
         self.parts_cache: dict[Path, list] = {}
+        self.texture_cache: dict[Path, object] = {}
 
     def build(self, data: dict) -> Scene:
         r = self.r
@@ -183,6 +184,10 @@ class _SceneBuilder:
                               for i, o in enumerate(outs))
         if "camera" in t:
             s.camera = r.string(t["camera"], "render.camera")
+        if "srgb" in t:
+            if not isinstance(t["srgb"], bool):
+                r.fail("render.srgb", f"expected true or false, got {_show(t['srgb'])}")
+            s.srgb = t["srgb"]
         return s, background
 
     def material(self, t, where: str) -> Material:
@@ -192,7 +197,24 @@ class _SceneBuilder:
         for key in ("ka", "kd", "ks", "shininess"):
             if key in t:
                 kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+        if "texture" in t:
+            kw["texture"] = self.texture(t["texture"], f"{where}.texture")
         return Material(**kw, name=where.rsplit(".", 1)[-1])
+
+    def texture(self, value, where: str):
+        """A texture: an image path (relative to the scene file) or "checker"."""
+        from .texture import Texture
+
+        name = self.r.string(value, where)
+        if name == "checker":
+            return Texture.checker()
+        path = self.base / name
+        if path not in self.texture_cache:
+            try:
+                self.texture_cache[path] = Texture.load(path)
+            except FacetError as exc:
+                self.r.fail(where, str(exc))
+        return self.texture_cache[path]
 
     def objects(self, scene: Scene, items, materials: dict) -> None:
         r = self.r
