@@ -63,9 +63,9 @@ def _material_from_trimesh(tm) -> Material | None:
                         ka=1.0, kd=1.0, ks=float(ks), shininess=max(ns, 0.0),
                         name=getattr(mat, "name", "") or "",
                         texture=None if image is None else Texture.from_pil(image, "map_Kd"))
-    base = getattr(mat, "baseColorFactor", None)
-    if base is not None:
-        base = np.asarray(base, dtype=float)[:3]
+    if hasattr(mat, "baseColorFactor"):  # glTF metallic-roughness (factor default: white)
+        base = mat.baseColorFactor
+        base = np.ones(3) if base is None else np.asarray(base, dtype=float)[:3]
         if base.max() > 1.0:  # trimesh stores uint8 colours
             base = base / 255.0
         rough = getattr(mat, "roughnessFactor", None)
