@@ -75,3 +75,40 @@ def test_bad_turntables(tmp_path, monkeypatch, capsys, args, message):
     err = capsys.readouterr().err
     assert code == 2 and message in err and len(err.strip().splitlines()) == 1
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("quiet", [False, True])
+def test_progress_bar_on_a_terminal_only(tmp_path, quiet):
+    """On a terminal a turntable shows a tqdm bar on stderr; --quiet silences it; when stderr
+    is not a terminal (a pipe) nothing is printed there."""
+    import os
+    import pty
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "app")}
+    cmd = [sys.executable, "-m", "facet", "render", "--turntable", "5", "-o", "s.gif",
+           "--size", "24x24", *(["-q"] if quiet else [])]
+    master, slave = pty.openpty()
+    proc = subprocess.Popen(cmd, cwd=tmp_path, env=env, stdout=subprocess.DEVNULL,
+                            stderr=slave)
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            data = os.read(master, 4096)
+        except OSError:
+            break
+        if not data:
+            break
+        chunks.append(data)
+    os.close(master)
+    assert proc.wait() == 0
+    text = b"".join(chunks).decode(errors="replace")
+    if quiet:
+        assert text.strip() == ""
+    else:
+        assert "turntable" in text and "5/5" in text
+    piped = subprocess.run(cmd, cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert piped.returncode == 0 and piped.stderr == ""
