@@ -146,6 +146,9 @@ def main() -> None:
         trimesh.creation.icosphere(subdivisions=sub).export(ply)
         models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
         cold_table(2 if a.quick else 5, models)
+    import turntable
+
+    turntable.main()
 
 
 if __name__ == "__main__":

@@ -118,3 +118,22 @@ def test_progress_bar_on_a_terminal_only(tmp_path, quiet):
         assert "turntable" in text and "/5 [" in text
     piped = subprocess.run(cmd, cwd=tmp_path, env=env, capture_output=True, text=True)
     assert piped.returncode == 0 and piped.stderr == ""
+
+
+def test_python_m_turntable_dataset_uses_a_writer_process(tmp_path):
+    """The dataset writer is a spawned process, which re-imports the main module: with
+    ``python -m facet`` that must not start a second render."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1] / "app")}
+    res = subprocess.run([sys.executable, "-m", "facet", "render", "--turntable", "2",
+                          "--outputs", "color,ids", "--out-dir", "ds", "--size", "24x24"],
+                         cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    names = sorted(p.name for p in (tmp_path / "ds").iterdir())
+    assert names == sorted(f"{i:04d}_{n}" for i in range(2)
+                           for n in ("color.png", "ids.npy", "ids.png", "camera.json"))
+    assert len(res.stdout.split()) == 8

@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 from .image.outputs import encode_color, write_outputs
-from .image.sequence import BackgroundWriter, SequenceSink
+from .image.sequence import BackgroundWriter, ProcessWriter, SequenceSink
 from .render.turntable import orbit_cameras
 from .scene.light import camera_rig
 
@@ -29,9 +29,11 @@ def render_turntable(renderer, scene, camera, args, channels, target, color_opti
     """Render the orbit; ``headlights``: the default light rig follows the camera (the model
     turns under studio lights) instead of staying in world space."""
     cameras = orbit_cameras(camera, scene.bounds.mean(axis=0), args.turntable, args.up)
-    writer = BackgroundWriter()
+    # Videos stream into one encoder object, so they use a thread; independent dataset
+    # files go to a writer process (see ProcessWriter for why).
+    writer = ProcessWriter() if args.out_dir else BackgroundWriter()
     sink = None if args.out_dir else SequenceSink(target, args.fps, writer)
-    written: list[Path] = []
+    options = dict(png16=args.png16, normals_space=args.normals_space)
     try:
         with progress(len(cameras), args.quiet, "turntable") as bar:
             for i, cam in enumerate(cameras):
@@ -42,8 +44,8 @@ def render_turntable(renderer, scene, camera, args, channels, target, color_opti
                     kind, image = encode_color(frame.color, color_options)
                     sink.add(i, image)
                 else:
-                    writer.submit(_write_frame, written, frame, args, channels, color_options,
-                                  f"{i:04d}_")
+                    writer.submit(_write_frame, frame, args.out_dir, channels, color_options,
+                                  options, f"{i:04d}_")
                 bar.update(1)
         if sink is not None:
             written = sink.finish()
@@ -56,10 +58,11 @@ def render_turntable(renderer, scene, camera, args, channels, target, color_opti
         if sink is not None:
             sink.abort()
         raise
-    return written if sink is None or sink.kind != "pattern" else sink.written
+    if sink is None:
+        return [p for paths in writer.results for p in paths]
+    return sink.written if sink.kind == "pattern" else written
 
 
-def _write_frame(written, frame, args, channels, color_options, prefix) -> None:
-    written.extend(write_outputs(frame, args.out_dir, channels, color_options,
-                                 png16=args.png16, normals_space=args.normals_space,
-                                 prefix=prefix))
+def _write_frame(frame, out_dir, channels, color_options, options, prefix) -> list[Path]:
+    """One frame's dataset files (runs in the writer process)."""
+    return write_outputs(frame, out_dir, channels, color_options, prefix=prefix, **options)

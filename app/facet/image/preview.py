@@ -24,25 +24,34 @@ def ramp(t: np.ndarray) -> np.ndarray:
     return np.rint(_RAMP[i] * (1 - f) + _RAMP[i + 1] * f).astype(np.uint8)
 
 
+_RAMP_LUT = ramp(np.linspace(0.0, 1.0, 256))  # per-pixel work is one table look-up
+
+
 def depth_preview(depth: np.ndarray) -> np.ndarray:
     hit = depth > 0
     out = np.zeros(depth.shape + (3,), np.uint8)
     if hit.any():
-        lo, hi = depth[hit].min(), depth[hit].max()
-        t = 1.0 - (depth - lo) / max(hi - lo, 1e-12)  # near = 1 = bright
-        out[hit] = ramp(t[hit])
+        d = depth[hit]
+        lo, hi = d.min(), d.max()
+        level = ((hi - d) * (255.0 / max(hi - lo, 1e-12))).astype(np.uint8)  # near = 255
+        out[hit] = _RAMP_LUT[level]
     return out
 
 
-def ids_preview(ids: np.ndarray) -> np.ndarray:
-    hue = (ids.astype(np.float64) * _GOLDEN + 0.1) % 1.0
+def id_colors(count: int) -> np.ndarray:
+    """(count, 3) uint8: the colour of ids 0 .. count-1 (golden-ratio hue steps)."""
+    hue = (np.arange(count) * _GOLDEN + 0.1) % 1.0
     # HSV (hue, 0.65, 0.95) to RGB, vectorised.
     h6 = hue * 6.0
     k = np.stack([(5 + h6) % 6, (3 + h6) % 6, (1 + h6) % 6], axis=-1)
     rgb = 0.95 - 0.95 * 0.65 * np.clip(np.minimum(k, 4 - k), 0, 1)
-    out = np.rint(rgb * 255).astype(np.uint8)
-    out[ids < 0] = 0
-    return out
+    return np.rint(rgb * 255).astype(np.uint8)
+
+
+def ids_preview(ids: np.ndarray) -> np.ndarray:
+    lut = np.vstack([np.zeros((1, 3), np.uint8), id_colors(int(ids.max()) + 1 if ids.size
+                                                          else 0)])
+    return lut[np.maximum(ids, -1) + 1]  # background (-1) -> row 0, black
 
 
 def normals_preview(normals: np.ndarray) -> np.ndarray:

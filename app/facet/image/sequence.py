@@ -65,6 +65,38 @@ class BackgroundWriter:
             raise error
 
 
+class ProcessWriter:
+    """Runs submitted picklable functions in a separate process (spawned, so the GL context
+    and threads of this one are not copied). Used for per-frame dataset files: rendering
+    holds the GIL while the driver works, so encoding in a thread of the same process would
+    mostly wait for it. Results come back in submission order through ``results``; at most
+    ``max_pending`` jobs are in flight, so a slow disk slows rendering instead of memory."""
+
+    def __init__(self, max_pending: int = QUEUE_FRAMES):
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        self._pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
+        self._pending: list = []
+        self._max = max_pending
+        self.results: list = []
+
+    def submit(self, fn, *args) -> None:
+        self._pending.append(self._pool.submit(fn, *args))
+        while len(self._pending) > self._max:
+            self.results.append(self._pending.pop(0).result())
+
+    def close(self) -> None:
+        """Wait for every job; raise the first error one of them hit."""
+        try:
+            while self._pending:
+                self.results.append(self._pending.pop(0).result())
+        finally:
+            for future in self._pending:
+                future.cancel()
+            self._pool.shutdown(wait=True, cancel_futures=True)
+
+
 def check_sequence_path(path) -> str:
     """'gif', 'mp4' or 'pattern' for a sequence target; InputError for anything else."""
     text = str(path)

@@ -51,6 +51,12 @@ def check_image_path(path) -> Path:
     return p
 
 
+# zlib level for PNGs: 1 compresses rendered images nearly as well as the default 6 (within
+# about 10% here) at several times the speed, which keeps dataset writing off the critical
+# path of a turntable.
+PNG_COMPRESS_LEVEL = 1
+
+
 def save_image(path, rgba: np.ndarray) -> Path:
     """Write (H, W) grey or (H, W, 3|4) uint8 to a PNG. An all-opaque RGBA image is stored
     as RGB."""
@@ -64,7 +70,8 @@ def save_image(path, rgba: np.ndarray) -> Path:
     if a.ndim == 3 and a.shape[2] == 4 and np.all(a[..., 3] == 255):
         a = a[..., :3]
     with write_atomic(p) as tmp:
-        Image.fromarray(np.ascontiguousarray(a)).save(tmp, format=IMAGE_FORMATS[p.suffix.lower()])
+        Image.fromarray(np.ascontiguousarray(a)).save(tmp, format=IMAGE_FORMATS[p.suffix.lower()],
+                                                      compress_level=PNG_COMPRESS_LEVEL)
     return p
 
 
