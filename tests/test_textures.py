@@ -174,3 +174,24 @@ def test_cli_texture_needs_uvs(tmp_path, capsys):
     code = main(["render", str(tmp_path / "ball.ply"), "--texture", "checker", "-o",
                  str(tmp_path / "o.png")])
     assert code == 2 and "has no texture coordinates" in capsys.readouterr().err
+
+
+def test_cli_srgb_and_texture(tmp_path):
+    """--srgb lights in linear space: the same lit quad comes out brighter in the mid-tones;
+    --texture checker maps a checkerboard onto a model with texture coordinates."""
+    from facet.cli import main
+
+    (tmp_path / "q.obj").write_text(
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
+    common = [str(tmp_path / "q.obj"), "--size", "32x32", "--eye", "0,0,3", "--light",
+              "dir:0,0,-1:1,1,1:0.5", "--msaa", "0", "-q"]
+    assert main(["render", *common, "-o", str(tmp_path / "a.png")]) == 0
+    assert main(["render", *common, "--srgb", "-o", str(tmp_path / "b.png")]) == 0
+    a = np.asarray(Image.open(tmp_path / "a.png"))[16, 16, 0]
+    b = np.asarray(Image.open(tmp_path / "b.png"))[16, 16, 0]
+    assert b > a + 20
+    assert main(["render", *common, "--texture", "checker", "--shading", "unlit", "-o",
+                 str(tmp_path / "c.png")]) == 0
+    c = np.asarray(Image.open(tmp_path / "c.png"))[..., 0]
+    assert len(np.unique(c)) >= 2 and c.max() - c.min() > 80

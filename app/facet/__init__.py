@@ -31,6 +31,7 @@ _EXPORTS = {
     "RenderSettings": "facet.scene.scene",
     "load_scene": "facet.scene",
     "primitives": "facet.scene",
+    "Texture": "facet.scene.texture",
     "Renderer": "facet.render.renderer",
     "Frame": "facet.render.renderer",
     "SHADING_MODELS": "facet.render.shading",

@@ -51,9 +51,9 @@ def check_image_path(path) -> Path:
     return p
 
 
-# zlib level for PNGs: 1 compresses rendered images nearly as well as the default 6 (within
-# about 10% here) at several times the speed, which keeps dataset writing off the critical
-# path of a turntable.
+# zlib level for PNGs: level 1 files are at most about 25% larger than the default level 6
+# on rendered images (measured on facet's own renders) and encode several times faster,
+# which keeps dataset writing off the critical path of a turntable.
 PNG_COMPRESS_LEVEL = 1
 
 

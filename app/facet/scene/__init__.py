@@ -1,9 +1,11 @@
 """Scene description without GL: meshes, materials, lights and the scene that holds them."""
 
+from . import primitives
 from .light import DirectionalLight, PointLight, SpotLight
 from .material import Material
 from .mesh import Mesh
 from .scene import MAX_LIGHTS, RenderSettings, Scene, SceneObject
+from .texture import Texture
 
 
 def load_scene(path) -> Scene:
@@ -13,4 +15,4 @@ def load_scene(path) -> Scene:
     return _load(path)
 
 __all__ = ["DirectionalLight", "PointLight", "SpotLight", "Material", "Mesh", "Scene",
-           "SceneObject", "MAX_LIGHTS", "RenderSettings", "load_scene"]
+           "SceneObject", "MAX_LIGHTS", "RenderSettings", "load_scene", "primitives", "Texture"]
