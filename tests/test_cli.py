@@ -182,7 +182,7 @@ def test_out_dir_writes_every_channel(tmp_path, sphere_file, capsys):
     assert n.shape == (40, 48, 3) and n[20, 24, 2] > 0.99  # camera space: facing us
     n16 = decode_png16((out / "normals.png").read_bytes())
     assert n16.dtype == np.uint16 and abs(int(n16[20, 24, 2]) - 65535) < 400
-    preview = np.asarray(Image.open(out / "depth.png"))
+    preview = np.asarray(Image.open(out / "depth.png").convert("RGB"))
     assert preview.shape == (40, 48, 3) and np.all(preview[~hit] == 0)
     assert len(np.unique(preview[hit].reshape(-1, 3), axis=0)) > 5  # a visible ramp
     info = json.loads((out / "camera.json").read_text())

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..errors import InputError
 from . import preview, quantize
-from .writers import save_array, save_image, save_png16, to_uint8, write_atomic
+from .writers import save_array, save_image, save_indexed, save_png16, to_uint8, write_atomic
 
 CHANNELS = ("color", "depth", "ids", "normals", "position", "uv")
 MM_PER_UNIT = 1000.0  # depth_mm.png assumes scene units are metres
@@ -96,13 +96,15 @@ def write_outputs(frame, out_dir, channels, options: ColorOptions | None = None,
         written.append(save_color(name("color.png"), frame.color, options))
     if "depth" in channels:
         written.append(save_array(name("depth.npy"), frame.depth))
-        written.append(save_image(name("depth.png"), preview.depth_preview(frame.depth)))
+        written.append(save_indexed(name("depth.png"), *preview.depth_indexed(frame.depth)))
         if png16:
             mm = np.clip(np.rint(frame.depth * MM_PER_UNIT), 0, 65535).astype(np.uint16)
             written.append(save_png16(name("depth_mm.png"), mm))
     if "ids" in channels:
         written.append(save_array(name("ids.npy"), frame.object_ids))
-        written.append(save_image(name("ids.png"), preview.ids_preview(frame.object_ids)))
+        indexed = preview.ids_indexed(frame.object_ids)
+        written.append(save_indexed(name("ids.png"), *indexed) if indexed is not None else
+                       save_image(name("ids.png"), preview.ids_preview(frame.object_ids)))
     if "normals" in channels:
         normals = frame.normals if normals_space == "world" else frame.camera_normals()
         written.append(save_array(name("normals.npy"), normals))

@@ -27,15 +27,26 @@ def ramp(t: np.ndarray) -> np.ndarray:
 _RAMP_LUT = ramp(np.linspace(0.0, 1.0, 256))  # per-pixel work is one table look-up
 
 
-def depth_preview(depth: np.ndarray) -> np.ndarray:
+# Palette of indexed depth previews: 0 is "no hit" (black), 1..255 run from far to near.
+_DEPTH_PALETTE = np.vstack([np.zeros((1, 3), np.uint8), ramp(np.linspace(0.0, 1.0, 255))])
+
+
+def depth_indexed(depth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(H, W) uint8 palette indices and the (256, 3) palette of the depth preview. Written
+    as an indexed PNG: a third of the bytes of RGB to compress."""
     hit = depth > 0
-    out = np.zeros(depth.shape + (3,), np.uint8)
+    index = np.zeros(depth.shape, np.uint8)
     if hit.any():
         d = depth[hit]
         lo, hi = d.min(), d.max()
-        level = ((hi - d) * (255.0 / max(hi - lo, 1e-12))).astype(np.uint8)  # near = 255
-        out[hit] = _RAMP_LUT[level]
-    return out
+        index[hit] = 255 - ((d - lo) * (254.0 / max(hi - lo, 1e-12))).astype(np.uint8)
+    return index, _DEPTH_PALETTE
+
+
+def depth_preview(depth: np.ndarray) -> np.ndarray:
+    """(H, W, 3) uint8: near bright, far dark, no hit black."""
+    index, palette = depth_indexed(depth)
+    return palette[index]
 
 
 def id_colors(count: int) -> np.ndarray:
@@ -48,10 +59,20 @@ def id_colors(count: int) -> np.ndarray:
     return np.rint(rgb * 255).astype(np.uint8)
 
 
+def ids_indexed(ids: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """Palette indices (id + 1; 0 = background) and palette, or None beyond 255 ids."""
+    top = int(ids.max()) if ids.size else -1
+    if top >= 255:
+        return None
+    palette = np.vstack([np.zeros((1, 3), np.uint8), id_colors(max(top + 1, 0))])
+    return (np.maximum(ids, -1) + 1).astype(np.uint8), palette
+
+
 def ids_preview(ids: np.ndarray) -> np.ndarray:
+    """(H, W, 3) uint8: a fixed colour per id, background black."""
     lut = np.vstack([np.zeros((1, 3), np.uint8), id_colors(int(ids.max()) + 1 if ids.size
                                                           else 0)])
-    return lut[np.maximum(ids, -1) + 1]  # background (-1) -> row 0, black
+    return lut[np.maximum(ids, -1) + 1]
 
 
 def normals_preview(normals: np.ndarray) -> np.ndarray:

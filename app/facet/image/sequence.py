@@ -15,6 +15,7 @@ GIF and MP4 are written to a temporary name and renamed when complete.
 from __future__ import annotations
 
 import contextlib
+import importlib
 import os
 import queue
 import tempfile
@@ -72,11 +73,13 @@ class ProcessWriter:
     mostly wait for it. Results come back in submission order through ``results``; at most
     ``max_pending`` jobs are in flight, so a slow disk slows rendering instead of memory."""
 
-    def __init__(self, max_pending: int = QUEUE_FRAMES):
+    def __init__(self, max_pending: int = 2 * QUEUE_FRAMES, warm_up: str = "facet.image.outputs"):
         import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
 
         self._pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
+        # Start the process and its imports now, while the first frames render.
+        self._warm = self._pool.submit(_preload, warm_up)
         self._pending: list = []
         self._max = max_pending
         self.results: list = []
@@ -89,12 +92,18 @@ class ProcessWriter:
     def close(self) -> None:
         """Wait for every job; raise the first error one of them hit."""
         try:
+            self._warm.result()
             while self._pending:
                 self.results.append(self._pending.pop(0).result())
         finally:
             for future in self._pending:
                 future.cancel()
             self._pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _preload(module: str) -> None:
+    """Import ``module`` in the writer process (its start-up then overlaps rendering)."""
+    importlib.import_module(module)
 
 
 def check_sequence_path(path) -> str:

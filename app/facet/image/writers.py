@@ -75,6 +75,18 @@ def save_image(path, rgba: np.ndarray) -> Path:
     return p
 
 
+def save_indexed(path, index: np.ndarray, palette: np.ndarray) -> Path:
+    """Write (H, W) uint8 palette indices with a (<= 256, 3) uint8 palette as an indexed PNG."""
+    from PIL import Image
+
+    p = check_image_path(path)
+    img = Image.fromarray(np.ascontiguousarray(index, dtype=np.uint8), "P")
+    img.putpalette(np.asarray(palette, np.uint8).reshape(-1).tolist())
+    with write_atomic(p) as tmp:
+        img.save(tmp, format="PNG", compress_level=PNG_COMPRESS_LEVEL)
+    return p
+
+
 def to_uint8(color: np.ndarray) -> np.ndarray:
     """8-bit colour: uint8 passes through, floats in [0, 1] are rounded."""
     a = np.asarray(color)
