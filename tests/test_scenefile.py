@@ -247,3 +247,19 @@ def test_documented_example_is_the_bundled_one_and_renders(renderer):
         frame = r.render(scene, cam)
         visible = set(np.unique(frame.object_ids)) - {-1}
         assert visible == set(range(6)), (name, visible)
+
+
+def test_cli_intrinsics_camera_sets_the_image_size(tmp_path, capsys):
+    from PIL import Image
+
+    from facet.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text('[[objects]]\nprimitive = "sphere"\n[cameras.k]\ntype = "intrinsics"\n'
+                    "fx = 50\nfy = 50\ncx = 31.5\ncy = 23.5\nwidth = 64\nheight = 48\n"
+                    "pose = [[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, -1, 4], [0, 0, 0, 1]]\n")
+    assert main(["render", str(path), "-o", str(tmp_path / "k.png"), "-q"]) == 0
+    img = np.asarray(Image.open(tmp_path / "k.png"))
+    assert img.shape == (48, 64, 3) and img[24, 32].max() > 50  # the sphere, centred
+    code = main(["render", str(path), "--camera", "nope", "-o", str(tmp_path / "x.png")])
+    assert code == 2 and "no camera named 'nope'" in capsys.readouterr().err

@@ -131,9 +131,13 @@ def run_render(args) -> list[Path]:
     channels = parse_channels(args.outputs) if args.outputs else (
         settings.outputs if args.out_dir else ("color",))
     if args.eye is not None or args.ortho or args.target is not None or not scene.cameras:
+        if args.camera is not None and not scene.cameras:
+            raise InputError(f"--camera {args.camera}: this scene has no named cameras")
         camera = _camera(args, scene.bounds, size)
     else:
         camera = scene.camera(args.camera)
+        if camera.intrinsics is not None and args.size is None:
+            size = (camera.intrinsics.width, camera.intrinsics.height)  # its own image size
     headlights = not args.light and not scene.lights
     if args.light:
         scene.lights = []
