@@ -80,17 +80,22 @@ class Renderer:
     """
 
     def __init__(self, width: int = 800, height: int = 600, msaa: int = 0, *,
-                 shading: str = "phong", float_color: bool = False, srgb: bool = False):
+                 shading: str = "phong", float_color: bool = False, srgb: bool = False,
+                 context=None):
         self.shading = check_shading(shading)
         self.srgb = bool(srgb)
-        self.ctx = glcontext.create_headless()
+        self.float_color = bool(float_color)
+        # A window's context (facet.viewer) is used, not owned; otherwise a headless one.
+        self._own_context = context is None
+        self.ctx = glcontext.create_headless() if context is None else context
         try:
             # The sRGB mode lights in linear space, which needs more than 8 bits to keep
             # dark tones from banding before the encoding: it always uses a float target.
             self.targets = Targets(self.ctx, width, height, msaa,
                                    color_dtype="f4" if float_color or srgb else "f1")
         except BaseException:
-            self.ctx.release()
+            if self._own_context:
+                self.ctx.release()
             raise
         self.width, self.height, self.msaa = width, height, msaa
         self.cache = ResourceCache(self.ctx)
@@ -148,8 +153,43 @@ class Renderer:
         self.cache.sweep()
         return frame
 
+    def resize(self, width: int, height: int) -> None:
+        """New target size (a window was resized); programs and meshes stay."""
+        if (width, height) == (self.width, self.height):
+            return
+        with self.ctx:
+            targets = Targets(self.ctx, width, height, self.msaa,
+                              color_dtype=self.targets.color_dtype)
+            self.targets.release()
+        self.targets, self.width, self.height = targets, width, height
+
+    def present(self, scene: Scene, camera: Camera, framebuffer, *, shading: str | None = None,
+                wireframe: bool = False) -> None:
+        """Draw ``scene`` into ``framebuffer`` (a window's, bottom-up like GL) with the same
+        pass and shaders as ``render``; MSAA draws into the multisampled target and resolves
+        into the window. ``wireframe`` overlays the triangle edges."""
+        shading = check_shading(shading or self.shading)
+        w, h, t = self.width, self.height, self.targets
+        self.ctx.enable_only(self.ctx.DEPTH_TEST)
+        bg = tuple(float(c) for c in scene.background)
+        target = t.begin_multisample(bg) if self.msaa else framebuffer
+        if not self.msaa:
+            framebuffer.use()
+            framebuffer.clear(*bg, depth=1.0)
+        self.forward.draw(scene, camera, w, h, shading, flip_y=False)
+        if wireframe:
+            self.ctx.depth_func = "<="
+            self.ctx.wireframe = True
+            self.forward.draw(_edges(scene), camera, w, h, "unlit", flip_y=False)
+            self.ctx.wireframe = False
+            self.ctx.depth_func = "<"
+        if self.msaa:
+            self.ctx.copy_framebuffer(framebuffer, target)
+        self.cache.sweep()
+
     def close(self) -> None:
-        """Release every GL object and the context. Safe to call twice."""
+        """Release every GL object, and the context if this renderer made it. Safe to call
+        twice."""
         if self._closed:
             return
         self._closed = True
@@ -157,7 +197,8 @@ class Renderer:
             self.forward.release()
             self.cache.release()
             self.targets.release()
-        self.ctx.release()
+        if self._own_context:
+            self.ctx.release()
 
     def gl_error(self) -> str:
         """The context's pending GL error ('GL_NO_ERROR' when all is well)."""
@@ -169,3 +210,18 @@ class Renderer:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+EDGE_COLOR = (0.05, 0.05, 0.05)
+
+
+def _edges(scene: Scene) -> Scene:
+    """The same objects with a dark unlit material, for the wireframe overlay (no GL made)."""
+    from ..scene.material import Material
+    from ..scene.scene import SceneObject
+
+    edges = Scene(background=scene.background)
+    material = Material(color=EDGE_COLOR)
+    edges.objects = [SceneObject(o.id, o.mesh, material, o.transform, o.name)
+                     for o in scene.objects]
+    return edges
