@@ -196,9 +196,25 @@ def build_parser() -> argparse.ArgumentParser:
     out.add_argument("--palette-method", choices=("median-cut", "kmeans"),
                      default="median-cut", help="palette method (default median-cut)")
     r.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    v = sub.add_parser("view", help="open a model or scene file in an interactive window",
+                       description="Explore MODEL (a mesh or .toml scene file) in a window. "
+                       "Drag to orbit, right-drag to pan, scroll to zoom; press h for keys.",
+                       epilog=_viewer_keys(), formatter_class=argparse.RawDescriptionHelpFormatter)
+    v.add_argument("model", nargs="?", help="mesh file or .toml scene file (default: the "
+                   "bundled torus knot)")
+    v.add_argument("--size", type=_size, default=(1280, 720), metavar="WxH",
+                   help="window size (default 1280x720)")
+    v.add_argument("--msaa", type=int, default=4, choices=(0, 2, 4, 8), metavar="N",
+                   help="multisampling: 0, 2, 4 or 8 (default 4, capped by the driver)")
     sub.add_parser("info", help="print the OpenGL vendor, renderer, version and limits",
                    description="Create a headless context and print what it offers.")
     return parser
+
+
+def _viewer_keys() -> str:
+    from .viewer_keys import help_text
+
+    return help_text()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -213,6 +229,11 @@ def main(argv: list[str] | None = None) -> int:
             for path in run_render(args):
                 if not args.quiet:
                     print(path)
+        elif args.command == "view":
+            from .paths import default_model
+            from .viewer import view
+
+            view(args.model or default_model(), size=args.size, msaa=args.msaa)
         elif args.command == "info":
             from .gl.context import create_headless, describe
 

@@ -102,6 +102,22 @@ class OrbitControl:
 
     reset = frame
 
+    def set_camera(self, camera: Camera) -> None:
+        """Take over a camera's position and orientation (its target: the bounds' centre
+        projected onto the viewing axis)."""
+        rot = np.linalg.inv(camera.view)[:3, :3]
+        eye = camera.eye
+        forward = -rot[:, 2]
+        self.distance = max(float(np.dot(self.bounds.mean(axis=0) - eye, forward)),
+                            MIN_DISTANCE)
+        self.target = eye + forward * self.distance
+        self.rotation = matrix_to_quat(rot)
+        self.orthographic = camera.is_orthographic
+        if camera.is_orthographic:
+            self.ortho_height = camera.ortho_height
+        elif camera.fov_y is not None:
+            self.fov_y = camera.fov_y
+
     @property
     def basis(self) -> np.ndarray:
         """3x3 camera -> world rotation (columns: right, up, backwards)."""

@@ -47,3 +47,13 @@ def max_image_size(ctx: moderngl.Context) -> int:
     dims = info.get("GL_MAX_VIEWPORT_DIMS") or (1 << 30, 1 << 30)
     return int(min(info.get("GL_MAX_TEXTURE_SIZE", 1 << 30),
                    info.get("GL_MAX_RENDERBUFFER_SIZE", 1 << 30), *dims))
+
+
+def create_for_current_window(require: int = GL_REQUIRED) -> moderngl.Context:
+    """A moderngl context over the window context that is current (facet.viewer makes it)."""
+    try:
+        return moderngl.create_context(require=require)
+    except Exception as exc:
+        detail = " ".join(str(exc).split()) or type(exc).__name__
+        raise ContextError(f"the window has no usable OpenGL {require // 100}."
+                           f"{require % 100 // 10} core context ({detail})") from None

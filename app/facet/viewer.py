@@ -1,0 +1,413 @@
+"""``facet view``: an interactive glfw window over the same Renderer and shaders as headless.
+
+Mouse: left drag orbits (arcball), right/middle or shift + left drag pans, the wheel zooms
+towards the cursor. Keys come from ``KEYMAP`` (``h`` prints it). The window redraws only when
+something changed, sleeping in ``glfw.wait_events_timeout`` otherwise, and reloads the open
+file when its content changes on disk (keeping the camera). Errors while running go to the
+title and stderr; the viewer keeps what it had.
+
+Only this module (and facet.playground) imports glfw.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .errors import FacetError, InputError
+from .viewer_keys import KEYMAP, TURNTABLE_FRAMES, help_text
+
+WATCH_INTERVAL = 0.25  # seconds between checks of the open file
+DEBOUNCE = 0.15  # a change must stay put this long (editors save in two steps)
+IDLE_WAIT = 0.5  # longest sleep between events when nothing happens
+BACKGROUNDS = ((0.0, 0.0, 0.0, 1.0), (1.0, 1.0, 1.0, 1.0), (0.35, 0.37, 0.4, 1.0))
+SHADING_CYCLE = ("phong", "blinn", "gouraud", "flat", "unlit", "normals")
+
+
+class NoDisplayError(FacetError):
+    """There is no display to open a window on."""
+
+
+def check_display() -> None:
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise NoDisplayError("no display to open a window on (DISPLAY is not set); "
+                             "use 'facet render' for headless images")
+
+
+def load_source(path) -> object:
+    """A Scene from a mesh or scene file."""
+    from .scene.mesh import Mesh
+    from .scene.scene import Scene
+    from .scene.scenefile import load_scene
+
+    path = Path(path)
+    if path.suffix.lower() == ".toml":
+        return load_scene(path)
+    scene = Scene()
+    scene.add(Mesh.load(path))
+    return scene
+
+
+def _digest(path: Path) -> str | None:
+    try:
+        return hashlib.sha1(path.read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+class Viewer:
+    """A window showing a scene. ``run()`` blocks until it closes; between runs (or before
+    one) a script can ``set_camera``, ``request_frame`` and ``save``."""
+
+    def __init__(self, source, size=(1280, 720), msaa: int = 4, title: str = "facet"):
+        import glfw
+
+        check_display()
+        if not glfw.init():
+            raise NoDisplayError("cannot open the display "
+                                 f"{os.environ.get('DISPLAY', '')!r}; "
+                                 "use 'facet render' for headless images")
+        self.glfw = glfw
+        self.path = None if not isinstance(source, (str, Path)) else Path(source)
+        scene = load_source(source) if self.path else source
+        glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, 3)
+        glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, 3)
+        glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
+        glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
+        glfw.window_hint(glfw.SCALE_TO_MONITOR, True)
+        self.window = glfw.create_window(int(size[0]), int(size[1]), title, None, None)
+        if not self.window:
+            glfw.terminate()
+            raise NoDisplayError("the display gave no OpenGL 3.3 window; "
+                                 "use 'facet render' for headless images")
+        glfw.make_context_current(self.window)
+        glfw.swap_interval(1)
+        from .gl.context import create_for_current_window
+        from .render.renderer import Renderer
+
+        self.ctx = create_for_current_window()
+        fb_w, fb_h = glfw.get_framebuffer_size(self.window)
+        self.msaa = min(msaa, self.ctx.max_samples)
+        self.renderer = Renderer(fb_w, fb_h, self.msaa, context=self.ctx)
+        self.shading, self.wireframe, self.background = "phong", False, None
+        self.headlight = not scene.lights
+        self.error = ""
+        self._set_scene(scene, frame=True)
+        self._dirty, self._frames, self._fps, self._fps_time = True, 0, 0.0, time.perf_counter()
+        self._drag = None
+        self._watch = (self.path, _digest(self.path) if self.path else None, 0.0, None)
+        self._install_callbacks()
+
+    # -- scene and camera ----------------------------------------------------------------
+    def _set_scene(self, scene, frame: bool) -> None:
+        from .geometry.orbit import OrbitControl
+
+        self.scene = scene
+        self.own_lights = list(scene.lights)
+        self.base_background = tuple(scene.background)
+        if frame or not hasattr(self, "control"):
+            self.control = OrbitControl(scene.bounds, aspect=self.aspect)
+            if scene.cameras:
+                self.control.set_camera(scene.camera())
+        else:
+            self.control.bounds = np.asarray(scene.bounds)
+        self.triangles = sum(o.mesh.face_count for o in scene.objects)
+        self.request_frame()
+
+    @property
+    def aspect(self) -> float:
+        w, h = self.glfw.get_framebuffer_size(self.window)
+        return w / max(h, 1)
+
+    def camera(self):
+        """The camera the window shows now."""
+        return self.control.camera(self.aspect)
+
+    def set_camera(self, camera) -> None:
+        self.control.set_camera(camera)
+        self.request_frame()
+
+    def request_frame(self) -> None:
+        self._dirty = True
+
+    # -- drawing -------------------------------------------------------------------------
+    def _prepare(self, camera):
+        from .scene.light import camera_rig
+
+        scene = self.scene
+        scene.lights = camera_rig(camera.view) if self.headlight else list(self.own_lights)
+        scene.background = np.asarray(self.background or self.base_background)
+        return scene
+
+    def draw(self) -> None:
+        """Draw one frame into the window and show it."""
+        fb = self.glfw.get_framebuffer_size(self.window)
+        if fb[0] < 1 or fb[1] < 1:
+            return  # minimised
+        self.renderer.resize(*fb)
+        camera = self.camera()
+        with self.ctx:
+            self.renderer.present(self._prepare(camera), camera, self.ctx.screen,
+                                  shading=self.shading, wireframe=self.wireframe)
+        self.glfw.swap_buffers(self.window)
+        self._dirty = False
+        self._frames += 1
+        now = time.perf_counter()
+        if now - self._fps_time >= 0.5:
+            self._fps, self._frames, self._fps_time = self._frames / (now - self._fps_time), \
+                0, now
+        self._update_title()
+
+    def _update_title(self) -> None:
+        name = self.path.name if self.path else "scene"
+        title = f"facet - {name} - {self.triangles:,} triangles - {self._fps:.0f} fps"
+        self.glfw.set_window_title(self.window, f"{title} - {self.error}" if self.error
+                                   else title)
+
+    def grab(self) -> np.ndarray:
+        """The window's current picture, (H, W, 3) uint8, row 0 at the top."""
+        w, h = self.glfw.get_framebuffer_size(self.window)
+        with self.ctx:
+            data = self.ctx.screen.read(viewport=(0, 0, w, h), components=3)
+        return np.frombuffer(data, np.uint8).reshape(h, w, 3)[::-1].copy()
+
+    def save(self, path=None, scale: int = 1) -> Path:
+        """Save what the window shows as a PNG (``scale`` 2: an offscreen render at twice the
+        size), with the camera as JSON beside it; returns the PNG's path."""
+        from .image.outputs import write_camera_json
+        from .image.writers import save_image
+
+        path = Path(path or time.strftime(f"facet-%Y%m%d-%H%M%S{'-2x' if scale > 1 else ''}"
+                                          ".png"))
+        camera = self.camera()
+        w, h = self.glfw.get_framebuffer_size(self.window)
+        if scale == 1:
+            if self._dirty:
+                self.draw()
+            image = self.grab()
+        else:
+            from .render.renderer import Renderer
+
+            with Renderer(w * scale, h * scale, self.msaa, context=self.ctx) as big:
+                image = big.render(self._prepare(camera), camera, shading=self.shading,
+                                   outputs=("color",)).color
+        save_image(path, image)
+        write_camera_json(path.with_suffix(".json"), camera.describe(w * scale, h * scale))
+        print(path)
+        return path
+
+    # -- actions (KEYMAP) ----------------------------------------------------------------
+    def frame(self):
+        self.control.bounds = np.asarray(self.scene.bounds)
+        self.control.frame(self.aspect)
+
+    def reset(self):
+        self.frame()
+        self.shading, self.wireframe, self.background = "phong", False, None
+
+    def toggle_projection(self):
+        self.control.toggle_projection()
+
+    def cycle_shading(self):
+        self.shading = SHADING_CYCLE[(SHADING_CYCLE.index(self.shading) + 1) % 6]
+        print(f"shading: {self.shading}")
+
+    def toggle_wireframe(self):
+        self.wireframe = not self.wireframe
+
+    def toggle_msaa(self):
+        from .render.renderer import Renderer
+
+        self.msaa = 0 if self.msaa else min(4, self.ctx.max_samples)
+        fb = self.glfw.get_framebuffer_size(self.window)
+        self.renderer.close()
+        self.renderer = Renderer(*fb, self.msaa, context=self.ctx)
+        print(f"msaa: {self.msaa}")
+
+    def toggle_headlight(self):
+        self.headlight = not self.headlight
+
+    def cycle_background(self):
+        options = (None, *BACKGROUNDS)
+        self.background = options[(options.index(self.background) + 1) % len(options)]
+
+    def screenshot(self):
+        self.save()
+
+    def screenshot_2x(self):
+        self.save(scale=2)
+
+    def record_turntable(self):
+        from .image.sequence import BackgroundWriter, SequenceSink
+        from .render.turntable import orbit_cameras
+
+        path = Path(time.strftime("facet-turntable-%Y%m%d-%H%M%S.gif"))
+        self.glfw.set_window_title(self.window, f"facet - recording {path.name}")
+        writer = BackgroundWriter()
+        sink = SequenceSink(path, 30.0, writer)
+        camera = self.camera()
+        for i, cam in enumerate(orbit_cameras(camera, self.control.target, TURNTABLE_FRAMES)):
+            frame = self.renderer.render(self._prepare(cam), cam, shading=self.shading,
+                                         outputs=("color",))
+            sink.add(i, frame.color)
+        sink.finish()
+        writer.close()
+        print(path)
+
+    def print_help(self):
+        print(help_text())
+
+    def quit(self):
+        self.glfw.set_window_should_close(self.window, True)
+
+    def use_camera(self, index: int):
+        cameras = list(self.scene.cameras.values())
+        if index < len(cameras):
+            self.set_camera(cameras[index])
+
+    # -- events --------------------------------------------------------------------------
+    def _install_callbacks(self) -> None:
+        glfw = self.glfw
+        glfw.set_char_callback(self.window, self._on_char)
+        glfw.set_key_callback(self.window, self._on_key)
+        glfw.set_mouse_button_callback(self.window, self._on_button)
+        glfw.set_cursor_pos_callback(self.window, self._on_cursor)
+        glfw.set_scroll_callback(self.window, self._on_scroll)
+        glfw.set_framebuffer_size_callback(self.window, lambda *_: self.request_frame())
+        glfw.set_window_refresh_callback(self.window, lambda *_: self.request_frame())
+        glfw.set_drop_callback(self.window, self._on_drop)
+
+    def _run_action(self, method: str, *args) -> None:
+        try:
+            getattr(self, method)(*args)
+            self.error = ""
+        except FacetError as exc:
+            self._report(str(exc))
+        self.request_frame()
+
+    def _on_char(self, _window, codepoint: int) -> None:
+        char = chr(codepoint)
+        if char.isdigit() and char != "0":
+            self._run_action("use_camera", int(char) - 1)
+        elif char in KEYMAP:
+            self._run_action(KEYMAP[char].method)
+
+    def _on_key(self, _window, key, _scancode, action, _mods) -> None:
+        if key == self.glfw.KEY_ESCAPE and action == self.glfw.PRESS:
+            self.quit()
+
+    def _on_button(self, _window, button, action, mods) -> None:
+        glfw = self.glfw
+        if action == glfw.PRESS:
+            x, y = glfw.get_cursor_pos(self.window)
+            pan = button in (glfw.MOUSE_BUTTON_RIGHT, glfw.MOUSE_BUTTON_MIDDLE) or (
+                mods & glfw.MOD_SHIFT)
+            self._drag = ("pan" if pan else "orbit", (x, y))
+        elif action == glfw.RELEASE:
+            self._drag = None
+
+    def _on_cursor(self, _window, x: float, y: float) -> None:
+        if self._drag is None:
+            return
+        kind, (x0, y0) = self._drag
+        w, h = self.glfw.get_window_size(self.window)
+        if kind == "orbit":
+            self.control.orbit((x0, y0), (x, y), w, h)
+        else:
+            self.control.pan(x - x0, y - y0, w, h)
+        self._drag = (kind, (x, y))
+        self.request_frame()
+
+    def _on_scroll(self, _window, _dx: float, dy: float) -> None:
+        x, y = self.glfw.get_cursor_pos(self.window)
+        w, h = self.glfw.get_window_size(self.window)
+        self.control.zoom(dy, x, y, w, h)
+        self.request_frame()
+
+    def _on_drop(self, _window, paths) -> None:
+        if paths:
+            self.open(paths[0])
+
+    def open(self, path) -> None:
+        """Show another mesh or scene file (framed anew)."""
+        try:
+            scene = load_source(path)
+        except FacetError as exc:
+            self._report(str(exc))
+            return
+        self.path = Path(path)
+        self.headlight = not scene.lights
+        self._set_scene(scene, frame=True)
+        self._watch = (self.path, _digest(self.path), 0.0, None)
+        self.error = ""
+
+    def _report(self, message: str) -> None:
+        self.error = message.splitlines()[0]
+        print(f"facet view: error: {message}", file=sys.stderr)
+        self._update_title()
+
+    def _check_file(self) -> None:
+        """Reload the open file when its content changed and then stayed put (debounced)."""
+        path, digest, last_check, pending = self._watch
+        now = time.monotonic()
+        if path is None or now - last_check < WATCH_INTERVAL:
+            return
+        current = _digest(path)
+        if current is None or current == digest:
+            self._watch = (path, digest, now, None)
+            return
+        if pending != current:  # changed: wait until it stops changing
+            self._watch = (path, digest, now, current)
+            return
+        self._watch = (path, current, now, None)
+        try:
+            scene = load_source(path)
+        except FacetError as exc:
+            self._report(str(exc))
+            return
+        self.headlight = self.headlight if not scene.lights else False
+        self._set_scene(scene, frame=False)
+        self.error = ""
+        print(f"reloaded {path}")
+
+    def run(self) -> None:
+        """Show the window until it is closed (q, Esc or the window's close button)."""
+        glfw = self.glfw
+        while not glfw.window_should_close(self.window):
+            if self._dirty:
+                self.draw()
+            glfw.wait_events_timeout(DEBOUNCE if self._watch[3] else
+                                     min(IDLE_WAIT, WATCH_INTERVAL))
+            self._check_file()
+
+    def close(self) -> None:
+        if self.window is None:
+            return
+        self.renderer.close()
+        self.ctx.release()
+        self.glfw.destroy_window(self.window)
+        self.glfw.terminate()
+        self.window = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def view(scene, size=(1280, 720), msaa: int = 4) -> None:
+    """Open a window on ``scene`` (a Scene or a file path) and block until it closes."""
+    with Viewer(scene, size, msaa) as v:
+        v.run()
+
+
+def check_size(size) -> tuple[int, int]:
+    if len(size) != 2 or min(size) < 1:
+        raise InputError(f"window size must be two integers >= 1, got {size!r}")
+    return int(size[0]), int(size[1])

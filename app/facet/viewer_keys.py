@@ -1,0 +1,45 @@
+"""The viewer's key map: key -> action with a one-line description (no GL, no glfw).
+
+``facet view --help`` and the ``h`` key print it; later features add rows to ``KEYMAP``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+TURNTABLE_FRAMES = 36
+
+
+@dataclass(frozen=True)
+class Action:
+    method: str  # Viewer method to call
+    description: str
+
+
+# Key -> action; ``h`` prints this table. Later features add rows here.
+KEYMAP: dict[str, Action] = {
+    "f": Action("frame", "frame the model"),
+    "r": Action("reset", "reset the camera"),
+    "o": Action("toggle_projection", "perspective / orthographic"),
+    "m": Action("cycle_shading", "shading model: phong, blinn, gouraud, flat, unlit, normals"),
+    "w": Action("toggle_wireframe", "wireframe overlay"),
+    "a": Action("toggle_msaa", "MSAA on / off"),
+    "l": Action("toggle_headlight", "lights follow the camera"),
+    "b": Action("cycle_background", "background colour"),
+    "s": Action("screenshot", "save a screenshot (PNG, window size)"),
+    "S": Action("screenshot_2x", "save a 2x screenshot (offscreen render)"),
+    "t": Action("record_turntable", f"record a {TURNTABLE_FRAMES}-frame turntable GIF"),
+    "h": Action("print_help", "print this key map"),
+    "?": Action("print_help", "print this key map"),
+    "q": Action("quit", "quit (also Esc)"),
+    "1-9": Action("use_camera", "the scene file's cameras, in order"),
+}
+
+
+def help_text() -> str:
+    rows = [f"  {key:5} {action.description}" for key, action in KEYMAP.items()]
+    mouse = ["  drag  orbit (left), pan (right / middle / shift+left)", "  wheel zoom to cursor",
+             "  drop  a mesh or scene file onto the window to open it"]
+    return "facet view keys:\n" + "\n".join(rows + mouse)
+
+
