@@ -6,8 +6,13 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from facet.geometry import transforms as T
-from facet.geometry.orbit import (OrbitControl, arcball_point, arcball_rotation,
-                                  matrix_to_quat, quat_to_matrix)
+from facet.geometry.orbit import (
+    OrbitControl,
+    arcball_point,
+    arcball_rotation,
+    matrix_to_quat,
+    quat_to_matrix,
+)
 
 W, H = 800, 600
 BOUNDS = [[-1, -1, -1], [1, 1, 1]]

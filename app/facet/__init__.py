@@ -35,6 +35,8 @@ _EXPORTS = {
     "Renderer": "facet.render.renderer",
     "Frame": "facet.render.renderer",
     "SHADING_MODELS": "facet.render.shading",
+    "view": "facet.viewer",
+    "Viewer": "facet.viewer",
     "FacetError": "facet.errors",
     "InputError": "facet.errors",
     "MeshError": "facet.errors",

@@ -25,7 +25,7 @@ from .viewer_keys import KEYMAP, TURNTABLE_FRAMES, help_text
 WATCH_INTERVAL = 0.25  # seconds between checks of the open file
 DEBOUNCE = 0.15  # a change must stay put this long (editors save in two steps)
 IDLE_WAIT = 0.5  # longest sleep between events when nothing happens
-BACKGROUNDS = ((0.0, 0.0, 0.0, 1.0), (1.0, 1.0, 1.0, 1.0), (0.35, 0.37, 0.4, 1.0))
+BACKGROUNDS = ((1.0, 1.0, 1.0, 1.0), (0.35, 0.37, 0.4, 1.0), (0.0, 0.0, 0.0, 1.0))
 SHADING_CYCLE = ("phong", "blinn", "gouraud", "flat", "unlit", "normals")
 
 
@@ -100,6 +100,7 @@ class Viewer:
         self._set_scene(scene, frame=True)
         self._dirty, self._frames, self._fps, self._fps_time = True, 0, 0.0, time.perf_counter()
         self._drag = None
+        self._cursor = self.glfw.get_cursor_pos(self.window)
         self._watch = (self.path, _digest(self.path) if self.path else None, 0.0, None)
         self._install_callbacks()
 
@@ -166,7 +167,7 @@ class Viewer:
     def _update_title(self) -> None:
         name = self.path.name if self.path else "scene"
         title = f"facet - {name} - {self.triangles:,} triangles - {self._fps:.0f} fps"
-        self.glfw.set_window_title(self.window, f"{title} - {self.error}" if self.error
+        self.glfw.set_window_title(self.window, f"{title} - error: {self.error}" if self.error
                                    else title)
 
     def grab(self) -> np.ndarray:
@@ -304,7 +305,9 @@ class Viewer:
     def _on_button(self, _window, button, action, mods) -> None:
         glfw = self.glfw
         if action == glfw.PRESS:
-            x, y = glfw.get_cursor_pos(self.window)
+            # The position of the last cursor event, not glfw.get_cursor_pos(): queued
+            # events are handled after the pointer may have moved on.
+            x, y = self._cursor
             pan = button in (glfw.MOUSE_BUTTON_RIGHT, glfw.MOUSE_BUTTON_MIDDLE) or (
                 mods & glfw.MOD_SHIFT)
             self._drag = ("pan" if pan else "orbit", (x, y))
@@ -312,6 +315,7 @@ class Viewer:
             self._drag = None
 
     def _on_cursor(self, _window, x: float, y: float) -> None:
+        self._cursor = (x, y)
         if self._drag is None:
             return
         kind, (x0, y0) = self._drag
@@ -324,7 +328,7 @@ class Viewer:
         self.request_frame()
 
     def _on_scroll(self, _window, _dx: float, dy: float) -> None:
-        x, y = self.glfw.get_cursor_pos(self.window)
+        x, y = self._cursor
         w, h = self.glfw.get_window_size(self.window)
         self.control.zoom(dy, x, y, w, h)
         self.request_frame()

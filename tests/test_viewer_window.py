@@ -1,0 +1,190 @@
+"""The viewer in a real window under Xvfb, driven with xdotool, seen with xwd.
+
+The suite starts its own Xvfb; without the Debian packages xvfb, xdotool and x11-apps (CI
+installs them) these tests skip with a reason.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+from PIL import Image
+
+from xwd import read_xwd
+
+ROOT = Path(__file__).resolve().parents[1]
+TOOLS = ("Xvfb", "xdotool", "xwd")
+W, H = 320, 240
+
+
+@pytest.fixture(scope="module")
+def display():
+    missing = [t for t in TOOLS if shutil.which(t) is None]
+    if missing:
+        pytest.skip(f"window tests need {', '.join(missing)} (Debian: xvfb xdotool x11-apps)")
+    number = 90 + os.getpid() % 9
+    while Path(f"/tmp/.X11-unix/X{number}").exists():
+        number += 1
+    proc = subprocess.Popen(["Xvfb", f":{number}", "-screen", "0", "800x600x24", "-nolisten",
+                             "tcp"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    for _ in range(100):
+        if Path(f"/tmp/.X11-unix/X{number}").exists():
+            break
+        time.sleep(0.05)
+    yield f":{number}"
+    proc.terminate()
+    proc.wait(timeout=10)
+
+
+class Window:
+    """A running `facet view` process and its window."""
+
+    def __init__(self, display, args, cwd):
+        self.env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT / "app")}
+        self.proc = subprocess.Popen([sys.executable, "-m", "facet", "view", *args, "--size",
+                                      f"{W}x{H}"], cwd=cwd, env=self.env,
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        out = self.xdotool("search", "--sync", "--onlyvisible", "--name", "^facet", timeout=60)
+        self.id = out.split()[0]
+        self.xdotool("windowfocus", "--sync", self.id)
+        time.sleep(0.5)
+
+    def xdotool(self, *args, timeout=20):
+        return subprocess.run(["xdotool", *args], env=self.env, capture_output=True, text=True,
+                              timeout=timeout, check=True).stdout
+
+    def screen(self) -> np.ndarray:
+        time.sleep(0.4)  # let the viewer redraw
+        dump = subprocess.run(["xwd", "-root", "-silent"], env=self.env, capture_output=True,
+                              check=True).stdout
+        return read_xwd(dump)[:H, :W]  # no window manager: the window sits at (0, 0)
+
+    def key(self, name):
+        self.xdotool("key", name)
+
+    def title(self) -> str:
+        return self.xdotool("getwindowname", self.id).strip()
+
+    def quit(self) -> int:
+        self.key("q")
+        return self.proc.wait(timeout=20)
+
+    def kill(self):
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+
+
+@pytest.fixture
+def window(display, tmp_path):
+    opened = []
+
+    def open_(*args):
+        w = Window(display, list(args), tmp_path)
+        opened.append(w)
+        return w
+
+    yield open_
+    for w in opened:
+        w.kill()
+
+
+def test_drag_scroll_keys_and_quit(window):
+    w = window()
+    before = w.screen()
+    assert before.std() > 10  # the bundled model is drawn
+    w.xdotool("mousemove", "160", "120", "mousedown", "1", "mousemove", "200", "130",
+              "mousemove", "240", "140", "mouseup", "1")
+    dragged = w.screen()
+    assert w.proc.poll() is None, w.proc.stderr.read()
+    assert np.abs(dragged.astype(int) - before).mean() > 3
+    w.xdotool("click", "4", "click", "4", "click", "4")
+    zoomed = w.screen()
+    assert np.abs(zoomed.astype(int) - dragged).mean() > 3
+    assert (zoomed.sum(axis=2) > 0).mean() > (dragged.sum(axis=2) > 0).mean()  # bigger
+    assert "facet - default.obj - 9,600 triangles" in w.title()
+    w.key("b")
+    assert np.abs(w.screen().astype(int) - zoomed).mean() > 3  # background changed
+    assert w.quit() == 0
+
+
+def test_screenshot_matches_the_headless_render(window, tmp_path):
+    """`s` saves the window's picture and its camera; a headless render through that camera
+    gives the same image (edge pixels may differ by rasterisation order)."""
+    from facet.geometry.camera import Camera
+    from facet.render.renderer import Renderer
+    from facet.scene import Mesh, Scene
+    from facet.scene.light import camera_rig
+
+    w = window()
+    w.key("s")
+    for _ in range(50):
+        shots = sorted(tmp_path.glob("facet-*.png"))
+        if shots:
+            break
+        time.sleep(0.1)
+    assert w.quit() == 0
+    shot = np.asarray(Image.open(shots[0]))
+    info = json.loads(shots[0].with_suffix(".json").read_text())
+    assert shot.shape == (H, W, 3) and (info["width"], info["height"]) == (W, H)
+    camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
+                    far=info["far"])
+    scene = Scene()
+    scene.add(Mesh.load(ROOT / "models" / "default.obj"))
+    for light in camera_rig(camera.view):
+        scene.add_light(light)
+    with Renderer(W, H, msaa=4) as r:
+        ref = r.render(scene, camera).color[..., :3]
+    diff = np.abs(shot.astype(int) - ref).max(axis=2)
+    assert (diff > 8).mean() < 0.01, (diff > 8).mean()  # golden tolerance: 8/255, 1% pixels
+    assert np.median(diff) <= 1
+
+
+def test_reload_on_change_and_errors_survive(window, tmp_path):
+    path = tmp_path / "model.ply"
+    trimesh.creation.box().export(path)
+    w = window(str(path))
+    box = w.screen()
+    trimesh.creation.icosphere(subdivisions=3, radius=0.6).export(path)
+    time.sleep(1.0)
+    ball = w.screen()
+    assert np.abs(ball.astype(int) - box).mean() > 2  # new geometry, same camera
+    path.write_bytes(b"ply\nformat garbage\n")
+    time.sleep(1.0)
+    assert "error" in w.title() and w.proc.poll() is None  # shown, survived
+    assert np.abs(w.screen().astype(int) - ball).mean() < 1  # still the last good picture
+    assert w.quit() == 0
+    assert "cannot read the file" in w.proc.stderr.read()
+
+
+def test_idle_viewer_uses_almost_no_cpu(window):
+    w = window()
+    time.sleep(1.0)
+
+    def cpu_seconds():
+        fields = Path(f"/proc/{w.proc.pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+    start, t0 = cpu_seconds(), time.monotonic()
+    time.sleep(3.0)
+    share = (cpu_seconds() - start) / (time.monotonic() - t0)
+    assert share < 0.05, f"idle viewer used {share:.1%} of a core"
+    assert w.quit() == 0
+
+
+def test_no_display_is_one_line_and_exit_2(tmp_path):
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    env["PYTHONPATH"] = str(ROOT / "app")
+    res = subprocess.run([sys.executable, "-m", "facet", "view"], env=env, capture_output=True,
+                         text=True, cwd=tmp_path)
+    assert res.returncode == 2
+    assert res.stderr.strip().splitlines() == [
+        "facet: error: no display to open a window on (DISPLAY is not set); use 'facet "
+        "render' for headless images"]
