@@ -188,3 +188,77 @@ def test_no_display_is_one_line_and_exit_2(tmp_path):
     assert res.stderr.strip().splitlines() == [
         "facet: error: no display to open a window on (DISPLAY is not set); use 'facet "
         "render' for headless images"]
+
+
+def _wait_for(pattern_dir, pattern, timeout=30.0):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        found = sorted(pattern_dir.glob(pattern))
+        if found:
+            return found
+        time.sleep(0.1)
+    return []
+
+
+def test_more_keys_help_2x_screenshot_turntable_cameras(window, tmp_path):
+    scene = tmp_path / "two.toml"
+    scene.write_text('[[objects]]\nprimitive = "cube"\n[cameras.front]\ntype = "perspective"\n'
+                     'eye = [0, 0, 4]\n[cameras.side]\ntype = "orthographic"\n'
+                     'eye = [4, 1, 0]\nheight = 3\n')
+    w = window(str(scene))
+    front = w.screen()
+    w.key("2")
+    side = w.screen()
+    assert np.abs(side.astype(int) - front).mean() > 2  # the second named camera
+    w.key("1")
+    assert np.abs(w.screen().astype(int) - front).mean() < 1
+    w.key("shift+s")
+    big = _wait_for(tmp_path, "facet-*-2x.png")
+    assert big and np.asarray(Image.open(big[0])).shape == (2 * H, 2 * W, 3)
+    w.key("t")
+    gif = _wait_for(tmp_path, "facet-turntable-*.gif", timeout=60)
+    w.key("h")
+    for key in ("w", "m", "o", "a", "l"):  # every toggle redraws without failing
+        w.key(key)
+        assert w.screen().std() > 1
+    assert w.quit() == 0
+    out = w.proc.stdout.read()
+    assert "facet view keys:" in out and "wireframe overlay" in out
+    import imageio.v3 as iio
+
+    frames = iio.imread(gif[0], index=None)
+    assert frames.shape == (36, H, W, 3)
+
+
+def test_resize_redraws_at_the_new_size(window):
+    w = window()
+    w.xdotool("windowsize", "--sync", w.id, "400", "300")
+    time.sleep(0.6)
+    dump = subprocess.run(["xwd", "-root", "-silent"], env=w.env, capture_output=True,
+                          check=True).stdout
+    img = read_xwd(dump)
+    assert img[:300, :400].std() > 10
+    filled = (img[:300, :400].sum(axis=2) > 0)
+    # The model is drawn about the middle of the larger window (x = 200), not about the old
+    # middle (x = 160): the viewport and projection follow the new size.
+    cols = np.nonzero(filled.any(axis=0))[0]
+    assert abs((cols.min() + cols.max()) / 2 - 200) < 15 and w.quit() == 0
+
+
+def test_python_viewer_api(display, tmp_path):
+    """Scripting: a Viewer with a camera set from Python saves what it shows."""
+    os.environ["DISPLAY"] = display
+    import facet
+    from facet.geometry.camera import Camera
+
+    scene = facet.Scene()
+    scene.add(facet.primitives.sphere(1.0))
+    with facet.Viewer(scene, size=(W, H), msaa=0) as v:
+        v.set_camera(Camera.look_at((0, 0, 5), (0, 0, 0), fov_y=30))
+        path = v.save(tmp_path / "shot.png")
+        image = np.asarray(Image.open(path))
+    assert image.shape == (H, W, 3)
+    hit = image.sum(axis=2) > 0
+    rows, cols = np.nonzero(hit)
+    assert abs(rows.mean() - H / 2) < 2 and abs(cols.mean() - W / 2) < 2  # centred sphere
+    assert json.loads(path.with_suffix(".json").read_text())["fov_y"] == pytest.approx(30)
