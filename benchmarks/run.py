@@ -147,8 +147,10 @@ def main() -> None:
         models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
         cold_table(2 if a.quick else 5, models)
     import turntable
+    import viewer
 
     turntable.main()
+    viewer.main()
 
 
 if __name__ == "__main__":
