@@ -257,6 +257,14 @@ def test_python_viewer_api(display, tmp_path):
         v.set_camera(Camera.look_at((0, 0, 5), (0, 0, 0), fov_y=30))
         path = v.save(tmp_path / "shot.png")
         image = np.asarray(Image.open(path))
+        # A file dropped on the window opens framed; a bad one is reported and survived.
+        trimesh.creation.box(extents=(4, 1, 1)).export(tmp_path / "long.stl")
+        v._on_drop(v.window, [str(tmp_path / "long.stl")])
+        assert v.path.name == "long.stl" and v.triangles == 12 and v.error == ""
+        v._on_drop(v.window, [str(tmp_path / "missing.obj")])
+        assert "no such file" in v.error and v.path.name == "long.stl"
+        v.draw()
+        assert (v.grab().sum(axis=2) > 0).mean() > 0.05
     assert image.shape == (H, W, 3)
     hit = image.sum(axis=2) > 0
     rows, cols = np.nonzero(hit)
