@@ -14,6 +14,11 @@ SHARED_MODELS = ROOT.parent / "shared" / "models"
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # tests/reference.py
 
 
+def pytest_addoption(parser):
+    parser.addoption("--regen-golden", action="store_true",
+                     help="rewrite tests/golden/*.png from the current renderer (llvmpipe only)")
+
+
 def shared_model(name: str) -> Path:
     path = SHARED_MODELS / name
     if not path.is_file():
