@@ -58,12 +58,17 @@ class ExpandedSource:
 
 
 def expand(path, defines: dict[str, object] | None = None,
-           search: tuple[Path, ...] = ()) -> ExpandedSource:
-    """Read the stage file ``path`` and expand its includes; see the module docstring."""
+           search: tuple[Path, ...] = (), text: str | None = None) -> ExpandedSource:
+    """Read the stage file ``path`` and expand its includes; see the module docstring.
+
+    With ``text`` the stage is generated in memory (e.g. a host around a user's shader);
+    ``path`` then only names it and anchors its relative includes.
+    """
     stage = Path(path)
-    if not stage.is_file():
+    if text is None and not stage.is_file():
         raise ShaderError(f"{display_path(stage)}: no such shader file")
     roots = tuple(Path(p) for p in search) + (glsl_root(),)
+    stage_text = text
     out_lines: list[str] = []
     origin: list[tuple[str, int]] = []
     files: list[Path] = []
@@ -84,10 +89,11 @@ def expand(path, defines: dict[str, object] | None = None,
         files.append(file)
         name = display_path(file)
         try:
-            text = file.read_text(encoding="utf-8")
+            body = stage_text if is_stage and stage_text is not None else \
+                file.read_text(encoding="utf-8")
         except UnicodeDecodeError:
             raise ShaderError(f"{name}: error: not a text file (GLSL must be UTF-8)") from None
-        for number, line in enumerate(text.splitlines(), start=1):
+        for number, line in enumerate(body.splitlines(), start=1):
             if _VERSION.match(line):
                 if not (is_stage and number == 1):
                     raise ShaderError(f"{name}:{number}:1: error: #version belongs on line 1 "
@@ -114,6 +120,8 @@ def expand(path, defines: dict[str, object] | None = None,
                                   f'"{target}" (searched {searched})')
 
     include(stage, [], is_stage=True)
+    if stage_text is not None:
+        files.remove(stage.resolve())  # nothing on disk to watch or quote
     if not out_lines or not _VERSION.match(out_lines[0]):
         raise ShaderError(f"{display_path(stage)}:1:1: error: a stage file must start with "
                           "#version (for example '#version 330 core')")

@@ -100,10 +100,11 @@ def _link_label(sources: dict[str, ExpandedSource]) -> str:
 
 
 def compile_program(ctx: moderngl.Context, vertex, fragment, defines=None,
-                    search=()) -> Program:
-    """Expand, compile and link a vertex + fragment program; ``ShaderError`` on failure."""
+                    search=(), fragment_text: str | None = None) -> Program:
+    """Expand, compile and link a vertex + fragment program; ``ShaderError`` on failure.
+    ``fragment_text``: a generated fragment stage named ``fragment`` (see ``expand``)."""
     sources = {"vertex": expand(vertex, defines, search),
-               "fragment": expand(fragment, defines, search)}
+               "fragment": expand(fragment, defines, search, text=fragment_text)}
     try:
         prog = ctx.program(vertex_shader=sources["vertex"].text,
                            fragment_shader=sources["fragment"].text)
