@@ -206,6 +206,39 @@ def build_parser() -> argparse.ArgumentParser:
                    help="window size (default 1280x720)")
     v.add_argument("--msaa", type=int, default=4, choices=(0, 2, 4, 8), metavar="N",
                    help="multisampling: 0, 2, 4 or 8 (default 4, capped by the driver)")
+    sh = sub.add_parser("shader", help="run a Shadertoy-style fragment shader (window or files)",
+                        description="Run FILE, a fragment shader defining mainImage(out vec4 "
+                        "fragColor, in vec2 fragCoord) with Shadertoy's inputs (iResolution, "
+                        "iTime, iTimeDelta, iFrame, iFrameRate, iMouse, iDate, iChannel0-3, "
+                        "iChannelResolution). Without -o it opens a window that reloads the "
+                        "file (and its includes) when saved.",
+                        formatter_class=argparse.RawDescriptionHelpFormatter,
+                        epilog="examples:\n  facet shader wave.frag\n"
+                        "  facet shader wave.frag --time 1.5 -o frame.png\n"
+                        "  facet shader wave.frag --time 0:4 --fps 30 -o wave.mp4\n"
+                        "  facet shader image.frag --buffer-a a.frag --channel0 buffer-a\n"
+                        "  facet shader --list-uniforms toon.frag")
+    sh.add_argument("shader", help="fragment shader file with mainImage")
+    sh.add_argument("-o", "--output", metavar="OUT",
+                    help="a .png (one frame at --time), or .gif / .mp4 / frames/{:04d}.png "
+                    "for a --time range")
+    sh.add_argument("--time", default="0", metavar="T|A:B",
+                    help="seconds for one frame, or a range start:end (default 0)")
+    sh.add_argument("--fps", type=float, default=30.0, help="frames per second (default 30)")
+    sh.add_argument("--size", type=_size, metavar="WxH", help="image size (default 640x360)")
+    sh.add_argument("--mouse", type=lambda t: _floats(t, (2, 4), "mouse"),
+                    metavar="X,Y[,CX,CY]", help="iMouse for headless frames (pixels)")
+    for key in "abcd":
+        sh.add_argument(f"--buffer-{key}", metavar="FILE", help=f"buffer {key.upper()} pass")
+    sh.add_argument("--common", metavar="FILE", help="code prepended to every pass")
+    for i in range(4):
+        sh.add_argument(f"--channel{i}", metavar="IMAGE|buffer-X",
+                        help=f"iChannel{i}: an image file or a buffer (buffer-a ... buffer-d)")
+    sh.add_argument("--uniform", action="append", default=[], metavar="NAME=V[,V...]",
+                    help="set a user uniform; repeatable")
+    sh.add_argument("--list-uniforms", action="store_true",
+                    help="print the active uniforms with their types and exit")
+    sh.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     sub.add_parser("info", help="print the OpenGL vendor, renderer, version and limits",
                    description="Create a headless context and print what it offers.")
     return parser
@@ -234,6 +267,12 @@ def main(argv: list[str] | None = None) -> int:
             from .viewer import view
 
             view(args.model or default_model(), size=args.size, msaa=args.msaa)
+        elif args.command == "shader":
+            from .shader_command import run_shader
+
+            for path in run_shader(args):
+                if not args.quiet:
+                    print(path)
         elif args.command == "info":
             from .gl.context import create_headless, describe
 

@@ -281,6 +281,24 @@ class ShaderToy:
                 self.step(self.frame / fps, 1.0 / fps, mouse, date, fps)
         return self.read()
 
+    def resize(self, width: int, height: int) -> None:
+        """New output size (a window was resized): buffers start again from frame 0."""
+        if (width, height) == (self.width, self.height):
+            return
+        with self.ctx:
+            for pair in self.targets.values():
+                for tex, fbo in pair:
+                    fbo.release()
+                    tex.release()
+            self.width, self.height = _size((width, height))
+            self.targets = self._make_targets()
+        self.frame = 0
+
+    @property
+    def image_framebuffer(self):
+        """Where the image pass draws (bottom-up, like any GL framebuffer)."""
+        return self.targets["image"][0][1]
+
     def restart(self) -> None:
         """Back to frame 0 with cleared buffers."""
         with self.ctx:

@@ -1,0 +1,112 @@
+"""``facet shader``: run a Shadertoy-style fragment shader headlessly (a frame, a GIF/MP4 or
+numbered PNGs, with a fixed time step so output is deterministic) or live in a window.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+
+
+def parse_time(text: str) -> tuple[float, float | None]:
+    """``1.5`` -> (1.5, None); ``0:4`` -> (0.0, 4.0)."""
+    try:
+        if ":" in text:
+            a, b = (float(v) for v in text.split(":"))
+            if not (np.isfinite(a) and np.isfinite(b)) or b <= a or a < 0:
+                raise ValueError
+            return a, b
+        t = float(text)
+        if not np.isfinite(t) or t < 0:
+            raise ValueError
+        return t, None
+    except ValueError:
+        raise InputError(f"--time {text!r}: expected seconds like 1.5 or a range like 0:4 "
+                         "(start < end, both >= 0)") from None
+
+
+def parse_uniform(text: str) -> tuple[str, list[float]]:
+    name, _, values = text.partition("=")
+    try:
+        numbers = [float(v) for v in values.split(",")]
+    except ValueError:
+        numbers = []
+    if not name.isidentifier() or not values or not numbers:
+        raise InputError(f"--uniform {text!r}: expected NAME=VALUE[,VALUE...], like "
+                         "u_color=1,0.5,0")
+    return name, numbers
+
+
+def build(args, size, context=None):
+    from .render.shadertoy import ShaderToy
+
+    buffers = {k: getattr(args, f"buffer_{k}") for k in "abcd" if getattr(args, f"buffer_{k}")}
+    channels = {i: getattr(args, f"channel{i}") for i in range(4)
+                if getattr(args, f"channel{i}")}
+    toy = ShaderToy(args.shader, buffers=buffers, common=args.common, channels=channels,
+                    size=size, context=context)
+    try:
+        for text in args.uniform:
+            toy.set_uniform(*parse_uniform(text))
+    except BaseException:
+        toy.close()
+        raise
+    return toy
+
+
+def run_shader(args) -> list[Path]:
+    """Headless output or the uniform list; the window when there is no -o."""
+    from .image.writers import check_image_path, save_image
+
+    start, end = parse_time(args.time)
+    if not 0 < args.fps <= 240:
+        raise InputError(f"--fps must be in (0, 240], got {args.fps:g}")
+    mouse = tuple(args.mouse) + (0.0,) * (4 - len(args.mouse)) if args.mouse else (0,) * 4
+    if args.list_uniforms:
+        with build(args, args.size or (64, 64)) as toy:
+            for name, (gl_type, length, filled) in toy.active_uniforms().items():
+                kind = "filled by facet" if filled else "user (--uniform)"
+                print(f"{name:24} {gl_type}{f'[{length}]' if length > 1 else '':6} {kind}")
+        return []
+    if args.output is None:
+        from .playground import run_window
+
+        run_window(args)
+        return []
+    size = args.size or (640, 360)
+    if end is None:
+        path = check_image_path(args.output)
+        with build(args, size) as toy:
+            image = toy.render(start, fps=args.fps, mouse=mouse)
+        return [save_image(path, _to8(image))]
+    from .image.sequence import BackgroundWriter, SequenceSink, check_sequence_path
+    from .render_sequence import progress
+
+    check_sequence_path(args.output)
+    with build(args, size) as toy:
+        frames = int(round((end - start) * args.fps))
+        writer = BackgroundWriter()
+        sink = SequenceSink(args.output, args.fps, writer)
+        try:
+            with progress(frames, args.quiet, "shader") as bar:
+                for i in range(frames):
+                    sink.add(i, _to8(toy.render(start + i / args.fps, fps=args.fps,
+                                                mouse=mouse)))
+                    bar.update(1)
+            written = sink.finish()
+            writer.close()
+        except BaseException:
+            try:
+                writer.close()
+            finally:
+                sink.abort()
+            raise
+    return sink.written if sink.kind == "pattern" else written
+
+
+def _to8(image: np.ndarray) -> np.ndarray:
+    """Shader colour (floats) as 8-bit RGB; alpha is ignored, as on Shadertoy."""
+    return np.rint(np.clip(image[..., :3], 0.0, 1.0) * 255.0).astype(np.uint8)
