@@ -142,3 +142,65 @@ def test_bad_shaders(tmp_path):
     with pytest.raises(InputError, match="cannot read the texture image"):
         write(tmp_path / "notimage.png", "text")
         ShaderToy(ok, channels={0: tmp_path / "notimage.png"}, size=(8, 8))
+
+
+WAVE = """
+void mainImage(out vec4 fragColor, in vec2 fragCoord) {
+    vec2 uv = fragCoord / iResolution.xy;
+    fragColor = vec4(uv, 0.5 + 0.5 * sin(iTime), 1.0);
+}
+"""
+
+
+def test_cli_frames_and_sequences(tmp_path, capsys):
+    import imageio.v3 as iio
+
+    from facet.cli import main
+
+    shader = write(tmp_path / "wave.frag", WAVE)
+    assert main(["shader", str(shader), "--time", "1.5", "--size", "32x16", "-o",
+                 str(tmp_path / "f.png")]) == 0
+    img = np.asarray(Image.open(tmp_path / "f.png"))
+    assert img.shape == (16, 32, 3)
+    assert abs(int(img[0, 0, 2]) - round((0.5 + 0.5 * np.sin(1.5)) * 255)) <= 1
+    assert img[0, -1, 0] > 240 and img[0, -1, 1] > 240  # top-right: uv = (1, 1)
+    for out in ("w.gif", "w.mp4", "seq/{:03d}.png"):
+        assert main(["shader", str(shader), "--time", "0:1", "--fps", "8", "--size", "32x16",
+                     "-q", "-o", str(tmp_path / out)]) == 0
+    frames = iio.imread(tmp_path / "w.gif", index=None)
+    assert frames.shape == (8, 16, 32, 3)
+    assert len(list((tmp_path / "seq").glob("*.png"))) == 8
+    assert iio.imread(tmp_path / "w.mp4", index=None).shape[0] == 8
+    # Deterministic: the same range renders the same frames.
+    assert main(["shader", str(shader), "--time", "0:1", "--fps", "8", "--size", "32x16",
+                 "-q", "-o", str(tmp_path / "again.gif")]) == 0
+    assert np.array_equal(iio.imread(tmp_path / "again.gif", index=None), frames)
+    capsys.readouterr()
+    uni = write(tmp_path / "u.frag", "uniform vec3 u_tint;\nvoid mainImage(out vec4 c, in vec2 "
+                "p) { c = vec4(u_tint * iTime, 1.0); }\n")
+    assert main(["shader", "--list-uniforms", str(uni)]) == 0
+    listing = capsys.readouterr().out
+    assert "u_tint" in listing and "user" in listing and "iTime" in listing
+
+
+@pytest.mark.parametrize("args,message", [
+    (["{dir}/none.frag", "-o", "{dir}/x.png"], "no such shader"),
+    (["{dir}/wave.frag", "--uniform", "u_nope=1", "-o", "{dir}/x.png"],
+     "no user uniform named 'u_nope'"),
+    (["{dir}/wave.frag", "--uniform", "broken", "-o", "{dir}/x.png"], "expected NAME=VALUE"),
+    (["{dir}/wave.frag", "--time", "4:1", "-o", "{dir}/x.gif"], "--time '4:1'"),
+    (["{dir}/wave.frag", "--time", "0:1", "-o", "{dir}/x.avi"], "written as .gif, .mp4"),
+    (["{dir}/wave.frag", "--channel0", "{dir}/none.png", "-o", "{dir}/x.png"],
+     "no such texture file"),
+    (["{dir}/wave.frag", "--channel0", "buffer-b", "-o", "{dir}/x.png"], "no buffer-b"),
+    (["{dir}/broken.frag", "-o", "{dir}/x.png"], "broken.frag:2:"),
+])
+def test_cli_bad_input(tmp_path, capsys, args, message):
+    from facet.cli import main
+
+    write(tmp_path / "wave.frag", WAVE)
+    write(tmp_path / "broken.frag", "void mainImage(out vec4 c, in vec2 p) {\n  c = nope;\n}\n")
+    code = main(["shader", *[a.format(dir=tmp_path) for a in args]])
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and "Traceback" not in err
+    assert not list(tmp_path.glob("x.*"))

@@ -272,3 +272,49 @@ def test_python_viewer_api(display, tmp_path):
     rows, cols = np.nonzero(hit)
     assert abs(rows.mean() - H / 2) < 2 and abs(cols.mean() - W / 2) < 2  # centred sphere
     assert json.loads(path.with_suffix(".json").read_text())["fov_y"] == pytest.approx(30)
+
+
+def test_shader_window_survives_a_broken_save(display, tmp_path):
+    """`facet shader FILE` in a window: a broken save keeps the last picture inside a red
+    frame with the error in the title; the fix brings the clean picture back."""
+    shader = tmp_path / "live.frag"
+    good = ("void mainImage(out vec4 c, in vec2 p) { c = vec4(p / iResolution.xy, 0.0, 1.0);"
+            " }\n")
+    shader.write_text(good)
+    env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT / "app")}
+    proc = subprocess.Popen([sys.executable, "-m", "facet", "shader", str(shader), "--size",
+                             f"{W}x{H}"], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
+    def xdo(*args):
+        return subprocess.run(["xdotool", *args], env=env, capture_output=True, text=True,
+                              timeout=60, check=True).stdout
+
+    def screen():
+        time.sleep(0.8)
+        dump = subprocess.run(["xwd", "-root", "-silent"], env=env, capture_output=True,
+                              check=True).stdout
+        return read_xwd(dump)[:H, :W].astype(int)
+
+    try:
+        wid = xdo("search", "--sync", "--onlyvisible", "--name", "^facet shader").split()[0]
+        clean = screen()
+        assert clean[H // 2, W // 2, 0] > 100 and clean[2, 2, 0] < 20  # the uv gradient
+        shader.write_text(good.replace("p / iResolution.xy", "q / iResolution.xy"))
+        broken = screen()
+        assert "error: " in xdo("getwindowname", wid) and "live.frag:1:" in \
+            xdo("getwindowname", wid)
+        red = (broken[..., 0] > 180) & (broken[..., 1] < 60) & (broken[..., 2] < 60)
+        assert red[:4].all() and red[:, :4].all()  # the red frame
+        assert np.abs(broken[H // 2, W // 2] - clean[H // 2, W // 2]).max() <= 2  # last good
+        shader.write_text(good)
+        fixed = screen()
+        assert "error" not in xdo("getwindowname", wid)
+        assert np.abs(fixed - clean).max() <= 2
+        xdo("windowfocus", "--sync", wid)
+        xdo("key", "q")
+        assert proc.wait(timeout=20) == 0
+        assert "live.frag:1:" in proc.stderr.read()
+    finally:
+        if proc.poll() is None:
+            proc.kill()
