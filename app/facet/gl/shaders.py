@@ -123,9 +123,12 @@ class Program:
                           for name in _UNIFORM_DECL.findall(src.text)}
         self._active = set(program)  # members the linker kept (uniforms, blocks, attributes)
 
-    def set(self, name: str, value) -> None:
+    def set(self, name: str, value, strict: bool = True) -> None:
         """Write uniform ``name``. Declared-but-optimised-away uniforms are skipped; a name the
-        shader never declares is an error (a typo must not pass silently)."""
+        shader never declares is an error (a typo must not pass silently) unless ``strict``
+        is False (standard inputs a user's shader may not use)."""
+        if not strict and name not in self._active:
+            return
         if name in self._active:
             member = self.gl[name]
             if isinstance(value, np.ndarray) and value.ndim == 2:
@@ -136,10 +139,11 @@ class Program:
             raise ShaderError(f"no uniform named '{name}' in "
                               f"{' + '.join(s.origin[0][0] for s in self.sources.values())}")
 
-    def set_array(self, name: str, values: np.ndarray) -> None:
+    def set_array(self, name: str, values: np.ndarray, strict: bool = True) -> None:
         """Write a float vector array uniform from (N, k) values, zero-padded to its length."""
         if name not in self._active:
-            self.set(name, None)  # raises for an undeclared name; skips an optimised-away one
+            if strict:
+                self.set(name, None)  # raises for an undeclared name
             return
         member = self.gl[name]
         width = member.dimension
@@ -147,6 +151,11 @@ class Program:
         rows = np.asarray(values, dtype=np.float32).reshape(-1, width)[: member.array_length]
         data[: len(rows)] = rows
         member.write(data.tobytes())
+
+    @property
+    def files(self) -> list[Path]:
+        """Every file the program was built from (stages and includes)."""
+        return sorted({f for src in self.sources.values() for f in src.files})
 
     def release(self) -> None:
         self.gl.release()

@@ -22,6 +22,7 @@ from ..image.colorspace import srgb_to_linear
 from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.scene import MAX_LIGHTS, Scene
 from .shading import SHADING_MODELS, check_shading
+from .user_shaders import UserPrograms
 
 LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in lighting.glsl
 LIGHTS_BINDING = 0
@@ -80,6 +81,7 @@ class ForwardPass:
         self.ctx = ctx
         self.cache = cache
         self.programs: dict[Variant, Program] = {}
+        self.user = UserPrograms(ctx, cache.forget_program)
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights(Scene())))
         self._lights_bytes = b""
 
@@ -96,10 +98,13 @@ class ForwardPass:
         return self.programs[variant]
 
     def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
-             aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False) -> None:
+             aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False,
+             time: float = 0.0) -> None:
         """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
         channels too. ``flip_y``: draw upside down for top-down readback. ``srgb``: inputs
-        are sRGB-encoded and are linearised (facet.image.colorspace)."""
+        are sRGB-encoded and are linearised (facet.image.colorspace). Materials with their
+        own shader use it for colour (``aux`` passes always use the built-in one); ``time``
+        is their ``u_time``."""
         to_linear = srgb_to_linear if srgb else np.asarray
         lights = pack_lights(scene, to_linear)
         if lights != self._lights_bytes:
@@ -118,34 +123,44 @@ class ForwardPass:
         intensities = np.array([to_linear(x.color) * x.intensity
                                 for x in scene.lights]).reshape(-1, 3)
         ambient = to_linear(scene.ambient)
-        ready: set[Variant] = set()
+        ready: set[int] = set()
         for obj in scene.objects:
             m = obj.material
-            variant = replace(base, texture=m.texture is not None,
-                              vertex_colors=obj.mesh.colors is not None)
-            prog = self.program(variant)
-            if variant not in ready:  # per-frame uniforms, once per program
-                prog.set("u_view", camera.view)
-                prog.set("u_eye_world", eye)
-                ready.add(variant)
+            user = m.shader is not None and not aux
+            if user:
+                prog = self.user.program(m.shader, base.defines())
+            else:
+                prog = self.program(replace(base, texture=m.texture is not None,
+                                            vertex_colors=obj.mesh.colors is not None))
+            strict = not user  # a user's shader need not declare every standard input
+            if id(prog) not in ready:  # per-frame uniforms, once per program
+                prog.set("u_view", camera.view, strict)
+                prog.set("u_eye_world", eye, strict)
+                if user:
+                    prog.set("u_projection", view_projection @ np.linalg.inv(camera.view),
+                             strict)
+                    prog.set("u_time", float(time), strict)
+                    prog.set("u_resolution", (float(width), float(height)), strict)
+                ready.add(id(prog))
             color = to_linear(m.color)
-            prog.set("u_model", obj.transform)
-            prog.set("u_mvp", view_projection @ obj.transform)
-            prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
-            prog.set("u_color", tuple(float(c) for c in color))
+            prog.set("u_model", obj.transform, strict)
+            prog.set("u_mvp", view_projection @ obj.transform, strict)
+            prog.set("u_normal_matrix", T.normal_matrix(obj.transform), strict)
+            prog.set("u_color", tuple(float(c) for c in color), strict)
             # The material's products with each light (see glsl/lib/lights.glsl), computed
             # once per draw instead of once per fragment.
-            prog.set("u_ambient_term", tuple(float(c) for c in ambient * m.ka * color))
-            prog.set_array("u_light_diffuse", intensities * (m.kd * color))
-            prog.set_array("u_light_specular", intensities * m.ks)
-            prog.set("u_shininess", m.shininess)
-            prog.set("u_object_id", obj.id + 1)  # 0 is "nothing" in the id target
+            prog.set("u_ambient_term", tuple(float(c) for c in ambient * m.ka * color), strict)
+            prog.set_array("u_light_diffuse", intensities * (m.kd * color), strict)
+            prog.set_array("u_light_specular", intensities * m.ks, strict)
+            prog.set("u_shininess", m.shininess, strict)
+            prog.set("u_object_id", obj.id + 1, strict)  # 0 is "nothing" in the id target
             if m.texture is not None:
                 self.cache.texture(m.texture, srgb).use(location=0)
                 prog.set("u_texture", 0)
             self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
 
     def release(self) -> None:
+        self.user.release()
         for prog in self.programs.values():
             self.cache.forget_program(prog.gl)
             prog.release()

@@ -107,7 +107,7 @@ class Renderer:
         return glcontext.describe(self.ctx)
 
     def render(self, scene: Scene, camera: Camera | None = None, *, shading: str | None = None,
-               outputs=DEFAULT_OUTPUTS) -> Frame:
+               outputs=DEFAULT_OUTPUTS, time: float = 0.0) -> Frame:
         """Render ``scene`` through ``camera`` (default: ``Camera.frame`` of the scene)."""
         if self._closed:
             raise InputError("this Renderer is closed")
@@ -119,9 +119,10 @@ class Renderer:
             camera = Camera.frame(scene.bounds, aspect=self.width / self.height)
         # Several renderers (contexts) may live in one thread: make ours current.
         with self.ctx:
-            return self._render(scene, camera, shading, outputs)
+            return self._render(scene, camera, shading, outputs, time)
 
-    def _render(self, scene: Scene, camera: Camera, shading: str, outputs) -> Frame:
+    def _render(self, scene: Scene, camera: Camera, shading: str, outputs,
+                time: float = 0.0) -> Frame:
         w, h, t = self.width, self.height, self.targets
         aux = tuple(_CHANNEL[o] for o in OUTPUTS if o in outputs and o in _CHANNEL)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
@@ -130,15 +131,24 @@ class Renderer:
             bg = np.append(srgb_to_linear(bg[:3]), bg[3])
         bg = tuple(float(c) for c in bg)
         srgb = self.srgb
-        if self.msaa:
-            if aux:  # exact, unblended channels at pixel centres
-                t.begin_aux(aux, bg)
-                self.forward.draw(scene, camera, w, h, "unlit", aux=aux, srgb=srgb)
-            t.begin_multisample(bg)
-            self.forward.draw(scene, camera, w, h, shading, srgb=srgb)
-            t.resolve()
+        user_shaders = any(o.material.shader is not None for o in scene.objects)
+        if aux and (self.msaa or user_shaders):
+            # Exact, unblended channels at pixel centres from the built-in shader, then the
+            # colour on its own (multisampled, or through the users' shaders).
+            t.begin_aux(aux, bg)
+            self.forward.draw(scene, camera, w, h, "unlit", aux=aux, srgb=srgb)
+            aux_done = True
         else:
-            t.begin_aux(aux, bg) if aux else t.begin_color(bg)
+            aux_done = False
+        if self.msaa:
+            t.begin_multisample(bg)
+            self.forward.draw(scene, camera, w, h, shading, srgb=srgb, time=time)
+            t.resolve()
+        elif aux_done or not aux:
+            t.begin_color(bg)
+            self.forward.draw(scene, camera, w, h, shading, srgb=srgb, time=time)
+        else:
+            t.begin_aux(aux, bg)
             self.forward.draw(scene, camera, w, h, shading, aux=aux, srgb=srgb)
         read = {name: t.read_aux(name) for name in aux}
         for name in ("normals", "position"):  # stored as RGBA32F: drop w
@@ -164,7 +174,7 @@ class Renderer:
         self.targets, self.width, self.height = targets, width, height
 
     def present(self, scene: Scene, camera: Camera, framebuffer, *, shading: str | None = None,
-                wireframe: bool = False) -> None:
+                wireframe: bool = False, time: float = 0.0) -> None:
         """Draw ``scene`` into ``framebuffer`` (a window's, bottom-up like GL) with the same
         pass and shaders as ``render``; MSAA draws into the multisampled target and resolves
         into the window. ``wireframe`` overlays the triangle edges."""
@@ -176,7 +186,7 @@ class Renderer:
         if not self.msaa:
             framebuffer.use()
             framebuffer.clear(*bg, depth=1.0)
-        self.forward.draw(scene, camera, w, h, shading, flip_y=False)
+        self.forward.draw(scene, camera, w, h, shading, flip_y=False, time=time)
         if wireframe:
             self.ctx.depth_func = "<="
             self.ctx.wireframe = True

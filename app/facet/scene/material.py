@@ -38,6 +38,7 @@ class Material:
     shininess: float = 32.0
     name: str = ""
     texture: object = None
+    shader: object = None  # a facet.scene.shader.UserShader: the material's own GLSL
 
     def __post_init__(self):
         from .texture import Texture
@@ -46,6 +47,11 @@ class Material:
         if self.texture is not None and not isinstance(self.texture, Texture):
             raise InputError(f"material texture must be a facet Texture, got "
                              f"{type(self.texture).__name__}")
+        from .shader import UserShader
+
+        if self.shader is not None and not isinstance(self.shader, UserShader):
+            raise InputError(f"material shader must be a facet UserShader, got "
+                             f"{type(self.shader).__name__}")
         for key in ("ka", "kd", "ks", "shininess"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):

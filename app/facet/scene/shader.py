@@ -1,0 +1,45 @@
+"""User shaders for meshes (no GL): the files of a material's own GLSL program and its
+uniform values.
+
+A user fragment shader is a complete stage (``#version 330 core`` on line 1) that writes its
+colour to output location 0. facet's mesh vertex shader (glsl/mesh/phong.vert, unless
+``vertex`` is given) feeds it, in world space:
+
+    in vec3 v_pos_world;  in vec3 v_normal_world;  in vec2 v_uv;  in float v_depth_view;
+
+and facet fills these uniforms when the shader declares them:
+
+    mat4 u_model, u_view, u_projection, u_mvp;  mat3 u_normal_matrix;
+    vec3 u_eye_world;  float u_time;  vec2 u_resolution;  vec3 u_color;  int u_object_id;
+
+``#include "lib/lighting.glsl"`` gives the Phong functions; ``#include "lib/lights.glsl"``
+the scene's lights (``u_lights[i]``, ``u_light_count``) and ``shade_scene(p, N, V, albedo,
+blinn)``, the built-in shading equation with this material's constants.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+
+
+@dataclass(eq=False)
+class UserShader:
+    """``fragment`` (and optionally ``vertex``) GLSL files, plus user uniform values."""
+
+    fragment: Path
+    vertex: Path | None = None
+    uniforms: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        for attr in ("fragment", "vertex"):
+            value = getattr(self, attr)
+            if value is None:
+                continue
+            path = Path(value)
+            if not path.is_file():
+                raise InputError(f"{path}: no such shader file" if not path.exists() else
+                                 f"{path}: is a directory, expected a shader file")
+            setattr(self, attr, path)
