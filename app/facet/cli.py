@@ -120,6 +120,15 @@ def _light(text: str):
         raise argparse.ArgumentTypeError(f"light {text!r}: {exc}") from None
 
 
+def _shader_options(p) -> None:
+    """--frag / --vert / --uniform: the model's own GLSL (docs in facet.scene.shader)."""
+    p.add_argument("--frag", metavar="FILE", help="the model's own fragment shader "
+                   "(see glsl/examples/, e.g. toon.frag)")
+    p.add_argument("--vert", metavar="FILE", help="the model's own vertex shader")
+    p.add_argument("--uniform", action="append", default=[], metavar="NAME=V[,V...]",
+                   help="a uniform of --frag/--vert; repeatable")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .render.shading import SHADING_MODELS
 
@@ -196,6 +205,7 @@ def build_parser() -> argparse.ArgumentParser:
     out.add_argument("--palette-method", choices=("median-cut", "kmeans"),
                      default="median-cut", help="palette method (default median-cut)")
     r.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    _shader_options(r)
     v = sub.add_parser("view", help="open a model or scene file in an interactive window",
                        description="Explore MODEL (a mesh or .toml scene file) in a window. "
                        "Drag to orbit, right-drag to pan, scroll to zoom; press h for keys.",
@@ -206,6 +216,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="window size (default 1280x720)")
     v.add_argument("--msaa", type=int, default=4, choices=(0, 2, 4, 8), metavar="N",
                    help="multisampling: 0, 2, 4 or 8 (default 4, capped by the driver)")
+    _shader_options(v)
     sh = sub.add_parser("shader", help="run a Shadertoy-style fragment shader (window or files)",
                         description="Run FILE, a fragment shader defining mainImage(out vec4 "
                         "fragColor, in vec2 fragCoord) with Shadertoy's inputs (iResolution, "
@@ -264,9 +275,11 @@ def main(argv: list[str] | None = None) -> int:
                     print(path)
         elif args.command == "view":
             from .paths import default_model
+            from .render_command import user_shader
             from .viewer import view
 
-            view(args.model or default_model(), size=args.size, msaa=args.msaa)
+            view(args.model or default_model(), size=args.size, msaa=args.msaa,
+                 shader=user_shader(args))
         elif args.command == "shader":
             from .shader_command import run_shader
 

@@ -76,10 +76,11 @@ def _scene(args):
     from .scene.scene import Scene
     from .scene.scenefile import load_scene
 
+    shader = user_shader(args)
     if args.model and Path(args.model).suffix.lower() == ".toml":
-        if args.color is not None or args.texture is not None:
-            raise InputError("--color and --texture apply to a single model; set materials "
-                             "in the scene file instead")
+        if args.color is not None or args.texture is not None or shader is not None:
+            raise InputError("--color, --texture and --frag apply to a single model; set "
+                             "materials in the scene file instead")
         return load_scene(args.model)
     texture = _texture(args.texture) if args.texture else None
     mesh = Mesh.load(args.model or default_model())
@@ -89,9 +90,21 @@ def _scene(args):
     scene = Scene()
     m = mesh.material or Material()
     material = Material(m.color if args.color is None else args.color, m.ka, m.kd, m.ks,
-                        m.shininess, m.name, texture or m.texture)
+                        m.shininess, m.name, texture or m.texture, shader)
     scene.add(mesh, material)
     return scene
+
+
+def user_shader(args):
+    """The UserShader of --frag/--vert/--uniform, or None."""
+    from .scene.shader import UserShader
+    from .shader_command import parse_uniform
+
+    if not getattr(args, "frag", None):
+        if getattr(args, "vert", None) or getattr(args, "uniform", None):
+            raise InputError("--vert and --uniform need --frag (the model's own shader)")
+        return None
+    return UserShader(args.frag, args.vert, dict(parse_uniform(u) for u in args.uniform))
 
 
 def _texture(value: str):

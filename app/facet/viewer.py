@@ -15,6 +15,7 @@ import hashlib
 import os
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -64,7 +65,8 @@ class Viewer:
     """A window showing a scene. ``run()`` blocks until it closes; between runs (or before
     one) a script can ``set_camera``, ``request_frame`` and ``save``."""
 
-    def __init__(self, source, size=(1280, 720), msaa: int = 4, title: str = "facet"):
+    def __init__(self, source, size=(1280, 720), msaa: int = 4, title: str = "facet",
+                 shader=None):
         import glfw
 
         check_display()
@@ -74,7 +76,8 @@ class Viewer:
                                  "use 'facet render' for headless images")
         self.glfw = glfw
         self.path = None if not isinstance(source, (str, Path)) else Path(source)
-        scene = load_source(source) if self.path else source
+        self.user_shader = shader  # --frag: the model's own shader (a UserShader)
+        scene = self._load(source) if self.path else source
         glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, 3)
         glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, 3)
         glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
@@ -99,12 +102,25 @@ class Viewer:
         self.error = ""
         self._set_scene(scene, frame=True)
         self._dirty, self._frames, self._fps, self._fps_time = True, 0, 0.0, time.perf_counter()
+        self._start = time.perf_counter()
         self._drag = None
         self._cursor = self.glfw.get_cursor_pos(self.window)
         self._watch = (self.path, _digest(self.path) if self.path else None, 0.0, None)
         self._install_callbacks()
 
     # -- scene and camera ----------------------------------------------------------------
+    def _load(self, path):
+        scene = load_source(path)
+        if self.user_shader is not None:
+            for obj in scene.objects:
+                obj.material = replace(obj.material, shader=self.user_shader)
+        return scene
+
+    @property
+    def animated(self) -> bool:
+        """User shaders may use u_time: keep drawing while they are shown."""
+        return any(o.material.shader is not None for o in self.scene.objects)
+
     def _set_scene(self, scene, frame: bool) -> None:
         from .geometry.orbit import OrbitControl
 
@@ -154,7 +170,8 @@ class Viewer:
         camera = self.camera()
         with self.ctx:
             self.renderer.present(self._prepare(camera), camera, self.ctx.screen,
-                                  shading=self.shading, wireframe=self.wireframe)
+                                  shading=self.shading, wireframe=self.wireframe,
+                                  time=time.perf_counter() - self._start)
         self.glfw.swap_buffers(self.window)
         self._dirty = False
         self._frames += 1
@@ -340,7 +357,7 @@ class Viewer:
     def open(self, path) -> None:
         """Show another mesh or scene file (framed anew)."""
         try:
-            scene = load_source(path)
+            scene = self._load(path)
         except FacetError as exc:
             self._report(str(exc))
             return
@@ -355,11 +372,28 @@ class Viewer:
         print(f"facet view: error: {message}", file=sys.stderr)
         self._update_title()
 
+    def _check_shaders(self) -> None:
+        """Reload user shaders whose files changed; a failure keeps the last good program."""
+        with self.ctx:
+            result = self.renderer.forward.user.reload()
+        if not result.changed:
+            return
+        if result.success:
+            self.error = ""
+            print("shaders reloaded", file=sys.stderr)
+        else:
+            self._report(result.errors)
+        self.request_frame()
+
     def _check_file(self) -> None:
         """Reload the open file when its content changed and then stayed put (debounced)."""
         path, digest, last_check, pending = self._watch
         now = time.monotonic()
-        if path is None or now - last_check < WATCH_INTERVAL:
+        if now - last_check < WATCH_INTERVAL:
+            return
+        self._check_shaders()
+        if path is None:
+            self._watch = (path, digest, now, pending)
             return
         current = _digest(path)
         if current is None or current == digest:
@@ -370,7 +404,7 @@ class Viewer:
             return
         self._watch = (path, current, now, None)
         try:
-            scene = load_source(path)
+            scene = self._load(path)
         except FacetError as exc:
             self._report(str(exc))
             return
@@ -383,10 +417,13 @@ class Viewer:
         """Show the window until it is closed (q, Esc or the window's close button)."""
         glfw = self.glfw
         while not glfw.window_should_close(self.window):
-            if self._dirty:
+            if self._dirty or self.animated:
                 self.draw()
-            glfw.wait_events_timeout(DEBOUNCE if self._watch[3] else
-                                     min(IDLE_WAIT, WATCH_INTERVAL))
+            if self.animated:
+                glfw.poll_events()
+            else:
+                glfw.wait_events_timeout(DEBOUNCE if self._watch[3] else
+                                         min(IDLE_WAIT, WATCH_INTERVAL))
             self._check_file()
 
     def close(self) -> None:
@@ -405,9 +442,10 @@ class Viewer:
         self.close()
 
 
-def view(scene, size=(1280, 720), msaa: int = 4) -> None:
-    """Open a window on ``scene`` (a Scene or a file path) and block until it closes."""
-    with Viewer(scene, size, msaa) as v:
+def view(scene, size=(1280, 720), msaa: int = 4, shader=None) -> None:
+    """Open a window on ``scene`` (a Scene or a file path) and block until it closes;
+    ``shader`` (a UserShader) replaces the file's materials' shaders."""
+    with Viewer(scene, size, msaa, shader=shader) as v:
         v.run()
 
 

@@ -23,6 +23,6 @@ void main() {
         light += falloff * max(dot(N, L), 0.0);
         spot = max(spot, step(0.96, dot(reflect(-L, N), V)));
     }
-    float banded = floor(clamp(light, 0.0, 1.0) * u_steps + 0.5) / u_steps;
+    float banded = floor(clamp(0.8 * light, 0.0, 0.999) * u_steps) / (u_steps - 1.0);
     f_color = vec4(u_color * (0.25 + 0.75 * banded) + 0.4 * spot, 1.0);
 }

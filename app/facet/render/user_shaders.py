@@ -16,6 +16,10 @@ from ..scene.shader import UserShader
 from .shadertoy import GL_TYPES, INT_TYPES, ReloadResult
 
 DEFAULT_VERTEX = "mesh/phong.vert"
+# Uniforms facet fills for user mesh shaders (facet.scene.shader lists them).
+STANDARD = {"u_model", "u_view", "u_projection", "u_mvp", "u_normal_matrix", "u_eye_world",
+            "u_time", "u_resolution", "u_color", "u_object_id", "u_ambient_term",
+            "u_light_diffuse", "u_light_specular", "u_shininess"}
 
 
 def _digest(path: Path) -> str | None:
@@ -37,10 +41,15 @@ class UserPrograms:
     def program(self, shader: UserShader, defines: dict) -> Program:
         key = (id(shader), tuple(sorted(defines.items())))
         if key not in self.programs:
-            self.programs[key] = self._compile(shader, defines)
-            self.digests[key] = {f: _digest(f) for f in self.programs[key].files}
-            self._write_uniforms(self.programs[key], shader)
-            self.programs[key].shader, self.programs[key].defines = shader, defines
+            prog = self._compile(shader, defines)
+            try:
+                self._write_uniforms(prog, shader)
+            except BaseException:
+                prog.release()
+                raise
+            prog.shader, prog.defines = shader, defines
+            self.programs[key] = prog
+            self.digests[key] = {f: _digest(f) for f in prog.files}
         return self.programs[key]
 
     def _compile(self, shader: UserShader, defines: dict) -> Program:
@@ -59,6 +68,7 @@ class UserPrograms:
                 continue
             changed = True
             self.digests[key] = {f: _digest(f) for f in self.digests[key]}
+            new = None
             try:
                 new = self._compile(prog.shader, prog.defines)
                 self._write_uniforms(new, prog.shader)
@@ -68,6 +78,8 @@ class UserPrograms:
                 continue
             except FacetError as exc:
                 errors.append(str(exc))
+                if new is not None:
+                    new.release()
                 continue
             new.shader, new.defines = prog.shader, prog.defines
             self.digests[key] = {f: _digest(f) for f in new.files}
@@ -87,8 +99,8 @@ def write_user_uniform(prog: Program, name: str, value, where) -> None:
     """Set a user uniform, checking its name, size and number type against the program."""
     members = {n.split("[")[0]: prog.gl[n] for n in prog.gl
                if type(prog.gl[n]).__name__ == "Uniform"}
-    if name not in members:
-        user = [n for n in members if not n.startswith(("u_model", "u_view", "u_mvp", "i"))]
+    if name not in members or name in STANDARD:
+        user = [n for n in members if n not in STANDARD]
         raise InputError(f"{where}: no uniform named {name!r}; the program's uniforms are: "
                          f"{', '.join(sorted(user)) or 'none'}")
     member = members[name]

@@ -27,9 +27,10 @@ from .validate import AnyKey as _Any
 from .validate import Reader as _Reader
 from .validate import show as _show
 
-TOP = ("render", "materials", "objects", "lights", "cameras")
+TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms")
 RENDER = ("size", "background", "shading", "msaa", "outputs", "camera", "srgb")
-MATERIAL = ("color", "ka", "kd", "ks", "shininess", "texture")
+MATERIAL = ("color", "ka", "kd", "ks", "shininess", "texture", "shader", "vertex_shader",
+            "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "matrix", "parent", "flat",
           *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
 LIGHT = {"ambient": ("color", "intensity"),
@@ -68,6 +69,8 @@ class _SceneBuilder:
         r = self.r
         r.table(data, "", TOP)
         settings, background = self.render_settings(data.get("render", {}))
+        self.uniforms = {name: self.uniform_value(v, f"uniforms.{name}") for name, v in
+                         r.table(data.get("uniforms", {}), "uniforms", _Any()).items()}
         scene = Scene(background=background)
         scene.settings = settings
         materials = {name: self.material(m, f"materials.{name}")
@@ -126,7 +129,34 @@ class _SceneBuilder:
                 kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
         if "texture" in t:
             kw["texture"] = self.texture(t["texture"], f"{where}.texture")
+        if "shader" in t:
+            kw["shader"] = self.shader(t, where)
+        elif "vertex_shader" in t or "uniforms" in t:
+            r.fail(where, "vertex_shader and uniforms belong to a material with a 'shader'")
         return Material(**kw, name=where.rsplit(".", 1)[-1])
+
+    def shader(self, t: dict, where: str):
+        """A material's own GLSL: shader (fragment), vertex_shader, and uniforms (the
+        file-wide [uniforms] table first, the material's own on top)."""
+        from .shader import UserShader
+
+        r = self.r
+        uniforms = dict(self.uniforms)
+        own = r.table(t.get("uniforms", {}), f"{where}.uniforms", _Any())
+        for name, value in own.items():
+            uniforms[name] = self.uniform_value(value, f"{where}.uniforms.{name}")
+        frag = self.base / r.string(t["shader"], f"{where}.shader")
+        vert = self.base / r.string(t["vertex_shader"], f"{where}.vertex_shader") \
+            if "vertex_shader" in t else None
+        try:
+            return UserShader(frag, vert, uniforms)
+        except FacetError as exc:
+            r.fail(f"{where}.shader", str(exc))
+
+    def uniform_value(self, value, where: str) -> list[float]:
+        if isinstance(value, list):
+            return [self.r.number(v, f"{where}[{i}]") for i, v in enumerate(value)]
+        return [self.r.number(value, where)]
 
     def texture(self, value, where: str):
         """A texture: an image path (relative to the scene file) or "checker"."""
