@@ -318,3 +318,26 @@ def test_shader_window_survives_a_broken_save(display, tmp_path):
     finally:
         if proc.poll() is None:
             proc.kill()
+
+
+def test_viewer_mesh_shader_hot_reload(window, tmp_path):
+    """`facet view MODEL --frag FILE`: saving a broken shader keeps the last picture in a red
+    frame with the error in the title; the fix brings the new picture."""
+    frag = tmp_path / "mine.frag"
+    body = ("#version 330 core\nout vec4 c;\nvoid main() {{ c = vec4({}, 1.0); }}\n")
+    frag.write_text(body.format("0.0, 1.0, 0.0"))
+    w = window("--frag", str(frag), "--msaa", "0")
+    green = w.screen()
+    assert green[..., 1].max() == 255 and green[..., 0].max() == 0
+    frag.write_text(body.format("nothing"))
+    time.sleep(1.0)
+    broken = w.screen()
+    assert "mine.frag:3:" in w.title()
+    assert (broken[:4, :, 0] > 180).all() and (broken[:4, :, 1] < 60).all()  # red frame
+    assert broken[H // 2, W // 2, 1] == 255  # the last good program still draws
+    frag.write_text(body.format("0.0, 0.0, 1.0"))
+    time.sleep(1.0)
+    blue = w.screen()
+    assert "error" not in w.title()
+    assert blue[..., 2].max() == 255 and blue[..., 1].max() == 0
+    assert w.quit() == 0

@@ -36,6 +36,8 @@ _EXPORTS = {
     "Frame": "facet.render.renderer",
     "SHADING_MODELS": "facet.render.shading",
     "view": "facet.viewer",
+    "ShaderToy": "facet.render.shadertoy",
+    "UserShader": "facet.scene.shader",
     "Viewer": "facet.viewer",
     "FacetError": "facet.errors",
     "InputError": "facet.errors",

@@ -24,6 +24,15 @@ ERROR_FRAME = (0.85, 0.1, 0.1, 1.0)  # the red frame drawn around a stale pictur
 ERROR_BORDER = 8  # pixels
 
 
+def draw_error_frame(screen, size) -> None:
+    """A clearly visible red frame around the last good picture (the file has an error)."""
+    w, h, b = size[0], size[1], ERROR_BORDER
+    for rect in ((0, 0, w, b), (0, h - b, w, b), (0, 0, b, h), (w - b, 0, b, h)):
+        screen.scissor = rect
+        screen.clear(*ERROR_FRAME)
+    screen.scissor = None
+
+
 class Playground:
     def __init__(self, args, size=(800, 450)):
         import glfw
@@ -125,12 +134,8 @@ class Playground:
         with self.ctx:
             screen = self.ctx.screen
             self.ctx.copy_framebuffer(screen, self.toy.image_framebuffer)
-            if self.error:  # a clearly visible frame around the last good picture
-                w, h, b = fb[0], fb[1], ERROR_BORDER
-                for rect in ((0, 0, w, b), (0, h - b, w, b), (0, 0, b, h), (w - b, 0, b, h)):
-                    screen.scissor = rect
-                    screen.clear(*ERROR_FRAME)
-                screen.scissor = None
+            if self.error:
+                draw_error_frame(screen, fb)
         self.glfw.swap_buffers(self.window)
 
     def run(self):

@@ -102,6 +102,7 @@ class Viewer(ViewerActions):
         self._set_scene(scene, frame=True)
         self._dirty, self._frames, self._fps, self._fps_time = True, 0, 0.0, time.perf_counter()
         self._start = time.perf_counter()
+        self._shader_change = None  # when a user shader's files were first seen changed
         self._drag = None
         self._cursor = self.glfw.get_cursor_pos(self.window)
         self._watch = (self.path, _digest(self.path) if self.path else None, 0.0, None)
@@ -171,6 +172,10 @@ class Viewer(ViewerActions):
             self.renderer.present(self._prepare(camera), camera, self.ctx.screen,
                                   shading=self.shading, wireframe=self.wireframe,
                                   time=time.perf_counter() - self._start)
+            if self.error:  # the picture is stale: say so in the window, not only the title
+                from .playground import draw_error_frame
+
+                draw_error_frame(self.ctx.screen, fb)
         self.glfw.swap_buffers(self.window)
         self._dirty = False
         self._frames += 1
@@ -271,9 +276,20 @@ class Viewer(ViewerActions):
         self._update_title()
 
     def _check_shaders(self) -> None:
-        """Reload user shaders whose files changed; a failure keeps the last good program."""
+        """Reload user shaders whose files changed and then stayed put (debounced); a failure
+        keeps the last good program."""
+        user = self.renderer.forward.user
+        if not user.changed():
+            self._shader_change = None
+            return
+        now = time.monotonic()
+        if self._shader_change is None:
+            self._shader_change = now
+        if now - self._shader_change < DEBOUNCE:
+            return
+        self._shader_change = None
         with self.ctx:
-            result = self.renderer.forward.user.reload()
+            result = user.reload()
         if not result.changed:
             return
         if result.success:

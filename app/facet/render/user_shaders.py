@@ -60,6 +60,11 @@ class UserPrograms:
         for name, value in shader.uniforms.items():
             write_user_uniform(prog, name, value, shader.fragment)
 
+    def changed(self) -> bool:
+        """Whether a file of any program differs from when it was (re)compiled."""
+        return any(_digest(f) != d for digests in self.digests.values()
+                   for f, d in digests.items())
+
     def reload(self) -> ReloadResult:
         """Recompile the programs whose files changed; keep the old one where the new fails."""
         changed, errors, diagnostics = False, [], []
