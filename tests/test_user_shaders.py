@@ -132,3 +132,12 @@ def test_bad_user_uniforms(renderer):
         material = Material(shader=UserShader(EXAMPLES / "toon.frag", uniforms=uniforms))
         with pytest.raises(InputError, match=message):
             renderer(16, 16).render(_scene(material), CAMERA)
+
+
+def test_list_uniforms_of_a_mesh_shader(capsys):
+    from facet.cli import main
+
+    assert main(["shader", "--list-uniforms", str(EXAMPLES / "toon.frag")]) == 0
+    rows = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()}
+    assert "user" in rows["u_steps"] and "float" in rows["u_steps"]
+    assert "filled by facet" in rows["u_normal_matrix"] and "mat3" in rows["u_normal_matrix"]

@@ -66,10 +66,13 @@ def run_shader(args) -> list[Path]:
         raise InputError(f"--fps must be in (0, 240], got {args.fps:g}")
     mouse = tuple(args.mouse) + (0.0,) * (4 - len(args.mouse)) if args.mouse else (0,) * 4
     if args.list_uniforms:
-        with build(args, args.size or (64, 64)) as toy:
-            for name, (gl_type, length, filled) in toy.active_uniforms().items():
-                kind = "filled by facet" if filled else "user (--uniform)"
-                print(f"{name:24} {gl_type}{f'[{length}]' if length > 1 else '':6} {kind}")
+        uniforms = mesh_uniforms(args.shader) if is_mesh_stage(args.shader) else None
+        if uniforms is None:
+            with build(args, args.size or (64, 64)) as toy:
+                uniforms = toy.active_uniforms()
+        for name, (gl_type, length, filled) in uniforms.items():
+            kind = "filled by facet" if filled else "user (--uniform)"
+            print(f"{name:24} {gl_type}{f'[{length}]' if length > 1 else '':6} {kind}")
         return []
     if args.output is None:
         from .playground import run_window
@@ -105,6 +108,42 @@ def run_shader(args) -> list[Path]:
                 sink.abort()
             raise
     return sink.written if sink.kind == "pattern" else written
+
+
+def is_mesh_stage(path) -> bool:
+    """A complete stage (``#version`` first) is a mesh shader; Shadertoy code has none."""
+    try:
+        lines = [ln.strip() for ln in Path(path).read_text(encoding="utf-8").splitlines()]
+    except (OSError, UnicodeDecodeError):
+        return False
+    first = next((ln for ln in lines if ln and not ln.startswith("//")), "")
+    return first.startswith("#version")
+
+
+def mesh_uniforms(path) -> dict[str, tuple[str, int, bool]]:
+    """Active uniforms of a mesh shader linked with facet's mesh vertex shader."""
+    from .gl.context import create_headless
+    from .gl.glsl_source import glsl_root
+    from .gl.shaders import compile_program
+    from .render.shadertoy import GL_TYPES
+    from .render.user_shaders import DEFAULT_VERTEX, STANDARD
+
+    ctx = create_headless()
+    try:
+        prog = compile_program(ctx, glsl_root() / DEFAULT_VERTEX, Path(path),
+                               {"MAX_LIGHTS": 16, "LIGHT_COUNT": 1,
+                                "LIGHT_KIND_LIST": "int[1](0)"})
+        found = {}
+        for name in prog.gl:
+            member = prog.gl[name]
+            if type(member).__name__ == "Uniform":
+                base = name.split("[")[0]
+                found[base] = (GL_TYPES.get(member.gl_type, hex(member.gl_type)),
+                               member.array_length, base in STANDARD)
+        prog.release()
+        return dict(sorted(found.items()))
+    finally:
+        ctx.release()
 
 
 def _to8(image: np.ndarray) -> np.ndarray:
