@@ -125,7 +125,6 @@ def mesh_uniforms(path) -> dict[str, tuple[str, int, bool]]:
     from .gl.context import create_headless
     from .gl.glsl_source import glsl_root
     from .gl.shaders import compile_program
-    from .render.shadertoy import GL_TYPES
     from .render.user_shaders import DEFAULT_VERTEX, STANDARD
 
     ctx = create_headless()
@@ -133,13 +132,8 @@ def mesh_uniforms(path) -> dict[str, tuple[str, int, bool]]:
         prog = compile_program(ctx, glsl_root() / DEFAULT_VERTEX, Path(path),
                                {"MAX_LIGHTS": 16, "LIGHT_COUNT": 1,
                                 "LIGHT_KIND_LIST": "int[1](0)"})
-        found = {}
-        for name in prog.gl:
-            member = prog.gl[name]
-            if type(member).__name__ == "Uniform":
-                base = name.split("[")[0]
-                found[base] = (GL_TYPES.get(member.gl_type, hex(member.gl_type)),
-                               member.array_length, base in STANDARD)
+        found = {name: (gl_type, length, name in STANDARD)
+                 for name, (gl_type, length) in prog.uniform_types().items()}
         prog.release()
         return dict(sorted(found.items()))
     finally:

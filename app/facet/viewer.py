@@ -11,7 +11,6 @@ Only this module (and facet.playground) imports glfw.
 
 from __future__ import annotations
 
-import hashlib
 import os
 import sys
 import time
@@ -21,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import FacetError, InputError
+from .gl.glsl_source import file_digest
 from .viewer_actions import ViewerActions
 from .viewer_keys import KEYMAP
 
@@ -52,12 +52,6 @@ def load_source(path) -> object:
     scene.add(Mesh.load(path))
     return scene
 
-
-def _digest(path: Path) -> str | None:
-    try:
-        return hashlib.sha1(path.read_bytes()).hexdigest()
-    except OSError:
-        return None
 
 
 class Viewer(ViewerActions):
@@ -105,7 +99,7 @@ class Viewer(ViewerActions):
         self._shader_change = None  # when a user shader's files were first seen changed
         self._drag = None
         self._cursor = self.glfw.get_cursor_pos(self.window)
-        self._watch = (self.path, _digest(self.path) if self.path else None, 0.0, None)
+        self._watch = (self.path, file_digest(self.path) if self.path else None, 0.0, None)
         self._install_callbacks()
 
     # -- scene and camera ----------------------------------------------------------------
@@ -267,7 +261,7 @@ class Viewer(ViewerActions):
         self.path = Path(path)
         self.headlight = not scene.lights
         self._set_scene(scene, frame=True)
-        self._watch = (self.path, _digest(self.path), 0.0, None)
+        self._watch = (self.path, file_digest(self.path), 0.0, None)
         self.error = ""
 
     def _report(self, message: str) -> None:
@@ -309,7 +303,7 @@ class Viewer(ViewerActions):
         if path is None:
             self._watch = (path, digest, now, pending)
             return
-        current = _digest(path)
+        current = file_digest(path)
         if current is None or current == digest:
             self._watch = (path, digest, now, None)
             return

@@ -13,6 +13,7 @@ driver error logs through it. Rules:
 
 from __future__ import annotations
 
+import hashlib
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -27,6 +28,15 @@ _VERSION = re.compile(r"^\s*#\s*version\b")
 def glsl_root() -> Path:
     """The bundled shader directory: ``facet/glsl`` in a wheel, ``<repo>/glsl`` in a checkout."""
     return data_dir("glsl", "lib/lighting.glsl")
+
+
+def file_digest(path: Path) -> str | None:
+    """SHA-1 of a file's content (None if it cannot be read): reloads compare content, not
+    timestamps, so touching a file or saving it unchanged reloads nothing."""
+    try:
+        return hashlib.sha1(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return None
 
 
 def display_path(path: Path) -> str:

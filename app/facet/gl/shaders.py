@@ -23,6 +23,12 @@ _MESA = re.compile(r"^\s*\d+:(\d+)\((\d+)\):\s*(error|warning)\s*:?\s*(.*)$", re
 _NVIDIA = re.compile(r"^\s*\d+\((\d+)\)\s*:\s*(error|warning)\s*\w*\s*:?\s*(.*)$", re.I)
 _STAGE_HEADERS = {"vertex_shader": "vertex", "fragment_shader": "fragment",
                   "geometry_shader": "geometry", "compute_shader": "compute"}
+# GL type enums of uniforms -> GLSL names (for listings and messages).
+GL_TYPES = {0x1406: "float", 0x8B50: "vec2", 0x8B51: "vec3", 0x8B52: "vec4", 0x1404: "int",
+            0x8B53: "ivec2", 0x8B54: "ivec3", 0x8B55: "ivec4", 0x8B56: "bool",
+            0x8B5A: "mat2", 0x8B5B: "mat3", 0x8B5C: "mat4", 0x8B5E: "sampler2D",
+            0x1405: "uint"}
+INT_TYPES = {"int", "ivec2", "ivec3", "ivec4", "bool", "uint"}
 _UNIFORM_DECL = re.compile(r"\buniform\s+(?:\w+\s+)*?\w+\s+(\w+)")
 
 
@@ -151,6 +157,16 @@ class Program:
         rows = np.asarray(values, dtype=np.float32).reshape(-1, width)[: member.array_length]
         data[: len(rows)] = rows
         member.write(data.tobytes())
+
+    def uniform_types(self) -> dict[str, tuple[str, int]]:
+        """Active uniforms of the linked program: name -> (GLSL type, array length)."""
+        found = {}
+        for name in self.gl:
+            member = self.gl[name]
+            if isinstance(member, moderngl.Uniform):
+                found[name.split("[")[0]] = (GL_TYPES.get(member.gl_type, hex(member.gl_type)),
+                                             member.array_length)
+        return found
 
     @property
     def files(self) -> list[Path]:

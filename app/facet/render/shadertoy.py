@@ -16,25 +16,19 @@ errors (``path:line:col: error: ...``, mapped through includes to the user's fil
 from __future__ import annotations
 
 import datetime
-import hashlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import FacetError, InputError, ShaderError
-from ..gl.glsl_source import glsl_root
-from ..gl.shaders import Program, compile_program
+from ..gl.glsl_source import file_digest, glsl_root
+from ..gl.shaders import GL_TYPES, INT_TYPES, Program, compile_program
 
 BUFFERS = ("a", "b", "c", "d")
 FILLED = ("iResolution", "iTime", "iTimeDelta", "iFrame", "iFrameRate", "iMouse", "iDate",
           "iSampleRate", "iChannelTime", "iChannelResolution", "iChannel0", "iChannel1",
           "iChannel2", "iChannel3")
-GL_TYPES = {0x1406: "float", 0x8B50: "vec2", 0x8B51: "vec3", 0x8B52: "vec4", 0x1404: "int",
-            0x8B53: "ivec2", 0x8B54: "ivec3", 0x8B55: "ivec4", 0x8B56: "bool",
-            0x8B5A: "mat2", 0x8B5B: "mat3", 0x8B5C: "mat4", 0x8B5E: "sampler2D",
-            0x1405: "uint"}
-INT_TYPES = {"int", "ivec2", "ivec3", "ivec4", "bool", "uint"}
 
 
 @dataclass
@@ -47,12 +41,6 @@ class ReloadResult:
     errors: str = ""
     diagnostics: list = field(default_factory=list)
 
-
-def _digest(path: Path) -> str | None:
-    try:
-        return hashlib.sha1(path.read_bytes()).hexdigest()
-    except OSError:
-        return None
 
 
 class ShaderToy:
@@ -138,7 +126,7 @@ class ShaderToy:
 
     def changed(self) -> bool:
         """Whether any watched file's content differs from the last (re)load."""
-        return any(_digest(f) != self._hashes.get(f) for f in self.watched_files())
+        return any(file_digest(f) != self._hashes.get(f) for f in self.watched_files())
 
     def reload(self, force: bool = False) -> ReloadResult:
         """Recompile every pass when a file changed (or ``force``); keep the old programs if
@@ -157,7 +145,7 @@ class ShaderToy:
                     diagnostics += exc.diagnostics
                 except FacetError as exc:
                     errors.append(str(exc))
-            self._hashes = {f: _digest(f) for f in {*self.watched_files(),
+            self._hashes = {f: file_digest(f) for f in {*self.watched_files(),
                                                    *(f for p in new.values()
                                                      for f in p.sources["fragment"].files)}}
             if errors:
@@ -180,12 +168,8 @@ class ShaderToy:
         programs' active uniforms: ones the compiler optimised away are not listed)."""
         found = {}
         for prog in self.programs.values():
-            for name in prog.gl:
-                member = prog.gl[name]
-                if type(member).__name__ == "Uniform":
-                    base = name.split("[")[0]
-                    found[base] = (GL_TYPES.get(member.gl_type, hex(member.gl_type)),
-                                   member.array_length, base in FILLED)
+            for name, (gl_type, length) in prog.uniform_types().items():
+                found[name] = (gl_type, length, name in FILLED)
         return dict(sorted(found.items()))
 
     def set_uniform(self, name: str, value) -> None:

@@ -4,16 +4,15 @@ drawing), and their user uniforms checked against what the linked program declar
 
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import FacetError, InputError, ShaderError
-from ..gl.glsl_source import glsl_root
-from ..gl.shaders import Program, compile_program
+from ..gl.glsl_source import file_digest, glsl_root
+from ..gl.shaders import GL_TYPES, INT_TYPES, Program, compile_program
 from ..scene.shader import UserShader
-from .shadertoy import GL_TYPES, INT_TYPES, ReloadResult
+from .shadertoy import ReloadResult
 
 DEFAULT_VERTEX = "mesh/phong.vert"
 # Uniforms facet fills for user mesh shaders (facet.scene.shader lists them).
@@ -21,12 +20,6 @@ STANDARD = {"u_model", "u_view", "u_projection", "u_mvp", "u_normal_matrix", "u_
             "u_time", "u_resolution", "u_color", "u_object_id", "u_ambient_term",
             "u_light_diffuse", "u_light_specular", "u_shininess"}
 
-
-def _digest(path: Path) -> str | None:
-    try:
-        return hashlib.sha1(path.read_bytes()).hexdigest()
-    except OSError:
-        return None
 
 
 class UserPrograms:
@@ -49,7 +42,7 @@ class UserPrograms:
                 raise
             prog.shader, prog.defines = shader, defines
             self.programs[key] = prog
-            self.digests[key] = {f: _digest(f) for f in prog.files}
+            self.digests[key] = {f: file_digest(f) for f in prog.files}
         return self.programs[key]
 
     def _compile(self, shader: UserShader, defines: dict) -> Program:
@@ -62,17 +55,17 @@ class UserPrograms:
 
     def changed(self) -> bool:
         """Whether a file of any program differs from when it was (re)compiled."""
-        return any(_digest(f) != d for digests in self.digests.values()
+        return any(file_digest(f) != d for digests in self.digests.values()
                    for f, d in digests.items())
 
     def reload(self) -> ReloadResult:
         """Recompile the programs whose files changed; keep the old one where the new fails."""
         changed, errors, diagnostics = False, [], []
         for key, prog in list(self.programs.items()):
-            if all(_digest(f) == d for f, d in self.digests[key].items()):
+            if all(file_digest(f) == d for f, d in self.digests[key].items()):
                 continue
             changed = True
-            self.digests[key] = {f: _digest(f) for f in self.digests[key]}
+            self.digests[key] = {f: file_digest(f) for f in self.digests[key]}
             new = None
             try:
                 new = self._compile(prog.shader, prog.defines)
@@ -87,7 +80,7 @@ class UserPrograms:
                     new.release()
                 continue
             new.shader, new.defines = prog.shader, prog.defines
-            self.digests[key] = {f: _digest(f) for f in new.files}
+            self.digests[key] = {f: file_digest(f) for f in new.files}
             self._forget_vao(prog.gl)
             prog.release()
             self.programs[key] = new
