@@ -99,12 +99,12 @@ class ForwardPass:
 
     def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
              aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False,
-             time: float = 0.0) -> None:
+             time: float = 0.0, jitter=None) -> None:
         """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
         channels too. ``flip_y``: draw upside down for top-down readback. ``srgb``: inputs
         are sRGB-encoded and are linearised (facet.image.colorspace). Materials with their
         own shader use it for colour (``aux`` passes always use the built-in one); ``time``
-        is their ``u_time``."""
+        is their ``u_time``. ``jitter``: a clip-space shift (supersampling, antialias.py)."""
         to_linear = srgb_to_linear if srgb else np.asarray
         lights = pack_lights(scene, to_linear)
         if lights != self._lights_bytes:
@@ -112,6 +112,8 @@ class ForwardPass:
             self._lights_bytes = lights
         self.lights_ubo.bind_to_uniform_block(LIGHTS_BINDING)
         projection = camera.projection(width, height)
+        if jitter is not None:
+            projection = jitter @ projection
         view_projection = (FLIP_Y @ projection if flip_y else projection) @ camera.view
         # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise.
         self.ctx.front_face = "cw" if flip_y else "ccw"

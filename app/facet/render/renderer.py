@@ -21,11 +21,13 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry.camera import Camera
+from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import Targets
 from ..image.colorspace import linear_to_srgb, srgb_to_linear
 from ..scene.scene import Scene
+from .antialias import parse_aa
 from .forward import ForwardPass
 from .shading import check_shading
 
@@ -100,6 +102,7 @@ class Renderer:
         self.width, self.height, self.msaa = width, height, msaa
         self.cache = ResourceCache(self.ctx)
         self.forward = ForwardPass(self.ctx, self.cache)
+        self._accumulator = None  # supersampling targets, made on first use
         self._closed = False
 
     @property
@@ -107,8 +110,13 @@ class Renderer:
         return glcontext.describe(self.ctx)
 
     def render(self, scene: Scene, camera: Camera | None = None, *, shading: str | None = None,
-               outputs=DEFAULT_OUTPUTS, time: float = 0.0) -> Frame:
-        """Render ``scene`` through ``camera`` (default: ``Camera.frame`` of the scene)."""
+               outputs=DEFAULT_OUTPUTS, time: float = 0.0, aa: str | None = None) -> Frame:
+        """Render ``scene`` through ``camera`` (default: ``Camera.frame`` of the scene).
+
+        ``aa``: ``none``, ``msaa:N`` or ``ssaa:PATTERN:N`` (facet.render.antialias); default
+        the renderer's ``msaa``. Supersampled colour comes back as float32 in [0, 1] unless
+        the renderer keeps 8-bit colour, in which case it is rounded to uint8.
+        """
         if self._closed:
             raise InputError("this Renderer is closed")
         unknown = set(outputs) - set(OUTPUTS)
@@ -117,9 +125,56 @@ class Renderer:
         shading = check_shading(shading or self.shading)
         if camera is None:
             camera = Camera.frame(scene.bounds, aspect=self.width / self.height)
+        mode = parse_aa(aa) if aa is not None else None
+        if mode is not None and mode.kind != "ssaa":
+            wanted = mode.samples if mode.kind == "msaa" else 0
+            if wanted != self.msaa:
+                self.set_msaa(wanted)
         # Several renderers (contexts) may live in one thread: make ours current.
         with self.ctx:
+            if mode is not None and mode.kind == "ssaa":
+                return self._supersample(scene, camera, shading, outputs, time, mode)
             return self._render(scene, camera, shading, outputs, time)
+
+    def set_msaa(self, samples: int) -> None:
+        """Switch the multisample count (new targets; programs and meshes stay)."""
+        with self.ctx:
+            targets = Targets(self.ctx, self.width, self.height, samples,
+                              color_dtype=self.targets.color_dtype)
+            self.targets.release()
+        self.targets, self.msaa = targets, samples
+
+    def _supersample(self, scene, camera, shading, outputs, time, mode) -> Frame:
+        """Colour averaged over the pattern's sub-pixel offsets; other channels exact."""
+        from .antialias import Accumulator, jitter_matrix
+
+        w, h = self.width, self.height
+        others = tuple(o for o in outputs if o != "color")
+        frame = self._render(scene, camera, shading, others, time) if others else \
+            Frame(None, None, None, camera, size=(w, h))
+        if "color" not in outputs:
+            return frame
+        if self._accumulator is None:
+            self._accumulator = Accumulator(self.ctx, w, h)
+        acc = self._accumulator
+        bg = np.asarray(scene.background, dtype=np.float64)
+        if self.srgb:
+            bg = np.append(srgb_to_linear(bg[:3]), bg[3])
+        acc.accum.use()
+        acc.accum.clear(0.0, 0.0, 0.0, 0.0)
+        self.ctx.enable_only(self.ctx.DEPTH_TEST)
+        for dx, dy in pattern(mode.pattern, mode.samples):
+            acc.begin_sample(tuple(float(c) for c in bg))
+            self.forward.draw(scene, camera, w, h, shading, srgb=self.srgb, time=time,
+                              jitter=jitter_matrix(dx, dy, w, h))
+            acc.add_sample()
+        color = acc.result(mode.samples)
+        if self.srgb:
+            color[..., :3] = linear_to_srgb(color[..., :3])
+        if not (self.float_color or self.srgb):
+            color = np.rint(np.clip(color, 0, 1) * 255).astype(np.uint8)
+        frame.color = color
+        return frame
 
     def _render(self, scene: Scene, camera: Camera, shading: str, outputs,
                 time: float = 0.0) -> Frame:
@@ -168,6 +223,9 @@ class Renderer:
         if (width, height) == (self.width, self.height):
             return
         with self.ctx:
+            if self._accumulator is not None:
+                self._accumulator.release()
+                self._accumulator = None
             targets = Targets(self.ctx, width, height, self.msaa,
                               color_dtype=self.targets.color_dtype)
             self.targets.release()
@@ -204,6 +262,8 @@ class Renderer:
             return
         self._closed = True
         with self.ctx:
+            if self._accumulator is not None:
+                self._accumulator.release()
             self.forward.release()
             self.cache.release()
             self.targets.release()
