@@ -129,3 +129,28 @@ def test_labels_stay_exact_and_sub_pixel_lines_show(renderer):
     expected = (np.sum(offsets >= 0.35) + np.sum(offsets < -0.35)) / 16
     column = found[8:-8, 31:33].sum(axis=1) / 255.0  # coverage split over the two columns
     assert expected > 0 and np.allclose(column, expected, atol=1.5 / 255)
+
+
+def test_cli_aa(tmp_path, capsys):
+    from PIL import Image
+
+    from facet.cli import main
+
+    out = tmp_path / "a.png"
+    assert main(["render", "--aa", "jittered:16", "--size", "48x36", "-q", "-o", str(out)]) == 0
+    smooth = np.asarray(Image.open(out))
+    assert main(["render", "--aa", "none", "--size", "48x36", "-q", "-o", str(out)]) == 0
+    sharp = np.asarray(Image.open(out))
+    assert len(np.unique(smooth.reshape(-1, 3), axis=0)) > len(np.unique(sharp.reshape(-1, 3),
+                                                                        axis=0))
+    for args, message in ((["--aa", "ssaa:grid:7"], "square number"),
+                          (["--aa", "none", "--msaa", "4"], "either --aa or --msaa"),
+                          (["--aa", "supersample"], "expected none, msaa:N")):
+        assert main(["render", *args, "-o", str(tmp_path / "x.png")]) == 2
+        assert message in capsys.readouterr().err
+    assert not (tmp_path / "x.png").exists()
+    (tmp_path / "s.toml").write_text('[render]\naa = "poisson:8"\n[[objects]]\n'
+                                     'primitive = "sphere"\n')
+    from facet.scene import load_scene
+
+    assert load_scene(tmp_path / "s.toml").settings.aa == "ssaa:poisson:8"

@@ -173,6 +173,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"shading model: {', '.join(SHADING_CHOICES)} (default phong)")
     r.add_argument("--msaa", type=int, choices=(0, 2, 4, 8), metavar="N",
                    help="multisample anti-aliasing samples for colour: 0, 2, 4 or 8 (default 4)")
+    r.add_argument("--aa", metavar="MODE",
+                   help="anti-aliasing: none, msaa:N, or supersampling ssaa:PATTERN:N (also "
+                   "PATTERN:N) with PATTERN grid, random, poisson or jittered, e.g. "
+                   "--aa jittered:16 (colour only; depth and ids stay exact)")
     r.add_argument("--background", type=_background, metavar="R,G,B[,A]",
                    help="background colour; A=0 for transparent (default 0,0,0)")
     r.add_argument("--camera", metavar="NAME", help="which of the scene file's cameras to use")

@@ -164,7 +164,8 @@ def run_render(args) -> list[Path]:
 
     outputs = set(channels) | ({"depth"} if depth_path else set()) | (
         {"ids"} if ids_path else set())
-    with Renderer(*size, msaa=settings.msaa if args.msaa is None else args.msaa,
+    aa = _anti_aliasing(args, settings)
+    with Renderer(*size, msaa=aa.samples if aa.kind == "msaa" else 0,
                   shading=args.shading or settings.shading,
                   float_color=color_options.needs_float,
                   srgb=args.srgb or settings.srgb) as renderer:
@@ -172,9 +173,22 @@ def run_render(args) -> list[Path]:
             from .render_sequence import render_turntable
 
             return render_turntable(renderer, scene, camera, args, channels, target,
-                                    color_options, tuple(outputs), headlights)
-        frame = renderer.render(scene, camera, outputs=tuple(outputs))
+                                    color_options, tuple(outputs), headlights, str(aa))
+        frame = renderer.render(scene, camera, outputs=tuple(outputs), aa=str(aa))
     return _write_single(frame, args, channels, target, depth_path, ids_path, color_options)
+
+
+def _anti_aliasing(args, settings):
+    """--aa, else --msaa, else the scene file's [render] aa / msaa."""
+    from .render.antialias import parse_aa
+
+    if args.aa is not None and args.msaa is not None:
+        raise InputError("give either --aa or --msaa (--msaa N means --aa msaa:N)")
+    if args.aa is not None:
+        return parse_aa(args.aa)
+    if args.msaa is not None:
+        return parse_aa(f"msaa:{args.msaa}")
+    return parse_aa(settings.aa or f"msaa:{settings.msaa}")
 
 
 def _write_single(frame, args, channels, image_path, depth_path, ids_path, color_options):

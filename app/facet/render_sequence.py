@@ -25,7 +25,7 @@ def progress(total: int, quiet: bool, desc: str):
 
 
 def render_turntable(renderer, scene, camera, args, channels, target, color_options,
-                     outputs, headlights: bool = False) -> list[Path]:
+                     outputs, headlights: bool = False, aa: str | None = None) -> list[Path]:
     """Render the orbit; ``headlights``: the default light rig follows the camera (the model
     turns under studio lights) instead of staying in world space."""
     cameras = orbit_cameras(camera, scene.bounds.mean(axis=0), args.turntable, args.up)
@@ -39,7 +39,7 @@ def render_turntable(renderer, scene, camera, args, channels, target, color_opti
             for i, cam in enumerate(cameras):
                 if headlights:
                     scene.lights = camera_rig(cam.view)
-                frame = renderer.render(scene, cam, outputs=outputs)
+                frame = renderer.render(scene, cam, outputs=outputs, aa=aa)
                 if sink is not None:
                     kind, image = encode_color(frame.color, color_options)
                     sink.add(i, image)

@@ -56,7 +56,9 @@ def parse_aa(text: str) -> AntiAliasing:
                 n = MAX_SAMPLES
             pattern(parts[0], n)  # validates (a grid needs a square number)
             return AntiAliasing("ssaa", n, parts[0])
-    except ValueError:
+    except InputError:
+        raise
+    except ValueError:  # int() of something that is not a number
         pass
     raise InputError(f"aa {text!r}: expected none, msaa:N or ssaa:PATTERN:N with PATTERN one "
                      f"of {', '.join(PATTERNS)} (e.g. ssaa:jittered:16)")

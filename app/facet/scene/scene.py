@@ -49,6 +49,7 @@ class RenderSettings:
     outputs: tuple[str, ...] = ("color",)
     camera: str | None = None
     srgb: bool = False  # colour management (facet.image.colorspace)
+    aa: str | None = None  # "none", "msaa:N" or "ssaa:PATTERN:N"; None: use msaa
 
 
 class Scene:

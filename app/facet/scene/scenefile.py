@@ -28,7 +28,7 @@ from .validate import Reader as _Reader
 from .validate import show as _show
 
 TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms")
-RENDER = ("size", "background", "shading", "msaa", "outputs", "camera", "srgb")
+RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb")
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "texture", "shader", "vertex_shader",
             "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "matrix", "parent", "flat",
@@ -114,6 +114,15 @@ class _SceneBuilder:
                               for i, o in enumerate(outs))
         if "camera" in t:
             s.camera = r.string(t["camera"], "render.camera")
+        if "aa" in t:
+            from ..render.antialias import parse_aa
+
+            try:
+                s.aa = str(parse_aa(r.string(t["aa"], "render.aa")))
+            except SceneError:
+                raise
+            except FacetError as exc:
+                r.fail("render.aa", str(exc))
         if "srgb" in t:
             if not isinstance(t["srgb"], bool):
                 r.fail("render.srgb", f"expected true or false, got {_show(t['srgb'])}")
