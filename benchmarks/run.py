@@ -146,9 +146,11 @@ def main() -> None:
         trimesh.creation.icosphere(subdivisions=sub).export(ply)
         models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
         cold_table(2 if a.quick else 5, models)
+    import antialias
     import turntable
     import viewer
 
+    antialias.main()
     turntable.main()
     viewer.main()
 
