@@ -341,3 +341,33 @@ def test_viewer_mesh_shader_hot_reload(window, tmp_path):
     assert "error" not in w.title()
     assert blue[..., 2].max() == 255 and blue[..., 1].max() == 0
     assert w.quit() == 0
+
+
+def test_progressive_supersampling_matches_headless(window, tmp_path):
+    """`a` cycles to ssaa:jittered:16: with the camera still the window refines to the same
+    picture as a headless render with aa="ssaa:jittered:16" (golden tolerance)."""
+    from facet.geometry.camera import Camera
+    from facet.render.renderer import Renderer
+    from facet.scene import Mesh, Scene
+    from facet.scene.light import camera_rig
+    from test_golden import CHANNEL_TOL, MAX_DIFFERING
+
+    w = window()
+    w.key("a")
+    w.key("a")
+    time.sleep(1.5)  # 16 samples, one per frame
+    w.key("s")
+    shots = _wait_for(tmp_path, "facet-*.png")
+    assert w.quit() == 0 and "aa: ssaa:jittered:16" in w.proc.stdout.read()
+    shot = np.asarray(Image.open(shots[0]))
+    info = json.loads(shots[0].with_suffix(".json").read_text())
+    camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
+                    far=info["far"])
+    scene = Scene()
+    scene.add(Mesh.load(ROOT / "models" / "default.obj"))
+    for light in camera_rig(camera.view):
+        scene.add_light(light)
+    with Renderer(W, H) as r:
+        ref = r.render(scene, camera, aa="ssaa:jittered:16").color[..., :3]
+    diff = np.abs(shot.astype(int) - ref).max(axis=2)
+    assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()

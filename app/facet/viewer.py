@@ -89,6 +89,8 @@ class Viewer(ViewerActions):
         self.ctx = create_for_current_window()
         fb_w, fb_h = glfw.get_framebuffer_size(self.window)
         self.msaa = min(msaa, self.ctx.max_samples)
+        self.aa = f"msaa:{self.msaa}" if self.msaa else "none"
+        self._samples = 0  # supersamples accumulated for the current view
         self.renderer = Renderer(fb_w, fb_h, self.msaa, context=self.ctx)
         self.shading, self.wireframe, self.background = "phong", False, None
         self.headlight = not scene.lights
@@ -109,6 +111,13 @@ class Viewer(ViewerActions):
             for obj in scene.objects:
                 obj.material = replace(obj.material, shader=self.user_shader)
         return scene
+
+    @property
+    def refining(self) -> bool:
+        """Progressive supersampling still has samples to add."""
+        if not self.aa.startswith("ssaa"):
+            return False
+        return self._samples < int(self.aa.rsplit(":", 1)[1])
 
     @property
     def animated(self) -> bool:
@@ -162,10 +171,19 @@ class Viewer(ViewerActions):
             return  # minimised
         self.renderer.resize(*fb)
         camera = self.camera()
+        elapsed = time.perf_counter() - self._start
         with self.ctx:
-            self.renderer.present(self._prepare(camera), camera, self.ctx.screen,
-                                  shading=self.shading, wireframe=self.wireframe,
-                                  time=time.perf_counter() - self._start)
+            if self.aa.startswith("ssaa") and not self.wireframe:
+                # One more sample per frame while nothing changes; a change starts over
+                # with one sample, so moving stays fast.
+                index = 0 if self._dirty or self.animated else self._samples
+                self._samples = self.renderer.present_progressive(
+                    self._prepare(camera), camera, self.ctx.screen, self.aa, index,
+                    shading=self.shading, time=elapsed)
+            else:
+                self.renderer.present(self._prepare(camera), camera, self.ctx.screen,
+                                      shading=self.shading, wireframe=self.wireframe,
+                                      time=elapsed)
             if self.error:  # the picture is stale: say so in the window, not only the title
                 from .playground import draw_error_frame
 
@@ -325,9 +343,9 @@ class Viewer(ViewerActions):
         """Show the window until it is closed (q, Esc or the window's close button)."""
         glfw = self.glfw
         while not glfw.window_should_close(self.window):
-            if self._dirty or self.animated:
+            if self._dirty or self.animated or self.refining:
                 self.draw()
-            if self.animated:
+            if self.animated or self.refining:
                 glfw.poll_events()
             else:
                 glfw.wait_events_timeout(DEBOUNCE if self._watch[3] else

@@ -13,6 +13,7 @@ from .viewer_keys import TURNTABLE_FRAMES, help_text
 
 BACKGROUNDS = ((1.0, 1.0, 1.0, 1.0), (0.35, 0.37, 0.4, 1.0), (0.0, 0.0, 0.0, 1.0))
 SHADING_CYCLE = ("phong", "blinn", "gouraud", "flat", "unlit", "normals")
+AA_CYCLE = ("msaa:4", "none", "ssaa:jittered:16", "ssaa:jittered:64")
 
 
 class ViewerActions:
@@ -67,14 +68,15 @@ class ViewerActions:
     def toggle_wireframe(self):
         self.wireframe = not self.wireframe
 
-    def toggle_msaa(self):
-        from .render.renderer import Renderer
-
-        self.msaa = 0 if self.msaa else min(4, self.ctx.max_samples)
-        fb = self.glfw.get_framebuffer_size(self.window)
-        self.renderer.close()
-        self.renderer = Renderer(*fb, self.msaa, context=self.ctx)
-        print(f"msaa: {self.msaa}")
+    def cycle_aa(self):
+        """Next anti-aliasing mode: MSAA in the renderer, or progressive supersampling."""
+        self.aa = AA_CYCLE[(AA_CYCLE.index(self.aa) + 1) % len(AA_CYCLE)] \
+            if self.aa in AA_CYCLE else AA_CYCLE[0]
+        msaa = int(self.aa.split(":")[1]) if self.aa.startswith("msaa") else 0
+        self.msaa = min(msaa, self.ctx.max_samples)
+        self.renderer.set_msaa(self.msaa)
+        self._samples = 0
+        print(f"aa: {self.aa}")
 
     def toggle_headlight(self):
         self.headlight = not self.headlight

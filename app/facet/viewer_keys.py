@@ -23,7 +23,8 @@ KEYMAP: dict[str, Action] = {
     "o": Action("toggle_projection", "perspective / orthographic"),
     "m": Action("cycle_shading", "shading model: phong, blinn, gouraud, flat, unlit, normals"),
     "w": Action("toggle_wireframe", "wireframe overlay"),
-    "a": Action("toggle_msaa", "MSAA on / off"),
+    "a": Action("cycle_aa", "anti-aliasing: msaa:4, none, ssaa:jittered:16, ssaa:jittered:64 "
+                "(supersampling refines while the camera is still)"),
     "l": Action("toggle_headlight", "lights follow the camera"),
     "b": Action("cycle_background", "background colour"),
     "s": Action("screenshot", "save a screenshot (PNG, window size)"),

@@ -88,6 +88,20 @@ class Accumulator:
         self.program = compile_program(ctx, root / "shadertoy" / "fullscreen.vert",
                                        root / "post" / "accumulate.frag")
         self.vao = ctx.vertex_array(self.program.gl, [])
+        self.resolve_program = compile_program(ctx, root / "shadertoy" / "fullscreen.vert",
+                                               root / "post" / "resolve.frag")
+        self.resolve_vao = ctx.vertex_array(self.resolve_program.gl, [])
+
+    def show(self, framebuffer, samples: int) -> None:
+        """Draw the mean of ``samples`` accumulated samples into ``framebuffer``."""
+        ctx = self.ctx
+        framebuffer.use()
+        self.accum_tex.use(location=0)
+        self.resolve_program.set("u_accum", 0)
+        self.resolve_program.set("u_scale", 1.0 / samples)
+        ctx.disable(ctx.DEPTH_TEST | ctx.BLEND)
+        self.resolve_vao.render(vertices=3)
+        ctx.enable(ctx.DEPTH_TEST)
 
     def begin_sample(self, background) -> None:
         self.sample.use()
@@ -115,7 +129,8 @@ class Accumulator:
         return out
 
     def release(self) -> None:
-        for obj in (self.vao, self.accum, self.accum_tex, self.sample, self.sample_depth,
-                    self.sample_tex):
+        for obj in (self.vao, self.resolve_vao, self.accum, self.accum_tex, self.sample,
+                    self.sample_depth, self.sample_tex):
             obj.release()
         self.program.release()
+        self.resolve_program.release()

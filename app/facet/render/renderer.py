@@ -255,6 +255,37 @@ class Renderer:
             self.ctx.copy_framebuffer(framebuffer, target)
         self.cache.sweep()
 
+    def present_progressive(self, scene: Scene, camera: Camera, framebuffer, aa: str,
+                            index: int, *, shading: str | None = None,
+                            time: float = 0.0) -> int:
+        """Supersampling in a window, one sample per call: add sample ``index`` of ``aa``'s
+        pattern (0 starts over) and show the mean so far. Returns the samples shown; after
+        the last one the picture equals the headless ``render(aa=...)``."""
+        from .antialias import Accumulator, jitter_matrix
+
+        mode = parse_aa(aa)
+        if mode.kind != "ssaa":
+            raise InputError(f"progressive rendering needs ssaa, got {aa!r}")
+        shading = check_shading(shading or self.shading)
+        w, h = self.width, self.height
+        if self._accumulator is None:
+            self._accumulator = Accumulator(self.ctx, w, h)
+        acc = self._accumulator
+        index = min(index, mode.samples - 1)
+        if index == 0:
+            acc.accum.use()
+            acc.accum.clear(0.0, 0.0, 0.0, 0.0)
+        self.ctx.enable_only(self.ctx.DEPTH_TEST)
+        dx, dy = pattern(mode.pattern, mode.samples)[index]
+        acc.begin_sample(tuple(float(c) for c in scene.background))
+        # Upright (no flip): the window shows the accumulation as it is.
+        self.forward.draw(scene, camera, w, h, shading, flip_y=False, time=time,
+                          jitter=jitter_matrix(dx, dy, w, h))
+        acc.add_sample()
+        acc.show(framebuffer, index + 1)
+        self.cache.sweep()
+        return index + 1
+
     def close(self) -> None:
         """Release every GL object, and the context if this renderer made it. Safe to call
         twice."""
