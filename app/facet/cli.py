@@ -173,6 +173,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"shading model: {', '.join(SHADING_CHOICES)} (default phong)")
     r.add_argument("--msaa", type=int, choices=(0, 2, 4, 8), metavar="N",
                    help="multisample anti-aliasing samples for colour: 0, 2, 4 or 8 (default 4)")
+    r.add_argument("--shadows", action="store_true",
+                   help="shadow maps for directional and spot lights")
     r.add_argument("--aa", metavar="MODE",
                    help="anti-aliasing: none, msaa:N, or supersampling ssaa:PATTERN:N (also "
                    "PATTERN:N) with PATTERN grid, random, poisson or jittered, e.g. "

@@ -93,6 +93,7 @@ class Viewer(ViewerActions):
         self._samples = 0  # supersamples accumulated for the current view
         self.renderer = Renderer(fb_w, fb_h, self.msaa, context=self.ctx)
         self.shading, self.wireframe, self.background = "phong", False, None
+        self.shadows = False
         self.headlight = not scene.lights
         self.error = ""
         self._set_scene(scene, frame=True)
@@ -179,11 +180,11 @@ class Viewer(ViewerActions):
                 index = 0 if self._dirty or self.animated else self._samples
                 self._samples = self.renderer.present_progressive(
                     self._prepare(camera), camera, self.ctx.screen, self.aa, index,
-                    shading=self.shading, time=elapsed)
+                    shading=self.shading, time=elapsed, shadows=self.shadows)
             else:
                 self.renderer.present(self._prepare(camera), camera, self.ctx.screen,
                                       shading=self.shading, wireframe=self.wireframe,
-                                      time=elapsed)
+                                      time=elapsed, shadows=self.shadows)
             if self.error:  # the picture is stale: say so in the window, not only the title
                 from .playground import draw_error_frame
 

@@ -78,6 +78,9 @@ class ViewerActions:
         self._samples = 0
         print(f"aa: {self.aa}")
 
+    def toggle_shadows(self):
+        self.shadows = not self.shadows
+
     def toggle_headlight(self):
         self.headlight = not self.headlight
 

@@ -26,6 +26,7 @@ KEYMAP: dict[str, Action] = {
     "a": Action("cycle_aa", "anti-aliasing: msaa:4, none, ssaa:jittered:16, ssaa:jittered:64 "
                 "(supersampling refines while the camera is still)"),
     "l": Action("toggle_headlight", "lights follow the camera"),
+    "x": Action("toggle_shadows", "shadows (directional and spot lights)"),
     "b": Action("cycle_background", "background colour"),
     "s": Action("screenshot", "save a screenshot (PNG, window size)"),
     "S": Action("screenshot_2x", "save a 2x screenshot (offscreen render)"),

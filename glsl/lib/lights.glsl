@@ -65,6 +65,13 @@ float incident_light(int i, vec3 p, out vec3 L) {
     return falloff;
 }
 
+#if defined(SHADOWS) && defined(LIGHT_COUNT) && LIGHT_COUNT > 0
+#include "lib/shadows.glsl"
+#define SHADOW(i, p, N, L) shadow_factor(i, p, N, L, length(u_lights[i].position.xyz - p))
+#else
+#define SHADOW(i, p, N, L) 1.0
+#endif
+
 // I = I_a k_a C + sum_i (diffuse + specular), clamped to [0, 1]. ``albedo`` multiplies C
 // where it varies over the surface (texture x vertex colour; vec3(1) for plain materials).
 // blinn selects the halfway-vector specular.
@@ -72,7 +79,7 @@ vec3 shade_scene(vec3 p, vec3 N, vec3 V, vec3 albedo, bool blinn) {
     vec3 I = u_ambient_term * albedo;
     for (int i = 0; i < LIGHTS_IN_USE; ++i) {
         vec3 L;
-        float falloff = incident_light(i, p, L);
+        float falloff = incident_light(i, p, L) * SHADOW(i, p, N, L);
         vec3 diffuse = u_light_diffuse[i] * albedo;
         I += falloff * (blinn
             ? blinn_light(N, L, V, diffuse, u_light_specular[i], u_shininess)

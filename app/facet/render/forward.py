@@ -59,6 +59,7 @@ class Variant:
     texture: bool = False
     vertex_colors: bool = False
     srgb: bool = False  # vertex colours are sRGB-encoded
+    shadow_slots: tuple[int, ...] | None = None  # per light: its shadow map tile, or -1
 
     def defines(self) -> dict:
         spec = SHADING_MODELS[check_shading(self.shading)]
@@ -68,6 +69,10 @@ class Variant:
             d["LIGHT_KIND_LIST"] = f"int[{len(self.light_kinds)}]({kinds})"
         for name, location in aux_locations(self.aux).items():
             d[f"OUT_{name.upper()}"] = location
+        if self.shadow_slots is not None and self.light_kinds:
+            d["SHADOWS"] = None
+            slots = ", ".join(map(str, self.shadow_slots))
+            d["LIGHT_SHADOW_LIST"] = f"int[{len(self.shadow_slots)}]({slots})"
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
                  "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb}
         d.update({k: None for k, on in flags.items() if on})
@@ -99,12 +104,14 @@ class ForwardPass:
 
     def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
              aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False,
-             time: float = 0.0, jitter=None) -> None:
+             time: float = 0.0, jitter=None, shadows: dict | None = None,
+             shadow_maps=None) -> None:
         """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
         channels too. ``flip_y``: draw upside down for top-down readback. ``srgb``: inputs
         are sRGB-encoded and are linearised (facet.image.colorspace). Materials with their
         own shader use it for colour (``aux`` passes always use the built-in one); ``time``
-        is their ``u_time``. ``jitter``: a clip-space shift (supersampling, antialias.py)."""
+        is their ``u_time``. ``jitter``: a clip-space shift (supersampling, antialias.py).
+        ``shadows``: what ``ShadowMaps.draw`` returned (``shadow_maps``) for this scene."""
         to_linear = srgb_to_linear if srgb else np.asarray
         lights = pack_lights(scene, to_linear)
         if lights != self._lights_bytes:
@@ -121,7 +128,8 @@ class ForwardPass:
         eye = tuple(float(v) for v in (-camera.forward if camera.is_orthographic
                                        else camera.eye))
         base = Variant(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights),
-                       tuple(aux_locations(aux)), camera.is_orthographic, srgb=srgb)
+                       tuple(aux_locations(aux)), camera.is_orthographic, srgb=srgb,
+                       shadow_slots=shadows["slots"] if shadows else None)
         intensities = np.array([to_linear(x.color) * x.intensity
                                 for x in scene.lights]).reshape(-1, 3)
         ambient = to_linear(scene.ambient)
@@ -143,6 +151,8 @@ class ForwardPass:
                              strict)
                     prog.set("u_time", float(time), strict)
                     prog.set("u_resolution", (float(width), float(height)), strict)
+                if shadows:
+                    shadow_maps.bind(prog, shadows)
                 ready.add(id(prog))
             color = to_linear(m.color)
             prog.set("u_model", obj.transform, strict)

@@ -103,6 +103,8 @@ class Renderer:
         self.cache = ResourceCache(self.ctx)
         self.forward = ForwardPass(self.ctx, self.cache)
         self._accumulator = None  # supersampling targets, made on first use
+        self._shadow_maps = None  # shadow atlas, made on first use
+        self._shadows = None  # this render call's shadow data
         self._closed = False
 
     @property
@@ -110,12 +112,14 @@ class Renderer:
         return glcontext.describe(self.ctx)
 
     def render(self, scene: Scene, camera: Camera | None = None, *, shading: str | None = None,
-               outputs=DEFAULT_OUTPUTS, time: float = 0.0, aa: str | None = None) -> Frame:
+               outputs=DEFAULT_OUTPUTS, time: float = 0.0, aa: str | None = None,
+               shadows: bool = False) -> Frame:
         """Render ``scene`` through ``camera`` (default: ``Camera.frame`` of the scene).
 
         ``aa``: ``none``, ``msaa:N`` or ``ssaa:PATTERN:N`` (facet.render.antialias); default
         the renderer's ``msaa``. Supersampled colour comes back as float32 in [0, 1] unless
-        the renderer keeps 8-bit colour, in which case it is rounded to uint8.
+        the renderer keeps 8-bit colour, in which case it is rounded to uint8. ``shadows``:
+        shadow maps for the directional and spot lights (facet.render.shadow).
         """
         if self._closed:
             raise InputError("this Renderer is closed")
@@ -132,9 +136,22 @@ class Renderer:
                 self.set_msaa(wanted)
         # Several renderers (contexts) may live in one thread: make ours current.
         with self.ctx:
+            self._shadows = self._draw_shadows(scene) if shadows else None
             if mode is not None and mode.kind == "ssaa":
                 return self._supersample(scene, camera, shading, outputs, time, mode)
             return self._render(scene, camera, shading, outputs, time)
+
+    def _draw_shadows(self, scene: Scene):
+        from .shadow import ShadowMaps
+
+        if self._shadow_maps is None:
+            self._shadow_maps = ShadowMaps(self.ctx, self.cache)
+        return self._shadow_maps.draw(scene)
+
+    def _colour_draw(self, scene, camera, shading, **kw) -> None:
+        """The colour pass, with the shadow maps of this render call if there are any."""
+        self.forward.draw(scene, camera, self.width, self.height, shading,
+                          shadows=self._shadows, shadow_maps=self._shadow_maps, **kw)
 
     def set_msaa(self, samples: int) -> None:
         """Switch the multisample count (new targets; programs and meshes stay)."""
@@ -165,7 +182,7 @@ class Renderer:
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         for dx, dy in pattern(mode.pattern, mode.samples):
             acc.begin_sample(tuple(float(c) for c in bg))
-            self.forward.draw(scene, camera, w, h, shading, srgb=self.srgb, time=time,
+            self._colour_draw(scene, camera, shading, srgb=self.srgb, time=time,
                               jitter=jitter_matrix(dx, dy, w, h))
             acc.add_sample()
         color = acc.result(mode.samples)
@@ -197,14 +214,14 @@ class Renderer:
             aux_done = False
         if self.msaa:
             t.begin_multisample(bg)
-            self.forward.draw(scene, camera, w, h, shading, srgb=srgb, time=time)
+            self._colour_draw(scene, camera, shading, srgb=srgb, time=time)
             t.resolve()
         elif aux_done or not aux:
             t.begin_color(bg)
-            self.forward.draw(scene, camera, w, h, shading, srgb=srgb, time=time)
+            self._colour_draw(scene, camera, shading, srgb=srgb, time=time)
         else:
             t.begin_aux(aux, bg)
-            self.forward.draw(scene, camera, w, h, shading, aux=aux, srgb=srgb)
+            self._colour_draw(scene, camera, shading, aux=aux, srgb=srgb)
         read = {name: t.read_aux(name) for name in aux}
         for name in ("normals", "position"):  # stored as RGBA32F: drop w
             if name in read:
@@ -232,19 +249,20 @@ class Renderer:
         self.targets, self.width, self.height = targets, width, height
 
     def present(self, scene: Scene, camera: Camera, framebuffer, *, shading: str | None = None,
-                wireframe: bool = False, time: float = 0.0) -> None:
+                wireframe: bool = False, time: float = 0.0, shadows: bool = False) -> None:
         """Draw ``scene`` into ``framebuffer`` (a window's, bottom-up like GL) with the same
         pass and shaders as ``render``; MSAA draws into the multisampled target and resolves
         into the window. ``wireframe`` overlays the triangle edges."""
         shading = check_shading(shading or self.shading)
         w, h, t = self.width, self.height, self.targets
+        self._shadows = self._draw_shadows(scene) if shadows else None  # own framebuffer
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         bg = tuple(float(c) for c in scene.background)
         target = t.begin_multisample(bg) if self.msaa else framebuffer
         if not self.msaa:
             framebuffer.use()
             framebuffer.clear(*bg, depth=1.0)
-        self.forward.draw(scene, camera, w, h, shading, flip_y=False, time=time)
+        self._colour_draw(scene, camera, shading, flip_y=False, time=time)
         if wireframe:
             self.ctx.depth_func = "<="
             self.ctx.wireframe = True
@@ -257,7 +275,7 @@ class Renderer:
 
     def present_progressive(self, scene: Scene, camera: Camera, framebuffer, aa: str,
                             index: int, *, shading: str | None = None,
-                            time: float = 0.0) -> int:
+                            time: float = 0.0, shadows: bool = False) -> int:
         """Supersampling in a window, one sample per call: add sample ``index`` of ``aa``'s
         pattern (0 starts over) and show the mean so far. Returns the samples shown; after
         the last one the picture equals the headless ``render(aa=...)``."""
@@ -273,13 +291,15 @@ class Renderer:
         acc = self._accumulator
         index = min(index, mode.samples - 1)
         if index == 0:
+            self._shadows = self._draw_shadows(scene) if shadows else None
+        if index == 0:
             acc.accum.use()
             acc.accum.clear(0.0, 0.0, 0.0, 0.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         dx, dy = pattern(mode.pattern, mode.samples)[index]
         acc.begin_sample(tuple(float(c) for c in scene.background))
         # Upright (no flip): the window shows the accumulation as it is.
-        self.forward.draw(scene, camera, w, h, shading, flip_y=False, time=time,
+        self._colour_draw(scene, camera, shading, flip_y=False, time=time,
                           jitter=jitter_matrix(dx, dy, w, h))
         acc.add_sample()
         acc.show(framebuffer, index + 1)
@@ -295,6 +315,8 @@ class Renderer:
         with self.ctx:
             if self._accumulator is not None:
                 self._accumulator.release()
+            if self._shadow_maps is not None:
+                self._shadow_maps.release()
             self.forward.release()
             self.cache.release()
             self.targets.release()

@@ -48,6 +48,7 @@ class DirectionalLight:
     direction: np.ndarray = field(default_factory=lambda: np.array([-1.0, -1.0, -1.0]))
     color: np.ndarray = field(default_factory=lambda: np.ones(3))
     intensity: float = 1.0
+    cast_shadows: bool = True  # when a render asks for shadows
 
     def __post_init__(self):
         d = _vec3(self.direction, "light direction", nonzero=True)
@@ -79,6 +80,7 @@ class SpotLight:
     attenuation: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0]))
     inner_angle: float = 20.0
     outer_angle: float = 30.0
+    cast_shadows: bool = True
 
     def __post_init__(self):
         self.position = _vec3(self.position, "light position")

@@ -50,6 +50,7 @@ class RenderSettings:
     camera: str | None = None
     srgb: bool = False  # colour management (facet.image.colorspace)
     aa: str | None = None  # "none", "msaa:N" or "ssaa:PATTERN:N"; None: use msaa
+    shadows: bool = False  # shadow maps for directional and spot lights
 
 
 class Scene:

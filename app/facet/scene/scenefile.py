@@ -28,7 +28,8 @@ from .validate import Reader as _Reader
 from .validate import show as _show
 
 TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms")
-RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb")
+RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb",
+          "shadows")
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "texture", "shader", "vertex_shader",
             "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "matrix", "parent", "flat",
@@ -123,10 +124,11 @@ class _SceneBuilder:
                 raise
             except FacetError as exc:
                 r.fail("render.aa", str(exc))
-        if "srgb" in t:
-            if not isinstance(t["srgb"], bool):
-                r.fail("render.srgb", f"expected true or false, got {_show(t['srgb'])}")
-            s.srgb = t["srgb"]
+        for flag in ("srgb", "shadows"):
+            if flag in t:
+                if not isinstance(t[flag], bool):
+                    r.fail(f"render.{flag}", f"expected true or false, got {_show(t[flag])}")
+                setattr(s, flag, t[flag])
         return s, background
 
     def material(self, t, where: str) -> Material:

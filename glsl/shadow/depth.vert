@@ -1,0 +1,8 @@
+#version 330 core
+// Shadow maps: object space -> the light's clip space; only depth is written.
+in vec3 in_position;
+uniform mat4 u_light_mvp;
+
+void main() {
+    gl_Position = u_light_mvp * vec4(in_position, 1.0);
+}

@@ -1,0 +1,97 @@
+"""Shadow maps: no acne on lit surfaces, and the shadow of a sphere on a plane against the
+analytic shadow (ray from each plane point towards the light), for directional and spot
+lights."""
+
+import numpy as np
+import pytest
+
+from facet.geometry import transforms as T
+from facet.geometry.camera import Camera
+from facet.scene import DirectionalLight, Material, Scene, SpotLight, primitives
+
+from conftest import sphere_mesh
+
+SIZE = 128
+CENTRE, RADIUS = np.array([0.2, 1.0, -0.1]), 0.5
+
+
+def test_a_lit_sphere_does_not_shadow_itself(renderer):
+    """Shadow acne would darken the lit side: with shadows on it must equal the render
+    without them wherever N.L is clearly positive."""
+    scene = Scene(ambient=0.1)
+    scene.add(sphere_mesh(5), Material(color=(0.8, 0.8, 0.8)))
+    light = DirectionalLight((-0.5, -1.0, -0.7))
+    scene.add_light(light)
+    camera = Camera.look_at((0.5, 1.5, 3.5), (0, 0, 0), fov_y=40, near=1, far=10)
+    r = renderer(SIZE, SIZE)
+    outputs = ("color", "normals", "ids")
+    plain = r.render(scene, camera, outputs=outputs)
+    shadowed = r.render(scene, camera, outputs=outputs, shadows=True)
+    n_dot_l = plain.normals @ -light.direction
+    lit = (plain.object_ids == 0) & (n_dot_l > 0.1)
+    assert lit.sum() > 2000
+    diff = np.abs(plain.color[..., :3].astype(int) - shadowed.color[..., :3])[lit]
+    assert diff.max() <= 1, f"{(diff > 1).mean():.2%} of lit pixels darkened"
+
+
+@pytest.mark.parametrize("kind", ["directional", "spot"])
+def test_shadow_of_a_sphere_on_a_plane(renderer, kind):
+    scene = Scene(ambient=0.2)
+    scene.add(primitives.plane(8), Material(color=(1, 1, 1), ka=1, kd=0.8, ks=0))
+    scene.add(sphere_mesh(5, RADIUS), Material(color=(0.9, 0.2, 0.1)), T.translate(CENTRE))
+    if kind == "directional":
+        light = DirectionalLight((0.3, -1.0, 0.2))
+    else:
+        light = SpotLight((-0.3, 4.0, 0.2), (0.1, -1.0, -0.05), inner_angle=35,
+                          outer_angle=40)
+    scene.add_light(light)
+    camera = Camera.look_at((0.0, 6.0, 2.5), (0.0, 0.0, 0.0), fov_y=45, near=1, far=20)
+    frame = renderer(SIZE, SIZE).render(scene, camera, outputs=("color", "ids", "position"),
+                                        shadows=True)
+    plane = frame.object_ids == 0
+    p = frame.position[plane]
+    # Analytic: does the segment from the plane point towards the light hit the sphere?
+    if kind == "directional":
+        to_light = np.broadcast_to(-np.asarray(light.direction), p.shape)
+        limit = np.full(len(p), np.inf)
+    else:
+        v = np.asarray(light.position) - p
+        limit = np.linalg.norm(v, axis=1)
+        to_light = v / limit[:, None]
+    oc = p - CENTRE
+    b = np.sum(oc * to_light, axis=1)
+    c = np.sum(oc * oc, axis=1) - RADIUS**2
+    disc = b * b - c
+    t = -b - np.sqrt(np.maximum(disc, 0))
+    expected = (disc > 0) & (t > 0) & (t < limit)
+    # Measured: a shadowed plane point only has the ambient term (0.2), a lit one much more.
+    measured = frame.color[..., 0][plane] < 0.2 * 255 + 20
+    if kind == "spot":  # only where the spot reaches; outside its cone all is ambient
+        cone = np.sum(-to_light * np.asarray(light.direction), axis=1) > np.cos(
+            np.radians(light.inner_angle))
+        expected, measured = expected[cone], measured[cone]
+    assert expected.sum() > 150  # the shadow is a sizeable disc in the image
+    iou = (expected & measured).sum() / (expected | measured).sum()
+    assert iou >= 0.95, iou
+
+
+def test_cli_and_scene_file_shadows(tmp_path):
+    from PIL import Image
+
+    from facet.cli import main
+    from facet.scene import load_scene
+
+    scene = tmp_path / "s.toml"
+    scene.write_text('[render]\nsize = [64, 48]\nmsaa = 0\n[[objects]]\nprimitive = "plane"\n'
+                     'size = 6\n[[objects]]\nprimitive = "sphere"\nradius = 0.5\n'
+                     'transform = [{translate = [0, 1, 0]}]\n[[lights]]\ntype = "directional"\n'
+                     'direction = [0, -1, 0]\n[cameras.top]\ntype = "perspective"\n'
+                     'eye = [0, 5, 3]\ntarget = [0, 0, 0]\n')
+    assert main(["render", str(scene), "-q", "-o", str(tmp_path / "a.png")]) == 0
+    assert main(["render", str(scene), "--shadows", "-q", "-o", str(tmp_path / "b.png")]) == 0
+    a = np.asarray(Image.open(tmp_path / "a.png")).astype(int)
+    b = np.asarray(Image.open(tmp_path / "b.png")).astype(int)
+    darker = (a - b).sum(axis=2) > 60
+    assert darker.sum() > 30 and (b - a).max() <= 1  # shadows only ever darken
+    scene.write_text(scene.read_text().replace("msaa = 0", "msaa = 0\nshadows = true"))
+    assert load_scene(scene).settings.shadows is True
