@@ -7,7 +7,7 @@ import pytest
 
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
-from facet.scene import DirectionalLight, Material, Scene, SpotLight, primitives
+from facet.scene import DirectionalLight, Material, PointLight, Scene, SpotLight, primitives
 
 from conftest import sphere_mesh
 
@@ -34,16 +34,18 @@ def test_a_lit_sphere_does_not_shadow_itself(renderer):
     assert diff.max() <= 1, f"{(diff > 1).mean():.2%} of lit pixels darkened"
 
 
-@pytest.mark.parametrize("kind", ["directional", "spot"])
+@pytest.mark.parametrize("kind", ["directional", "spot", "point"])
 def test_shadow_of_a_sphere_on_a_plane(renderer, kind):
     scene = Scene(ambient=0.2)
     scene.add(primitives.plane(8), Material(color=(1, 1, 1), ka=1, kd=0.8, ks=0))
     scene.add(sphere_mesh(5, RADIUS), Material(color=(0.9, 0.2, 0.1)), T.translate(CENTRE))
     if kind == "directional":
         light = DirectionalLight((0.3, -1.0, 0.2))
-    else:
+    elif kind == "spot":
         light = SpotLight((-0.3, 4.0, 0.2), (0.1, -1.0, -0.05), inner_angle=35,
                           outer_angle=40)
+    else:
+        light = PointLight((-0.6, 2.6, 0.5), attenuation=(1, 0, 0))
     scene.add_light(light)
     camera = Camera.look_at((0.0, 6.0, 2.5), (0.0, 0.0, 0.0), fov_y=45, near=1, far=20)
     frame = renderer(SIZE, SIZE).render(scene, camera, outputs=("color", "ids", "position"),

@@ -1,8 +1,11 @@
-"""Shadow maps for directional and spot lights, in one depth atlas (one tile per light).
+"""Shadow maps for all three light kinds, in one depth atlas of square tiles.
 
-* directional: an orthographic frustum along the light, fitted to the scene's bounding
+* directional: one orthographic tile along the light, fitted to the scene's bounding
   sphere, so the whole scene casts and receives;
-* spot: a perspective frustum from the light along its axis, as wide as the outer cone.
+* spot: one perspective tile from the light along its axis, as wide as the outer cone;
+* point: a cube map as six perspective tiles (+x, -x, +y, -y, +z, -z), each a little wider
+  than 90 degrees so the filter has texels across the seams; the shader picks the face by
+  the major axis of the light-to-point vector.
 
 The maps are drawn once per ``render`` call (supersampling and the colour passes reuse them).
 The lighting side (bias, normal offset, PCF) is glsl/lib/shadows.glsl.
@@ -15,11 +18,16 @@ import numpy as np
 from ..geometry import transforms as T
 from ..gl.glsl_source import glsl_root
 from ..gl.shaders import compile_program
-from ..scene.light import DirectionalLight, SpotLight
+from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.scene import Scene
 
-TILE = 2048  # shadow map resolution per light
-SHADOW_KINDS = (DirectionalLight, SpotLight)
+TILE = 1024  # shadow map resolution per tile
+ATLAS_COLUMNS = 8  # tiles per atlas row (TILE x 8 = 8192 px wide, within GL limits)
+SHADOW_KINDS = (DirectionalLight, SpotLight, PointLight)
+CUBE_FOV = 95.0  # degrees per cube face (90 plus a margin for PCF at the seams)
+# Cube faces: looking direction and up vector, in the order the shader indexes them.
+CUBE_FACES = (((1, 0, 0), (0, -1, 0)), ((-1, 0, 0), (0, -1, 0)), ((0, 1, 0), (0, 0, 1)),
+              ((0, -1, 0), (0, 0, -1)), ((0, 0, 1), (0, -1, 0)), ((0, 0, -1), (0, -1, 0)))
 # [-1, 1] clip space -> [0, 1] texture space.
 TO_UNIT = T.compose(T.scale(0.5), T.translate((0.5, 0.5, 0.5)))
 
@@ -28,21 +36,44 @@ def casts_shadow(light) -> bool:
     return isinstance(light, SHADOW_KINDS) and getattr(light, "cast_shadows", True)
 
 
-def light_view_projection(light, bounds) -> tuple[np.ndarray, tuple[float, float]]:
-    """(4x4 world -> light clip space, (texel size at distance 0, growth per distance))."""
+def light_view_projections(light, bounds) -> list[tuple[np.ndarray, tuple[float, float]]]:
+    """Per tile: (4x4 world -> light clip space, (texel size at distance 0, growth per unit
+    distance)); one tile, or six for a point light's cube."""
+    if isinstance(light, PointLight):
+        return [_point_face(light, forward, up, bounds) for forward, up in CUBE_FACES]
+    return [_single(light, bounds)]
+
+
+def _point_face(light, forward, up, bounds):
+    eye = np.asarray(light.position, dtype=np.float64)
+    view = T.look_at(eye, eye + np.asarray(forward, dtype=np.float64), up)
+    b = np.asarray(bounds, dtype=np.float64)
+    corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
+    far = max(float(np.max(np.linalg.norm(corners - eye, axis=1))), 1e-3) * 1.05
+    proj = T.perspective(CUBE_FOV, 1.0, far / 100.0, far)
+    return proj @ view, (0.0, 2.0 * np.tan(np.radians(CUBE_FOV) / 2.0) / TILE)
+
+
+def _single(light, bounds):
     b = np.asarray(bounds, dtype=np.float64)
     center = b.mean(axis=0)
     radius = max(float(np.linalg.norm(b[1] - b[0])) / 2.0, 1e-6)
     d = np.asarray(light.direction, dtype=np.float64)
     up = (0.0, 1.0, 0.0) if abs(d[1]) < 0.99 else (1.0, 0.0, 0.0)
+    corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
     if isinstance(light, DirectionalLight):
-        eye = center - d * 2.0 * radius
-        view = T.look_at(eye, center, up)
-        proj = T.orthographic(-radius, radius, -radius, radius, radius * 0.5, radius * 3.5)
-        return proj @ view, (2.0 * radius / TILE, 0.0)
+        # The tightest box around the scene's corners as the light sees them, so every
+        # shadow texel falls on the scene.
+        view = T.look_at(center - d * 2.0 * radius, center, up)
+        local = corners @ view[:3, :3].T + view[:3, 3]
+        lo, hi = local.min(axis=0), local.max(axis=0)
+        pad = 0.01 * radius
+        proj = T.orthographic(lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad,
+                              max(-hi[2] - pad, 1e-4), -lo[2] + pad)
+        extent = max(hi[0] - lo[0], hi[1] - lo[1]) + 2 * pad
+        return proj @ view, (extent / TILE, 0.0)
     eye = np.asarray(light.position, dtype=np.float64)
     view = T.look_at(eye, eye + d, up)
-    corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
     depth = -(corners @ view[:3, :3].T + view[:3, 3])[:, 2]  # along the spot's axis
     far = max(float(depth.max()), 1e-3) * 1.05
     # A near plane close to the light wastes the depth buffer's precision (perspective depth
@@ -66,45 +97,55 @@ class ShadowMaps:
         self.fbo = None
         self.tiles = 0
 
+    def _grid(self) -> tuple[int, int]:
+        cols = min(self.tiles, ATLAS_COLUMNS)
+        return cols, -(-self.tiles // cols)
+
     def _ensure(self, tiles: int) -> None:
         if tiles <= self.tiles:
             return
         self._release_atlas()
-        self.atlas = self.ctx.depth_texture((TILE * tiles, TILE))
+        self.tiles = tiles
+        cols, rows = self._grid()
+        self.atlas = self.ctx.depth_texture((TILE * cols, TILE * rows))
         self.atlas.compare_func = "<="  # sampler2DShadow: lit where the map is not nearer
         self.atlas.filter = (self.ctx.LINEAR, self.ctx.LINEAR)  # 2x2 PCF in hardware
         self.atlas.repeat_x = self.atlas.repeat_y = False
         self.fbo = self.ctx.framebuffer(depth_attachment=self.atlas)
-        self.tiles = tiles
 
     def draw(self, scene: Scene) -> dict | None:
         """Fill the atlas for the scene's lights; the uniforms and defines for lighting."""
-        slots = [-1] * len(scene.lights)
         casters = [i for i, light in enumerate(scene.lights) if casts_shadow(light)]
         if not casters or not scene.objects:
             return None
-        self._ensure(len(casters))
-        n = len(scene.lights)
-        matrices = np.tile(np.eye(4, dtype=np.float32), (n, 1, 1))
-        texels = np.zeros((n, 4), np.float32)
+        bounds = scene.bounds
+        faces = {i: light_view_projections(scene.lights[i], bounds) for i in casters}
+        self._ensure(sum(len(f) for f in faces.values()))
+        slots = [-1] * len(scene.lights)  # per light: its first tile (= matrix index)
+        matrices = np.tile(np.eye(4, dtype=np.float32), (max(self.tiles, 1), 1, 1))
+        texels = np.zeros((len(scene.lights), 4), np.float32)
         self.fbo.use()
         self.fbo.clear(depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        bounds = scene.bounds
-        for slot, i in enumerate(casters):
-            slots[i] = slot
-            vp, (texel0, growth) = light_view_projection(scene.lights[i], bounds)
-            self.fbo.viewport = (slot * TILE, 0, TILE, TILE)
-            for obj in scene.objects:
-                self.program.set("u_light_mvp", vp @ obj.transform)
-                self.cache.buffers(obj.mesh).vao(self.ctx, self.program.gl).render()
-            # World -> this tile of the atlas: [-1, 1] -> [0, 1], then into column `slot`.
-            tile = T.compose(TO_UNIT, T.scale((1.0 / self.tiles, 1.0, 1.0)),
-                             T.translate((slot / self.tiles, 0.0, 0.0)))
-            matrices[i] = (tile @ vp).astype(np.float32)
-            texels[i] = (texel0, growth, 1.0 / self.tiles, 0.0)
-        self.fbo.viewport = (0, 0, TILE * self.tiles, TILE)
-        return {"slots": tuple(slots), "matrices": matrices, "texels": texels}
+        tile = 0
+        cols, rows = self._grid()
+        for i in casters:
+            slots[i] = tile
+            for vp, (texel0, growth) in faces[i]:
+                col, row = tile % cols, tile // cols
+                self.fbo.viewport = (col * TILE, row * TILE, TILE, TILE)
+                for obj in scene.objects:
+                    self.program.set("u_light_mvp", vp @ obj.transform)
+                    self.cache.buffers(obj.mesh).vao(self.ctx, self.program.gl).render()
+                # World -> this tile of the atlas: clip [-1, 1] -> [0, 1] -> (col, row).
+                to_tile = T.compose(TO_UNIT, T.scale((1.0 / cols, 1.0 / rows, 1.0)),
+                                    T.translate((col / cols, row / rows, 0.0)))
+                matrices[tile] = (to_tile @ vp).astype(np.float32)
+                texels[i] = (texel0, growth, 0.0, 0.0)
+                tile += 1
+        self.fbo.viewport = (0, 0, TILE * cols, TILE * rows)
+        return {"slots": tuple(slots), "matrices": matrices, "texels": texels,
+                "tiles": self.tiles}
 
     def bind(self, prog, shadows: dict, unit: int = 1) -> None:
         """Point a lighting program at the atlas and the lights' shadow matrices."""
