@@ -97,3 +97,22 @@ def test_cli_and_scene_file_shadows(tmp_path):
     assert darker.sum() > 30 and (b - a).max() <= 1  # shadows only ever darken
     scene.write_text(scene.read_text().replace("msaa = 0", "msaa = 0\nshadows = true"))
     assert load_scene(scene).settings.shadows is True
+
+
+def test_pcf_kernel_softens_the_edge(renderer):
+    """A wider PCF kernel spreads the shadow edge over more pixel values; 0 gives the
+    hardware's 2 x 2 filter only."""
+    scene = Scene(ambient=0.2)
+    scene.add(primitives.plane(8), Material(color=(1, 1, 1), ks=0))
+    scene.add(sphere_mesh(4, RADIUS), Material(), T.translate(CENTRE))
+    scene.add_light(DirectionalLight((0.3, -1.0, 0.2)))
+    camera = Camera.look_at((0.0, 6.0, 2.5), (0.0, 0.0, 0.0), fov_y=45, near=1, far=20)
+    r = renderer(SIZE, SIZE)
+    edges = {}
+    for pcf in (0, 2):
+        frame = r.render(scene, camera, outputs=("color", "ids"), shadows=True, pcf=pcf)
+        red = frame.color[..., 0][frame.object_ids == 0].astype(int)
+        edges[pcf] = ((red > 0.2 * 255 + 20) & (red < 255 * 0.95)).sum()  # penumbra pixels
+    assert edges[2] > edges[0]
+    with pytest.raises(Exception, match="pcf must be one of"):
+        r.render(scene, camera, shadows=True, pcf=5)

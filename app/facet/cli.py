@@ -174,7 +174,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--msaa", type=int, choices=(0, 2, 4, 8), metavar="N",
                    help="multisample anti-aliasing samples for colour: 0, 2, 4 or 8 (default 4)")
     r.add_argument("--shadows", action="store_true",
-                   help="shadow maps for directional and spot lights")
+                   help="shadow maps for directional, spot and point lights")
+    r.add_argument("--pcf", type=int, default=1, choices=(0, 1, 2), metavar="R",
+                   help="shadow filter kernel radius in texels: 0 (one tap), 1 (3x3, "
+                   "default), 2 (5x5)")
     r.add_argument("--aa", metavar="MODE",
                    help="anti-aliasing: none, msaa:N, or supersampling ssaa:PATTERN:N (also "
                    "PATTERN:N) with PATTERN grid, random, poisson or jittered, e.g. "

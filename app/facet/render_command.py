@@ -175,7 +175,7 @@ def run_render(args) -> list[Path]:
             return render_turntable(renderer, scene, camera, args, channels, target,
                                     color_options, tuple(outputs), headlights, str(aa))
         frame = renderer.render(scene, camera, outputs=tuple(outputs), aa=str(aa),
-                                shadows=args.shadows or settings.shadows)
+                                shadows=args.shadows or settings.shadows, pcf=args.pcf)
     return _write_single(frame, args, channels, target, depth_path, ids_path, color_options)
 
 

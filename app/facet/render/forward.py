@@ -61,6 +61,7 @@ class Variant:
     srgb: bool = False  # vertex colours are sRGB-encoded
     shadow_slots: tuple[int, ...] | None = None  # per light: its first shadow tile, or -1
     shadow_tiles: int = 0  # tiles in the shadow atlas
+    shadow_pcf: int = 1  # PCF kernel radius in texels
 
     def defines(self) -> dict:
         spec = SHADING_MODELS[check_shading(self.shading)]
@@ -75,6 +76,7 @@ class Variant:
             slots = ", ".join(map(str, self.shadow_slots))
             d["LIGHT_SHADOW_LIST"] = f"int[{len(self.shadow_slots)}]({slots})"
             d["SHADOW_TILES"] = max(self.shadow_tiles, 1)
+            d["SHADOW_PCF"] = self.shadow_pcf
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
                  "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb}
         d.update({k: None for k, on in flags.items() if on})
@@ -132,7 +134,8 @@ class ForwardPass:
         base = Variant(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights),
                        tuple(aux_locations(aux)), camera.is_orthographic, srgb=srgb,
                        shadow_slots=shadows["slots"] if shadows else None,
-                       shadow_tiles=shadows["tiles"] if shadows else 0)
+                       shadow_tiles=shadows["tiles"] if shadows else 0,
+                       shadow_pcf=shadows["pcf"] if shadows else 1)
         intensities = np.array([to_linear(x.color) * x.intensity
                                 for x in scene.lights]).reshape(-1, 3)
         ambient = to_linear(scene.ambient)

@@ -113,13 +113,14 @@ class Renderer:
 
     def render(self, scene: Scene, camera: Camera | None = None, *, shading: str | None = None,
                outputs=DEFAULT_OUTPUTS, time: float = 0.0, aa: str | None = None,
-               shadows: bool = False) -> Frame:
+               shadows: bool = False, pcf: int = 1) -> Frame:
         """Render ``scene`` through ``camera`` (default: ``Camera.frame`` of the scene).
 
         ``aa``: ``none``, ``msaa:N`` or ``ssaa:PATTERN:N`` (facet.render.antialias); default
         the renderer's ``msaa``. Supersampled colour comes back as float32 in [0, 1] unless
         the renderer keeps 8-bit colour, in which case it is rounded to uint8. ``shadows``:
-        shadow maps for the directional and spot lights (facet.render.shadow).
+        shadow maps for every light (facet.render.shadow), filtered by a PCF kernel of
+        radius ``pcf`` texels (0, 1 or 2).
         """
         if self._closed:
             raise InputError("this Renderer is closed")
@@ -136,17 +137,17 @@ class Renderer:
                 self.set_msaa(wanted)
         # Several renderers (contexts) may live in one thread: make ours current.
         with self.ctx:
-            self._shadows = self._draw_shadows(scene) if shadows else None
+            self._shadows = self._draw_shadows(scene, pcf) if shadows else None
             if mode is not None and mode.kind == "ssaa":
                 return self._supersample(scene, camera, shading, outputs, time, mode)
             return self._render(scene, camera, shading, outputs, time)
 
-    def _draw_shadows(self, scene: Scene):
+    def _draw_shadows(self, scene: Scene, pcf: int = 1):
         from .shadow import ShadowMaps
 
         if self._shadow_maps is None:
             self._shadow_maps = ShadowMaps(self.ctx, self.cache)
-        return self._shadow_maps.draw(scene)
+        return self._shadow_maps.draw(scene, pcf)
 
     def _colour_draw(self, scene, camera, shading, **kw) -> None:
         """The colour pass, with the shadow maps of this render call if there are any."""

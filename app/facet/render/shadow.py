@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
 from ..geometry import transforms as T
 from ..gl.glsl_source import glsl_root
 from ..gl.shaders import compile_program
@@ -22,6 +23,7 @@ from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.scene import Scene
 
 TILE = 1024  # shadow map resolution per tile
+PCF_CHOICES = (0, 1, 2)  # kernel radius: one tap, 3 x 3, 5 x 5
 ATLAS_COLUMNS = 8  # tiles per atlas row (TILE x 8 = 8192 px wide, within GL limits)
 SHADOW_KINDS = (DirectionalLight, SpotLight, PointLight)
 CUBE_FOV = 95.0  # degrees per cube face (90 plus a margin for PCF at the seams)
@@ -113,8 +115,11 @@ class ShadowMaps:
         self.atlas.repeat_x = self.atlas.repeat_y = False
         self.fbo = self.ctx.framebuffer(depth_attachment=self.atlas)
 
-    def draw(self, scene: Scene) -> dict | None:
-        """Fill the atlas for the scene's lights; the uniforms and defines for lighting."""
+    def draw(self, scene: Scene, pcf: int = 1) -> dict | None:
+        """Fill the atlas for the scene's lights; the uniforms and defines for lighting.
+        ``pcf``: the filter's kernel radius in texels (``PCF_CHOICES``)."""
+        if pcf not in PCF_CHOICES:
+            raise InputError(f"pcf must be one of {PCF_CHOICES} (kernel radius), got {pcf!r}")
         casters = [i for i, light in enumerate(scene.lights) if casts_shadow(light)]
         if not casters or not scene.objects:
             return None
@@ -145,15 +150,17 @@ class ShadowMaps:
                 tile += 1
         self.fbo.viewport = (0, 0, TILE * cols, TILE * rows)
         return {"slots": tuple(slots), "matrices": matrices, "texels": texels,
-                "tiles": self.tiles}
+                "tiles": self.tiles, "pcf": pcf}
 
     def bind(self, prog, shadows: dict, unit: int = 1) -> None:
         """Point a lighting program at the atlas and the lights' shadow matrices."""
         self.atlas.use(location=unit)
         prog.set("u_shadow_atlas", unit, strict=False)
-        if "u_shadow_matrix" in prog._active or "u_shadow_matrix[0]" in prog._active:
-            prog.gl["u_shadow_matrix"].write(np.ascontiguousarray(
-                shadows["matrices"].transpose(0, 2, 1)).tobytes())  # column-major for GLSL
+        if "u_shadow_matrix" in prog._active:
+            member = prog.gl["u_shadow_matrix"]
+            # The linker may trim the array to the tiles the program can reach.
+            matrices = shadows["matrices"][:member.array_length]
+            member.write(np.ascontiguousarray(matrices.transpose(0, 2, 1)).tobytes())
         prog.set_array("u_shadow_texel", shadows["texels"], strict=False)
 
     def _release_atlas(self) -> None:
