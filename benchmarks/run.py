@@ -147,10 +147,12 @@ def main() -> None:
         models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
         cold_table(2 if a.quick else 5, models)
     import antialias
+    import shadows
     import turntable
     import viewer
 
     antialias.main()
+    shadows.main()
     turntable.main()
     viewer.main()
 
