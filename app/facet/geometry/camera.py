@@ -64,6 +64,11 @@ class Camera:
         self.intrinsics = intrinsics
         self.near = float(near)
         self.far = float(far)
+        # Thin lens for depth of field (facet.geometry.lens): lens diameter in scene units
+        # (0: a pinhole, everything sharp) and the distance of the sharp plane along the
+        # viewing axis.
+        self.aperture = 0.0
+        self.focus_distance: float | None = None
         if ortho_height is not None and not ortho_height > 0:
             raise InputError(f"ortho_height must be > 0, got {ortho_height}")
         # Validates near/far and fov up front, so a bad camera fails where it is made.
@@ -207,6 +212,7 @@ class Camera:
         moved = Camera(self.view @ np.linalg.inv(m), fov_y=self.fov_y,
                        ortho_height=self.ortho_height, intrinsics=self.intrinsics,
                        near=self.near, far=self.far)
+        moved.aperture, moved.focus_distance = self.aperture, self.focus_distance
         return moved
 
     def describe(self, width: int, height: int) -> dict:

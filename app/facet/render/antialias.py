@@ -134,3 +134,34 @@ class Accumulator:
             obj.release()
         self.program.release()
         self.resolve_program.release()
+
+
+LENS_SEED, TIME_SEED = 1, 2  # independent of the pixel pattern's seed (0)
+
+
+def distributed_sample(camera, scene, k: int, mode: AntiAliasing):
+    """Sample ``k``'s camera (a lens point, for depth of field) and scene (objects at a
+    shutter time, for motion blur), from patterns decorrelated from the pixel jitter; the
+    inputs themselves when neither effect is on."""
+    from ..geometry.lens import concentric_disk, interpolate_transform, lens_camera
+
+    n = mode.samples
+    if camera.aperture > 0:
+        disk = concentric_disk(pattern("jittered", n, LENS_SEED))
+        lx, ly = disk[k] * camera.aperture / 2.0
+        camera = lens_camera(camera, lx, ly)
+    if any(o.transform_end is not None for o in scene.objects):
+        from ..scene.scene import Scene, SceneObject
+
+        # Stratified shutter times, shuffled so they do not follow the pixel offsets.
+        order = np.random.default_rng(TIME_SEED).permutation(n)
+        t = (order[k] + 0.5) / n
+        moved = Scene.__new__(Scene)
+        moved.__dict__.update(scene.__dict__)
+        moved.objects = [o if o.transform_end is None else
+                         SceneObject(o.id, o.mesh, o.material,
+                                     interpolate_transform(o.transform, o.transform_end, t),
+                                     o.name)
+                         for o in scene.objects]
+        scene = moved
+    return camera, scene

@@ -21,13 +21,14 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry.camera import Camera
+from ..geometry.lens import check_lens
 from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import Targets
 from ..image.colorspace import linear_to_srgb, srgb_to_linear
 from ..scene.scene import Scene
-from .antialias import parse_aa
+from .antialias import distributed_sample, parse_aa
 from .forward import ForwardPass
 from .shading import check_shading
 
@@ -131,6 +132,12 @@ class Renderer:
         if camera is None:
             camera = Camera.frame(scene.bounds, aspect=self.width / self.height)
         mode = parse_aa(aa) if aa is not None else None
+        # Depth of field and motion blur are sums over samples too: they ride on
+        # supersampling (16 jittered samples unless aa asks for another pattern or count).
+        distributed = check_lens(camera) or any(o.transform_end is not None
+                                                for o in scene.objects)
+        if distributed and (mode is None or mode.kind != "ssaa"):
+            mode = parse_aa("ssaa:jittered:16")
         if mode is not None and mode.kind != "ssaa":
             wanted = mode.samples if mode.kind == "msaa" else 0
             if wanted != self.msaa:
@@ -181,9 +188,10 @@ class Renderer:
         acc.accum.use()
         acc.accum.clear(0.0, 0.0, 0.0, 0.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        for dx, dy in pattern(mode.pattern, mode.samples):
+        for k, (dx, dy) in enumerate(pattern(mode.pattern, mode.samples)):
             acc.begin_sample(tuple(float(c) for c in bg))
-            self._colour_draw(scene, camera, shading, srgb=self.srgb, time=time,
+            cam_k, scene_k = distributed_sample(camera, scene, k, mode)
+            self._colour_draw(scene_k, cam_k, shading, srgb=self.srgb, time=time,
                               jitter=jitter_matrix(dx, dy, w, h))
             acc.add_sample()
         color = acc.result(mode.samples)

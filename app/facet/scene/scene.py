@@ -29,6 +29,9 @@ class SceneObject:
     material: Material
     transform: np.ndarray = field(default_factory=lambda: np.eye(4))
     name: str = ""
+    # Motion blur: the object -> world matrix at shutter close (``transform`` is at shutter
+    # open); None for an object that does not move.
+    transform_end: np.ndarray | None = None
 
     @property
     def world_bounds(self) -> np.ndarray:
@@ -72,11 +75,12 @@ class Scene:
         self.settings = RenderSettings()
 
     def add(self, mesh: Mesh, material: Material | None = None, transform=None, *,
-            name: str = "") -> int:
+            name: str = "", transform_end=None) -> int:
         """Place ``mesh`` in the scene; returns its object id (0, 1, 2, ...).
 
         ``material`` defaults to the mesh file's own material, else a grey ``Material()``.
-        ``transform`` is the 4x4 object -> world matrix (default identity).
+        ``transform`` is the 4x4 object -> world matrix (default identity); with
+        ``transform_end`` (the matrix at shutter close) the object is motion-blurred.
         """
         if not isinstance(mesh, Mesh):
             raise InputError(f"Scene.add expects a facet.Mesh, got {type(mesh).__name__}")
@@ -85,7 +89,13 @@ class Scene:
             raise InputError(f"transform must be a finite 4x4 matrix, got shape {m.shape}")
         T.normal_matrix(m)  # rejects singular transforms here rather than at draw time
         material = material or mesh.material or Material()
-        obj = SceneObject(len(self.objects), mesh, material, m, name or mesh.name)
+        end = None
+        if transform_end is not None:
+            end = np.asarray(transform_end, dtype=np.float64)
+            if end.shape != (4, 4) or not np.all(np.isfinite(end)):
+                raise InputError("transform_end must be a finite 4x4 matrix")
+            T.normal_matrix(end)
+        obj = SceneObject(len(self.objects), mesh, material, m, name or mesh.name, end)
         self.objects.append(obj)
         return obj.id
 
