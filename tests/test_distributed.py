@@ -86,3 +86,24 @@ def test_interpolate_transform_and_bad_lens():
         camera.aperture = -1
         with pytest.raises(InputError, match="aperture must be"):
             r.render(scene, camera)
+
+
+def test_cli_and_scene_file_lens(tmp_path, capsys):
+    from facet.cli import main
+    from facet.errors import SceneError
+    from facet.scene import load_scene
+
+    out = tmp_path / "d.png"
+    assert main(["render", "--aperture", "0.2", "--focus", "5", "--size", "32x24", "-q",
+                 "-o", str(out)]) == 0 and out.exists()
+    for args, message in ((["--aperture", "0.2"], "needs a focus distance"),
+                          (["--focus", "3"], "--focus needs --aperture")):
+        assert main(["render", *args, "-o", str(tmp_path / "x.png")]) == 2
+        assert message in capsys.readouterr().err
+    scene = tmp_path / "s.toml"
+    scene.write_text('[[objects]]\nprimitive = "sphere"\n[cameras.c]\ntype = "perspective"\n'
+                     "eye = [0, 0, 4]\naperture = 0.1\nfocus_distance = 4\n")
+    assert load_scene(scene).camera().aperture == 0.1
+    scene.write_text(scene.read_text().replace("focus_distance = 4\n", ""))
+    with pytest.raises(SceneError, match="cameras.c: an aperture needs a focus distance"):
+        load_scene(scene)

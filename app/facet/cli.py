@@ -173,6 +173,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"shading model: {', '.join(SHADING_CHOICES)} (default phong)")
     r.add_argument("--msaa", type=int, choices=(0, 2, 4, 8), metavar="N",
                    help="multisample anti-aliasing samples for colour: 0, 2, 4 or 8 (default 4)")
+    r.add_argument("--aperture", type=float, default=0.0, metavar="A",
+                   help="depth of field: lens diameter in scene units (needs --focus)")
+    r.add_argument("--focus", type=float, metavar="F",
+                   help="depth of field: distance along the view that stays sharp")
     r.add_argument("--shadows", action="store_true",
                    help="shadow maps for directional, spot and point lights")
     r.add_argument("--pcf", type=int, default=1, choices=(0, 1, 2), metavar="R",

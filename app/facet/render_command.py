@@ -151,6 +151,8 @@ def run_render(args) -> list[Path]:
         camera = scene.camera(args.camera)
         if camera.intrinsics is not None and args.size is None:
             size = (camera.intrinsics.width, camera.intrinsics.height)  # its own image size
+    if args.aperture or args.focus is not None:
+        camera = _with_lens(camera, args.aperture, args.focus)
     headlights = not args.light and not scene.lights
     if args.light:
         scene.lights = []
@@ -177,6 +179,20 @@ def run_render(args) -> list[Path]:
         frame = renderer.render(scene, camera, outputs=tuple(outputs), aa=str(aa),
                                 shadows=args.shadows or settings.shadows, pcf=args.pcf)
     return _write_single(frame, args, channels, target, depth_path, ids_path, color_options)
+
+
+def _with_lens(camera, aperture: float, focus):
+    """A copy of ``camera`` with a thin lens (validated like the Python API)."""
+    import copy
+
+    from .geometry.lens import check_lens
+
+    lens = copy.copy(camera)
+    lens.aperture, lens.focus_distance = aperture, focus
+    if aperture == 0 and focus is not None:
+        raise InputError("--focus needs --aperture (a lens diameter > 0)")
+    check_lens(lens)
+    return lens
 
 
 def _anti_aliasing(args, settings):

@@ -39,7 +39,8 @@ LIGHT = {"ambient": ("color", "intensity"),
          "point": ("position", "color", "intensity", "attenuation"),
          "spot": ("position", "direction", "color", "intensity", "attenuation",
                   "inner_angle", "outer_angle")}
-CAMERA = {"perspective": ("eye", "target", "up", "fov", "near", "far"),
+CAMERA = {"perspective": ("eye", "target", "up", "fov", "near", "far", "aperture",
+                          "focus_distance"),
           "orthographic": ("eye", "target", "up", "height", "near", "far"),
           "intrinsics": ("fx", "fy", "cx", "cy", "width", "height", "pose", "near", "far")}
 TRANSFORM_OPS = ("translate", "scale", "rotate", "shear", "matrix")
@@ -406,7 +407,16 @@ class _SceneBuilder:
                 height = r.number(t.get("height", 0), f"{where}.height", above=0)
                 return Camera(view, ortho_height=height, near=near, far=far)
             fov = r.number(t.get("fov", 40.0), f"{where}.fov", above=0)
-            return Camera(view, fov_y=fov, near=near, far=far)
+            cam = Camera(view, fov_y=fov, near=near, far=far)
+            if "aperture" in t:
+                cam.aperture = r.number(t["aperture"], f"{where}.aperture", minimum=0)
+            if "focus_distance" in t:
+                cam.focus_distance = r.number(t["focus_distance"], f"{where}.focus_distance",
+                                              above=0)
+            from ..geometry.lens import check_lens
+
+            check_lens(cam)
+            return cam
         except SceneError:
             raise
         except FacetError as exc:
