@@ -74,10 +74,11 @@ def _scene(args):
     from .scene.material import Material
     from .scene.mesh import Mesh
     from .scene.scene import Scene
-    from .scene.scenefile import load_scene
 
     shader = user_shader(args)
     if args.model and Path(args.model).suffix.lower() == ".toml":
+        from .scene.scenefile import load_scene  # tomllib and the validators: scenes only
+
         if args.color is not None or args.texture is not None or shader is not None:
             raise InputError("--color, --texture and --frag apply to a single model; set "
                              "materials in the scene file instead")
