@@ -26,9 +26,20 @@ in vec3 v_color_back;
 // Eye position in world space; with VIEW_ORTHOGRAPHIC, the unit direction towards the viewer.
 uniform vec3 u_eye_world;
 uniform vec3 u_color;      // material C, linear [0, 1] (unlit)
+#ifdef OIT
+// Weighted blended order-independent transparency (McGuire and Bavoil 2013), written with
+// one additive blend for both targets: location 0 sums w a C and w a, location 1 sums
+// -log(1 - a), so that exp(-sum) is the product of the (1 - a) behind which the opaque
+// scene shows. The weight favours what is nearer: w = max(0.01, 3000 (1 - z)^3).
+uniform float u_opacity;
+#endif
 uniform int u_object_id;
 
 layout(location = 0) out vec4 f_color;
+#ifdef OIT
+layout(location = 1) out float f_reveal;
+const float OIT_MAX_OPACITY = 0.999;  // log(1 - a) stays finite
+#endif
 // Auxiliary outputs exist only when asked for (OUT_<NAME> = its location, see
 // facet.gl.targets): writing outputs nobody reads still costs a software rasteriser time.
 #ifdef OUT_DEPTH
@@ -96,5 +107,12 @@ void main() {
 #else  // SHADE_PHONG, SHADE_FLAT
     vec3 rgb = shade_scene(v_pos_world, N, V, albedo, false);
 #endif
+#ifdef OIT
+    float a = clamp(u_opacity, 0.0, OIT_MAX_OPACITY);
+    float w = max(0.01, 3000.0 * pow(1.0 - gl_FragCoord.z, 3.0));
+    f_color = vec4(rgb * a, a) * w;
+    f_reveal = -log(1.0 - a);
+#else
     f_color = vec4(rgb, 1.0);
+#endif
 }

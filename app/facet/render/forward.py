@@ -62,6 +62,7 @@ class Variant:
     shadow_slots: tuple[int, ...] | None = None  # per light: its first shadow tile, or -1
     shadow_tiles: int = 0  # tiles in the shadow atlas
     shadow_pcf: int = 1  # PCF kernel radius in texels
+    oit: bool = False  # the transparent pass (outputs to the OIT sums, facet.render.transparency)
 
     def defines(self) -> dict:
         spec = SHADING_MODELS[check_shading(self.shading)]
@@ -78,7 +79,8 @@ class Variant:
             d["SHADOW_TILES"] = max(self.shadow_tiles, 1)
             d["SHADOW_PCF"] = self.shadow_pcf
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
-                 "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb}
+                 "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb,
+                 "OIT": self.oit}
         d.update({k: None for k, on in flags.items() if on})
         return d
 
@@ -109,7 +111,7 @@ class ForwardPass:
     def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
              aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False,
              time: float = 0.0, jitter=None, shadows: dict | None = None,
-             shadow_maps=None) -> None:
+             shadow_maps=None, oit: bool = False) -> None:
         """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
         channels too. ``flip_y``: draw upside down for top-down readback. ``srgb``: inputs
         are sRGB-encoded and are linearised (facet.image.colorspace). Materials with their
@@ -135,7 +137,7 @@ class ForwardPass:
                        tuple(aux_locations(aux)), camera.is_orthographic, srgb=srgb,
                        shadow_slots=shadows["slots"] if shadows else None,
                        shadow_tiles=shadows["tiles"] if shadows else 0,
-                       shadow_pcf=shadows["pcf"] if shadows else 1)
+                       shadow_pcf=shadows["pcf"] if shadows else 1, oit=oit)
         intensities = np.array([to_linear(x.color) * x.intensity
                                 for x in scene.lights]).reshape(-1, 3)
         ambient = to_linear(scene.ambient)
@@ -172,6 +174,8 @@ class ForwardPass:
             prog.set_array("u_light_specular", intensities * m.ks, strict)
             prog.set("u_shininess", m.shininess, strict)
             prog.set("u_object_id", obj.id + 1, strict)  # 0 is "nothing" in the id target
+            if oit:
+                prog.set("u_opacity", m.opacity, strict)
             if m.texture is not None:
                 self.cache.texture(m.texture, srgb).use(location=0)
                 prog.set("u_texture", 0)

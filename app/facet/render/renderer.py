@@ -104,6 +104,7 @@ class Renderer:
         self.cache = ResourceCache(self.ctx)
         self.forward = ForwardPass(self.ctx, self.cache)
         self._accumulator = None  # supersampling targets, made on first use
+        self._transparency = None  # OIT targets, made on first use
         self._shadow_maps = None  # shadow atlas, made on first use
         self._shadows = None  # this render call's shadow data
         self._closed = False
@@ -191,8 +192,18 @@ class Renderer:
         for k, (dx, dy) in enumerate(pattern(mode.pattern, mode.samples)):
             acc.begin_sample(tuple(float(c) for c in bg))
             cam_k, scene_k = distributed_sample(camera, scene, k, mode)
-            self._colour_draw(scene_k, cam_k, shading, srgb=self.srgb, time=time,
-                              jitter=jitter_matrix(dx, dy, w, h))
+            opaque, transparent = split_transparent(scene_k)
+            jitter = jitter_matrix(dx, dy, w, h)
+            self._colour_draw(opaque, cam_k, shading, srgb=self.srgb, time=time, jitter=jitter)
+            if transparent is not None:
+                from .transparency import Transparency
+
+                if self._transparency is None:
+                    self._transparency = Transparency(self.ctx, w, h)
+                oit = self._transparency.begin(acc.sample_depth)
+                self._colour_draw(transparent, cam_k, shading, srgb=self.srgb, time=time,
+                                  jitter=jitter, oit=True)
+                self._transparency.end(oit, acc.sample)
             acc.add_sample()
         color = acc.result(mode.samples)
         if self.srgb:
@@ -204,8 +215,39 @@ class Renderer:
 
     def _render(self, scene: Scene, camera: Camera, shading: str, outputs,
                 time: float = 0.0) -> Frame:
+        opaque, transparent = split_transparent(scene)
+        if transparent is None:
+            return self._render_opaque(scene, camera, shading, outputs, time)
+        frame = self._render_opaque(opaque, camera, shading,
+                                    tuple(o for o in outputs if o != "color"), time,
+                                    keep_color="color" in outputs)
+        if "color" in outputs:
+            t = self.targets
+            if self.msaa:  # the opaque depth, single-sampled, for the transparent pass
+                t.depth_only.use()
+                t.depth_only.clear(depth=1.0)
+                self.forward.draw(opaque, camera, self.width, self.height, "unlit")
+            self._transparent_pass(transparent, camera, shading, t.zbuffer, t.color_only,
+                                   time)
+            frame.color = t.read_color()
+            if self.srgb:
+                frame.color[..., :3] = linear_to_srgb(frame.color[..., :3])
+        return frame
+
+    def _transparent_pass(self, transparent, camera, shading, zbuffer, target, time):
+        from .transparency import Transparency
+
+        if self._transparency is None:
+            self._transparency = Transparency(self.ctx, self.width, self.height)
+        oit = self._transparency.begin(zbuffer)
+        self._colour_draw(transparent, camera, shading, srgb=self.srgb, time=time, oit=True)
+        self._transparency.end(oit, target)
+
+    def _render_opaque(self, scene: Scene, camera: Camera, shading: str, outputs,
+                       time: float = 0.0, keep_color: bool = False) -> Frame:
         w, h, t = self.width, self.height, self.targets
         aux = tuple(_CHANNEL[o] for o in OUTPUTS if o in outputs and o in _CHANNEL)
+        outputs = (*outputs, "color") if keep_color and "color" not in outputs else outputs
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         bg = np.asarray(scene.background, dtype=np.float64)
         if self.srgb:
@@ -252,6 +294,9 @@ class Renderer:
             if self._accumulator is not None:
                 self._accumulator.release()
                 self._accumulator = None
+            if self._transparency is not None:
+                self._transparency.release()
+                self._transparency = None
             targets = Targets(self.ctx, width, height, self.msaa,
                               color_dtype=self.targets.color_dtype)
             self.targets.release()
@@ -326,6 +371,8 @@ class Renderer:
                 self._accumulator.release()
             if self._shadow_maps is not None:
                 self._shadow_maps.release()
+            if self._transparency is not None:
+                self._transparency.release()
             self.forward.release()
             self.cache.release()
             self.targets.release()
@@ -357,3 +404,16 @@ def _edges(scene: Scene) -> Scene:
     edges.objects = [SceneObject(o.id, o.mesh, material, o.transform, o.name)
                      for o in scene.objects]
     return edges
+
+
+def split_transparent(scene: Scene):
+    """(opaque scene, transparent scene or None): views of ``scene`` by material opacity."""
+    if all(o.material.opacity >= 1.0 for o in scene.objects):
+        return scene, None
+    parts = []
+    for keep in (lambda o: o.material.opacity >= 1.0, lambda o: o.material.opacity < 1.0):
+        view = Scene.__new__(Scene)
+        view.__dict__.update(scene.__dict__)
+        view.objects = [o for o in scene.objects if keep(o)]
+        parts.append(view)
+    return parts[0], parts[1]

@@ -39,6 +39,7 @@ class Material:
     name: str = ""
     texture: object = None
     shader: object = None  # a facet.scene.shader.UserShader: the material's own GLSL
+    opacity: float = 1.0  # < 1: transparent (order-independent, facet.render.transparency)
 
     def __post_init__(self):
         from .texture import Texture
@@ -52,6 +53,11 @@ class Material:
         if self.shader is not None and not isinstance(self.shader, UserShader):
             raise InputError(f"material shader must be a facet UserShader, got "
                              f"{type(self.shader).__name__}")
+        if not (isinstance(self.opacity, (int, float, np.floating)) and
+                0.0 <= self.opacity <= 1.0):
+            raise InputError(f"material opacity must be a number in [0, 1], got "
+                             f"{self.opacity!r}")
+        self.opacity = float(self.opacity)
         for key in ("ka", "kd", "ks", "shininess"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):

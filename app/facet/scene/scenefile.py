@@ -30,8 +30,8 @@ from .validate import show as _show
 TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms")
 RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb",
           "shadows")
-MATERIAL = ("color", "ka", "kd", "ks", "shininess", "texture", "shader", "vertex_shader",
-            "uniforms")
+MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "texture", "shader",
+            "vertex_shader", "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "matrix", "parent", "flat",
           *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
 LIGHT = {"ambient": ("color", "intensity"),
@@ -139,6 +139,10 @@ class _SceneBuilder:
         for key in ("ka", "kd", "ks", "shininess"):
             if key in t:
                 kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+        if "opacity" in t:
+            kw["opacity"] = r.number(t["opacity"], f"{where}.opacity", minimum=0)
+            if kw["opacity"] > 1:
+                r.fail(f"{where}.opacity", f"expected a number in [0, 1], got {t['opacity']}")
         if "texture" in t:
             kw["texture"] = self.texture(t["texture"], f"{where}.texture")
         if "shader" in t:
