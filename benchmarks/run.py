@@ -148,11 +148,13 @@ def main() -> None:
         cold_table(2 if a.quick else 5, models)
     import antialias
     import shadows
+    import transparency
     import turntable
     import viewer
 
     antialias.main()
     shadows.main()
+    transparency.main()
     turntable.main()
     viewer.main()
 
