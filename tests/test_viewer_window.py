@@ -115,24 +115,16 @@ def test_drag_scroll_keys_and_quit(window):
     assert w.quit() == 0
 
 
-def test_screenshot_matches_the_headless_render(window, tmp_path):
-    """`s` saves the window's picture and its camera; a headless render through that camera
-    gives the same image (edge pixels may differ by rasterisation order)."""
+def _shot_and_headless(path, msaa=0, **render_kwargs):
+    """A viewer screenshot of the bundled model, and a headless render through the camera
+    its JSON records (same lights: the rig follows the camera)."""
     from facet.geometry.camera import Camera
     from facet.render.renderer import Renderer
     from facet.scene import Mesh, Scene
     from facet.scene.light import camera_rig
 
-    w = window()
-    w.key("s")
-    for _ in range(50):
-        shots = sorted(tmp_path.glob("facet-*.png"))
-        if shots:
-            break
-        time.sleep(0.1)
-    assert w.quit() == 0
-    shot = np.asarray(Image.open(shots[0]))
-    info = json.loads(shots[0].with_suffix(".json").read_text())
+    shot = np.asarray(Image.open(path))
+    info = json.loads(path.with_suffix(".json").read_text())
     assert shot.shape == (H, W, 3) and (info["width"], info["height"]) == (W, H)
     camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
                     far=info["far"])
@@ -140,8 +132,18 @@ def test_screenshot_matches_the_headless_render(window, tmp_path):
     scene.add(Mesh.load(ROOT / "models" / "default.obj"))
     for light in camera_rig(camera.view):
         scene.add_light(light)
-    with Renderer(W, H, msaa=4) as r:
-        ref = r.render(scene, camera).color[..., :3]
+    with Renderer(W, H, msaa=msaa) as r:
+        return shot, r.render(scene, camera, **render_kwargs).color[..., :3]
+
+
+def test_screenshot_matches_the_headless_render(window, tmp_path):
+    """`s` saves the window's picture and its camera; a headless render through that camera
+    gives the same image (edge pixels may differ by rasterisation order)."""
+    w = window()
+    w.key("s")
+    shots = _wait_for(tmp_path, "facet-*.png")
+    assert w.quit() == 0
+    shot, ref = _shot_and_headless(shots[0], msaa=4)
     from test_golden import CHANNEL_TOL, MAX_DIFFERING  # the one tolerance table
 
     diff = np.abs(shot.astype(int) - ref).max(axis=2)
@@ -346,10 +348,6 @@ def test_viewer_mesh_shader_hot_reload(window, tmp_path):
 def test_progressive_supersampling_matches_headless(window, tmp_path):
     """`a` cycles to ssaa:jittered:16: with the camera still the window refines to the same
     picture as a headless render with aa="ssaa:jittered:16" (golden tolerance)."""
-    from facet.geometry.camera import Camera
-    from facet.render.renderer import Renderer
-    from facet.scene import Mesh, Scene
-    from facet.scene.light import camera_rig
     from test_golden import CHANNEL_TOL, MAX_DIFFERING
 
     w = window()
@@ -359,15 +357,6 @@ def test_progressive_supersampling_matches_headless(window, tmp_path):
     w.key("s")
     shots = _wait_for(tmp_path, "facet-*.png")
     assert w.quit() == 0 and "aa: ssaa:jittered:16" in w.proc.stdout.read()
-    shot = np.asarray(Image.open(shots[0]))
-    info = json.loads(shots[0].with_suffix(".json").read_text())
-    camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
-                    far=info["far"])
-    scene = Scene()
-    scene.add(Mesh.load(ROOT / "models" / "default.obj"))
-    for light in camera_rig(camera.view):
-        scene.add_light(light)
-    with Renderer(W, H) as r:
-        ref = r.render(scene, camera, aa="ssaa:jittered:16").color[..., :3]
+    shot, ref = _shot_and_headless(shots[0], aa="ssaa:jittered:16")
     diff = np.abs(shot.astype(int) - ref).max(axis=2)
     assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import FacetError, InputError
+from .errors import FacetError
 from .gl.glsl_source import file_digest
 from .viewer_actions import ViewerActions
 from .viewer_keys import KEYMAP
@@ -374,9 +374,3 @@ def view(scene, size=(1280, 720), msaa: int = 4, shader=None) -> None:
     ``shader`` (a UserShader) replaces the file's materials' shaders."""
     with Viewer(scene, size, msaa, shader=shader) as v:
         v.run()
-
-
-def check_size(size) -> tuple[int, int]:
-    if len(size) != 2 or min(size) < 1:
-        raise InputError(f"window size must be two integers >= 1, got {size!r}")
-    return int(size[0]), int(size[1])
