@@ -26,6 +26,14 @@ in vec3 v_color_back;
 // Eye position in world space; with VIEW_ORTHOGRAPHIC, the unit direction towards the viewer.
 uniform vec3 u_eye_world;
 uniform vec3 u_color;      // material C, linear [0, 1] (unlit)
+#ifdef HAS_ENVIRONMENT
+// Reflection and refraction of the environment (facet.scene.environment): the colour is
+// mixed towards the environment by u_reflectivity; with u_ior > 0 the environment colour is
+// the refraction and reflection weighted by Schlick's Fresnel term.
+uniform samplerCube u_environment;
+uniform float u_reflectivity;
+uniform float u_ior;
+#endif
 #ifdef OIT
 // Weighted blended order-independent transparency (McGuire and Bavoil 2013), written with
 // one additive blend for both targets: location 0 sums w a C and w a, location 1 sums
@@ -106,6 +114,17 @@ void main() {
     vec3 rgb = shade_scene(v_pos_world, N, V, albedo, true);
 #else  // SHADE_PHONG, SHADE_FLAT
     vec3 rgb = shade_scene(v_pos_world, N, V, albedo, false);
+#endif
+#ifdef HAS_ENVIRONMENT
+    vec3 reflected = texture(u_environment, reflect(-V, N)).rgb;
+    vec3 env = reflected;
+    if (u_ior > 0.0) {
+        float f0 = pow((u_ior - 1.0) / (u_ior + 1.0), 2.0);
+        float fresnel = f0 + (1.0 - f0) * pow(1.0 - max(dot(N, V), 0.0), 5.0);
+        vec3 refracted = texture(u_environment, refract(-V, N, 1.0 / u_ior)).rgb;
+        env = mix(refracted, reflected, fresnel);
+    }
+    rgb = mix(rgb, env, u_reflectivity);
 #endif
 #ifdef OIT
     float a = clamp(u_opacity, 0.0, OIT_MAX_OPACITY);

@@ -118,6 +118,22 @@ class ResourceCache:
         self.uploads += 1
         return bufs
 
+    def cube(self, environment) -> moderngl.TextureCube:
+        """The environment's cube map (float faces), mipmapped; cached like textures."""
+        key = (id(environment), "cube")
+        entry = self._textures.get(key)
+        if entry is not None and entry[0]() is environment:
+            return entry[1]
+        if entry is not None:
+            entry[1].release()
+        s = environment.size
+        tex = self.ctx.texture_cube((s, s), 3, environment.faces.astype("f4").tobytes(),
+                                    dtype="f4")
+        tex.build_mipmaps()
+        tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        self._textures[key] = (weakref.ref(environment), tex)
+        return tex
+
     def sweep(self) -> None:
         """Release the GPU copies of meshes and textures that no longer exist."""
         for key in [k for k, (ref, _) in self._entries.items() if ref() is None]:

@@ -26,6 +26,7 @@ from .user_shaders import UserPrograms
 
 LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in lighting.glsl
 LIGHTS_BINDING = 0
+ENV_UNIT = 2  # texture unit of the environment cube (0: material texture, 1: shadow atlas)
 
 
 def pack_lights(scene: Scene, to_linear=np.asarray) -> bytes:
@@ -63,6 +64,7 @@ class Variant:
     shadow_tiles: int = 0  # tiles in the shadow atlas
     shadow_pcf: int = 1  # PCF kernel radius in texels
     oit: bool = False  # the transparent pass (outputs to the OIT sums, facet.render.transparency)
+    environment: bool = False  # reflects / refracts the scene's environment
 
     def defines(self) -> dict:
         spec = SHADING_MODELS[check_shading(self.shading)]
@@ -80,7 +82,7 @@ class Variant:
             d["SHADOW_PCF"] = self.shadow_pcf
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
                  "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb,
-                 "OIT": self.oit}
+                 "OIT": self.oit, "HAS_ENVIRONMENT": self.environment}
         d.update({k: None for k, on in flags.items() if on})
         return d
 
@@ -93,6 +95,7 @@ class ForwardPass:
         self.cache = cache
         self.programs: dict[Variant, Program] = {}
         self.user = UserPrograms(ctx, cache.forget_program)
+        self._sky = None  # the environment background program, made on first use
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights(Scene())))
         self._lights_bytes = b""
 
@@ -111,13 +114,15 @@ class ForwardPass:
     def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
              aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False,
              time: float = 0.0, jitter=None, shadows: dict | None = None,
-             shadow_maps=None, oit: bool = False) -> None:
+             shadow_maps=None, oit: bool = False, colour_pass: bool = True) -> None:
         """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
         channels too. ``flip_y``: draw upside down for top-down readback. ``srgb``: inputs
         are sRGB-encoded and are linearised (facet.image.colorspace). Materials with their
         own shader use it for colour (``aux`` passes always use the built-in one); ``time``
         is their ``u_time``. ``jitter``: a clip-space shift (supersampling, antialias.py).
-        ``shadows``: what ``ShadowMaps.draw`` returned (``shadow_maps``) for this scene."""
+        ``shadows``: what ``ShadowMaps.draw`` returned (``shadow_maps``) for this scene.
+        ``colour_pass``: False for passes that only fill depth or the exact channels (no
+        background, no environment lookups)."""
         to_linear = srgb_to_linear if srgb else np.asarray
         lights = pack_lights(scene, to_linear)
         if lights != self._lights_bytes:
@@ -133,6 +138,9 @@ class ForwardPass:
         # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
         eye = tuple(float(v) for v in (-camera.forward if camera.is_orthographic
                                        else camera.eye))
+        env = scene.environment
+        if env is not None and colour_pass and not oit:
+            self._draw_sky(env, view_projection, width, height)
         base = Variant(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights),
                        tuple(aux_locations(aux)), camera.is_orthographic, srgb=srgb,
                        shadow_slots=shadows["slots"] if shadows else None,
@@ -148,8 +156,10 @@ class ForwardPass:
             if user:
                 prog = self.user.program(m.shader, base.defines())
             else:
-                prog = self.program(replace(base, texture=m.texture is not None,
-                                            vertex_colors=obj.mesh.colors is not None))
+                prog = self.program(replace(
+                    base, texture=m.texture is not None,
+                    vertex_colors=obj.mesh.colors is not None,
+                    environment=env is not None and m.reflectivity > 0 and colour_pass))
             strict = not user  # a user's shader need not declare every standard input
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 prog.set("u_view", camera.view, strict)
@@ -176,12 +186,36 @@ class ForwardPass:
             prog.set("u_object_id", obj.id + 1, strict)  # 0 is "nothing" in the id target
             if oit:
                 prog.set("u_opacity", m.opacity, strict)
+            if env is not None and m.reflectivity > 0 and colour_pass and not user:
+                self.cache.cube(env).use(location=ENV_UNIT)
+                prog.set("u_environment", ENV_UNIT)
+                prog.set("u_reflectivity", m.reflectivity)
+                prog.set("u_ior", m.ior)
             if m.texture is not None:
                 self.cache.texture(m.texture, srgb).use(location=0)
                 prog.set("u_texture", 0)
             self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
 
+    def _draw_sky(self, env, view_projection, width: int, height: int) -> None:
+        """The environment behind everything: a full-screen pass, no depth test or write."""
+        if self._sky is None:
+            root = glsl_root()
+            prog = compile_program(self.ctx, root / "shadertoy" / "fullscreen.vert",
+                                   root / "post" / "sky.frag")
+            self._sky = (prog, self.ctx.vertex_array(prog.gl, []))
+        prog, vao = self._sky
+        self.cache.cube(env).use(location=ENV_UNIT)
+        prog.set("u_environment", ENV_UNIT)
+        prog.set("u_inv_view_projection", np.linalg.inv(view_projection))
+        prog.set("u_viewport", (float(width), float(height)))
+        self.ctx.disable(self.ctx.DEPTH_TEST)
+        vao.render(vertices=3)
+        self.ctx.enable(self.ctx.DEPTH_TEST)
+
     def release(self) -> None:
+        if self._sky is not None:
+            self._sky[1].release()
+            self._sky[0].release()
         self.user.release()
         for prog in self.programs.values():
             self.cache.forget_program(prog.gl)

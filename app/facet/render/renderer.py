@@ -226,7 +226,8 @@ class Renderer:
             if self.msaa:  # the opaque depth, single-sampled, for the transparent pass
                 t.depth_only.use()
                 t.depth_only.clear(depth=1.0)
-                self.forward.draw(opaque, camera, self.width, self.height, "unlit")
+                self.forward.draw(opaque, camera, self.width, self.height, "unlit",
+                                  colour_pass=False)
             self._transparent_pass(transparent, camera, shading, t.zbuffer, t.color_only,
                                    time)
             frame.color = t.read_color()
@@ -259,7 +260,8 @@ class Renderer:
             # Exact, unblended channels at pixel centres from the built-in shader, then the
             # colour on its own (multisampled, or through the users' shaders).
             t.begin_aux(aux, bg)
-            self.forward.draw(scene, camera, w, h, "unlit", aux=aux, srgb=srgb)
+            self.forward.draw(scene, camera, w, h, "unlit", aux=aux, srgb=srgb,
+                              colour_pass=False)
             aux_done = True
         else:
             aux_done = False

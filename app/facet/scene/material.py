@@ -40,6 +40,8 @@ class Material:
     texture: object = None
     shader: object = None  # a facet.scene.shader.UserShader: the material's own GLSL
     opacity: float = 1.0  # < 1: transparent (order-independent, facet.render.transparency)
+    reflectivity: float = 0.0  # mix towards the scene's environment (reflection/refraction)
+    ior: float = 0.0  # index of refraction (> 1) for refraction with Fresnel; 0: none
 
     def __post_init__(self):
         from .texture import Texture
@@ -58,6 +60,12 @@ class Material:
             raise InputError(f"material opacity must be a number in [0, 1], got "
                              f"{self.opacity!r}")
         self.opacity = float(self.opacity)
+        if not (isinstance(self.reflectivity, (int, float)) and 0 <= self.reflectivity <= 1):
+            raise InputError(f"material reflectivity must be in [0, 1], got "
+                             f"{self.reflectivity!r}")
+        if not (isinstance(self.ior, (int, float)) and (self.ior == 0 or 1 <= self.ior <= 5)):
+            raise InputError(f"material ior must be 0 (none) or in [1, 5], got {self.ior!r}")
+        self.reflectivity, self.ior = float(self.reflectivity), float(self.ior)
         for key in ("ka", "kd", "ks", "shininess"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):

@@ -73,6 +73,8 @@ class Scene:
         self.lights: list[Light] = []
         self.cameras: dict[str, Camera] = {}
         self.settings = RenderSettings()
+        # A facet.scene.environment.Environment: background and reflection source.
+        self.environment = None
 
     def add(self, mesh: Mesh, material: Material | None = None, transform=None, *,
             name: str = "", transform_end=None) -> int:
