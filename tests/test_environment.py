@@ -91,3 +91,25 @@ def test_cube_map_inputs(tmp_path):
         Material(reflectivity=2)
     with pytest.raises(InputError, match="ior must be"):
         Material(ior=0.5)
+
+
+def test_cli_and_scene_file_environment(tmp_path, capsys):
+    from facet.cli import main
+    from facet.errors import SceneError
+    from facet.scene import load_scene
+
+    out = tmp_path / "e.png"
+    assert main(["render", "--env", "sky", "--size", "32x24", "-q", "-o", str(out)]) == 0
+    img = np.asarray(Image.open(out))
+    assert img[0, 0, 2] > 150  # sky, not the black default background
+    assert main(["render", "--env", str(tmp_path / "none.png"), "-o",
+                 str(tmp_path / "x.png")]) == 2
+    assert "no such texture file" in capsys.readouterr().err
+    scene = tmp_path / "s.toml"
+    scene.write_text('environment = "sky"\n[materials.chrome]\nreflectivity = 1\nior = 1.5\n'
+                     '[[objects]]\nprimitive = "sphere"\nmaterial = "chrome"\n')
+    loaded = load_scene(scene)
+    assert loaded.environment is not None and loaded.objects[0].material.ior == 1.5
+    scene.write_text('environment = "missing-folder-or-file"\n')
+    with pytest.raises(SceneError, match="environment: .*no such texture file"):
+        load_scene(scene)

@@ -177,6 +177,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="depth of field: lens diameter in scene units (needs --focus)")
     r.add_argument("--focus", type=float, metavar="F",
                    help="depth of field: distance along the view that stays sharp")
+    r.add_argument("--env", metavar="sky|IMAGE|DIR",
+                   help="environment: a generated sky, an equirectangular image, or a folder "
+                   "of six cube faces (px nx py ny pz nz); background and reflections")
     r.add_argument("--shadows", action="store_true",
                    help="shadow maps for directional, spot and point lights")
     r.add_argument("--pcf", type=int, default=1, choices=(0, 1, 2), metavar="R",

@@ -154,6 +154,10 @@ def run_render(args) -> list[Path]:
             size = (camera.intrinsics.width, camera.intrinsics.height)  # its own image size
     if args.aperture or args.focus is not None:
         camera = _with_lens(camera, args.aperture, args.focus)
+    if args.env:
+        from .scene.environment import load_environment
+
+        scene.environment = load_environment(args.env)
     headlights = not args.light and not scene.lights
     if args.light:
         scene.lights = []

@@ -92,3 +92,20 @@ class Environment:
     @property
     def size(self) -> int:
         return self.faces.shape[1]
+
+
+def load_environment(spec: str, base: Path | None = None) -> Environment:
+    """``sky``, an equirectangular image file, or a folder with px/nx/py/ny/pz/nz images."""
+    if spec == "sky":
+        return Environment.sky()
+    path = Path(base or ".") / spec
+    if path.is_dir():
+        faces = []
+        for name in FACE_NAMES:
+            found = sorted(path.glob(f"{name}.*"))
+            if not found:
+                raise InputError(f"{path}: no {name}.* face image (a cube map folder holds "
+                                 f"{', '.join(FACE_NAMES)})")
+            faces.append(found[0])
+        return Environment.from_faces(faces)
+    return Environment.from_equirect(path)

@@ -27,11 +27,11 @@ from .validate import AnyKey as _Any
 from .validate import Reader as _Reader
 from .validate import show as _show
 
-TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms")
+TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms", "environment")
 RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb",
           "shadows")
-MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "texture", "shader",
-            "vertex_shader", "uniforms")
+MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
+            "texture", "shader", "vertex_shader", "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "matrix", "parent", "flat",
           *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
 LIGHT = {"ambient": ("color", "intensity"),
@@ -80,6 +80,14 @@ class _SceneBuilder:
                                             _Any()).items()}
         self.objects(scene, data.get("objects", []), materials)
         self.lights(scene, data.get("lights", []))
+        if "environment" in data:
+            from .environment import load_environment
+
+            spec = r.string(data["environment"], "environment")
+            try:
+                scene.environment = load_environment(spec, self.base)
+            except FacetError as exc:
+                r.fail("environment", str(exc))
         cameras = r.table(data.get("cameras", {}), "cameras", _Any())
         for name, cam in cameras.items():
             scene.add_camera(name, self.camera(cam, f"cameras.{name}", scene))
@@ -139,6 +147,11 @@ class _SceneBuilder:
         for key in ("ka", "kd", "ks", "shininess"):
             if key in t:
                 kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+        for key, hi in (("reflectivity", 1.0), ("ior", 5.0)):
+            if key in t:
+                kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+                if kw[key] > hi:
+                    r.fail(f"{where}.{key}", f"expected a number in [0, {hi:g}], got {t[key]}")
         if "opacity" in t:
             kw["opacity"] = r.number(t["opacity"], f"{where}.opacity", minimum=0)
             if kw["opacity"] > 1:
