@@ -3,14 +3,15 @@ cube-map inputs."""
 
 import numpy as np
 import pytest
-from conftest import sphere_mesh
 from PIL import Image
-from reference import erode, pixel_rays
 
 from facet.errors import InputError
 from facet.geometry.camera import Camera
 from facet.scene import Material, Scene
 from facet.scene.environment import Environment, face_directions, sky_color
+
+from conftest import sphere_mesh
+from reference import erode, pixel_rays
 
 S = 96
 CAMERA = Camera.look_at((0.0, 0.6, 4.0), (0, 0, 0), ortho_height=2.6, near=1, far=10)
