@@ -116,3 +116,35 @@ def test_pcf_kernel_softens_the_edge(renderer):
     assert edges[2] > edges[0]
     with pytest.raises(Exception, match="pcf must be one of"):
         r.render(scene, camera, shadows=True, pcf=5)
+
+
+def test_area_light_penumbra_grows_with_its_size(renderer):
+    """An area light's shadow has a penumbra as wide as similar triangles say:
+    w = L (d_receiver - d_occluder) / d_occluder, measured across the shadow's edge."""
+    from facet.scene import AreaLight
+
+    r = renderer(SIZE, SIZE)
+    camera = Camera.look_at((0.0, 6.0, 0.001), (0.0, 0.0, 0.0), ortho_height=4.0, near=1,
+                            far=10)
+    widths = {}
+    for size in (0.0001, 0.8):
+        scene = Scene(ambient=0.0)
+        scene.add(primitives.plane(8), Material(color=(1, 1, 1), ka=0, kd=1, ks=0))
+        # A wide thin slab at height 1 casts a straight edge along x = 0 on the plane.
+        scene.add(primitives.cube((2.0, 0.02, 4.0)), Material(), T.translate((-1.0, 1.0, 0)))
+        scene.add_light(AreaLight((0, 3.0, 0), (0, -1, 0), (size, size), attenuation=(1, 0, 0)))
+        frame = r.render(scene, camera, shadows=True, aa="ssaa:jittered:64",
+                         outputs=("color", "ids", "position"))
+        open_ = r.render(scene, camera, aa="ssaa:jittered:64").color
+        row = frame.color[SIZE // 2, :, 0].astype(float)
+        visible = row / np.maximum(open_[SIZE // 2, :, 0].astype(float), 1.0)
+        x = frame.position[SIZE // 2, :, 0]
+        plane = frame.object_ids[SIZE // 2] == 0
+        ramp = plane & (visible > 0.1) & (visible < 0.9)
+        widths[size] = (x[ramp].max() - x[ramp].min()) if ramp.any() else 0.0
+    # Similar triangles from the light (height 3): occluder at distance 2, plane at 3, so
+    # the penumbra is L (3 - 2) / 2 = 0.4 wide, centred on the edge's point-light shadow
+    # (x = 0). Seen from above the slab hides its inner half; the outer half rises linearly
+    # from visibility 1/2 at x = 0 to 1 at x = 0.2, so 0.1 < v < 0.9 spans 0.8 x 0.2 = 0.16.
+    assert widths[0.0001] < 0.05
+    assert abs(widths[0.8] - 0.16) < 0.04, widths

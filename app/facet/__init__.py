@@ -27,6 +27,7 @@ _EXPORTS = {
     "DirectionalLight": "facet.scene.light",
     "PointLight": "facet.scene.light",
     "SpotLight": "facet.scene.light",
+    "AreaLight": "facet.scene.light",
     "Scene": "facet.scene.scene",
     "RenderSettings": "facet.scene.scene",
     "load_scene": "facet.scene",

@@ -136,7 +136,28 @@ class Accumulator:
         self.resolve_program.release()
 
 
-LENS_SEED, TIME_SEED = 1, 2  # independent of the pixel pattern's seed (0)
+LENS_SEED, TIME_SEED, AREA_SEED = 1, 2, 3  # independent of the pixel pattern's seed (0)
+
+
+def has_area_lights(scene) -> bool:
+    from ..scene.light import AreaLight
+
+    return any(isinstance(light, AreaLight) for light in scene.lights)
+
+
+def point_lights_for(scene, k: int | None = None, n: int = 1):
+    """The scene with each area light replaced by a point light: at sample ``k`` of a
+    jittered pattern over its rectangle, or at its centre (``k`` None)."""
+    from ..scene.light import AreaLight
+    from ..scene.scene import Scene
+
+    if not has_area_lights(scene):
+        return scene
+    uv = pattern("jittered", n, AREA_SEED)[k] if k is not None else (0.0, 0.0)
+    view = Scene.__new__(Scene)
+    view.__dict__.update(scene.__dict__)
+    view.lights = [x.point_light(*uv) if isinstance(x, AreaLight) else x for x in scene.lights]
+    return view
 
 
 def distributed_sample(camera, scene, k: int, mode: AntiAliasing):
@@ -146,6 +167,7 @@ def distributed_sample(camera, scene, k: int, mode: AntiAliasing):
     from ..geometry.lens import concentric_disk, interpolate_transform, lens_camera
 
     n = mode.samples
+    scene = point_lights_for(scene, k, n)
     if camera.aperture > 0:
         disk = concentric_disk(pattern("jittered", n, LENS_SEED))
         lx, ly = disk[k] * camera.aperture / 2.0

@@ -28,7 +28,7 @@ from ..gl.resources import ResourceCache
 from ..gl.targets import Targets
 from ..image.colorspace import linear_to_srgb, srgb_to_linear
 from ..scene.scene import Scene
-from .antialias import distributed_sample, parse_aa
+from .antialias import distributed_sample, has_area_lights, parse_aa, point_lights_for
 from .forward import ForwardPass
 from .shading import check_shading
 
@@ -107,6 +107,7 @@ class Renderer:
         self._transparency = None  # OIT targets, made on first use
         self._shadow_maps = None  # shadow atlas, made on first use
         self._shadows = None  # this render call's shadow data
+        self._shadows_on, self._pcf = False, 1  # what the supersampling render asked for
         self._closed = False
 
     @property
@@ -136,7 +137,8 @@ class Renderer:
         # Depth of field and motion blur are sums over samples too: they ride on
         # supersampling (16 jittered samples unless aa asks for another pattern or count).
         distributed = check_lens(camera) or any(o.transform_end is not None
-                                                for o in scene.objects)
+                                                for o in scene.objects) or (
+            shadows and has_area_lights(scene))
         if distributed and (mode is None or mode.kind != "ssaa"):
             mode = parse_aa("ssaa:jittered:16")
         if mode is not None and mode.kind != "ssaa":
@@ -145,9 +147,12 @@ class Renderer:
                 self.set_msaa(wanted)
         # Several renderers (contexts) may live in one thread: make ours current.
         with self.ctx:
-            self._shadows = self._draw_shadows(scene, pcf) if shadows else None
             if mode is not None and mode.kind == "ssaa":
+                self._pcf = pcf
+                self._shadows_on = shadows
                 return self._supersample(scene, camera, shading, outputs, time, mode)
+            scene = point_lights_for(scene)  # an area light without samples: its centre
+            self._shadows = self._draw_shadows(scene, pcf) if shadows else None
             return self._render(scene, camera, shading, outputs, time)
 
     def _draw_shadows(self, scene: Scene, pcf: int = 1):
@@ -176,7 +181,11 @@ class Renderer:
 
         w, h = self.width, self.height
         others = tuple(o for o in outputs if o != "color")
-        frame = self._render(scene, camera, shading, others, time) if others else \
+        centre = point_lights_for(scene)
+        # Shadow maps once per render, unless area lights move their point lights per sample.
+        per_sample_shadows = self._shadows_on and has_area_lights(scene)
+        self._shadows = self._draw_shadows(centre, self._pcf) if self._shadows_on else None
+        frame = self._render(centre, camera, shading, others, time) if others else \
             Frame(None, None, None, camera, size=(w, h))
         if "color" not in outputs:
             return frame
@@ -192,6 +201,9 @@ class Renderer:
         for k, (dx, dy) in enumerate(pattern(mode.pattern, mode.samples)):
             acc.begin_sample(tuple(float(c) for c in bg))
             cam_k, scene_k = distributed_sample(camera, scene, k, mode)
+            if per_sample_shadows:
+                self._shadows = self._draw_shadows(scene_k, self._pcf)
+                acc.begin_sample(tuple(float(c) for c in bg))  # the maps bound their own fbo
             opaque, transparent = split_transparent(scene_k)
             jitter = jitter_matrix(dx, dy, w, h)
             self._colour_draw(opaque, cam_k, shading, srgb=self.srgb, time=time, jitter=jitter)
@@ -311,6 +323,7 @@ class Renderer:
         into the window. ``wireframe`` overlays the triangle edges."""
         shading = check_shading(shading or self.shading)
         w, h, t = self.width, self.height, self.targets
+        scene = point_lights_for(scene)
         self._shadows = self._draw_shadows(scene) if shadows else None  # own framebuffer
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         bg = tuple(float(c) for c in scene.background)
@@ -340,6 +353,7 @@ class Renderer:
         mode = parse_aa(aa)
         if mode.kind != "ssaa":
             raise InputError(f"progressive rendering needs ssaa, got {aa!r}")
+        scene = point_lights_for(scene)
         shading = check_shading(shading or self.shading)
         w, h = self.width, self.height
         if self._accumulator is None:

@@ -1,7 +1,7 @@
 """Scene description without GL: meshes, materials, lights and the scene that holds them."""
 
 from . import primitives
-from .light import DirectionalLight, PointLight, SpotLight
+from .light import AreaLight, DirectionalLight, PointLight, SpotLight
 from .material import Material
 from .mesh import Mesh
 from .scene import MAX_LIGHTS, RenderSettings, Scene, SceneObject
@@ -14,5 +14,5 @@ def load_scene(path) -> Scene:
 
     return _load(path)
 
-__all__ = ["DirectionalLight", "PointLight", "SpotLight", "Material", "Mesh", "Scene",
+__all__ = ["AreaLight", "DirectionalLight", "PointLight", "SpotLight", "Material", "Mesh", "Scene",
            "SceneObject", "MAX_LIGHTS", "RenderSettings", "load_scene", "primitives", "Texture"]

@@ -63,6 +63,7 @@ class PointLight:
     color: np.ndarray = field(default_factory=lambda: np.ones(3))
     intensity: float = 1.0
     attenuation: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0]))
+    cast_shadows: bool = True
 
     def __post_init__(self):
         self.position = _vec3(self.position, "light position")
@@ -94,7 +95,45 @@ class SpotLight:
                              f"got {self.inner_angle}, {self.outer_angle}")
 
 
-Light = DirectionalLight | PointLight | SpotLight
+@dataclass
+class AreaLight:
+    """A rectangle of ``size`` (width, height) centred at ``position`` and facing ``normal``,
+    emitting ``color * intensity`` in total. Rendered by supersampling: each sample replaces
+    it by a point light at another point of its area (a jittered pattern), so shadow edges
+    turn into penumbrae (notes §2.11). A render without supersampling uses its centre."""
+
+    position: np.ndarray = field(default_factory=lambda: np.array([0.0, 5.0, 0.0]))
+    normal: np.ndarray = field(default_factory=lambda: np.array([0.0, -1.0, 0.0]))
+    size: tuple = (1.0, 1.0)
+    color: np.ndarray = field(default_factory=lambda: np.ones(3))
+    intensity: float = 1.0
+    attenuation: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0]))
+    cast_shadows: bool = True
+
+    def __post_init__(self):
+        self.position = _vec3(self.position, "light position")
+        n = _vec3(self.normal, "area light normal", nonzero=True)
+        self.normal = n / np.linalg.norm(n)
+        w, h = (float(v) for v in self.size)
+        if not (np.isfinite(w) and np.isfinite(h) and w > 0 and h > 0):
+            raise InputError(f"area light size must be two numbers > 0, got {self.size!r}")
+        self.size = (w, h)
+        self.color = as_color(self.color, "light color")
+        self.intensity = _intensity(self.intensity)
+        self.attenuation = _attenuation(self.attenuation)
+
+    def point_light(self, u: float = 0.0, v: float = 0.0) -> PointLight:
+        """The point light at (u, v) in [-0.5, 0.5]^2 of the rectangle."""
+        n = self.normal
+        a = np.cross(n, (0.0, 1.0, 0.0) if abs(n[1]) < 0.99 else (1.0, 0.0, 0.0))
+        a /= np.linalg.norm(a)
+        b = np.cross(n, a)
+        p = self.position + a * u * self.size[0] + b * v * self.size[1]
+        return PointLight(p, self.color, self.intensity, self.attenuation,
+                          cast_shadows=self.cast_shadows)
+
+
+Light = DirectionalLight | PointLight | SpotLight | AreaLight
 
 
 # Default rig in camera space (x right, y up, looking down -z), as directions of travel:

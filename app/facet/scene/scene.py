@@ -12,7 +12,7 @@ import numpy as np
 from ..errors import InputError
 from ..geometry import transforms as T
 from ..geometry.camera import Camera
-from .light import DirectionalLight, Light, PointLight, SpotLight
+from .light import AreaLight, DirectionalLight, Light, PointLight, SpotLight
 from .material import Material, as_color
 from .mesh import Mesh
 
@@ -103,7 +103,7 @@ class Scene:
 
     def add_light(self, light: Light) -> Light:
         """Add a light (at most ``MAX_LIGHTS``)."""
-        if not isinstance(light, (DirectionalLight, PointLight, SpotLight)):
+        if not isinstance(light, (DirectionalLight, PointLight, SpotLight, AreaLight)):
             raise InputError(f"add_light expects a facet light, got {type(light).__name__}")
         if len(self.lights) >= MAX_LIGHTS:
             raise InputError(f"a scene holds at most {MAX_LIGHTS} lights")
