@@ -148,3 +148,17 @@ def test_area_light_penumbra_grows_with_its_size(renderer):
     # from visibility 1/2 at x = 0 to 1 at x = 0.2, so 0.1 < v < 0.9 spans 0.8 x 0.2 = 0.16.
     assert widths[0.0001] < 0.05
     assert abs(widths[0.8] - 0.16) < 0.04, widths
+
+
+def test_area_light_in_a_scene_file(tmp_path):
+    from facet.errors import SceneError
+    from facet.scene import AreaLight, load_scene
+
+    path = tmp_path / "a.toml"
+    path.write_text('[[objects]]\nprimitive = "sphere"\n[[lights]]\ntype = "area"\n'
+                    "position = [0, 3, 0]\nnormal = [0, -1, 0]\nsize = [1, 0.5]\n")
+    light = load_scene(path).lights[0]
+    assert isinstance(light, AreaLight) and light.size == (1.0, 0.5)
+    path.write_text('[[lights]]\ntype = "area"\nsize = [1, 0]\n')
+    with pytest.raises(SceneError, match=r"lights\[0\]: area light size must be"):
+        load_scene(path)

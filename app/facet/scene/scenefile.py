@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import FacetError, SceneError
 from ..geometry import transforms as T
 from ..geometry.camera import Camera, depth_range
-from .light import DirectionalLight, PointLight, SpotLight
+from .light import AreaLight, DirectionalLight, PointLight, SpotLight
 from .material import Material
 from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
 from .scene import RenderSettings, Scene
@@ -38,7 +38,8 @@ LIGHT = {"ambient": ("color", "intensity"),
          "directional": ("direction", "color", "intensity"),
          "point": ("position", "color", "intensity", "attenuation"),
          "spot": ("position", "direction", "color", "intensity", "attenuation",
-                  "inner_angle", "outer_angle")}
+                  "inner_angle", "outer_angle"),
+         "area": ("position", "normal", "size", "color", "intensity", "attenuation")}
 CAMERA = {"perspective": ("eye", "target", "up", "fov", "near", "far", "aperture",
                           "focus_distance"),
           "orthographic": ("eye", "target", "up", "height", "near", "far"),
@@ -370,8 +371,10 @@ class _SceneBuilder:
                 at = f"{where}.{key}"
                 if key == "color":
                     kw[key] = r.color(t[key], at)
-                elif key in ("direction", "position", "attenuation"):
+                elif key in ("direction", "position", "attenuation", "normal"):
                     kw[key] = r.vector(t[key], at)
+                elif key == "size":
+                    kw[key] = tuple(r.vector(t[key], at, 2))
                 else:
                     kw[key] = r.number(t[key], at, minimum=0)
             try:
@@ -383,7 +386,7 @@ class _SceneBuilder:
                                             kw.get("intensity", 1.0), 0, 1)
                     continue
                 cls = {"directional": DirectionalLight, "point": PointLight,
-                       "spot": SpotLight}[kind]
+                       "spot": SpotLight, "area": AreaLight}[kind]
                 scene.add_light(cls(**kw))
             except SceneError:
                 raise
