@@ -114,3 +114,23 @@ def test_cli_and_scene_file_environment(tmp_path, capsys):
     scene.write_text('environment = "missing-folder-or-file"\n')
     with pytest.raises(SceneError, match="environment: .*no such texture file"):
         load_scene(scene)
+
+
+def test_glossy_reflection_blurs_the_environment(renderer):
+    """gloss > 0 spreads the reflected sky: the sharp horizon in a mirror sphere turns into a
+    gradual transition (smaller steepest step down the sphere's middle column)."""
+    env = Environment.sky(size=128)
+    r = renderer(S, S)
+    steep = {}
+    for gloss in (0.0, 0.5):
+        scene = Scene(ambient=0.0)
+        scene.environment = env
+        scene.add(sphere_mesh(5), Material(color=(0, 0, 0), ka=0, kd=0, ks=0,
+                                           reflectivity=1.0, gloss=gloss))
+        frame = r.render(scene, CAMERA, aa="ssaa:jittered:64", outputs=("color", "ids"))
+        column = frame.color[:, S // 2, 2].astype(float)
+        inside = erode(frame.object_ids == 0, 3)[:, S // 2]
+        steep[gloss] = np.abs(np.diff(column))[inside[1:] & inside[:-1]].max()
+    assert steep[0.5] < 0.6 * steep[0.0], steep
+    with pytest.raises(InputError, match="gloss must be in"):
+        Material(gloss=1.5)

@@ -33,6 +33,11 @@ uniform vec3 u_color;      // material C, linear [0, 1] (unlit)
 uniform samplerCube u_environment;
 uniform float u_reflectivity;
 uniform float u_ior;
+// Glossy reflection by accumulation: each supersample tilts the reflected ray by
+// u_gloss * u_gloss_jitter (a point of a jittered pattern in [-0.5, 0.5)^2), so the average
+// of the samples is the environment blurred over a lobe as wide as u_gloss.
+uniform float u_gloss;
+uniform vec2 u_gloss_jitter;
 #endif
 #ifdef OIT
 // Weighted blended order-independent transparency (McGuire and Bavoil 2013), written with
@@ -116,7 +121,11 @@ void main() {
     vec3 rgb = shade_scene(v_pos_world, N, V, albedo, false);
 #endif
 #ifdef HAS_ENVIRONMENT
-    vec3 reflected = texture(u_environment, reflect(-V, N)).rgb;
+    vec3 R = reflect(-V, N);
+    vec3 t1 = normalize(cross(R, abs(R.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
+    vec3 t2 = cross(R, t1);
+    R = normalize(R + 2.0 * u_gloss * (t1 * u_gloss_jitter.x + t2 * u_gloss_jitter.y));
+    vec3 reflected = texture(u_environment, R).rgb;
     vec3 env = reflected;
     if (u_ior > 0.0) {
         float f0 = pow((u_ior - 1.0) / (u_ior + 1.0), 2.0);

@@ -136,7 +136,13 @@ class Accumulator:
         self.resolve_program.release()
 
 
-LENS_SEED, TIME_SEED, AREA_SEED = 1, 2, 3  # independent of the pixel pattern's seed (0)
+LENS_SEED, TIME_SEED, AREA_SEED, GLOSS_SEED = 1, 2, 3, 4  # the pixel pattern's seed is 0
+
+
+def gloss_jitter(k: int, n: int) -> tuple[float, float]:
+    """Sample ``k``'s tilt of glossy reflections (a jittered pattern, own seed)."""
+    u, v = pattern("jittered", n, GLOSS_SEED)[k]
+    return float(u), float(v)
 
 
 def has_area_lights(scene) -> bool:

@@ -114,7 +114,8 @@ class ForwardPass:
     def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
              aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False,
              time: float = 0.0, jitter=None, shadows: dict | None = None,
-             shadow_maps=None, oit: bool = False, colour_pass: bool = True) -> None:
+             shadow_maps=None, oit: bool = False, colour_pass: bool = True,
+             gloss_jitter=(0.0, 0.0)) -> None:
         """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
         channels too. ``flip_y``: draw upside down for top-down readback. ``srgb``: inputs
         are sRGB-encoded and are linearised (facet.image.colorspace). Materials with their
@@ -191,6 +192,8 @@ class ForwardPass:
                 prog.set("u_environment", ENV_UNIT)
                 prog.set("u_reflectivity", m.reflectivity)
                 prog.set("u_ior", m.ior)
+                prog.set("u_gloss", m.gloss)
+                prog.set("u_gloss_jitter", tuple(float(v) for v in gloss_jitter))
             if m.texture is not None:
                 self.cache.texture(m.texture, srgb).use(location=0)
                 prog.set("u_texture", 0)

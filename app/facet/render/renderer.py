@@ -28,7 +28,7 @@ from ..gl.resources import ResourceCache
 from ..gl.targets import Targets
 from ..image.colorspace import linear_to_srgb, srgb_to_linear
 from ..scene.scene import Scene
-from .antialias import distributed_sample, has_area_lights, parse_aa, point_lights_for
+from .antialias import distributed_sample, gloss_jitter, has_area_lights, parse_aa, point_lights_for
 from .forward import ForwardPass
 from .shading import check_shading
 
@@ -138,7 +138,10 @@ class Renderer:
         # supersampling (16 jittered samples unless aa asks for another pattern or count).
         distributed = check_lens(camera) or any(o.transform_end is not None
                                                 for o in scene.objects) or (
-            shadows and has_area_lights(scene))
+            shadows and has_area_lights(scene)) or (
+            scene.environment is not None and any(o.material.gloss > 0 and
+                                                  o.material.reflectivity > 0
+                                                  for o in scene.objects))
         if distributed and (mode is None or mode.kind != "ssaa"):
             mode = parse_aa("ssaa:jittered:16")
         if mode is not None and mode.kind != "ssaa":
@@ -206,7 +209,8 @@ class Renderer:
                 acc.begin_sample(tuple(float(c) for c in bg))  # the maps bound their own fbo
             opaque, transparent = split_transparent(scene_k)
             jitter = jitter_matrix(dx, dy, w, h)
-            self._colour_draw(opaque, cam_k, shading, srgb=self.srgb, time=time, jitter=jitter)
+            self._colour_draw(opaque, cam_k, shading, srgb=self.srgb, time=time, jitter=jitter,
+                              gloss_jitter=gloss_jitter(k, mode.samples))
             if transparent is not None:
                 from .transparency import Transparency
 

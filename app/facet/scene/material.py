@@ -42,6 +42,7 @@ class Material:
     opacity: float = 1.0  # < 1: transparent (order-independent, facet.render.transparency)
     reflectivity: float = 0.0  # mix towards the scene's environment (reflection/refraction)
     ior: float = 0.0  # index of refraction (> 1) for refraction with Fresnel; 0: none
+    gloss: float = 0.0  # 0: a sharp mirror; up to 1: reflections blurred (by supersampling)
 
     def __post_init__(self):
         from .texture import Texture
@@ -66,6 +67,9 @@ class Material:
         if not (isinstance(self.ior, (int, float)) and (self.ior == 0 or 1 <= self.ior <= 5)):
             raise InputError(f"material ior must be 0 (none) or in [1, 5], got {self.ior!r}")
         self.reflectivity, self.ior = float(self.reflectivity), float(self.ior)
+        if not (isinstance(self.gloss, (int, float)) and 0 <= self.gloss <= 1):
+            raise InputError(f"material gloss must be in [0, 1], got {self.gloss!r}")
+        self.gloss = float(self.gloss)
         for key in ("ka", "kd", "ks", "shininess"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):

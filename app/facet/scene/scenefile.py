@@ -31,7 +31,7 @@ TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms", "envir
 RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb",
           "shadows")
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
-            "texture", "shader", "vertex_shader", "uniforms")
+            "gloss", "texture", "shader", "vertex_shader", "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "matrix", "parent", "flat",
           *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
 LIGHT = {"ambient": ("color", "intensity"),
@@ -148,7 +148,7 @@ class _SceneBuilder:
         for key in ("ka", "kd", "ks", "shininess"):
             if key in t:
                 kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
-        for key, hi in (("reflectivity", 1.0), ("ior", 5.0)):
+        for key, hi in (("reflectivity", 1.0), ("ior", 5.0), ("gloss", 1.0)):
             if key in t:
                 kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
                 if kw[key] > hi:
