@@ -155,15 +155,12 @@ def point_lights_for(scene, k: int | None = None, n: int = 1):
     """The scene with each area light replaced by a point light: at sample ``k`` of a
     jittered pattern over its rectangle, or at its centre (``k`` None)."""
     from ..scene.light import AreaLight
-    from ..scene.scene import Scene
 
     if not has_area_lights(scene):
         return scene
     uv = pattern("jittered", n, AREA_SEED)[k] if k is not None else (0.0, 0.0)
-    view = Scene.__new__(Scene)
-    view.__dict__.update(scene.__dict__)
-    view.lights = [x.point_light(*uv) if isinstance(x, AreaLight) else x for x in scene.lights]
-    return view
+    return scene.view(lights=[x.point_light(*uv) if isinstance(x, AreaLight) else x
+                              for x in scene.lights])
 
 
 def distributed_sample(camera, scene, k: int, mode: AntiAliasing):
@@ -179,17 +176,14 @@ def distributed_sample(camera, scene, k: int, mode: AntiAliasing):
         lx, ly = disk[k] * camera.aperture / 2.0
         camera = lens_camera(camera, lx, ly)
     if any(o.transform_end is not None for o in scene.objects):
-        from ..scene.scene import Scene, SceneObject
+        from ..scene.scene import SceneObject
 
         # Stratified shutter times, shuffled so they do not follow the pixel offsets.
         order = np.random.default_rng(TIME_SEED).permutation(n)
         t = (order[k] + 0.5) / n
-        moved = Scene.__new__(Scene)
-        moved.__dict__.update(scene.__dict__)
-        moved.objects = [o if o.transform_end is None else
-                         SceneObject(o.id, o.mesh, o.material,
-                                     interpolate_transform(o.transform, o.transform_end, t),
-                                     o.name)
-                         for o in scene.objects]
-        scene = moved
+        scene = scene.view(objects=[
+            o if o.transform_end is None else
+            SceneObject(o.id, o.mesh, o.material,
+                        interpolate_transform(o.transform, o.transform_end, t), o.name)
+            for o in scene.objects])
     return camera, scene

@@ -430,10 +430,5 @@ def split_transparent(scene: Scene):
     """(opaque scene, transparent scene or None): views of ``scene`` by material opacity."""
     if all(o.material.opacity >= 1.0 for o in scene.objects):
         return scene, None
-    parts = []
-    for keep in (lambda o: o.material.opacity >= 1.0, lambda o: o.material.opacity < 1.0):
-        view = Scene.__new__(Scene)
-        view.__dict__.update(scene.__dict__)
-        view.objects = [o for o in scene.objects if keep(o)]
-        parts.append(view)
-    return parts[0], parts[1]
+    return (scene.view(objects=[o for o in scene.objects if o.material.opacity >= 1.0]),
+            scene.view(objects=[o for o in scene.objects if o.material.opacity < 1.0]))

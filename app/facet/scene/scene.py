@@ -128,6 +128,17 @@ class Scene:
             return self.cameras[name]
         return next(iter(self.cameras.values()), None)
 
+    def view(self, objects=None, lights=None) -> Scene:
+        """A shallow copy sharing everything but ``objects`` and/or ``lights`` (for render
+        passes that draw part of a scene or swap its lights; no GL involved)."""
+        copy = Scene.__new__(Scene)
+        copy.__dict__.update(self.__dict__)
+        if objects is not None:
+            copy.objects = list(objects)
+        if lights is not None:
+            copy.lights = list(lights)
+        return copy
+
     @property
     def bounds(self) -> np.ndarray:
         """World-space bounds of all objects, (2, 3)."""
