@@ -162,3 +162,27 @@ def test_area_light_in_a_scene_file(tmp_path):
     path.write_text('[[lights]]\ntype = "area"\nsize = [1, 0]\n')
     with pytest.raises(SceneError, match=r"lights\[0\]: area light size must be"):
         load_scene(path)
+
+
+@pytest.mark.parametrize("opacity", [0.25, 0.5, 0.75, 1.0])
+def test_transparent_casters_let_light_through(renderer, opacity):
+    """A pane of opacity a (out of view) between a directional light and the ground: the
+    ground in its shadow keeps (1 - a) of the direct light (screen-door shadow map, within
+    0.06 with the 3 x 3 PCF), and an opaque pane blocks all of it."""
+    scene = Scene(ambient=0.0)
+    scene.add(primitives.plane(12), Material(color=(1, 1, 1), ka=0, kd=1, ks=0))
+    # Light travels along (1, -1, 0): the pane at x = -3, y = 3 shades x in [-1, 1] at y = 0.
+    scene.add(primitives.plane((2.0, 1.0)), Material(color=(0.2, 0.9, 0.2), opacity=opacity),
+              T.translate((-3.0, 3.0, 0.0)))
+    scene.add_light(DirectionalLight((1.0, -1.0, 0.0)))
+    camera = Camera.look_at((0, 5, 0), (0, 0, 0), up=(0, 0, -1), ortho_height=2.0, near=1,
+                            far=10)
+    frame = renderer(SIZE, SIZE).render(scene, camera, outputs=("color", "position"),
+                                        shadows=True)
+    grey = frame.color[..., 0].astype(float)
+    z = frame.position[..., 2]
+    inside, outside = np.abs(z) < 0.35, np.abs(z) > 0.65
+    assert inside.sum() > 2000 and outside.sum() > 2000
+    lit = grey[outside].mean()
+    assert lit > 150
+    assert abs(grey[inside].mean() / lit - (1.0 - opacity)) <= 0.06

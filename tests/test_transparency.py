@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from facet.errors import InputError
+from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
 from facet.render.transparency import oit_two_layers, over_two_layers, weight
 from facet.scene import Material, Mesh, Scene
@@ -92,3 +93,40 @@ def test_opacity_must_be_in_range(tmp_path):
     path.write_text('[materials.glass]\nopacity = 0.4\n[[objects]]\nprimitive = "cube"\n'
                     'material = "glass"\n')
     assert load_scene(path).objects[0].material.opacity == 0.4
+
+
+@pytest.mark.parametrize("aa", [None, "msaa:4", "ssaa:grid:4"])
+def test_transparent_background_gets_straight_alpha(renderer, aa):
+    """Over a transparent (alpha 0) background, anti-aliased edges and transparent layers
+    keep their own colour in the RGBA image (straight alpha, as PNG means it): coverage goes
+    into alpha, not into a fade towards the background's rgb."""
+    orange = np.array([1.0, 0.5, 0.0])
+    # Slanted edges: partly covered pixels all along them.
+    tilted = Camera(CAMERA.view @ T.rotate_z(17.0), ortho_height=4.0, near=1, far=9)
+    r = renderer(S, S)
+    for color, opacity in ((orange, 1.0), (RED, 0.5)):
+        s = Scene(ambient=0.0, background=(0.0, 0.0, 1.0, 0.0))  # blue, fully transparent
+        s.add(quad(-1.3, 0.3, -1.1, 0.9, 0.0), Material(color=color, opacity=opacity))
+        img = r.render(s, tilted, shading="unlit", aa=aa).color.astype(int)
+        a = img[..., 3]
+        inside = a == round(255 * opacity)
+        assert inside.sum() > 100
+        assert np.abs(img[inside][:, :3] - color * 255).max() <= 1
+        if aa is not None:
+            edge = (a >= 32) & (a < round(255 * opacity) - 8)
+            assert edge.sum() > 10
+            assert np.abs(img[edge][:, :3] - color * 255).max() <= 5
+
+
+def test_switching_msaa_keeps_transparency_working(renderer):
+    """The OIT pass binds the colour targets' depth buffer: after the targets are replaced
+    (another MSAA count) it must use the new one (GL reuses names: a stale framebuffer was
+    found by name and drawing failed with GL_INVALID_OPERATION)."""
+    r = renderer(S, S)
+    pictures = [r.render(scene(("front", "back")), CAMERA, shading="unlit", aa=aa).color
+                for aa in ("none", "msaa:4", "msaa:2", "none")]
+    assert r.gl_error() == "GL_NO_ERROR"
+    assert np.array_equal(pictures[0], pictures[3])
+    for img in pictures[1:3]:
+        inner = np.abs(img[4:-4, 4:-4].astype(int) - pictures[0][4:-4, 4:-4]).max(axis=2)
+        assert (inner > 3).mean() < 0.05  # MSAA changes edges only

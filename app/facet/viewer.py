@@ -113,12 +113,24 @@ class Viewer(ViewerActions):
                 obj.material = replace(obj.material, shader=self.user_shader)
         return scene
 
+    def _refine_aa(self) -> str | None:
+        """The supersampling a still view converges to: the chosen ssaa mode, or, where the
+        scene has depth of field, motion blur, area-light shadows or glossy reflection,
+        the accumulation ``render`` would use for them (None: one picture is final)."""
+        from .render.antialias import DISTRIBUTED_AA, needs_accumulation
+
+        if self.wireframe:
+            return None
+        if self.aa.startswith("ssaa"):
+            return self.aa
+        return DISTRIBUTED_AA if needs_accumulation(self.scene, self.camera(),
+                                                    self.shadows) else None
+
     @property
     def refining(self) -> bool:
         """Progressive supersampling still has samples to add."""
-        if not self.aa.startswith("ssaa"):
-            return False
-        return self._samples < int(self.aa.rsplit(":", 1)[1])
+        aa = self._refine_aa()
+        return aa is not None and self._samples < int(aa.rsplit(":", 1)[1])
 
     @property
     def animated(self) -> bool:
@@ -174,17 +186,21 @@ class Viewer(ViewerActions):
         camera = self.camera()
         elapsed = time.perf_counter() - self._start
         with self.ctx:
-            if self.aa.startswith("ssaa") and not self.wireframe:
+            aa = self._refine_aa()
+            moving = self._dirty or self.animated
+            if aa is not None and (aa == self.aa or not moving):
                 # One more sample per frame while nothing changes; a change starts over
-                # with one sample, so moving stays fast.
-                index = 0 if self._dirty or self.animated else self._samples
+                # with one sample (or, for the effects of _refine_aa, one plain picture),
+                # so moving stays fast.
+                index = 0 if moving else self._samples
                 self._samples = self.renderer.present_progressive(
-                    self._prepare(camera), camera, self.ctx.screen, self.aa, index,
+                    self._prepare(camera), camera, self.ctx.screen, aa, index,
                     shading=self.shading, time=elapsed, shadows=self.shadows)
             else:
                 self.renderer.present(self._prepare(camera), camera, self.ctx.screen,
                                       shading=self.shading, wireframe=self.wireframe,
                                       time=elapsed, shadows=self.shadows)
+                self._samples = 0
             if self.error:  # the picture is stale: say so in the window, not only the title
                 from .playground import draw_error_frame
 

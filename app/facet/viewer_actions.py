@@ -43,7 +43,8 @@ class ViewerActions:
 
             with Renderer(w * scale, h * scale, self.msaa, context=self.ctx) as big:
                 image = big.render(self._prepare(camera), camera, shading=self.shading,
-                                   outputs=("color",)).color
+                                   outputs=("color",), aa=self.aa,
+                                   shadows=self.shadows).color
         save_image(path, image)
         write_camera_json(path.with_suffix(".json"), camera.describe(w * scale, h * scale))
         print(path)
@@ -105,9 +106,10 @@ class ViewerActions:
         camera = self.camera()
         for i, cam in enumerate(orbit_cameras(camera, self.control.target, TURNTABLE_FRAMES)):
             frame = self.renderer.render(self._prepare(cam), cam, shading=self.shading,
-                                         outputs=("color",))
+                                         outputs=("color",), aa=self.aa, shadows=self.shadows)
             sink.add(i, frame.color)
         sink.finish()
+        self.request_frame()  # the supersampling targets were used by the recording
         writer.close()
         print(path)
 

@@ -76,8 +76,7 @@ class Targets:
         self.color = ctx.renderbuffer(size, 4, dtype=color_dtype)
         self.zbuffer = ctx.depth_renderbuffer(size)
         self.color_only = ctx.framebuffer([self.color], self.zbuffer)
-        self.depth_only = ctx.framebuffer(depth_attachment=self.zbuffer)
-        self._own = [self.color, self.zbuffer, self.color_only, self.depth_only]
+        self._own = [self.color, self.zbuffer, self.color_only]
         self._aux: dict[str, tuple[moderngl.Renderbuffer, moderngl.Framebuffer]] = {}
         self._targets: dict[tuple[str, ...], moderngl.Framebuffer] = {}
         self.multisample = None

@@ -26,3 +26,26 @@ def linear_to_srgb(c) -> np.ndarray:
     """The sRGB encoding curve, elementwise on values in [0, 1] (clipped first)."""
     c = np.clip(np.asarray(c, dtype=np.float64), 0.0, 1.0)
     return np.where(c <= 0.0031308, c * 12.92, 1.055 * c ** (1 / 2.4) - 0.055)
+
+
+def unpremultiply(rgba: np.ndarray, empty=None) -> np.ndarray:
+    """Straight alpha from premultiplied colour, in place; returns ``rgba``. Pixels with
+    alpha 0 get the colour ``empty`` (floats in [0, 1]) when given.
+
+    Renders over a transparent background are drawn premultiplied (the background cleared
+    to rgb * alpha), so MSAA resolves, supersample means and transparent layers average
+    correctly; files and arrays get straight alpha (what PNG means), so an edge pixel keeps
+    its object's colour instead of fading towards the background's. uint8 images round.
+    """
+    full = 255 if rgba.dtype == np.uint8 else 1.0
+    a = rgba[..., 3]
+    partial = (a > 0) & (a < full)
+    if partial.any():
+        rgb = rgba[..., :3][partial].astype(np.float64) * (full / a[partial, None])
+        if rgba.dtype == np.uint8:
+            rgb = np.rint(np.clip(rgb, 0, 255))
+        rgba[..., :3][partial] = rgb
+    if empty is not None:
+        fill = np.asarray(empty, dtype=np.float64) * full
+        rgba[..., :3][a == 0] = np.rint(fill) if rgba.dtype == np.uint8 else fill
+    return rgba

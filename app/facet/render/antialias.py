@@ -151,6 +151,22 @@ def has_area_lights(scene) -> bool:
     return any(isinstance(light, AreaLight) for light in scene.lights)
 
 
+def needs_accumulation(scene, camera, shadows: bool) -> bool:
+    """Depth of field, motion blur, area-light penumbrae and glossy environment reflection
+    are sums over samples: a render with any of them supersamples (headless and viewer)."""
+    from ..geometry.lens import check_lens
+
+    return bool(check_lens(camera)
+                or any(o.transform_end is not None for o in scene.objects)
+                or (shadows and has_area_lights(scene))
+                or (scene.environment is not None
+                    and any(o.material.gloss > 0 and o.material.reflectivity > 0
+                            for o in scene.objects)))
+
+
+DISTRIBUTED_AA = "ssaa:jittered:16"  # the supersampling such a render gets unless aa says
+
+
 def point_lights_for(scene, k: int | None = None, n: int = 1):
     """The scene with each area light replaced by a point light: at sample ``k`` of a
     jittered pattern over its rectangle, or at its centre (``k`` None)."""

@@ -21,16 +21,26 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry.camera import Camera
-from ..geometry.lens import check_lens
 from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import Targets
-from ..image.colorspace import linear_to_srgb, srgb_to_linear
+from ..image.colorspace import linear_to_srgb, srgb_to_linear, unpremultiply
 from ..scene.scene import Scene
-from .antialias import distributed_sample, gloss_jitter, has_area_lights, parse_aa, point_lights_for
+from .antialias import (
+    DISTRIBUTED_AA,
+    distributed_sample,
+    gloss_jitter,
+    has_area_lights,
+    jitter_matrix,
+    needs_accumulation,
+    parse_aa,
+    point_lights_for,
+)
 from .forward import ForwardPass
+from .present import WindowPresenter
 from .shading import check_shading
+from .transparency import split_transparent
 
 OUTPUTS = ("color", "depth", "ids", "normals", "position", "uv")
 DEFAULT_OUTPUTS = ("color", "depth", "ids")
@@ -71,7 +81,7 @@ class Frame:
         return save_image(path, to_uint8(self.color))
 
 
-class Renderer:
+class Renderer(WindowPresenter):
     """Headless renderer of ``width`` x ``height`` images with optional MSAA (0, 2, 4, 8).
 
     ``float_color=True`` keeps colour as float32 in [0, 1] (``frame.color`` is float32) for
@@ -134,16 +144,9 @@ class Renderer:
         if camera is None:
             camera = Camera.frame(scene.bounds, aspect=self.width / self.height)
         mode = parse_aa(aa) if aa is not None else None
-        # Depth of field and motion blur are sums over samples too: they ride on
-        # supersampling (16 jittered samples unless aa asks for another pattern or count).
-        distributed = check_lens(camera) or any(o.transform_end is not None
-                                                for o in scene.objects) or (
-            shadows and has_area_lights(scene)) or (
-            scene.environment is not None and any(o.material.gloss > 0 and
-                                                  o.material.reflectivity > 0
-                                                  for o in scene.objects))
-        if distributed and (mode is None or mode.kind != "ssaa"):
-            mode = parse_aa("ssaa:jittered:16")
+        # Depth of field, motion blur, area lights and gloss ride on supersampling.
+        if needs_accumulation(scene, camera, shadows) and (mode is None or mode.kind != "ssaa"):
+            mode = parse_aa(DISTRIBUTED_AA)
         if mode is not None and mode.kind != "ssaa":
             wanted = mode.samples if mode.kind == "msaa" else 0
             if wanted != self.msaa:
@@ -158,12 +161,12 @@ class Renderer:
             self._shadows = self._draw_shadows(scene, pcf) if shadows else None
             return self._render(scene, camera, shading, outputs, time)
 
-    def _draw_shadows(self, scene: Scene, pcf: int = 1):
+    def _draw_shadows(self, scene: Scene, pcf: int = 1, sample: int = 0):
         from .shadow import ShadowMaps
 
         if self._shadow_maps is None:
             self._shadow_maps = ShadowMaps(self.ctx, self.cache)
-        return self._shadow_maps.draw(scene, pcf)
+        return self._shadow_maps.draw(scene, pcf, sample)
 
     def _colour_draw(self, scene, camera, shading, **kw) -> None:
         """The colour pass, with the shadow maps of this render call if there are any."""
@@ -173,20 +176,27 @@ class Renderer:
     def set_msaa(self, samples: int) -> None:
         """Switch the multisample count (new targets; programs and meshes stay)."""
         with self.ctx:
-            targets = Targets(self.ctx, self.width, self.height, samples,
-                              color_dtype=self.targets.color_dtype)
-            self.targets.release()
-        self.targets, self.msaa = targets, samples
+            self._replace_targets(Targets(self.ctx, self.width, self.height, samples,
+                                          color_dtype=self.targets.color_dtype))
+        self.msaa = samples
+
+    def _replace_targets(self, targets: Targets) -> None:
+        """Swap in new targets and release the old ones. The new ones are bound first:
+        moderngl re-binds the previously bound framebuffer after making any framebuffer,
+        and a released one there fails with GL_INVALID_OPERATION."""
+        targets.color_only.use()
+        if self._transparency is not None:
+            self._transparency.forget_depth_buffers()  # they use the old depth buffer
+        self.targets.release()
+        self.targets = targets
 
     def _supersample(self, scene, camera, shading, outputs, time, mode) -> Frame:
         """Colour averaged over the pattern's sub-pixel offsets; other channels exact."""
-        from .antialias import Accumulator, jitter_matrix
+        from .antialias import Accumulator
 
         w, h = self.width, self.height
         others = tuple(o for o in outputs if o != "color")
         centre = point_lights_for(scene)
-        # Shadow maps once per render, unless area lights move their point lights per sample.
-        per_sample_shadows = self._shadows_on and has_area_lights(scene)
         self._shadows = self._draw_shadows(centre, self._pcf) if self._shadows_on else None
         frame = self._render(centre, camera, shading, others, time) if others else \
             Frame(None, None, None, camera, size=(w, h))
@@ -195,39 +205,73 @@ class Renderer:
         if self._accumulator is None:
             self._accumulator = Accumulator(self.ctx, w, h)
         acc = self._accumulator
-        bg = np.asarray(scene.background, dtype=np.float64)
-        if self.srgb:
-            bg = np.append(srgb_to_linear(bg[:3]), bg[3])
+        bg = self._background(scene)
         acc.accum.use()
         acc.accum.clear(0.0, 0.0, 0.0, 0.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        for k, (dx, dy) in enumerate(pattern(mode.pattern, mode.samples)):
-            acc.begin_sample(tuple(float(c) for c in bg))
-            cam_k, scene_k = distributed_sample(camera, scene, k, mode)
-            if per_sample_shadows:
-                self._shadows = self._draw_shadows(scene_k, self._pcf)
-                acc.begin_sample(tuple(float(c) for c in bg))  # the maps bound their own fbo
-            opaque, transparent = split_transparent(scene_k)
-            jitter = jitter_matrix(dx, dy, w, h)
-            self._colour_draw(opaque, cam_k, shading, srgb=self.srgb, time=time, jitter=jitter,
-                              gloss_jitter=gloss_jitter(k, mode.samples))
-            if transparent is not None:
-                from .transparency import Transparency
-
-                if self._transparency is None:
-                    self._transparency = Transparency(self.ctx, w, h)
-                oit = self._transparency.begin(acc.sample_depth)
-                self._colour_draw(transparent, cam_k, shading, srgb=self.srgb, time=time,
-                                  jitter=jitter, oit=True)
-                self._transparency.end(oit, acc.sample)
-            acc.add_sample()
-        color = acc.result(mode.samples)
-        if self.srgb:
-            color[..., :3] = linear_to_srgb(color[..., :3])
+        for k in range(mode.samples):
+            self._draw_sample(scene, camera, shading, mode, k, bg, time)
+        color = self._finish_color(acc.result(mode.samples), scene)
         if not (self.float_color or self.srgb):
             color = np.rint(np.clip(color, 0, 1) * 255).astype(np.uint8)
         frame.color = color
         return frame
+
+    def _draw_sample(self, scene, camera, shading, mode, k, background, time,
+                     flip_y: bool = True) -> None:
+        """Add sample ``k`` of ``mode`` to the accumulator: the pattern's sub-pixel offset,
+        the lens point, shutter time and area-light points of that sample (facet.render.
+        antialias.distributed_sample), opaque objects then transparent ones (OIT)."""
+        acc = self._accumulator
+        acc.begin_sample(background)
+        cam_k, scene_k = distributed_sample(camera, scene, k, mode)
+        if self._shadows_on and has_area_lights(scene):
+            # Shadow maps are drawn once per render, except that area lights move their
+            # point lights every sample.
+            self._shadows = self._draw_shadows(scene_k, self._pcf, k)
+            acc.begin_sample(background)  # the maps bound their own framebuffer
+        dx, dy = pattern(mode.pattern, mode.samples)[k]
+        jitter = jitter_matrix(dx, dy, self.width, self.height)
+        opaque, transparent = split_transparent(scene_k)
+        self._colour_draw(opaque, cam_k, shading, srgb=self.srgb, time=time, jitter=jitter,
+                          gloss_jitter=gloss_jitter(k, mode.samples), flip_y=flip_y)
+        if transparent is not None:
+            oit = self._oit().begin(acc.sample_depth)
+            self._colour_draw(transparent, cam_k, shading, srgb=self.srgb, time=time,
+                              jitter=jitter, oit=True, flip_y=flip_y)
+            self._transparency.end(oit, acc.sample)
+        acc.add_sample()
+
+    def _oit(self):
+        """The order-independent transparency targets, made on first use."""
+        from .transparency import Transparency
+
+        if self._transparency is None:
+            self._transparency = Transparency(self.ctx, self.width, self.height)
+        return self._transparency
+
+    def _background(self, scene, window: bool = False) -> tuple[float, ...]:
+        """The clear colour: the scene's background, linear when colour-managed, and
+        premultiplied by its alpha (see ``_finish_color``); opaque in a ``window``, which
+        shows colour only."""
+        bg = np.asarray(scene.background, dtype=np.float64)
+        bg = np.append(bg[:3], 1.0 if window or bg.size == 3 else bg[3])
+        if self.srgb:
+            bg = np.append(srgb_to_linear(bg[:3]), bg[3])
+        bg[:3] *= bg[3]
+        return tuple(float(c) for c in bg)
+
+    def _finish_color(self, color: np.ndarray, scene) -> np.ndarray:
+        """Read-back colour as returned: straight alpha when the background is not opaque
+        (drawn premultiplied, so edges and layers average right), sRGB-encoded when
+        colour-managed."""
+        if len(scene.background) == 4 and scene.background[3] < 1.0:
+            # Empty pixels keep the background's colour (for anyone who drops alpha).
+            bg = np.asarray(scene.background[:3], dtype=np.float64)
+            unpremultiply(color, srgb_to_linear(bg) if self.srgb else bg)
+        if self.srgb:
+            color[..., :3] = linear_to_srgb(color[..., :3])
+        return color
 
     def _render(self, scene: Scene, camera: Camera, shading: str, outputs,
                 time: float = 0.0) -> Frame:
@@ -239,24 +283,15 @@ class Renderer:
                                     keep_color="color" in outputs)
         if "color" in outputs:
             t = self.targets
-            if self.msaa:  # the opaque depth, single-sampled, for the transparent pass
-                t.depth_only.use()
-                t.depth_only.clear(depth=1.0)
-                self.forward.draw(opaque, camera, self.width, self.height, "unlit",
-                                  colour_pass=False)
-            self._transparent_pass(transparent, camera, shading, t.zbuffer, t.color_only,
-                                   time)
-            frame.color = t.read_color()
-            if self.srgb:
-                frame.color[..., :3] = linear_to_srgb(frame.color[..., :3])
+            # Layers tested against the opaque depth: multisampled with MSAA (anti-aliased
+            # transparent edges), composited over the resolved opaque colour.
+            zbuffer = t.ms_z if self.msaa else t.zbuffer
+            self._transparent_pass(transparent, camera, shading, zbuffer, t.color_only, time)
+            frame.color = self._finish_color(t.read_color(), scene)
         return frame
 
     def _transparent_pass(self, transparent, camera, shading, zbuffer, target, time):
-        from .transparency import Transparency
-
-        if self._transparency is None:
-            self._transparency = Transparency(self.ctx, self.width, self.height)
-        oit = self._transparency.begin(zbuffer)
+        oit = self._oit().begin(zbuffer)
         self._colour_draw(transparent, camera, shading, srgb=self.srgb, time=time, oit=True)
         self._transparency.end(oit, target)
 
@@ -266,10 +301,7 @@ class Renderer:
         aux = tuple(_CHANNEL[o] for o in OUTPUTS if o in outputs and o in _CHANNEL)
         outputs = (*outputs, "color") if keep_color and "color" not in outputs else outputs
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        bg = np.asarray(scene.background, dtype=np.float64)
-        if self.srgb:
-            bg = np.append(srgb_to_linear(bg[:3]), bg[3])
-        bg = tuple(float(c) for c in bg)
+        bg = self._background(scene)
         srgb = self.srgb
         user_shaders = any(o.material.shader is not None for o in scene.objects)
         if aux and (self.msaa or user_shaders):
@@ -295,9 +327,7 @@ class Renderer:
         for name in ("normals", "position"):  # stored as RGBA32F: drop w
             if name in read:
                 read[name] = np.ascontiguousarray(read[name][..., :3])
-        color = t.read_color() if "color" in outputs else None
-        if color is not None and self.srgb:
-            color[..., :3] = linear_to_srgb(color[..., :3])
+        color = self._finish_color(t.read_color(), scene) if "color" in outputs else None
         frame = Frame(color, read.get("depth"),
                       read.get("ids"), camera, read.get("normals"), read.get("position"),
                       read.get("uv"), (w, h))
@@ -315,70 +345,9 @@ class Renderer:
             if self._transparency is not None:
                 self._transparency.release()
                 self._transparency = None
-            targets = Targets(self.ctx, width, height, self.msaa,
-                              color_dtype=self.targets.color_dtype)
-            self.targets.release()
-        self.targets, self.width, self.height = targets, width, height
-
-    def present(self, scene: Scene, camera: Camera, framebuffer, *, shading: str | None = None,
-                wireframe: bool = False, time: float = 0.0, shadows: bool = False) -> None:
-        """Draw ``scene`` into ``framebuffer`` (a window's, bottom-up like GL) with the same
-        pass and shaders as ``render``; MSAA draws into the multisampled target and resolves
-        into the window. ``wireframe`` overlays the triangle edges."""
-        shading = check_shading(shading or self.shading)
-        w, h, t = self.width, self.height, self.targets
-        scene = point_lights_for(scene)
-        self._shadows = self._draw_shadows(scene) if shadows else None  # own framebuffer
-        self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        bg = tuple(float(c) for c in scene.background)
-        target = t.begin_multisample(bg) if self.msaa else framebuffer
-        if not self.msaa:
-            framebuffer.use()
-            framebuffer.clear(*bg, depth=1.0)
-        self._colour_draw(scene, camera, shading, flip_y=False, time=time)
-        if wireframe:
-            self.ctx.depth_func = "<="
-            self.ctx.wireframe = True
-            self.forward.draw(_edges(scene), camera, w, h, "unlit", flip_y=False)
-            self.ctx.wireframe = False
-            self.ctx.depth_func = "<"
-        if self.msaa:
-            self.ctx.copy_framebuffer(framebuffer, target)
-        self.cache.sweep()
-
-    def present_progressive(self, scene: Scene, camera: Camera, framebuffer, aa: str,
-                            index: int, *, shading: str | None = None,
-                            time: float = 0.0, shadows: bool = False) -> int:
-        """Supersampling in a window, one sample per call: add sample ``index`` of ``aa``'s
-        pattern (0 starts over) and show the mean so far. Returns the samples shown; after
-        the last one the picture equals the headless ``render(aa=...)``."""
-        from .antialias import Accumulator, jitter_matrix
-
-        mode = parse_aa(aa)
-        if mode.kind != "ssaa":
-            raise InputError(f"progressive rendering needs ssaa, got {aa!r}")
-        scene = point_lights_for(scene)
-        shading = check_shading(shading or self.shading)
-        w, h = self.width, self.height
-        if self._accumulator is None:
-            self._accumulator = Accumulator(self.ctx, w, h)
-        acc = self._accumulator
-        index = min(index, mode.samples - 1)
-        if index == 0:
-            self._shadows = self._draw_shadows(scene) if shadows else None
-        if index == 0:
-            acc.accum.use()
-            acc.accum.clear(0.0, 0.0, 0.0, 0.0)
-        self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        dx, dy = pattern(mode.pattern, mode.samples)[index]
-        acc.begin_sample(tuple(float(c) for c in scene.background))
-        # Upright (no flip): the window shows the accumulation as it is.
-        self._colour_draw(scene, camera, shading, flip_y=False, time=time,
-                          jitter=jitter_matrix(dx, dy, w, h))
-        acc.add_sample()
-        acc.show(framebuffer, index + 1)
-        self.cache.sweep()
-        return index + 1
+            self._replace_targets(Targets(self.ctx, width, height, self.msaa,
+                                          color_dtype=self.targets.color_dtype))
+        self.width, self.height = width, height
 
     def close(self) -> None:
         """Release every GL object, and the context if this renderer made it. Safe to call
@@ -409,26 +378,3 @@ class Renderer:
 
     def __exit__(self, *exc) -> None:
         self.close()
-
-
-EDGE_COLOR = (0.05, 0.05, 0.05)
-
-
-def _edges(scene: Scene) -> Scene:
-    """The same objects with a dark unlit material, for the wireframe overlay (no GL made)."""
-    from ..scene.material import Material
-    from ..scene.scene import SceneObject
-
-    edges = Scene(background=scene.background)
-    material = Material(color=EDGE_COLOR)
-    edges.objects = [SceneObject(o.id, o.mesh, material, o.transform, o.name)
-                     for o in scene.objects]
-    return edges
-
-
-def split_transparent(scene: Scene):
-    """(opaque scene, transparent scene or None): views of ``scene`` by material opacity."""
-    if all(o.material.opacity >= 1.0 for o in scene.objects):
-        return scene, None
-    return (scene.view(objects=[o for o in scene.objects if o.material.opacity >= 1.0]),
-            scene.view(objects=[o for o in scene.objects if o.material.opacity < 1.0]))

@@ -8,6 +8,8 @@
   the major axis of the light-to-point vector.
 
 The maps are drawn once per ``render`` call (supersampling and the colour passes reuse them).
+Transparent objects cast partial shadows: a dither mask keeps ``opacity`` of their texels in
+the map (glsl/shadow/depth.frag), which the PCF filter turns into shadow of that strength.
 The lighting side (bias, normal offset, PCF) is glsl/lib/shadows.glsl.
 """
 
@@ -115,9 +117,10 @@ class ShadowMaps:
         self.atlas.repeat_x = self.atlas.repeat_y = False
         self.fbo = self.ctx.framebuffer(depth_attachment=self.atlas)
 
-    def draw(self, scene: Scene, pcf: int = 1) -> dict | None:
+    def draw(self, scene: Scene, pcf: int = 1, sample: int = 0) -> dict | None:
         """Fill the atlas for the scene's lights; the uniforms and defines for lighting.
-        ``pcf``: the filter's kernel radius in texels (``PCF_CHOICES``)."""
+        ``pcf``: the filter's kernel radius in texels (``PCF_CHOICES``). ``sample``: which
+        shift of the transparent casters' dither mask (glsl/shadow/depth.frag) to use."""
         if pcf not in PCF_CHOICES:
             raise InputError(f"pcf must be one of {PCF_CHOICES} (kernel radius), got {pcf!r}")
         casters = [i for i, light in enumerate(scene.lights) if casts_shadow(light)]
@@ -129,6 +132,7 @@ class ShadowMaps:
         slots = [-1] * len(scene.lights)  # per light: its first tile (= matrix index)
         matrices = np.tile(np.eye(4, dtype=np.float32), (max(self.tiles, 1), 1, 1))
         texels = np.zeros((len(scene.lights), 4), np.float32)
+        self.program.set("u_dither_shift", (sample % 4, sample // 4 % 4))
         self.fbo.use()
         self.fbo.clear(depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
@@ -141,6 +145,7 @@ class ShadowMaps:
                 self.fbo.viewport = (col * TILE, row * TILE, TILE, TILE)
                 for obj in scene.objects:
                     self.program.set("u_light_mvp", vp @ obj.transform)
+                    self.program.set("u_opacity", obj.material.opacity)
                     self.cache.buffers(obj.mesh).vao(self.ctx, self.program.gl).render()
                 # World -> this tile of the atlas: clip [-1, 1] -> [0, 1] -> (col, row).
                 to_tile = T.compose(TO_UNIT, T.scale((1.0 / cols, 1.0 / rows, 1.0)),
@@ -155,13 +160,13 @@ class ShadowMaps:
     def bind(self, prog, shadows: dict, unit: int = 1) -> None:
         """Point a lighting program at the atlas and the lights' shadow matrices."""
         self.atlas.use(location=unit)
-        prog.set("u_shadow_atlas", unit, strict=False)
+        prog.set("u_shadow_atlas", unit)
         if "u_shadow_matrix" in prog._active:
             member = prog.gl["u_shadow_matrix"]
             # The linker may trim the array to the tiles the program can reach.
             matrices = shadows["matrices"][:member.array_length]
             member.write(np.ascontiguousarray(matrices.transpose(0, 2, 1)).tobytes())
-        prog.set_array("u_shadow_texel", shadows["texels"], strict=False)
+        prog.set_array("u_shadow_texel", shadows["texels"])
 
     def _release_atlas(self) -> None:
         if self.fbo is not None:
