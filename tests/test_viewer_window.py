@@ -360,3 +360,70 @@ def test_progressive_supersampling_matches_headless(window, tmp_path):
     shot, ref = _shot_and_headless(shots[0], aa="ssaa:jittered:16")
     diff = np.abs(shot.astype(int) - ref).max(axis=2)
     assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()
+
+
+LENS_SCENE = """
+[render]
+background = [0.1, 0.1, 0.15]
+
+[[objects]]
+primitive = "plane"
+size = 6
+material = {color = [0.8, 0.8, 0.8]}
+
+[[objects]]
+primitive = "sphere"
+radius = 0.5
+material = {color = [0.9, 0.4, 0.2]}
+transform = [{translate = [-0.9, 0.5, -1.0]}]
+
+[[objects]]
+primitive = "cube"
+size = 0.6
+material = {color = [0.9, 0.2, 0.4], opacity = 0.5}
+transform = [{translate = [0.8, 0.4, 1.0]}]
+
+[[lights]]
+type = "directional"
+direction = [-0.4, -1, -0.6]
+
+[cameras.main]
+type = "perspective"
+eye = [0, 2.0, 4.5]
+target = [0, 0.3, 0]
+fov = 40
+aperture = 0.5
+focus_distance = 4.6
+"""
+
+
+def test_depth_of_field_refines_in_msaa_mode(window, tmp_path):
+    """A scene camera with a lens, opened in the default MSAA mode: while the view is still
+    the window refines to the headless supersampled render (depth of field and a transparent
+    object included), and the camera keeps its lens."""
+    from facet.geometry.camera import Camera
+    from facet.render.renderer import Renderer
+    from facet.scene.scenefile import load_scene
+    from test_golden import CHANNEL_TOL, MAX_DIFFERING
+
+    path = tmp_path / "lens.toml"
+    path.write_text(LENS_SCENE)
+    w = window(str(path))
+    time.sleep(2.0)  # 16 samples, one per frame
+    w.key("s")
+    shots = _wait_for(tmp_path, "facet-*.png")
+    assert w.quit() == 0
+    shot = np.asarray(Image.open(shots[0]))
+    info = json.loads(shots[0].with_suffix(".json").read_text())
+    scene = load_scene(path)
+    camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
+                    far=info["far"])
+    camera.aperture, camera.focus_distance = 0.5, 4.6
+    with Renderer(W, H) as r:
+        ref = r.render(scene, camera, aa="ssaa:jittered:16").color[..., :3]
+        pinhole = r.render(scene, Camera(camera.view, fov_y=camera.fov_y, near=camera.near,
+                                         far=camera.far), aa="msaa:4").color[..., :3]
+    diff = np.abs(shot.astype(int) - ref).max(axis=2)
+    assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()
+    blur = np.abs(pinhole.astype(int) - ref).max(axis=2)
+    assert (blur > CHANNEL_TOL).mean() > 5 * MAX_DIFFERING  # the lens shows

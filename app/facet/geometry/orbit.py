@@ -87,6 +87,7 @@ class OrbitControl:
                  fov_y: float = 40.0, aspect: float = 1.0):
         self.fov_y = fov_y
         self.orthographic = False
+        self.aperture, self.focus_distance = 0.0, None  # a thin lens, from set_camera
         self.bounds = np.asarray(bounds, dtype=np.float64).reshape(2, 3)
         self._home = (np.asarray(direction, dtype=np.float64), np.asarray(up, np.float64))
         self.frame(aspect)
@@ -113,6 +114,7 @@ class OrbitControl:
         self.target = eye + forward * self.distance
         self.rotation = matrix_to_quat(rot)
         self.orthographic = camera.is_orthographic
+        self.aperture, self.focus_distance = camera.aperture, camera.focus_distance  # lens
         if camera.is_orthographic:
             self.ortho_height = camera.ortho_height
         elif camera.fov_y is not None:
@@ -175,4 +177,6 @@ class OrbitControl:
         far = max(far, self.distance * 1.01)
         if self.orthographic:
             return Camera(view, ortho_height=self.ortho_height, near=near, far=far)
-        return Camera(view, fov_y=self.fov_y, near=max(near, far * 1e-5), far=far)
+        cam = Camera(view, fov_y=self.fov_y, near=max(near, far * 1e-5), far=far)
+        cam.aperture, cam.focus_distance = self.aperture, self.focus_distance
+        return cam
