@@ -107,3 +107,35 @@ def test_cli_and_scene_file_lens(tmp_path, capsys):
     scene.write_text(scene.read_text().replace("focus_distance = 4\n", ""))
     with pytest.raises(SceneError, match="cameras.c: an aperture needs a focus distance"):
         load_scene(scene)
+
+
+def test_motion_blur_in_a_scene_file(tmp_path):
+    """`transform_end` (steps, like `transform`) is the pose at shutter close; children move
+    with their parents; objects without it in a still hierarchy are not blurred."""
+    from facet.scene.scenefile import load_scene
+
+    path = tmp_path / "blur.toml"
+    path.write_text("""
+[[objects]]
+name = "cart"
+transform = [{translate = [0, 0, 0]}]
+transform_end = [{translate = [1, 0, 0]}]
+
+[[objects]]
+name = "wheel"
+parent = "cart"
+primitive = "sphere"
+transform = [{translate = [0, 1, 0]}]
+
+[[objects]]
+name = "post"
+primitive = "cube"
+""")
+    scene = load_scene(path)
+    wheel, post = scene.objects
+    assert np.allclose(wheel.transform, T.translate((0, 1, 0)))
+    assert np.allclose(wheel.transform_end, T.translate((1, 1, 0)))
+    assert post.transform_end is None
+    path.write_text('[[objects]]\nprimitive = "cube"\ntransform_end = {scale = 0}\n')
+    with pytest.raises(InputError, match=r"objects\[0\]\.transform_end: expected a list"):
+        load_scene(path)

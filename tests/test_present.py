@@ -96,10 +96,11 @@ def test_wireframe_overlays_transparent_objects(renderer):
 
 def _effects_scene():
     """Everything that needs accumulation at once: an area light's penumbra, a moving ball
-    (motion blur), a transparent pane, seen through a lens focused on the ground."""
+    (motion blur), a transparent pane, seen through a lens focused on the ground, which is
+    a faint mirror."""
     s = Scene(ambient=0.1, background=(0.0, 0.0, 0.0, 1.0))
     s.lights = [AreaLight(position=(0.0, 4.0, 0.0), size=(1.5, 1.5), intensity=1.0)]
-    s.add(plane(8.0), Material(color=(0.8, 0.8, 0.8)))
+    s.add(plane(8.0), Material(color=(0.8, 0.8, 0.8), reflectivity=0.3, mirror=True))
     s.add(sphere(0.5), Material(color=(0.9, 0.3, 0.2)), T.translate((-0.8, 0.8, 0.0)),
           transform_end=T.translate((0.2, 0.8, 0.0)))
     s.add(plane(1.2), Material(color=(0.2, 0.4, 1.0), opacity=0.5),

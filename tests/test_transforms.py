@@ -140,3 +140,22 @@ def test_bad_arguments():
         T.perspective(60, 1, 0, 10)
     with pytest.raises(ValueError):
         T.normal_matrix(T.scale((1, 0, 1)))
+
+
+def test_reflection_and_plane_fit():
+    """The mirror matrix fixes its plane, negates its normal, is its own inverse with
+    determinant -1; fit_plane finds a tilted plane and rejects what is not flat."""
+    n = np.array([1.0, 2.0, 2.0]) / 3.0
+    plane = np.append(n, -1.5)  # n . x = 1.5
+    m = T.reflection(plane)
+    on = 1.5 * n + np.cross(n, [0.0, 0.0, 1.0])
+    assert np.allclose(m @ np.append(on, 1), np.append(on, 1))
+    assert np.allclose(m[:3, :3] @ n, -n)
+    assert np.allclose(m @ m, np.eye(4)) and np.isclose(np.linalg.det(m), -1.0)
+    rng = np.random.default_rng(0)
+    a, b = np.cross(n, [0, 0, 1.0]), np.cross(n, np.cross(n, [0, 0, 1.0]))
+    pts = 1.5 * n + rng.random((50, 1)) * a + rng.random((50, 1)) * b
+    fit = T.fit_plane(pts)
+    assert np.allclose(fit, plane) or np.allclose(fit, -plane)
+    assert T.fit_plane(pts + rng.normal(0, 0.05, pts.shape)) is None
+    assert T.fit_plane(np.outer(np.arange(5.0), n)) is None  # a line spans no plane

@@ -39,6 +39,17 @@ uniform float u_ior;
 uniform float u_gloss;
 uniform vec2 u_gloss_jitter;
 #endif
+#ifdef HAS_MIRROR
+// A planar mirror (facet.render.mirror): the scene mirrored in its plane, drawn at this
+// target's size, fetched at this fragment's own pixel and mixed in by u_mirror_weight.
+uniform sampler2D u_mirror;
+uniform float u_mirror_weight;
+#endif
+#ifdef CLIP_PLANE
+// The reflection pass of a mirror: world-space plane n.x + d = 0, n towards the viewer;
+// what lies behind the mirror is not in its reflection.
+uniform vec4 u_clip_plane;
+#endif
 #ifdef OIT
 // Weighted blended order-independent transparency (McGuire and Bavoil 2013), written with
 // one additive blend for both targets: location 0 sums w a C and w a, location 1 sums
@@ -72,6 +83,9 @@ layout(location = OUT_UV) out vec2 f_uv;
 #endif
 
 void main() {
+#ifdef CLIP_PLANE
+    if (dot(u_clip_plane, vec4(v_pos_world, 1.0)) < 0.0) discard;
+#endif
 #ifdef OUT_DEPTH
     f_depth = v_depth_view;
 #endif
@@ -134,6 +148,9 @@ void main() {
         env = mix(refracted, reflected, fresnel);
     }
     rgb = mix(rgb, env, u_reflectivity);
+#endif
+#ifdef HAS_MIRROR
+    rgb = mix(rgb, texelFetch(u_mirror, ivec2(gl_FragCoord.xy), 0).rgb, u_mirror_weight);
 #endif
 #ifdef OIT
     float a = clamp(u_opacity, 0.0, OIT_MAX_OPACITY);

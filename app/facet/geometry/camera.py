@@ -209,9 +209,13 @@ class Camera:
         m = T.compose(T.translate(-np.asarray(center, dtype=np.float64)),
                       T.rotate(axis, degrees), T.translate(center))
         # The camera's pose (camera -> world) is moved by m, so the view is view @ m^-1.
-        moved = Camera(self.view @ np.linalg.inv(m), fov_y=self.fov_y,
-                       ortho_height=self.ortho_height, intrinsics=self.intrinsics,
-                       near=self.near, far=self.far)
+        return self.with_view(self.view @ np.linalg.inv(m))
+
+    def with_view(self, view) -> Camera:
+        """The same camera (projection, near, far, lens) with another world -> camera view,
+        e.g. ``view @ reflection`` for a mirror's camera (facet.render.mirror)."""
+        moved = Camera(view, fov_y=self.fov_y, ortho_height=self.ortho_height,
+                       intrinsics=self.intrinsics, near=self.near, far=self.far)
         moved.aperture, moved.focus_distance = self.aperture, self.focus_distance
         return moved
 

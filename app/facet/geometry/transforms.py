@@ -189,3 +189,31 @@ def transform_points(m, points) -> np.ndarray:
     h = p @ m[:3, :3].T + m[:3, 3]
     w = p @ m[3, :3] + m[3, 3]
     return h / w[:, None]
+
+
+def reflection(plane) -> np.ndarray:
+    """The 4x4 mirror image in the plane n . x + d = 0 (``plane`` = (n, d), n unit):
+    x' = x - 2 (n . x + d) n. Its determinant is -1 (it swaps handedness)."""
+    plane = np.asarray(plane, dtype=np.float64)
+    n, d = plane[:3], plane[3]
+    m = np.eye(4)
+    m[:3, :3] -= 2.0 * np.outer(n, n)
+    m[:3, 3] = -2.0 * d * n
+    return m
+
+
+def fit_plane(points, tolerance: float = 1e-4):
+    """(n, d) with unit n of the plane through ``points`` (N, 3), or None when they are not
+    flat within ``tolerance`` times their extent (or span no plane)."""
+    p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    centre = p.mean(axis=0)
+    extent = float(np.ptp(p, axis=0).max()) if len(p) else 0.0
+    if len(p) < 3 or extent == 0.0:
+        return None
+    _, sv, vt = np.linalg.svd(p - centre, full_matrices=False)
+    if len(sv) < 3 or sv[1] <= tolerance * extent:  # a line or a point: no plane
+        return None
+    n = vt[2]
+    if np.abs((p - centre) @ n).max() > tolerance * extent:
+        return None
+    return np.append(n, -float(n @ centre))

@@ -21,6 +21,7 @@ from ..gl.targets import FLIP_Y, aux_locations
 from ..image.colorspace import srgb_to_linear
 from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.scene import MAX_LIGHTS, Scene
+from .mirror import MIRROR_UNIT, MirrorTargets, mirror_plane
 from .shading import SHADING_MODELS, check_shading
 from .user_shaders import UserPrograms
 
@@ -65,6 +66,8 @@ class Variant:
     shadow_pcf: int = 1  # PCF kernel radius in texels
     oit: bool = False  # the transparent pass (outputs to the OIT sums, facet.render.transparency)
     environment: bool = False  # reflects / refracts the scene's environment
+    mirror: bool = False  # mixes in its planar reflection (facet.render.mirror)
+    clip_plane: bool = False  # discards what is behind a mirror (its reflection pass)
 
     def defines(self) -> dict:
         spec = SHADING_MODELS[check_shading(self.shading)]
@@ -82,7 +85,8 @@ class Variant:
             d["SHADOW_PCF"] = self.shadow_pcf
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
                  "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb,
-                 "OIT": self.oit, "HAS_ENVIRONMENT": self.environment}
+                 "OIT": self.oit, "HAS_ENVIRONMENT": self.environment,
+                 "HAS_MIRROR": self.mirror, "CLIP_PLANE": self.clip_plane}
         d.update({k: None for k, on in flags.items() if on})
         return d
 
@@ -96,6 +100,7 @@ class ForwardPass:
         self.programs: dict[Variant, Program] = {}
         self.user = UserPrograms(ctx, cache.forget_program)
         self._sky = None  # the environment background program, made on first use
+        self.mirrors = MirrorTargets(ctx)  # planar reflection textures, made on first use
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights(Scene())))
         self._lights_bytes = b""
 
@@ -115,7 +120,7 @@ class ForwardPass:
              aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False,
              time: float = 0.0, jitter=None, shadows: dict | None = None,
              shadow_maps=None, oit: bool = False, colour_pass: bool = True,
-             gloss_jitter=(0.0, 0.0)) -> None:
+             gloss_jitter=(0.0, 0.0), clip_plane=None) -> None:
         """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
         channels too. ``flip_y``: draw upside down for top-down readback. ``srgb``: inputs
         are sRGB-encoded and are linearised (facet.image.colorspace). Materials with their
@@ -123,7 +128,15 @@ class ForwardPass:
         is their ``u_time``. ``jitter``: a clip-space shift (supersampling, antialias.py).
         ``shadows``: what ``ShadowMaps.draw`` returned (``shadow_maps``) for this scene.
         ``colour_pass``: False for passes that only fill depth or the exact channels (no
-        background, no environment lookups)."""
+        background, no environment lookups, no mirrors). ``clip_plane``: world-space (n, d)
+        of the mirror this pass draws the reflection for (facet.render.mirror)."""
+        if colour_pass and not oit and clip_plane is None:
+            reflections = self._draw_reflections(
+                scene, camera, width, height, shading, flip_y=flip_y, srgb=srgb, time=time,
+                jitter=jitter, shadows=shadows, shadow_maps=shadow_maps,
+                gloss_jitter=gloss_jitter)
+        else:
+            reflections = {}
         to_linear = srgb_to_linear if srgb else np.asarray
         lights = pack_lights(scene, to_linear)
         if lights != self._lights_bytes:
@@ -134,8 +147,9 @@ class ForwardPass:
         if jitter is not None:
             projection = jitter @ projection
         view_projection = (FLIP_Y @ projection if flip_y else projection) @ camera.view
-        # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise.
-        self.ctx.front_face = "cw" if flip_y else "ccw"
+        # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise; so
+        # does looking through a mirror.
+        self.ctx.front_face = "cw" if flip_y != (clip_plane is not None) else "ccw"
         # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
         eye = tuple(float(v) for v in (-camera.forward if camera.is_orthographic
                                        else camera.eye))
@@ -146,7 +160,8 @@ class ForwardPass:
                        tuple(aux_locations(aux)), camera.is_orthographic, srgb=srgb,
                        shadow_slots=shadows["slots"] if shadows else None,
                        shadow_tiles=shadows["tiles"] if shadows else 0,
-                       shadow_pcf=shadows["pcf"] if shadows else 1, oit=oit)
+                       shadow_pcf=shadows["pcf"] if shadows else 1, oit=oit,
+                       clip_plane=clip_plane is not None)
         intensities = np.array([to_linear(x.color) * x.intensity
                                 for x in scene.lights]).reshape(-1, 3)
         ambient = to_linear(scene.ambient)
@@ -157,14 +172,18 @@ class ForwardPass:
             if user:
                 prog = self.user.program(m.shader, base.defines())
             else:
+                mirror = id(obj) in reflections
                 prog = self.program(replace(
                     base, texture=m.texture is not None,
-                    vertex_colors=obj.mesh.colors is not None,
-                    environment=env is not None and m.reflectivity > 0 and colour_pass))
+                    vertex_colors=obj.mesh.colors is not None, mirror=mirror,
+                    environment=env is not None and m.reflectivity > 0 and colour_pass
+                    and not mirror))  # a mirror reflects the sky in its reflection
             strict = not user  # a user's shader need not declare every standard input
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 prog.set("u_view", camera.view, strict)
                 prog.set("u_eye_world", eye, strict)
+                if clip_plane is not None:
+                    prog.set("u_clip_plane", tuple(float(v) for v in clip_plane))
                 if user:
                     prog.set("u_projection", view_projection @ np.linalg.inv(camera.view),
                              strict)
@@ -187,7 +206,11 @@ class ForwardPass:
             prog.set("u_object_id", obj.id + 1, strict)  # 0 is "nothing" in the id target
             if oit:
                 prog.set("u_opacity", m.opacity, strict)
-            if env is not None and m.reflectivity > 0 and colour_pass and not user:
+            if id(obj) in reflections and not user:
+                reflections[id(obj)].use(location=MIRROR_UNIT)
+                prog.set("u_mirror", MIRROR_UNIT)
+                prog.set("u_mirror_weight", m.reflectivity)
+            elif env is not None and m.reflectivity > 0 and colour_pass and not user:
                 self.cache.cube(env).use(location=ENV_UNIT)
                 prog.set("u_environment", ENV_UNIT)
                 prog.set("u_reflectivity", m.reflectivity)
@@ -198,6 +221,31 @@ class ForwardPass:
                 self.cache.texture(m.texture, srgb).use(location=0)
                 prog.set("u_texture", 0)
             self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
+
+    def _draw_reflections(self, scene, camera, width, height, shading, **kw) -> dict:
+        """Draw each mirror's reflection into its texture (facet.render.mirror), before the
+        pass sets its own uniforms; {id(mirror object): texture}. Rebinds the framebuffer
+        that was bound."""
+        mirrors = [o for o in scene.objects if o.material.mirror and o.material.shader is None]
+        if not mirrors:
+            return {}
+        bound = self.ctx.fbo
+        bg = np.asarray(scene.background, dtype=np.float64)
+        rgb = (srgb_to_linear(bg[:3]) if kw["srgb"] else bg[:3]) * bg[3]
+        # The side of each mirror the camera sees (parallel projection: far behind it).
+        eye = camera.eye - 1e6 * camera.forward if camera.is_orthographic else camera.eye
+        out = {}
+        for i, obj in enumerate(mirrors):
+            plane = mirror_plane(obj, eye)
+            tex, fbo = self.mirrors.get(i, width, height)
+            fbo.use()
+            fbo.clear(*(float(c) for c in rgb), float(bg[3]), depth=1.0)
+            rest = scene.view(objects=[o for o in scene.objects if o is not obj])
+            self.draw(rest, camera.with_view(camera.view @ T.reflection(plane)), width,
+                      height, shading, clip_plane=plane, **kw)
+            out[id(obj)] = tex
+        bound.use()
+        return out
 
     def _draw_sky(self, env, view_projection, width: int, height: int) -> None:
         """The environment behind everything: a full-screen pass, no depth test or write."""
@@ -216,6 +264,7 @@ class ForwardPass:
         self.ctx.enable(self.ctx.DEPTH_TEST)
 
     def release(self) -> None:
+        self.mirrors.release()
         if self._sky is not None:
             self._sky[1].release()
             self._sky[0].release()

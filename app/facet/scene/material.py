@@ -43,6 +43,9 @@ class Material:
     reflectivity: float = 0.0  # mix towards the scene's environment (reflection/refraction)
     ior: float = 0.0  # index of refraction (> 1) for refraction with Fresnel; 0: none
     gloss: float = 0.0  # 0: a sharp mirror; up to 1: reflections blurred (by supersampling)
+    # A planar mirror: a flat object showing the scene mirrored in its plane, mixed in by
+    # ``reflectivity`` (facet.render.mirror). Needs a flat mesh and reflectivity > 0.
+    mirror: bool = False
 
     def __post_init__(self):
         from .texture import Texture
@@ -70,6 +73,12 @@ class Material:
         if not (isinstance(self.gloss, (int, float)) and 0 <= self.gloss <= 1):
             raise InputError(f"material gloss must be in [0, 1], got {self.gloss!r}")
         self.gloss = float(self.gloss)
+        if not isinstance(self.mirror, (bool, np.bool_)):
+            raise InputError(f"material mirror must be true or false, got {self.mirror!r}")
+        if self.mirror and self.reflectivity == 0:
+            raise InputError("a mirror material needs reflectivity > 0 (how much of the "
+                             "mirrored scene it shows; 1: a perfect mirror)")
+        self.mirror = bool(self.mirror)
         for key in ("ka", "kd", "ks", "shininess"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):

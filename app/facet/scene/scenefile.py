@@ -31,8 +31,9 @@ TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms", "envir
 RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb",
           "shadows")
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
-            "gloss", "texture", "shader", "vertex_shader", "uniforms")
-OBJECT = ("name", "mesh", "primitive", "material", "transform", "matrix", "parent", "flat",
+            "gloss", "mirror", "texture", "shader", "vertex_shader", "uniforms")
+OBJECT = ("name", "mesh", "primitive", "material", "transform", "transform_end", "matrix",
+          "parent", "flat",
           *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
 LIGHT = {"ambient": ("color", "intensity"),
          "directional": ("direction", "color", "intensity"),
@@ -157,6 +158,13 @@ class _SceneBuilder:
             kw["opacity"] = r.number(t["opacity"], f"{where}.opacity", minimum=0)
             if kw["opacity"] > 1:
                 r.fail(f"{where}.opacity", f"expected a number in [0, 1], got {t['opacity']}")
+        if "mirror" in t:
+            if not isinstance(t["mirror"], bool):
+                r.fail(f"{where}.mirror", f"expected true or false, got {_show(t['mirror'])}")
+            if t["mirror"] and not kw.get("reflectivity"):
+                r.fail(f"{where}.mirror", "a mirror needs reflectivity > 0 (1: a perfect "
+                       "mirror)")
+            kw["mirror"] = t["mirror"]
         if "texture" in t:
             kw["texture"] = self.texture(t["texture"], f"{where}.texture")
         if "shader" in t:
@@ -215,19 +223,27 @@ class _SceneBuilder:
             if name in nodes:
                 r.fail(f"{where}.name", f"the name {_show(name)} is already used by "
                        f"{nodes[name]['where']}")
-            nodes[name] = {"where": where, "t": t, "local": self.local_transform(t, where)}
+            local = self.local_transform(t, where)
+            # Motion blur: the local transform at shutter close (default: not moving).
+            end = self.steps(t["transform_end"], f"{where}.transform_end") \
+                if "transform_end" in t else local
+            nodes[name] = {"where": where, "t": t, "local": local, "local_end": end}
         order = self.resolve_parents(nodes)
         for name in order:
             node = nodes[name]
             t, where = node["t"], node["where"]
             parent = t.get("parent")
             node["world"] = (nodes[parent]["world"] if parent else np.eye(4)) @ node["local"]
+            node["world_end"] = (nodes[parent]["world_end"] if parent else np.eye(4)) @ \
+                node["local_end"]  # children move with their parents
+            moving = not np.array_equal(node["world_end"], node["world"])
             material = None
             if "material" in t:
                 material = self.object_material(t["material"], f"{where}.material", materials)
             for part_name, mesh, matrix in self.geometry(t, where):
                 try:
-                    scene.add(mesh, material, node["world"] @ matrix, name=part_name or name)
+                    scene.add(mesh, material, node["world"] @ matrix, name=part_name or name,
+                              transform_end=node["world_end"] @ matrix if moving else None)
                 except FacetError as exc:
                     r.fail(where, str(exc))
 
@@ -263,14 +279,19 @@ class _SceneBuilder:
         if "matrix" in t:
             m = r.matrix(t["matrix"], f"{where}.matrix")
         else:
-            steps = t.get("transform", [])
-            if not isinstance(steps, list):
-                r.fail(f"{where}.transform", "expected a list of steps like "
-                       "[{scale = 2}, {translate = [0, 1, 0]}]")
-            m = T.compose(*(self.step(s, f"{where}.transform[{i}]")
-                            for i, s in enumerate(steps)))
+            m = self.steps(t.get("transform", []), f"{where}.transform")
         if abs(np.linalg.det(m[:3, :3])) < 1e-12:
             r.fail(f"{where}.transform", "the transform is singular (a zero scale?)")
+        return m
+
+    def steps(self, steps, where: str) -> np.ndarray:
+        """The matrix of a list of transform steps, applied first to last."""
+        if not isinstance(steps, list):
+            self.r.fail(where, "expected a list of steps like "
+                        "[{scale = 2}, {translate = [0, 1, 0]}]")
+        m = T.compose(*(self.step(s, f"{where}[{i}]") for i, s in enumerate(steps)))
+        if abs(np.linalg.det(m[:3, :3])) < 1e-12:
+            self.r.fail(where, "the transform is singular (a zero scale?)")
         return m
 
     def step(self, s, where: str) -> np.ndarray:
