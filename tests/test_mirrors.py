@@ -83,6 +83,19 @@ def test_mirror_reflections_are_consistent_across_aa_paths(renderer):
     assert (inner > 40).mean() < 0.03  # only edges differ
 
 
+def test_objects_with_their_own_shader_are_reflected(renderer):
+    """A material with a user's GLSL (which declares no clip plane) shows in the mirror."""
+    from facet.scene.shader import UserShader
+
+    from conftest import ROOT
+
+    s = _floor_scene()
+    s.objects[1].material = Material(shader=UserShader(ROOT / "glsl/examples/normals.frag"))
+    frame = renderer(W, H).render(s, CAMERAS[0], shading="unlit", outputs=("color", "ids"))
+    floor = frame.object_ids == 0
+    assert (frame.color[floor][:, :3].max(axis=1) > 60).sum() > 100
+
+
 def test_mirror_mistakes():
     with pytest.raises(InputError, match="mirror material needs reflectivity > 0"):
         Material(mirror=True)

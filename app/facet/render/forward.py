@@ -182,8 +182,8 @@ class ForwardPass:
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 prog.set("u_view", camera.view, strict)
                 prog.set("u_eye_world", eye, strict)
-                if clip_plane is not None:
-                    prog.set("u_clip_plane", tuple(float(v) for v in clip_plane))
+                if clip_plane is not None:  # users' shaders do not clip (they lack it)
+                    prog.set("u_clip_plane", tuple(float(v) for v in clip_plane), strict)
                 if user:
                     prog.set("u_projection", view_projection @ np.linalg.inv(camera.view),
                              strict)
