@@ -20,25 +20,36 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.mark.parametrize("kwargs,message", [
-    (dict(width=0, height=10), "width must be between 1 and"),
+    (dict(width=0, height=10), "width and height must be >= 1"),
     (dict(width=10, height=10**6), "height must be between 1 and"),
-    (dict(width=10.5, height=10), "must be an integer"),
-    (dict(width=10, height=10, msaa=3), "msaa must be one of"),
-    (dict(width=10, height=10, shading="toon"), "unknown shading model"),
+    (dict(width=10.5, height=10), "expected two integers"),
+    (dict(width=10, height=10, msaa=3), "msaa must be one of 0, 2, 4, 8, got 3"),
+    (dict(width=10, height=10, shading="toon"), "unknown shading model 'toon'"),
+    (dict(width=10), "give both width and height"),
+    (dict(outputs=("color", "albedo")), "unknown output channel 'albedo'"),
+    (dict(lights="sun"), "unknown lights mode 'sun'"),
+    (dict(speed=3), "unknown render option 'speed'"),
 ])
 def test_renderer_arguments(kwargs, message):
     with pytest.raises(InputError, match=message):
         Renderer(**kwargs)
 
 
-def test_msaa_beyond_the_driver_limit(renderer):
-    max_samples = renderer(16, 16).ctx.max_samples
+def test_msaa_beyond_the_driver_limit_is_clamped_with_a_warning(renderer):
+    """One policy everywhere (Python, CLI, scene files, viewer): MSAA above the context's
+    maximum is lowered to it, with one warning line naming the maximum."""
+    from facet.errors import FacetWarning
+
+    r = renderer(24, 24)
+    max_samples = r.ctx.max_samples
+    scene = Scene()
+    scene.add(sphere_mesh(2))
     if max_samples >= 8:
-        with Renderer(16, 16, msaa=8) as r:
-            assert r.msaa == 8
-    else:
-        with pytest.raises(InputError, match=f"max {max_samples} samples"):
-            Renderer(16, 16, msaa=8)
+        pytest.skip(f"this GL offers {max_samples} samples: nothing to clamp")
+    with pytest.warns(FacetWarning, match=f"msaa:8 .*max {max_samples} samples.*using msaa"):
+        clamped = r.render(scene, msaa=8, outputs=("color",)).color
+    best = max(n for n in (2, 4) if n <= max_samples)
+    assert np.array_equal(clamped, r.render(scene, msaa=best, outputs=("color",)).color)
 
 
 def test_render_arguments(renderer):
@@ -47,7 +58,7 @@ def test_render_arguments(renderer):
     with pytest.raises(InputError, match="scene is empty"):
         r.render(scene)  # no camera to frame an empty scene with
     scene.add(sphere_mesh(1))
-    with pytest.raises(InputError, match="unknown outputs"):
+    with pytest.raises(InputError, match="unknown output channel 'albedo'"):
         r.render(scene, outputs=("color", "albedo"))
     intr = Camera.from_intrinsics(10, 10, 7.5, 7.5, 32, 32)
     with pytest.raises(InputError, match="intrinsics are for 32x32"):

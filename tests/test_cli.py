@@ -213,7 +213,7 @@ def test_bits_and_dithering_from_the_cli(tmp_path, sphere_file):
 
 
 @pytest.mark.parametrize("args,message", [
-    (["--outputs", "color,albedo", "--out-dir", "{tmp}/r"], "unknown channel 'albedo'"),
+    (["--outputs", "color,albedo", "--out-dir", "{tmp}/r"], "unknown output channel 'albedo'"),
     (["--outputs", "depth"], "--outputs needs --out-dir"),
     (["--out-dir", "{tmp}/r", "-o", "{tmp}/x.png"], "leave out -o"),
     (["--bits", "12"], "each 1..8"),

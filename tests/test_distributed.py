@@ -97,7 +97,7 @@ def test_cli_and_scene_file_lens(tmp_path, capsys):
     assert main(["render", "--aperture", "0.2", "--focus", "5", "--size", "32x24", "-q",
                  "-o", str(out)]) == 0 and out.exists()
     for args, message in ((["--aperture", "0.2"], "needs a focus distance"),
-                          (["--focus", "3"], "--focus needs --aperture")):
+                          (["--focus", "3"], "a focus distance needs an aperture")):
         assert main(["render", *args, "-o", str(tmp_path / "x.png")]) == 2
         assert message in capsys.readouterr().err
     scene = tmp_path / "s.toml"

@@ -1,5 +1,5 @@
 """The viewer's drawing paths against headless rendering, over real EGL: ``present`` (one
-picture, what a moving camera shows) and ``present_progressive`` (one supersample per call)
+picture, what a moving camera shows) and ``present(..., sample=k)`` (one supersample per call)
 draw into a framebuffer standing in for a window and must give the picture ``render`` gives,
 transparency and the distributed effects included."""
 
@@ -8,7 +8,7 @@ import pytest
 
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
-from facet.render.present import EDGE_COLOR
+from facet.render.overlay import EDGE_COLOR
 from facet.scene import AreaLight, DirectionalLight, Material, Scene
 from facet.scene.primitives import plane, sphere
 from test_golden import CHANNEL_TOL, MAX_DIFFERING
@@ -119,7 +119,7 @@ def test_progressive_converges_to_the_headless_supersampled_render(renderer):
     try:
         with r.ctx:
             for k in range(16):
-                shown_samples = r.present_progressive(scene, camera, fbo, aa, k, shadows=True)
+                shown_samples = r.present(scene, camera, fbo, aa=aa, sample=k, shadows=True)
             shown = _read(fbo).copy()
             r.present(scene, camera, fbo, shadows=True)  # one pinhole picture
             single = _read(fbo)

@@ -99,7 +99,7 @@ def api_scene() -> Scene:
 
 def test_scene_file_matches_the_api_pixel_for_pixel(tmp_path, renderer):
     loaded = load_scene(_write(tmp_path, SCENE))
-    assert loaded.settings.size == (64, 48) and loaded.settings.msaa == 0
+    assert loaded.options["size"] == (64, 48) and loaded.options["aa"].kind == "none"
     assert [o.name for o in loaded.objects] == ["ground", "ball", "box"]
     camera = Camera.look_at((2, 2, 3), (0, 0.4, 0), fov_y=45, near=0.5, far=20)
     assert np.allclose(loaded.camera().view, camera.view)

@@ -8,7 +8,7 @@ import pytest
 from PIL import Image
 
 from facet.errors import InputError, ShaderError
-from facet.render.shadertoy import ShaderToy
+from facet.lab.shadertoy import ShaderToy
 
 W, H = 40, 24
 

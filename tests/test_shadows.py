@@ -5,6 +5,7 @@ lights."""
 import numpy as np
 import pytest
 
+from facet.errors import InputError
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
 from facet.scene import DirectionalLight, Material, PointLight, Scene, SpotLight, primitives
@@ -96,7 +97,7 @@ def test_cli_and_scene_file_shadows(tmp_path):
     darker = (a - b).sum(axis=2) > 60
     assert darker.sum() > 30 and (b - a).max() <= 1  # shadows only ever darken
     scene.write_text(scene.read_text().replace("msaa = 0", "msaa = 0\nshadows = true"))
-    assert load_scene(scene).settings.shadows is True
+    assert load_scene(scene).options["shadows"] is True
 
 
 def test_pcf_kernel_softens_the_edge(renderer):
@@ -114,7 +115,7 @@ def test_pcf_kernel_softens_the_edge(renderer):
         red = frame.color[..., 0][frame.object_ids == 0].astype(int)
         edges[pcf] = ((red > 0.2 * 255 + 20) & (red < 255 * 0.95)).sum()  # penumbra pixels
     assert edges[2] > edges[0]
-    with pytest.raises(Exception, match="pcf must be one of"):
+    with pytest.raises(InputError, match="pcf: expected one of 0, 1, 2, got 5"):
         r.render(scene, camera, shadows=True, pcf=5)
 
 

@@ -88,13 +88,18 @@ def test_colour_modes():
     with Renderer(8, 8, srgb=True) as r:
         managed = r.render(scene, CAMERA).color
     assert np.all(np.abs(plain[..., :3].astype(int) - 128) <= 1)
-    assert np.allclose(managed[..., :3], linear_to_srgb(0.5), atol=2e-3)
+    assert managed.dtype == np.uint8  # 8-bit unless float_color, in either mode
+    assert np.all(np.abs(managed[..., :3] / 255 - linear_to_srgb(0.5)) <= 1 / 255)
+    with Renderer(8, 8, srgb=True, float_color=True) as r:
+        exact = r.render(scene, CAMERA).color
+    assert exact.dtype == np.float32
+    assert np.allclose(exact[..., :3], linear_to_srgb(0.5), atol=2e-3)
     flat = Texture(np.full((2, 2, 3), 128, np.uint8))
     with Renderer(8, 8, srgb=True) as r:
         scene2 = Scene()
         scene2.add(quad(), Material(color=(1, 1, 1), texture=flat))
         out = r.render(scene2, CAMERA, shading="unlit").color
-    assert np.allclose(out[..., :3], 128 / 255, atol=1 / 255)
+    assert np.all(np.abs(out[..., :3].astype(int) - 128) <= 1)
     assert srgb_to_linear(128 / 255) == pytest.approx(0.2158, abs=1e-3)
 
 

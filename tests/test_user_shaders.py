@@ -9,7 +9,7 @@ import pytest
 from facet.errors import InputError, SceneError
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
-from facet.render.shadertoy import ShaderToy
+from facet.lab.shadertoy import ShaderToy
 from facet.scene import Material, Scene, load_scene
 from facet.scene.light import camera_rig
 from facet.scene.shader import UserShader
@@ -127,7 +127,7 @@ material = "board"
 
 
 def test_bad_user_uniforms(renderer):
-    for uniforms, message in (({"u_nope": [1]}, "no uniform named 'u_nope'.*u_steps"),
+    for uniforms, message in (({"u_nope": [1]}, "no user uniform named 'u_nope'; it has: u_steps"),
                               ({"u_steps": [1, 2]}, "u_steps is float: expected 1")):
         material = Material(shader=UserShader(EXAMPLES / "toon.frag", uniforms=uniforms))
         with pytest.raises(InputError, match=message):

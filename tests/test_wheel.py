@@ -25,7 +25,7 @@ def test_wheel_installs_and_renders(tmp_path):
     wheel = next(dist.glob("facet-*.whl"))
     names = set(zipfile.ZipFile(wheel).namelist())
     for needed in ("facet/glsl/lib/lighting.glsl", "facet/glsl/mesh/phong.frag",
-                   "facet/models/default.obj", "facet/cli.py"):
+                   "facet/models/default.obj", "facet/cli/__init__.py"):
         assert needed in names
 
     env_dir = tmp_path / "venv"

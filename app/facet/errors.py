@@ -38,3 +38,8 @@ class SceneError(InputError):
     """A scene file that cannot be used: bad TOML, a wrong type, an unknown key, a missing
     file, a parent cycle. The message names the file and the key path, e.g.
     ``scene.toml: objects[2].material.shininess: expected a number >= 0, got "shiny"``."""
+
+
+class FacetWarning(UserWarning):
+    """Something facet changed for the user and says so in one line (a sample count capped,
+    MSAA clamped to what the GL offers); the CLI prints it as ``facet: warning: ...``."""

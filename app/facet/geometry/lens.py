@@ -58,6 +58,24 @@ def check_lens(camera: Camera) -> bool:
     return True
 
 
+def with_lens(camera: Camera, aperture: float | None, focus: float | None) -> Camera:
+    """``camera`` with the lens a render's options ask for (None: the camera's own value),
+    checked like the camera's own lens; the camera itself is not changed."""
+    if aperture is None and focus is None:
+        return camera
+    import copy
+
+    lens = copy.copy(camera)
+    if aperture is not None:
+        lens.aperture = aperture
+    if focus is not None:
+        if not lens.aperture:
+            raise InputError("a focus distance needs an aperture (a lens diameter > 0)")
+        lens.focus_distance = focus
+    check_lens(lens)
+    return lens
+
+
 def lens_camera(camera: Camera, lx: float, ly: float) -> Camera:
     """The camera seen through lens point (lx, ly) (camera space, scene units)."""
     f = camera.focus_distance

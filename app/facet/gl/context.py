@@ -50,7 +50,7 @@ def max_image_size(ctx: moderngl.Context) -> int:
 
 
 def create_for_current_window(require: int = GL_REQUIRED) -> moderngl.Context:
-    """A moderngl context over the window context that is current (facet.viewer makes it)."""
+    """A moderngl context over the window context that is current (facet.window.base makes it)."""
     try:
         return moderngl.create_context(require=require)
     except Exception as exc:

@@ -125,7 +125,7 @@ class Program:
     def __init__(self, program: moderngl.Program, sources: dict[str, ExpandedSource]):
         self.gl = program
         self.sources = sources
-        self._declared = {name for src in sources.values()
+        self.declared = {name for src in sources.values()
                           for name in _UNIFORM_DECL.findall(src.text)}
         self._active = set(program)  # members the linker kept (uniforms, blocks, attributes)
 
@@ -141,7 +141,7 @@ class Program:
                 member.write(mat_bytes(value))
             else:
                 member.value = value
-        elif name not in self._declared:
+        elif name not in self.declared:
             raise ShaderError(f"no uniform named '{name}' in "
                               f"{' + '.join(s.origin[0][0] for s in self.sources.values())}")
 

@@ -1,21 +1,25 @@
-"""Render targets (framebuffers) and readback into numpy arrays with row 0 at the top.
+"""Render targets (framebuffers) of one image size, and readback into numpy with row 0 on top.
 
-Attachment 0 is always the RGBA8 colour. The auxiliary channels a render asks for follow at
-locations 1, 2, ... in the order of ``AUX_CHANNELS`` (the fragment shader gets the same
-locations as defines, ``OUT_DEPTH`` etc.; see ``aux_locations``). They are allocated on first
-use and never blended:
+A ``Targets`` makes what a render asks for on first use and keeps it for the next frame:
 
-  depth     R32F   linear depth along the camera axis, 0 = nothing hit
-  ids       R32I   object id + 1, 0 = nothing
+* ``color(dtype)``: single-sample colour (a texture, so later passes can read it) with the
+  shared depth buffer; dtype ``f1`` (RGBA8, uint8 readback) or ``f4`` (RGBA32F, float32
+  readback: 16-bit output, dithering, linear light before sRGB encoding).
+* ``multisample(samples, dtype)``: multisampled colour and depth, resolved into
+  ``color(dtype)``; one sample count at a time (a new count releases the old buffers).
+* ``output(dtype)``: where the colour-finishing pass writes (facet.render.finish).
+* the exact auxiliary channels, never blended, at locations 1, 2, ... after colour in the
+  order of ``AUX_CHANNELS`` (the fragment shader gets the same locations as defines,
+  ``OUT_DEPTH`` etc.; see ``aux_locations``):
+
+  depth     R32F     linear depth along the camera axis, 0 = nothing hit
+  ids       R32I     object id + 1, 0 = nothing
   normals   RGBA32F  world-space unit normal (xyz), 0 = nothing
   position  RGBA32F  world-space position (xyz), 0 = nothing
-  uv        RG32F  texture coordinates, 0 = nothing
+  uv        RG32F    texture coordinates, 0 = nothing
 
 Ids are stored shifted by one because moderngl clears integer attachments through the float
 path: the bit pattern of 0.0 is integer 0, so "clear to 0" is the only exact integer clear.
-
-With MSAA a multisampled colour target is drawn and resolved into attachment 0; the auxiliary
-channels come from a single-sample pass (sampled at pixel centres, exactly as without MSAA).
 
 Offscreen targets are drawn upside down (``FLIP_Y``: clip-space y negated, front faces
 clockwise), so that GL's bottom-up rows read back as an image with row 0 at the top, straight
@@ -28,6 +32,7 @@ import moderngl
 import numpy as np
 
 from ..errors import InputError
+from ..scene.options import MSAA_CHOICES, OUTPUTS
 from .context import max_image_size
 
 # Auxiliary channel -> (components, GL dtype, numpy dtype); order fixes attachment locations.
@@ -38,11 +43,12 @@ AUX_CHANNELS = {
     "position": (4, "f4", np.float32),
     "uv": (2, "f4", np.float32),
 }
+assert set(AUX_CHANNELS) == set(OUTPUTS) - {"color"}
 
-
-# Colour target formats: RGBA8 (uint8 readback) or RGBA32F (float32 readback, for 16-bit
-# output and dithering from the unrounded shading values).
+# Colour target formats and their readback dtypes.
 COLOR_DTYPES = {"f1": np.uint8, "f4": np.float32}
+# Clip-space y flip applied to offscreen renders (see the module docstring).
+FLIP_Y = np.diag([1.0, -1.0, 1.0, 1.0])
 
 
 def aux_locations(channels) -> dict[str, int]:
@@ -51,88 +57,99 @@ def aux_locations(channels) -> dict[str, int]:
     return {c: i + 1 for i, c in enumerate(wanted)}
 
 
-MSAA_CHOICES = (0, 2, 4, 8)
-# Clip-space y flip applied to offscreen renders (see the module docstring).
-FLIP_Y = np.diag([1.0, -1.0, 1.0, 1.0])
-
-
 class Targets:
-    """All framebuffers for one image size and sample count."""
+    """The framebuffers of one image size (see the module docstring)."""
 
-    def __init__(self, ctx: moderngl.Context, width: int, height: int, msaa: int = 0,
-                 color_dtype: str = "f1"):
+    def __init__(self, ctx: moderngl.Context, width: int, height: int):
         check_size(ctx, width, height)
-        if msaa not in MSAA_CHOICES:
-            raise InputError(f"msaa must be one of {MSAA_CHOICES}, got {msaa!r}")
-        if msaa > ctx.max_samples:
-            raise InputError(f"msaa={msaa} is more than this GL supports "
-                             f"(max {ctx.max_samples} samples on {ctx.info['GL_RENDERER']})")
-        if color_dtype not in COLOR_DTYPES:
-            raise InputError(f"color_dtype must be one of {tuple(COLOR_DTYPES)}, got "
-                             f"{color_dtype!r}")
-        self.ctx, self.width, self.height, self.msaa = ctx, width, height, msaa
-        self.color_dtype = color_dtype
-        size = (width, height)
-        self.color = ctx.renderbuffer(size, 4, dtype=color_dtype)
-        self.zbuffer = ctx.depth_renderbuffer(size)
-        self.color_only = ctx.framebuffer([self.color], self.zbuffer)
-        self._own = [self.color, self.zbuffer, self.color_only]
-        self._aux: dict[str, tuple[moderngl.Renderbuffer, moderngl.Framebuffer]] = {}
-        self._targets: dict[tuple[str, ...], moderngl.Framebuffer] = {}
-        self.multisample = None
-        if msaa:
-            self.ms_color = ctx.renderbuffer(size, 4, samples=msaa, dtype=color_dtype)
-            self.ms_z = ctx.depth_renderbuffer(size, samples=msaa)
-            self.multisample = ctx.framebuffer([self.ms_color], self.ms_z)
-            self._own += [self.ms_color, self.ms_z, self.multisample]
+        self.ctx, self.width, self.height = ctx, width, height
+        self.size = (width, height)
+        self.zbuffer = ctx.depth_renderbuffer(self.size)
+        self._color: dict[str, tuple] = {}  # dtype -> (texture, framebuffer)
+        self._output: dict[str, tuple] = {}  # dtype -> (texture, framebuffer)
+        self._multisample: dict[tuple[int, str], tuple] = {}  # (samples, dtype) -> buffers
+        self._aux: dict[str, tuple] = {}  # channel -> (renderbuffer, framebuffer to clear it)
+        self._aux_targets: dict[tuple, moderngl.Framebuffer] = {}
 
-    def _channel(self, name: str) -> tuple[moderngl.Renderbuffer, moderngl.Framebuffer]:
-        """The buffer of an auxiliary channel and a framebuffer to clear it alone."""
+    def color(self, dtype: str = "f1") -> moderngl.Framebuffer:
+        """The single-sample colour target with depth; ``color_texture`` is its colour."""
+        if dtype not in COLOR_DTYPES:
+            raise InputError(f"colour dtype must be one of {tuple(COLOR_DTYPES)}, got {dtype!r}")
+        if dtype not in self._color:
+            tex = self.ctx.texture(self.size, 4, dtype=dtype)
+            self._color[dtype] = (tex, self.ctx.framebuffer([tex], self.zbuffer))
+        return self._color[dtype][1]
+
+    def color_texture(self, dtype: str = "f1") -> moderngl.Texture:
+        self.color(dtype)
+        return self._color[dtype][0]
+
+    def output(self, dtype: str = "f1") -> moderngl.Framebuffer:
+        """A colour-only target for the finishing pass."""
+        if dtype not in self._output:
+            tex = self.ctx.texture(self.size, 4, dtype=dtype)
+            self._output[dtype] = (tex, self.ctx.framebuffer([tex]))
+        return self._output[dtype][1]
+
+    def multisample(self, samples: int, dtype: str = "f1") -> moderngl.Framebuffer:
+        """A multisampled colour + depth target (``samples`` in MSAA_CHOICES, within the
+        context's maximum: facet.scene.options.clamp_msaa decides before this)."""
+        if samples not in MSAA_CHOICES or not samples:
+            raise InputError(f"msaa must be one of {MSAA_CHOICES[1:]}, got {samples!r}")
+        if samples > self.ctx.max_samples:
+            raise InputError(f"msaa={samples} is more than this GL supports "
+                             f"(max {self.ctx.max_samples} samples)")
+        key = (samples, dtype)
+        if key not in self._multisample:
+            # moderngl re-binds the bound framebuffer after making one: bind a live one
+            # before releasing the old count's (a released one there is GL_INVALID_OPERATION).
+            self.color(dtype).use()
+            for other in [k for k in self._multisample if k[0] != samples]:
+                self._release_all(self._multisample.pop(other))
+            color = self.ctx.renderbuffer(self.size, 4, samples=samples, dtype=dtype)
+            depth = self.ctx.depth_renderbuffer(self.size, samples=samples)
+            self._multisample[key] = (self.ctx.framebuffer([color], depth), depth, color)
+        return self._multisample[key][0]
+
+    def resolve(self, multisample: moderngl.Framebuffer, dtype: str) -> moderngl.Framebuffer:
+        """Average the samples of ``multisample``'s colour into ``color(dtype)``."""
+        target = self.color(dtype)
+        self.ctx.copy_framebuffer(target, multisample)
+        return target
+
+    def _channel(self, name: str) -> tuple:
         if name not in self._aux:
             components, dtype, _ = AUX_CHANNELS[name]
-            rb = self.ctx.renderbuffer((self.width, self.height), components, dtype=dtype)
+            rb = self.ctx.renderbuffer(self.size, components, dtype=dtype)
             self._aux[name] = (rb, self.ctx.framebuffer([rb]))
         return self._aux[name]
 
-    def begin_aux(self, channels, background) -> moderngl.Framebuffer:
-        """Clear colour and the requested auxiliary channels (to 0) and bind a target with
-        them at the locations of ``aux_locations``."""
-        key = tuple(aux_locations(channels))
-        for name in key:
+    def aux(self, channels, dtype: str = "f1") -> moderngl.Framebuffer:
+        """Colour plus the requested auxiliary channels (cleared to 0) at the locations of
+        ``aux_locations``, with the shared depth buffer."""
+        names = tuple(aux_locations(channels))
+        for name in names:
             self._channel(name)[1].clear(0.0, 0.0, 0.0, 0.0)
-        if key not in self._targets:
-            self._targets[key] = self.ctx.framebuffer(
-                [self.color, *(self._channel(n)[0] for n in key)], self.zbuffer)
-        self.begin_color(background)
-        self._targets[key].use()
-        return self._targets[key]
+        key = (names, dtype)
+        if key not in self._aux_targets:
+            self._aux_targets[key] = self.ctx.framebuffer(
+                [self.color_texture(dtype), *(self._channel(n)[0] for n in names)],
+                self.zbuffer)
+        return self._aux_targets[key]
 
-    def begin_color(self, background) -> moderngl.Framebuffer:
-        """Clear and bind the colour-only single-sample target."""
-        self.color_only.use()
-        self.color_only.clear(*background, depth=1.0)
-        return self.color_only
-
-    def begin_multisample(self, background) -> moderngl.Framebuffer:
-        self.multisample.use()
-        self.multisample.clear(*background, depth=1.0)
-        return self.multisample
-
-    def resolve(self) -> None:
-        """Average the samples of the multisampled colour into attachment 0."""
-        self.ctx.copy_framebuffer(self.color_only, self.multisample)
-
-    def read_color(self) -> np.ndarray:
-        """(H, W, 4) uint8 (or float32 for a float colour target), row 0 at the top."""
-        return self._read(self.color_only, 4, self.color_dtype, COLOR_DTYPES[self.color_dtype])
+    def read_color(self, fbo: moderngl.Framebuffer, dtype: str) -> np.ndarray:
+        """(H, W, 4) uint8 (or float32 for ``f4``) of ``fbo``'s colour, row 0 at the top."""
+        return self._read(fbo, 4, dtype, COLOR_DTYPES[dtype])
 
     def read_aux(self, name: str) -> np.ndarray:
-        """(H, W) or (H, W, k) array of an auxiliary channel drawn by the last ``begin_aux``
-        (ids shifted back: -1 = background)."""
+        """(H, W) or (H, W, k) array of an auxiliary channel drawn by the last ``aux``
+        target (ids shifted back: -1 = background; normals and position without w)."""
         components, dtype, np_dtype = AUX_CHANNELS[name]
         out = self._read(self._channel(name)[1], components, dtype, np_dtype)
         if name == "ids":
             out -= 1
+        if components == 4:
+            out = np.ascontiguousarray(out[..., :3])
         return out
 
     def _read(self, fbo, components: int, dtype: str, np_dtype) -> np.ndarray:
@@ -142,17 +159,23 @@ class Targets:
         fbo.read_into(out, components=components, attachment=0, dtype=dtype)
         return out
 
-    def release(self) -> None:
-        for fbo in self._targets.values():
-            fbo.release()
-        for rb, fbo in self._aux.values():
-            fbo.release()
-            rb.release()
-        for obj in reversed(self._own):
+    @staticmethod
+    def _release_all(objects) -> None:
+        for obj in objects:
             obj.release()
-        self._own.clear()
-        self._aux.clear()
-        self._targets.clear()
+
+    def release(self) -> None:
+        for fbo in self._aux_targets.values():
+            fbo.release()
+        for group in (*self._aux.values(), *self._multisample.values()):
+            self._release_all(group)
+        for tex, fbo in (*self._color.values(), *self._output.values()):
+            fbo.release()
+            tex.release()
+        self.zbuffer.release()
+        for table in (self._aux_targets, self._aux, self._multisample, self._color,
+                      self._output):
+            table.clear()
 
 
 def check_size(ctx: moderngl.Context, width, height) -> None:

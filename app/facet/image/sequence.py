@@ -178,3 +178,16 @@ class SequenceSink:
         if self._tmp:
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(self._tmp)
+
+
+def cameras_path(path) -> Path:
+    """Where a sequence's cameras go: ``spin.json`` beside ``spin.gif``; for a pattern
+    ``frames/{:04d}.png`` the name without its number fields plus ``cameras.json``
+    (``frames/cameras.json``; ``out/f_{:03d}.png`` -> ``out/f_cameras.json``)."""
+    import re
+
+    p = Path(str(path))
+    if check_sequence_path(path) != "pattern":
+        return p.with_suffix(".json")
+    stem = re.sub(r"\{[^}]*\}", "", p.stem)
+    return p.parent / f"{stem}cameras.json"

@@ -1,9 +1,10 @@
-"""The forward Phong pass: one draw per scene object into the current target.
+"""The forward Phong pass: one draw per scene object into the bound target.
 
-Shading models map to programs through ``facet.render.shading.SHADING_MODELS``;
-programs are compiled on first use and reused. Per frame the pass writes the camera and
-light uniforms (lights through one std140 uniform block, re-uploaded only when they change)
-and per object its matrices and material.
+Shading models map to programs through ``facet.render.shading.SHADING_MODELS``; a program is
+specialised on a ``Variant`` (the frame's light kinds, shadows, which outputs...), compiled
+on first use and reused. Per frame the pass writes the camera and the light block (from the
+``FrameState``; the uniform buffer is re-uploaded only when the lights change), per object
+its matrices and material.
 """
 
 from __future__ import annotations
@@ -13,41 +14,18 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..geometry import transforms as T
-from ..geometry.camera import Camera
+from ..gl.fullscreen import FullScreenPass
 from ..gl.glsl_source import glsl_root
 from ..gl.resources import ResourceCache
 from ..gl.shaders import Program, compile_program
-from ..gl.targets import FLIP_Y, aux_locations
-from ..image.colorspace import srgb_to_linear
-from ..scene.light import DirectionalLight, PointLight, SpotLight
+from ..gl.targets import aux_locations
+from ..lab.mesh_shaders import UserPrograms
 from ..scene.scene import MAX_LIGHTS, Scene
-from .mirror import MIRROR_UNIT, MirrorTargets, mirror_plane
+from .mirror import MirrorTargets, mirror_plane
 from .shading import SHADING_MODELS, check_shading
-from .user_shaders import UserPrograms
+from .state import UNITS, FrameState, pack_lights
 
-LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in lighting.glsl
 LIGHTS_BINDING = 0
-ENV_UNIT = 2  # texture unit of the environment cube (0: material texture, 1: shadow atlas)
-
-
-def pack_lights(scene: Scene, to_linear=np.asarray) -> bytes:
-    """The std140 ``Lights`` block of glsl/lib/lights.glsl: ambient, count, 4 vec4 per light."""
-    block = np.zeros(2 * 4 + MAX_LIGHTS * 16, dtype=np.float32)
-    block[0:3] = to_linear(scene.ambient)
-    block[4:8] = np.array([len(scene.lights), 0, 0, 0], dtype=np.int32).view(np.float32)
-    for i, light in enumerate(scene.lights):
-        pos, direction, color, falloff = block[8 + 16 * i: 24 + 16 * i].reshape(4, 4)
-        pos[3] = LIGHT_KIND[type(light)]
-        color[:3] = to_linear(light.color) * light.intensity
-        if hasattr(light, "position"):
-            pos[:3] = light.position
-            falloff[:3] = light.attenuation
-        if hasattr(light, "direction"):
-            direction[:3] = light.direction
-        if isinstance(light, SpotLight):
-            direction[3] = np.cos(np.radians(light.inner_angle))
-            color[3] = np.cos(np.radians(light.outer_angle))
-    return block.tobytes()
 
 
 @dataclass(frozen=True)
@@ -68,6 +46,15 @@ class Variant:
     environment: bool = False  # reflects / refracts the scene's environment
     mirror: bool = False  # mixes in its planar reflection (facet.render.mirror)
     clip_plane: bool = False  # discards what is behind a mirror (its reflection pass)
+
+    @classmethod
+    def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
+        s = state.shadows
+        return cls(state.shading, state.light_kinds, tuple(aux_locations(aux)),
+                   state.camera.is_orthographic, srgb=state.srgb,
+                   shadow_slots=s.slots if s else None, shadow_tiles=s.tiles if s else 0,
+                   shadow_pcf=s.pcf if s else 1, oit=oit,
+                   clip_plane=state.clip_plane is not None)
 
     def defines(self) -> dict:
         spec = SHADING_MODELS[check_shading(self.shading)]
@@ -101,7 +88,7 @@ class ForwardPass:
         self.user = UserPrograms(ctx, cache.forget_program)
         self._sky = None  # the environment background program, made on first use
         self.mirrors = MirrorTargets(ctx)  # planar reflection textures, made on first use
-        self.lights_ubo = ctx.buffer(reserve=len(pack_lights(Scene())))
+        self.lights_ubo = ctx.buffer(reserve=len(pack_lights((), np.zeros(3))))
         self._lights_bytes = b""
 
     def program(self, variant: Variant) -> Program:
@@ -116,81 +103,52 @@ class ForwardPass:
             self.programs[variant] = prog
         return self.programs[variant]
 
-    def draw(self, scene: Scene, camera: Camera, width: int, height: int, shading: str,
-             aux: tuple[str, ...] = (), flip_y: bool = True, srgb: bool = False,
-             time: float = 0.0, jitter=None, shadows: dict | None = None,
-             shadow_maps=None, oit: bool = False, colour_pass: bool = True,
-             gloss_jitter=(0.0, 0.0), clip_plane=None) -> None:
+    def draw(self, scene: Scene, state: FrameState, *, aux: tuple[str, ...] = (),
+             oit: bool = False, colour_pass: bool = True) -> None:
         """Draw every object of ``scene`` into the bound framebuffer, which holds the ``aux``
-        channels too. ``flip_y``: draw upside down for top-down readback. ``srgb``: inputs
-        are sRGB-encoded and are linearised (facet.image.colorspace). Materials with their
-        own shader use it for colour (``aux`` passes always use the built-in one); ``time``
-        is their ``u_time``. ``jitter``: a clip-space shift (supersampling, antialias.py).
-        ``shadows``: what ``ShadowMaps.draw`` returned (``shadow_maps``) for this scene.
-        ``colour_pass``: False for passes that only fill depth or the exact channels (no
-        background, no environment lookups, no mirrors). ``clip_plane``: world-space (n, d)
-        of the mirror this pass draws the reflection for (facet.render.mirror)."""
-        if colour_pass and not oit and clip_plane is None:
-            reflections = self._draw_reflections(
-                scene, camera, width, height, shading, flip_y=flip_y, srgb=srgb, time=time,
-                jitter=jitter, shadows=shadows, shadow_maps=shadow_maps,
-                gloss_jitter=gloss_jitter)
-        else:
-            reflections = {}
-        to_linear = srgb_to_linear if srgb else np.asarray
-        lights = pack_lights(scene, to_linear)
-        if lights != self._lights_bytes:
-            self.lights_ubo.write(lights)
-            self._lights_bytes = lights
+        channels too. Materials with their own shader use it for colour (``aux`` passes use
+        the built-in one). ``oit``: the transparent pass into the OIT sums.
+        ``colour_pass``: False for passes that only fill the exact channels (no background,
+        no environment lookups, no mirrors)."""
+        shows_effects = colour_pass and not oit
+        reflections = self._draw_reflections(scene, state) \
+            if shows_effects and state.clip_plane is None else {}
+        if state.lights_block != self._lights_bytes:
+            self.lights_ubo.write(state.lights_block)
+            self._lights_bytes = state.lights_block
         self.lights_ubo.bind_to_uniform_block(LIGHTS_BINDING)
-        projection = camera.projection(width, height)
-        if jitter is not None:
-            projection = jitter @ projection
-        view_projection = (FLIP_Y @ projection if flip_y else projection) @ camera.view
+        view_projection = state.view_projection()
         # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise; so
         # does looking through a mirror.
-        self.ctx.front_face = "cw" if flip_y != (clip_plane is not None) else "ccw"
+        self.ctx.front_face = "cw" if state.flip_y != (state.clip_plane is not None) else "ccw"
+        camera = state.camera
         # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
         eye = tuple(float(v) for v in (-camera.forward if camera.is_orthographic
                                        else camera.eye))
-        env = scene.environment
-        if env is not None and colour_pass and not oit:
-            self._draw_sky(env, view_projection, width, height)
-        base = Variant(shading, tuple(LIGHT_KIND[type(x)] for x in scene.lights),
-                       tuple(aux_locations(aux)), camera.is_orthographic, srgb=srgb,
-                       shadow_slots=shadows["slots"] if shadows else None,
-                       shadow_tiles=shadows["tiles"] if shadows else 0,
-                       shadow_pcf=shadows["pcf"] if shadows else 1, oit=oit,
-                       clip_plane=clip_plane is not None)
+        env = state.environment
+        if env is not None and shows_effects:
+            self._draw_sky(env, view_projection, state.width, state.height)
+        base = Variant.of(state, aux, oit)
+        to_linear = state.to_linear
         intensities = np.array([to_linear(x.color) * x.intensity
-                                for x in scene.lights]).reshape(-1, 3)
-        ambient = to_linear(scene.ambient)
+                                for x in state.lights]).reshape(-1, 3)
+        ambient = to_linear(state.ambient)
         ready: set[int] = set()
         for obj in scene.objects:
             m = obj.material
             user = m.shader is not None and not aux
+            mirror = id(obj) in reflections
+            reflects = (env is not None and m.reflectivity > 0 and colour_pass and not mirror
+                        and not user)
             if user:
                 prog = self.user.program(m.shader, base.defines())
-            else:
-                mirror = id(obj) in reflections
+            else:  # a mirror reflects the sky in its reflection
                 prog = self.program(replace(
-                    base, texture=m.texture is not None,
-                    vertex_colors=obj.mesh.colors is not None, mirror=mirror,
-                    environment=env is not None and m.reflectivity > 0 and colour_pass
-                    and not mirror))  # a mirror reflects the sky in its reflection
+                    base, texture=m.texture is not None, mirror=mirror, environment=reflects,
+                    vertex_colors=obj.mesh.colors is not None))
             strict = not user  # a user's shader need not declare every standard input
             if id(prog) not in ready:  # per-frame uniforms, once per program
-                prog.set("u_view", camera.view, strict)
-                prog.set("u_eye_world", eye, strict)
-                if clip_plane is not None:  # users' shaders do not clip (they lack it)
-                    prog.set("u_clip_plane", tuple(float(v) for v in clip_plane), strict)
-                if user:
-                    prog.set("u_projection", view_projection @ np.linalg.inv(camera.view),
-                             strict)
-                    prog.set("u_time", float(time), strict)
-                    prog.set("u_resolution", (float(width), float(height)), strict)
-                if shadows:
-                    shadow_maps.bind(prog, shadows)
+                self._frame_uniforms(prog, state, view_projection, eye, user)
                 ready.add(id(prog))
             color = to_linear(m.color)
             prog.set("u_model", obj.transform, strict)
@@ -206,23 +164,38 @@ class ForwardPass:
             prog.set("u_object_id", obj.id + 1, strict)  # 0 is "nothing" in the id target
             if oit:
                 prog.set("u_opacity", m.opacity, strict)
-            if id(obj) in reflections and not user:
-                reflections[id(obj)].use(location=MIRROR_UNIT)
-                prog.set("u_mirror", MIRROR_UNIT)
+            if mirror:
+                reflections[id(obj)].use(location=UNITS["mirror"])
+                prog.set("u_mirror", UNITS["mirror"])
                 prog.set("u_mirror_weight", m.reflectivity)
-            elif env is not None and m.reflectivity > 0 and colour_pass and not user:
-                self.cache.cube(env).use(location=ENV_UNIT)
-                prog.set("u_environment", ENV_UNIT)
+            elif reflects:
+                self.cache.cube(env).use(location=UNITS["environment"])
+                prog.set("u_environment", UNITS["environment"])
                 prog.set("u_reflectivity", m.reflectivity)
                 prog.set("u_ior", m.ior)
                 prog.set("u_gloss", m.gloss)
-                prog.set("u_gloss_jitter", tuple(float(v) for v in gloss_jitter))
+                prog.set("u_gloss_jitter", tuple(float(v) for v in state.gloss_jitter))
             if m.texture is not None:
-                self.cache.texture(m.texture, srgb).use(location=0)
-                prog.set("u_texture", 0)
+                self.cache.texture(m.texture, state.srgb).use(location=UNITS["material"])
+                prog.set("u_texture", UNITS["material"], strict)
             self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
 
-    def _draw_reflections(self, scene, camera, width, height, shading, **kw) -> dict:
+    def _frame_uniforms(self, prog: Program, state: FrameState, view_projection, eye,
+                        user: bool) -> None:
+        strict = not user
+        prog.set("u_view", state.camera.view, strict)
+        prog.set("u_eye_world", eye, strict)
+        if state.clip_plane is not None:  # users' shaders do not clip (they lack it)
+            prog.set("u_clip_plane", tuple(float(v) for v in state.clip_plane), strict)
+        if user:
+            prog.set("u_projection", view_projection @ np.linalg.inv(state.camera.view),
+                     strict)
+            prog.set("u_time", float(state.time), strict)
+            prog.set("u_resolution", (float(state.width), float(state.height)), strict)
+        if state.shadows:
+            state.shadows.bind(prog, UNITS["shadow"])
+
+    def _draw_reflections(self, scene: Scene, state: FrameState) -> dict:
         """Draw each mirror's reflection into its texture (facet.render.mirror), before the
         pass sets its own uniforms; {id(mirror object): texture}. Rebinds the framebuffer
         that was bound."""
@@ -231,18 +204,19 @@ class ForwardPass:
             return {}
         bound = self.ctx.fbo
         bg = np.asarray(scene.background, dtype=np.float64)
-        rgb = (srgb_to_linear(bg[:3]) if kw["srgb"] else bg[:3]) * bg[3]
+        rgb = state.to_linear(bg[:3]) * bg[3]
+        camera = state.camera
         # The side of each mirror the camera sees (parallel projection: far behind it).
         eye = camera.eye - 1e6 * camera.forward if camera.is_orthographic else camera.eye
         out = {}
         for i, obj in enumerate(mirrors):
             plane = mirror_plane(obj, eye)
-            tex, fbo = self.mirrors.get(i, width, height)
+            tex, fbo = self.mirrors.get(i, state.width, state.height)
             fbo.use()
             fbo.clear(*(float(c) for c in rgb), float(bg[3]), depth=1.0)
             rest = scene.view(objects=[o for o in scene.objects if o is not obj])
-            self.draw(rest, camera.with_view(camera.view @ T.reflection(plane)), width,
-                      height, shading, clip_plane=plane, **kw)
+            self.draw(rest, state.with_(camera=camera.with_view(
+                camera.view @ T.reflection(plane)), clip_plane=tuple(plane)))
             out[id(obj)] = tex
         bound.use()
         return out
@@ -250,24 +224,17 @@ class ForwardPass:
     def _draw_sky(self, env, view_projection, width: int, height: int) -> None:
         """The environment behind everything: a full-screen pass, no depth test or write."""
         if self._sky is None:
-            root = glsl_root()
-            prog = compile_program(self.ctx, root / "shadertoy" / "fullscreen.vert",
-                                   root / "post" / "sky.frag")
-            self._sky = (prog, self.ctx.vertex_array(prog.gl, []))
-        prog, vao = self._sky
-        self.cache.cube(env).use(location=ENV_UNIT)
-        prog.set("u_environment", ENV_UNIT)
-        prog.set("u_inv_view_projection", np.linalg.inv(view_projection))
-        prog.set("u_viewport", (float(width), float(height)))
+            self._sky = FullScreenPass(self.ctx, "post/sky.frag")
         self.ctx.disable(self.ctx.DEPTH_TEST)
-        vao.render(vertices=3)
+        self._sky.draw({"u_environment": (self.cache.cube(env), UNITS["environment"])},
+                       u_inv_view_projection=np.linalg.inv(view_projection),
+                       u_viewport=(float(width), float(height)))
         self.ctx.enable(self.ctx.DEPTH_TEST)
 
     def release(self) -> None:
         self.mirrors.release()
         if self._sky is not None:
-            self._sky[1].release()
-            self._sky[0].release()
+            self._sky.release()
         self.user.release()
         for prog in self.programs.values():
             self.cache.forget_program(prog.gl)

@@ -1,16 +1,24 @@
-"""``Renderer`` (owns a GL context and everything made in it) and ``Frame`` (its results).
+"""``Renderer``: owns a GL context and everything made in it, and runs the one pass sequence.
 
-    with Renderer(640, 480, msaa=4) as r:
+    with Renderer(640, 480) as r:
         frame = r.render(scene, camera, outputs=("color", "depth", "ids", "normals"))
-        frame.color       # (H, W, 4) uint8, row 0 at the top
-        frame.depth       # (H, W) float32, linear depth along the camera axis, 0 = no hit
-        frame.object_ids  # (H, W) int32, -1 = background
-        frame.normals     # (H, W, 3) float32 world-space unit normals, 0 = no hit
-        frame.position    # (H, W, 3) float32 world-space positions, 0 = no hit
-        frame.uv          # (H, W, 2) float32 texture coordinates, 0 = no hit or no uvs
 
-Only colour is anti-aliased: every other channel comes from a single-sample pass at pixel
-centres whatever ``msaa`` is, so values are exact and labels never blend.
+``render`` (an offscreen target, read back to numpy; facet.render.frame) and ``present`` (a
+window's framebuffer) are two destinations of the same sequence, ``_sequence``:
+
+1. prepare: the options (facet.scene.options, resolved once per call), the camera and its
+   lens, the lights that shine (the default rig when the scene has none), background and
+   environment; the frame's shared state (facet.render.state);
+2. shadow maps (facet.render.shadow), once per frame, or per sample for area lights;
+3. the exact channels (depth, ids, normals, position, uv) at pixel centres;
+4. colour: one picture (MSAA when asked: opaque objects with their mirrors and environment,
+   the wireframe overlay, then transparent ones by OIT over the resolved colour), or the
+   sum of supersamples carrying the distributed effects (facet.render.antialias): all of
+   them offscreen, one more per call in a window, so a still view refines;
+5. finishing (facet.render.finish): mean, straight alpha, sRGB, into the destination.
+
+A call changes nothing the next one sees: targets are kept per size, sample count and
+format, programs per variant, meshes per Mesh; options are never stored.
 """
 
 from __future__ import annotations
@@ -21,333 +29,356 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry.camera import Camera
+from ..geometry.lens import with_lens
 from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import Targets
-from ..image.colorspace import linear_to_srgb, srgb_to_linear, unpremultiply
+from ..scene.light import active_lights
+from ..scene.options import RenderOptions, clamp_msaa, options_for, parse_layer
 from ..scene.scene import Scene
 from .antialias import (
-    DISTRIBUTED_AA,
+    Accumulator,
+    accumulation,
     distributed_sample,
     gloss_jitter,
     has_area_lights,
     jitter_matrix,
-    needs_accumulation,
-    parse_aa,
     point_lights_for,
 )
+from .finish import Finisher, finish_for
 from .forward import ForwardPass
-from .present import WindowPresenter
-from .shading import check_shading
-from .transparency import split_transparent
-
-OUTPUTS = ("color", "depth", "ids", "normals", "position", "uv")
-DEFAULT_OUTPUTS = ("color", "depth", "ids")
-# Output name -> the auxiliary render channel that holds it (facet.gl.targets.AUX_CHANNELS).
-_CHANNEL = {"depth": "depth", "ids": "ids", "normals": "normals", "position": "position",
-            "uv": "uv"}
+from .frame import Frame
+from .overlay import wireframe_overlay
+from .shadow import ShadowMaps
+from .state import FrameState
+from .transparency import Transparency, split_transparent
 
 
-@dataclass
-class Frame:
-    """One render's results (see the module docstring); outputs not asked for are None."""
+class _Surfaces:
+    """What depends on the image size: the targets, and the supersampling and OIT buffers
+    (made on first use)."""
 
-    color: np.ndarray | None
-    depth: np.ndarray | None
-    object_ids: np.ndarray | None
-    camera: Camera
-    normals: np.ndarray | None = None
-    position: np.ndarray | None = None
-    uv: np.ndarray | None = None
-    size: tuple[int, int] = (0, 0)  # (width, height)
+    def __init__(self, ctx, size: tuple[int, int]):
+        self.ctx, self.size = ctx, size
+        self.targets = Targets(ctx, *size)
+        self._accumulator = self._oit = None
 
-    def camera_normals(self) -> np.ndarray:
-        """Normals in camera space (OpenGL axes: x right, y up, z towards the viewer)."""
-        if self.normals is None:
-            raise InputError("this frame has no normals; render with outputs=(..., 'normals')")
-        return (self.normals @ self.camera.view[:3, :3].T).astype(np.float32)
+    @property
+    def accumulator(self) -> Accumulator:
+        if self._accumulator is None:
+            self._accumulator = Accumulator(self.ctx, *self.size)
+        return self._accumulator
 
-    def camera_info(self) -> dict:
-        """The camera as plain data (see ``Camera.describe``) for this image size."""
-        return self.camera.describe(*self.size)
+    @property
+    def oit(self) -> Transparency:
+        if self._oit is None:
+            self._oit = Transparency(self.ctx, *self.size)
+        return self._oit
 
-    def save(self, path):
-        """Write the colour image (PNG; RGBA if the background is transparent)."""
-        from ..image.writers import save_image, to_uint8
-
-        if self.color is None:
-            raise InputError("this frame has no colour output to save")
-        return save_image(path, to_uint8(self.color))
+    def release(self) -> None:
+        for part in (self._accumulator, self._oit, self.targets):
+            if part is not None:
+                part.release()
 
 
-class Renderer(WindowPresenter):
-    """Headless renderer of ``width`` x ``height`` images with optional MSAA (0, 2, 4, 8).
+@dataclass(frozen=True)
+class _Destination:
+    """Where a sequence ends: offscreen (``window`` None: drawn flipped, read back) or a
+    window's framebuffer, adding progressive supersample ``sample`` (None: one picture)."""
 
-    ``float_color=True`` keeps colour as float32 in [0, 1] (``frame.color`` is float32) for
-    16-bit output and dithering; by default it is RGBA8 (uint8). ``srgb=True`` treats input
-    colours as sRGB, lights in linear space and returns sRGB-encoded float colour
-    (facet.image.colorspace states both modes).
+    window: object = None
+    sample: int | None = None
 
-    ``close()`` (or leaving a ``with`` block) releases the context and every GL object.
+    @property
+    def flip_y(self) -> bool:
+        return self.window is None
+
+    @property
+    def preview(self) -> bool:
+        """One plain picture in a window (what a moving camera shows)."""
+        return self.window is not None and self.sample is None
+
+    def channels(self, opts: RenderOptions) -> tuple[str, ...]:
+        """The exact channels to read back (a window shows colour only)."""
+        return () if self.window is not None else \
+            tuple(o for o in opts.outputs if o != "color")
+
+    def wants_colour(self, opts: RenderOptions) -> bool:
+        return self.window is not None or "color" in opts.outputs
+
+    def samples(self, n: int) -> range:
+        """Which of ``n`` supersamples to draw now: all offscreen, one more in a window."""
+        if self.window is None:
+            return range(n)
+        k = min(self.sample, n - 1)
+        return range(k, k + 1)
+
+
+class Renderer:
+    """Renders scenes headlessly (``render``) or into a window (``present``).
+
+    ``Renderer(width, height, msaa, **options)``: the options this renderer gives every call
+    (facet.scene.options; e.g. ``shading="blinn"``, ``srgb=True``, ``float_color=True``),
+    above a scene's own and below each call's keywords. ``context``: a window's GL context
+    (used, not owned); otherwise a headless one is made. ``close()`` (or leaving a ``with``
+    block) releases the context and every GL object.
     """
 
-    def __init__(self, width: int = 800, height: int = 600, msaa: int = 0, *,
-                 shading: str = "phong", float_color: bool = False, srgb: bool = False,
-                 context=None):
-        self.shading = check_shading(shading)
-        self.srgb = bool(srgb)
-        self.float_color = bool(float_color)
-        # A window's context (facet.viewer) is used, not owned; otherwise a headless one.
+    def __init__(self, width: int | None = None, height: int | None = None,
+                 msaa: int | None = None, *, context=None, **options):
+        if (width is None) != (height is None):
+            raise InputError("give both width and height (or neither: the scene's size)")
+        layer = {"size": (width, height) if width is not None else None, "msaa": msaa,
+                 **options}
+        self.defaults = parse_layer(layer)  # this renderer's explicit options
         self._own_context = context is None
         self.ctx = glcontext.create_headless() if context is None else context
-        try:
-            # The sRGB mode lights in linear space, which needs more than 8 bits to keep
-            # dark tones from banding before the encoding: it always uses a float target.
-            self.targets = Targets(self.ctx, width, height, msaa,
-                                   color_dtype="f4" if float_color or srgb else "f1")
-        except BaseException:
-            if self._own_context:
-                self.ctx.release()
-            raise
-        self.width, self.height, self.msaa = width, height, msaa
         self.cache = ResourceCache(self.ctx)
         self.forward = ForwardPass(self.ctx, self.cache)
-        self._accumulator = None  # supersampling targets, made on first use
-        self._transparency = None  # OIT targets, made on first use
-        self._shadow_maps = None  # shadow atlas, made on first use
-        self._shadows = None  # this render call's shadow data
-        self._shadows_on, self._pcf = False, 1  # what the supersampling render asked for
+        self._shadows: ShadowMaps | None = None  # the shadow atlas, made on first use
+        self._finisher: Finisher | None = None
+        self._surfaces: _Surfaces | None = None
         self._closed = False
+        if width is not None:  # fail early on a size this GL cannot render
+            with self.ctx:
+                self._surfaces_for((width, height))
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self.defaults.get("size", RenderOptions.size)
+
+    width = property(lambda self: self.size[0])
+    height = property(lambda self: self.size[1])
 
     @property
     def info(self) -> dict[str, object]:
         return glcontext.describe(self.ctx)
 
-    def render(self, scene: Scene, camera: Camera | None = None, *, shading: str | None = None,
-               outputs=DEFAULT_OUTPUTS, time: float = 0.0, aa: str | None = None,
-               shadows: bool = False, pcf: int = 1) -> Frame:
-        """Render ``scene`` through ``camera`` (default: ``Camera.frame`` of the scene).
-
-        ``aa``: ``none``, ``msaa:N`` or ``ssaa:PATTERN:N`` (facet.render.antialias); default
-        the renderer's ``msaa``. Supersampled colour comes back as float32 in [0, 1] unless
-        the renderer keeps 8-bit colour, in which case it is rounded to uint8. ``shadows``:
-        shadow maps for every light (facet.render.shadow), filtered by a PCF kernel of
-        radius ``pcf`` texels (0, 1 or 2).
-        """
-        if self._closed:
-            raise InputError("this Renderer is closed")
-        unknown = set(outputs) - set(OUTPUTS)
-        if unknown:
-            raise InputError(f"unknown outputs {sorted(unknown)}; choose from {OUTPUTS}")
-        shading = check_shading(shading or self.shading)
-        if camera is None:
-            camera = Camera.frame(scene.bounds, aspect=self.width / self.height)
-        mode = parse_aa(aa) if aa is not None else None
-        # Depth of field, motion blur, area lights and gloss ride on supersampling.
-        if needs_accumulation(scene, camera, shadows) and (mode is None or mode.kind != "ssaa"):
-            mode = parse_aa(DISTRIBUTED_AA)
-        if mode is not None and mode.kind != "ssaa":
-            wanted = mode.samples if mode.kind == "msaa" else 0
-            if wanted != self.msaa:
-                self.set_msaa(wanted)
-        # Several renderers (contexts) may live in one thread: make ours current.
-        with self.ctx:
-            if mode is not None and mode.kind == "ssaa":
-                self._pcf = pcf
-                self._shadows_on = shadows
-                return self._supersample(scene, camera, shading, outputs, time, mode)
-            scene = point_lights_for(scene)  # an area light without samples: its centre
-            self._shadows = self._draw_shadows(scene, pcf) if shadows else None
-            return self._render(scene, camera, shading, outputs, time)
-
-    def _draw_shadows(self, scene: Scene, pcf: int = 1, sample: int = 0):
-        from .shadow import ShadowMaps
-
-        if self._shadow_maps is None:
-            self._shadow_maps = ShadowMaps(self.ctx, self.cache)
-        return self._shadow_maps.draw(scene, pcf, sample)
-
-    def _colour_draw(self, scene, camera, shading, **kw) -> None:
-        """The colour pass, with the shadow maps of this render call if there are any."""
-        self.forward.draw(scene, camera, self.width, self.height, shading,
-                          shadows=self._shadows, shadow_maps=self._shadow_maps, **kw)
-
-    def set_msaa(self, samples: int) -> None:
-        """Switch the multisample count (new targets; programs and meshes stay)."""
-        with self.ctx:
-            self._replace_targets(Targets(self.ctx, self.width, self.height, samples,
-                                          color_dtype=self.targets.color_dtype))
-        self.msaa = samples
-
-    def _replace_targets(self, targets: Targets) -> None:
-        """Swap in new targets and release the old ones. The new ones are bound first:
-        moderngl re-binds the previously bound framebuffer after making any framebuffer,
-        and a released one there fails with GL_INVALID_OPERATION."""
-        targets.color_only.use()
-        if self._transparency is not None:
-            self._transparency.forget_depth_buffers()  # they use the old depth buffer
-        self.targets.release()
-        self.targets = targets
-
-    def _supersample(self, scene, camera, shading, outputs, time, mode) -> Frame:
-        """Colour averaged over the pattern's sub-pixel offsets; other channels exact."""
-        from .antialias import Accumulator
-
-        w, h = self.width, self.height
-        others = tuple(o for o in outputs if o != "color")
-        centre = point_lights_for(scene)
-        self._shadows = self._draw_shadows(centre, self._pcf) if self._shadows_on else None
-        frame = self._render(centre, camera, shading, others, time) if others else \
-            Frame(None, None, None, camera, size=(w, h))
-        if "color" not in outputs:
-            return frame
-        if self._accumulator is None:
-            self._accumulator = Accumulator(self.ctx, w, h)
-        acc = self._accumulator
-        bg = self._background(scene)
-        acc.accum.use()
-        acc.accum.clear(0.0, 0.0, 0.0, 0.0)
-        self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        for k in range(mode.samples):
-            self._draw_sample(scene, camera, shading, mode, k, bg, time)
-        color = self._finish_color(acc.result(mode.samples), scene)
-        if not (self.float_color or self.srgb):
-            color = np.rint(np.clip(color, 0, 1) * 255).astype(np.uint8)
-        frame.color = color
-        return frame
-
-    def _draw_sample(self, scene, camera, shading, mode, k, background, time,
-                     flip_y: bool = True) -> None:
-        """Add sample ``k`` of ``mode`` to the accumulator: the pattern's sub-pixel offset,
-        the lens point, shutter time and area-light points of that sample (facet.render.
-        antialias.distributed_sample), opaque objects then transparent ones (OIT)."""
-        acc = self._accumulator
-        acc.begin_sample(background)
-        cam_k, scene_k = distributed_sample(camera, scene, k, mode)
-        if self._shadows_on and has_area_lights(scene):
-            # Shadow maps are drawn once per render, except that area lights move their
-            # point lights every sample.
-            self._shadows = self._draw_shadows(scene_k, self._pcf, k)
-            acc.begin_sample(background)  # the maps bound their own framebuffer
-        dx, dy = pattern(mode.pattern, mode.samples)[k]
-        jitter = jitter_matrix(dx, dy, self.width, self.height)
-        opaque, transparent = split_transparent(scene_k)
-        self._colour_draw(opaque, cam_k, shading, srgb=self.srgb, time=time, jitter=jitter,
-                          gloss_jitter=gloss_jitter(k, mode.samples), flip_y=flip_y)
-        if transparent is not None:
-            oit = self._oit().begin(acc.sample_depth)
-            self._colour_draw(transparent, cam_k, shading, srgb=self.srgb, time=time,
-                              jitter=jitter, oit=True, flip_y=flip_y)
-            self._transparency.end(oit, acc.sample)
-        acc.add_sample()
-
-    def _oit(self):
-        """The order-independent transparency targets, made on first use."""
-        from .transparency import Transparency
-
-        if self._transparency is None:
-            self._transparency = Transparency(self.ctx, self.width, self.height)
-        return self._transparency
-
-    def _background(self, scene, window: bool = False) -> tuple[float, ...]:
-        """The clear colour: the scene's background, linear when colour-managed, and
-        premultiplied by its alpha (see ``_finish_color``); opaque in a ``window``, which
-        shows colour only."""
-        bg = np.asarray(scene.background, dtype=np.float64)
-        bg = np.append(bg[:3], 1.0 if window or bg.size == 3 else bg[3])
-        if self.srgb:
-            bg = np.append(srgb_to_linear(bg[:3]), bg[3])
-        bg[:3] *= bg[3]
-        return tuple(float(c) for c in bg)
-
-    def _finish_color(self, color: np.ndarray, scene) -> np.ndarray:
-        """Read-back colour as returned: straight alpha when the background is not opaque
-        (drawn premultiplied, so edges and layers average right), sRGB-encoded when
-        colour-managed."""
-        if len(scene.background) == 4 and scene.background[3] < 1.0:
-            # Empty pixels keep the background's colour (for anyone who drops alpha).
-            bg = np.asarray(scene.background[:3], dtype=np.float64)
-            unpremultiply(color, srgb_to_linear(bg) if self.srgb else bg)
-        if self.srgb:
-            color[..., :3] = linear_to_srgb(color[..., :3])
-        return color
-
-    def _render(self, scene: Scene, camera: Camera, shading: str, outputs,
-                time: float = 0.0) -> Frame:
-        opaque, transparent = split_transparent(scene)
-        if transparent is None:
-            return self._render_opaque(scene, camera, shading, outputs, time)
-        frame = self._render_opaque(opaque, camera, shading,
-                                    tuple(o for o in outputs if o != "color"), time,
-                                    keep_color="color" in outputs)
-        if "color" in outputs:
-            t = self.targets
-            # Layers tested against the opaque depth: multisampled with MSAA (anti-aliased
-            # transparent edges), composited over the resolved opaque colour.
-            zbuffer = t.ms_z if self.msaa else t.zbuffer
-            self._transparent_pass(transparent, camera, shading, zbuffer, t.color_only, time)
-            frame.color = self._finish_color(t.read_color(), scene)
-        return frame
-
-    def _transparent_pass(self, transparent, camera, shading, zbuffer, target, time):
-        oit = self._oit().begin(zbuffer)
-        self._colour_draw(transparent, camera, shading, srgb=self.srgb, time=time, oit=True)
-        self._transparency.end(oit, target)
-
-    def _render_opaque(self, scene: Scene, camera: Camera, shading: str, outputs,
-                       time: float = 0.0, keep_color: bool = False) -> Frame:
-        w, h, t = self.width, self.height, self.targets
-        aux = tuple(_CHANNEL[o] for o in OUTPUTS if o in outputs and o in _CHANNEL)
-        outputs = (*outputs, "color") if keep_color and "color" not in outputs else outputs
-        self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        bg = self._background(scene)
-        srgb = self.srgb
-        user_shaders = any(o.material.shader is not None for o in scene.objects)
-        if aux and (self.msaa or user_shaders):
-            # Exact, unblended channels at pixel centres from the built-in shader, then the
-            # colour on its own (multisampled, or through the users' shaders).
-            t.begin_aux(aux, bg)
-            self.forward.draw(scene, camera, w, h, "unlit", aux=aux, srgb=srgb,
-                              colour_pass=False)
-            aux_done = True
+    def options(self, scene: Scene, options=None, **kwargs) -> RenderOptions:
+        """The options a call with these arguments renders with: a ``RenderOptions``
+        passed in is used as it is (a front resolved it), with ``kwargs`` on top; otherwise
+        the scene's < this renderer's < ``options`` (a mapping) < ``kwargs``."""
+        if isinstance(options, RenderOptions):
+            opts = options.merged(kwargs)
         else:
-            aux_done = False
-        if self.msaa:
-            t.begin_multisample(bg)
-            self._colour_draw(scene, camera, shading, srgb=srgb, time=time)
-            t.resolve()
-        elif aux_done or not aux:
-            t.begin_color(bg)
-            self._colour_draw(scene, camera, shading, srgb=srgb, time=time)
-        else:
-            t.begin_aux(aux, bg)
-            self._colour_draw(scene, camera, shading, aux=aux, srgb=srgb)
-        read = {name: t.read_aux(name) for name in aux}
-        for name in ("normals", "position"):  # stored as RGBA32F: drop w
-            if name in read:
-                read[name] = np.ascontiguousarray(read[name][..., :3])
-        color = self._finish_color(t.read_color(), scene) if "color" in outputs else None
-        frame = Frame(color, read.get("depth"),
-                      read.get("ids"), camera, read.get("normals"), read.get("position"),
-                      read.get("uv"), (w, h))
+            opts = options_for(scene, self.defaults, options, kwargs)
+        renderer = self.ctx.info.get("GL_RENDERER", "this GL")
+        return opts.merged({"aa": clamp_msaa(opts.aa, self.ctx.max_samples, renderer)})
+
+    def camera(self, scene: Scene, opts: RenderOptions) -> Camera:
+        """The scene's camera the options name (else its first), else one framing it."""
+        return scene.camera(opts.camera) or Camera.frame(scene.bounds,
+                                                         aspect=opts.width / opts.height)
+
+    def render(self, scene: Scene, camera: Camera | None = None, options=None,
+               **kwargs) -> Frame:
+        """Render ``scene`` through ``camera`` (default: ``camera(scene, options)``) into
+        numpy arrays. Keywords are render options (facet.scene.options.RenderOptions:
+        ``outputs``, ``aa``, ``msaa``, ``shadows``, ``shading``, ``srgb``, ...)."""
+        self._check_open()
+        opts = self.options(scene, options, **kwargs)
+        with self.ctx:  # several renderers (contexts) may live in one thread
+            return self._sequence(scene, camera or self.camera(scene, opts), opts,
+                                  _Destination())
+
+    def present(self, scene: Scene, camera: Camera, framebuffer, options=None, *,
+                sample: int | None = None, **kwargs) -> int:
+        """Draw into a window's ``framebuffer`` (bottom-up, like GL) with the sequence of
+        ``render``; call it with the window's context current (re-entering a current EGL
+        context here would drop what was drawn). ``sample`` None: one picture, what a
+        moving camera shows (no supersampling: lens, shutter and area lights at their
+        centres). ``sample`` k: add supersample k (0 starts over) and show the mean so far;
+        after the last the picture equals ``render``'s. Returns the samples shown."""
+        self._check_open()
+        opts = self.options(scene, options, **kwargs)
+        return self._sequence(scene, camera, opts, _Destination(framebuffer, sample))
+
+    def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
+        """How many supersamples the colour of this render sums (0: one picture)."""
+        opts = self.options(scene, options, **kwargs)
+        aa = accumulation(opts.aa, scene, with_lens(camera, opts.aperture, opts.focus),
+                          opts.shadows)
+        return aa.samples if aa is not None else 0
+
+    # -- the pass sequence ---------------------------------------------------------------
+    def _sequence(self, scene, camera, opts: RenderOptions, dest: _Destination):
+        scene, state = self._prepare(scene, camera, opts, dest)  # 1
+        surf = self._surfaces_for(opts.size)
+        aa = None if dest.preview else accumulation(opts.aa, scene, state.camera,
+                                                    opts.shadows)
+        centre = point_lights_for(scene)  # an area light without supersamples: its centre
+        if opts.shadows and not (aa is not None and has_area_lights(scene)):  # 2
+            state = state.with_(shadows=self._shadow_maps().draw(centre, opts.pcf))
+        aux = dest.channels(opts)
+        # Without MSAA, supersampling or users' shaders, colour and the exact channels come
+        # from one pass (multiple render targets); otherwise the exact ones get their own.
+        users = any(o.material.shader is not None for o in scene.objects)
+        together = aux if (dest.wants_colour(opts) and aa is None and not opts.aa.msaa
+                           and not users) else ()
+        channels = self._exact(centre, state, aux, surf) if aux and not together else {}  # 3
+        color, shown = self._colour(scene, state, opts, aa, dest, surf, together) \
+            if dest.wants_colour(opts) else (None, 0)  # 4, 5
+        if together:
+            channels = {name: surf.targets.read_aux(name) for name in aux}
         self.cache.sweep()
-        return frame
+        if dest.window is not None:
+            return shown
+        return Frame(color, channels.get("depth"), channels.get("ids"), state.camera,
+                     channels.get("normals"), channels.get("position"), channels.get("uv"),
+                     opts.size)
+
+    def _prepare(self, scene, camera, opts: RenderOptions, dest: _Destination):
+        """The scene as this render sees it, and the frame's state (step 1)."""
+        camera = with_lens(camera, opts.aperture, opts.focus)
+        view = scene.view(lights=active_lights(scene.lights, camera.view, opts.lights))
+        background = np.array(opts.background if opts.background is not None
+                              else scene.background, dtype=np.float64)
+        if dest.window is not None:
+            background[3] = 1.0  # a window shows colour only
+        view.background = background
+        if opts.environment is not None:
+            view.environment = opts.environment
+        state = FrameState(camera, opts.width, opts.height, dest.flip_y, opts.shading,
+                           opts.srgb, tuple(point_lights_for(view).lights), view.ambient,
+                           view.environment, time=opts.time)
+        return view, state
+
+    def _colour(self, scene, state, opts, aa, dest, surf, together):
+        """Steps 4 and 5: (colour read back or None, samples shown)."""
+        bg = np.append(state.to_linear(scene.background[:3]), scene.background[3])
+        clear = (*(bg[:3] * bg[3]), bg[3])  # drawn premultiplied; finishing unpremultiplies
+        if aa is None:
+            finish = finish_for(bg, opts.srgb)
+            dtype = "f4" if finish.needed or opts.float_color else "f1"
+            fbo = self._picture(scene, state, opts, clear, surf, dtype, together,
+                                None if finish.needed else dest.window)
+            source = surf.targets.color_texture(dtype)
+            return self._finish(source, fbo, finish, opts, dest, surf), 1
+        samples = dest.samples(aa.samples)
+        source = self._accumulate(scene, state, opts, aa, samples, clear, surf)
+        finish = finish_for(bg, opts.srgb, samples.stop)
+        return self._finish(source, None, finish, opts, dest, surf), samples.stop
+
+    def _exact(self, scene, state: FrameState, aux, surf) -> dict:
+        """The exact channels at pixel centres, from the opaque objects (step 3)."""
+        fbo = surf.targets.aux(aux)
+        fbo.use()
+        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        self.ctx.enable_only(self.ctx.DEPTH_TEST)
+        opaque, _ = split_transparent(scene)
+        self.forward.draw(opaque, state.with_(shading="unlit", shadows=None, environment=None),
+                          aux=aux, colour_pass=False)
+        return {name: surf.targets.read_aux(name) for name in aux}
+
+    def _picture(self, scene, state, opts, clear, surf, dtype, together, direct):
+        """One picture (step 4): opaque objects (straight into the window ``direct`` when
+        nothing needs compositing or finishing), the overlay, then transparent ones over the
+        resolved colour. Returns the framebuffer holding it."""
+        t = surf.targets
+        opaque, transparent = split_transparent(scene)
+        if opts.aa.msaa:
+            target = t.multisample(opts.aa.msaa, dtype)
+        elif direct is not None and transparent is None:
+            target = direct
+            target.viewport = (0, 0, *opts.size)
+        else:
+            target = t.color(dtype)
+        target.clear(*clear, depth=1.0)  # the exact channels are cleared to 0 by t.aux
+        target = t.aux(together, dtype) if together else target
+        target.use()
+        self.ctx.enable_only(self.ctx.DEPTH_TEST)
+        self.forward.draw(opaque, state, aux=together)
+        if opts.wireframe:
+            wireframe_overlay(self.forward, scene, state)
+        if transparent is None and direct is not None:
+            return target  # shown as it is (a multisampled one resolves as it is copied)
+        zbuffer = target.depth_attachment if opts.aa.msaa else t.zbuffer
+        result = t.resolve(target, dtype) if opts.aa.msaa else t.color(dtype)
+        if transparent is not None:
+            # Layers tested against the opaque depth (multisampled with MSAA: anti-aliased
+            # edges), composited over the resolved opaque colour.
+            oit = surf.oit.begin(zbuffer)
+            self.forward.draw(transparent, state, oit=True)
+            surf.oit.end(oit, result)
+        return result
+
+    def _accumulate(self, scene, state, opts, aa, samples: range, clear, surf):
+        """Add supersamples ``samples`` of ``aa`` (step 4): each with its pixel offset, lens
+        point, shutter time, area-light points and gloss tilt; returns the sum's texture."""
+        acc = surf.accumulator
+        if samples.start == 0:
+            acc.clear()
+        for k in samples:
+            cam_k, scene_k = distributed_sample(state.camera, scene, k, aa)
+            dx, dy = pattern(aa.pattern, aa.samples)[k]
+            sample = state.with_(camera=cam_k, lights=tuple(scene_k.lights),
+                                 jitter=jitter_matrix(dx, dy, opts.width, opts.height),
+                                 gloss_jitter=gloss_jitter(k, aa.samples))
+            if opts.shadows and has_area_lights(scene):  # the maps follow the light points
+                sample = sample.with_(shadows=self._shadow_maps().draw(scene_k, opts.pcf, k))
+            acc.begin_sample(clear)
+            self.ctx.enable_only(self.ctx.DEPTH_TEST)
+            opaque, transparent = split_transparent(scene_k)
+            self.forward.draw(opaque, sample)
+            if opts.wireframe:
+                wireframe_overlay(self.forward, scene_k, sample)
+            if transparent is not None:
+                oit = surf.oit.begin(acc.sample_depth)
+                self.forward.draw(transparent, sample, oit=True)
+                surf.oit.end(oit, acc.sample)
+            acc.add_sample()
+        return acc.accum_tex
+
+    def _finish(self, source, source_fbo, finish, opts, dest, surf):
+        """Step 5: finished colour read back (offscreen) or shown (window); a sum of
+        samples (no ``source_fbo``) is always finished."""
+        t = surf.targets
+        out = "f4" if opts.float_color else "f1"
+        needed = finish.needed or source_fbo is None
+        if dest.window is not None:
+            dest.window.viewport = (0, 0, *opts.size)
+            if needed:
+                self._finishing().draw(source, dest.window, finish)
+            elif source_fbo is not dest.window:
+                self.ctx.copy_framebuffer(dest.window, source_fbo)
+            return None
+        if not needed:
+            return t.read_color(source_fbo, out)
+        self._finishing().draw(source, t.output(out), finish)
+        return t.read_color(t.output(out), out)
+
+    # -- resources -----------------------------------------------------------------------
+    def _shadow_maps(self) -> ShadowMaps:
+        if self._shadows is None:
+            self._shadows = ShadowMaps(self.ctx, self.cache)
+        return self._shadows
+
+    def _surfaces_for(self, size) -> _Surfaces:
+        """The size-dependent targets, made anew when the size changes."""
+        if self._surfaces is None or self._surfaces.size != tuple(size):
+            new = _Surfaces(self.ctx, tuple(size))
+            # moderngl re-binds the bound framebuffer after making one: bind a live one
+            # before releasing the old (a released one there is GL_INVALID_OPERATION).
+            new.targets.color().use()
+            if self._surfaces is not None:
+                self._surfaces.release()
+            self._surfaces = new
+        return self._surfaces
+
+    def _finishing(self) -> Finisher:
+        if self._finisher is None:
+            self._finisher = Finisher(self.ctx)
+        return self._finisher
 
     def resize(self, width: int, height: int) -> None:
-        """New target size (a window was resized); programs and meshes stay."""
-        if (width, height) == (self.width, self.height):
-            return
-        with self.ctx:
-            if self._accumulator is not None:
-                self._accumulator.release()
-                self._accumulator = None
-            if self._transparency is not None:
-                self._transparency.release()
-                self._transparency = None
-            self._replace_targets(Targets(self.ctx, width, height, self.msaa,
-                                          color_dtype=self.targets.color_dtype))
-        self.width, self.height = width, height
+        """A new default size for later calls (a window was resized)."""
+        self.defaults = {**self.defaults, "size": parse_layer({"size": (width, height)})[
+            "size"]}
+
+    def _check_open(self) -> None:
+        if self._closed:
+            raise InputError("this Renderer is closed")
 
     def close(self) -> None:
         """Release every GL object, and the context if this renderer made it. Safe to call
@@ -356,15 +387,11 @@ class Renderer(WindowPresenter):
             return
         self._closed = True
         with self.ctx:
-            if self._accumulator is not None:
-                self._accumulator.release()
-            if self._shadow_maps is not None:
-                self._shadow_maps.release()
-            if self._transparency is not None:
-                self._transparency.release()
-            self.forward.release()
-            self.cache.release()
-            self.targets.release()
+            if self._surfaces is not None:
+                self._surfaces.release()
+            for part in (self._finisher, self._shadows, self.forward, self.cache):
+                if part is not None:
+                    part.release()
         if self._own_context:
             self.ctx.release()
 

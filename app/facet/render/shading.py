@@ -1,13 +1,12 @@
-"""The shading-model table: model name -> the GLSL stages and define that implement it.
-
-No GL here, so the CLI can list the models without loading moderngl.
-"""
+"""The shading-model table: model name (facet.scene.options.SHADING) -> the GLSL stages and
+define that implement it. Render code picks its program by this table."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 from ..errors import InputError
+from ..scene.options import SHADING
 
 
 @dataclass(frozen=True)
@@ -25,6 +24,9 @@ SHADING_MODELS: dict[str, ProgramSpec] = {
     "unlit": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_UNLIT"),
     "normals": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_NORMALS"),
 }
+
+
+assert tuple(SHADING_MODELS) == SHADING
 
 
 def check_shading(name: str) -> str:

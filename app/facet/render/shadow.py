@@ -15,6 +15,8 @@ The lighting side (bias, normal offset, PCF) is glsl/lib/shadows.glsl.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..errors import InputError
@@ -22,10 +24,10 @@ from ..geometry import transforms as T
 from ..gl.glsl_source import glsl_root
 from ..gl.shaders import compile_program
 from ..scene.light import DirectionalLight, PointLight, SpotLight
+from ..scene.options import PCF_CHOICES
 from ..scene.scene import Scene
 
 TILE = 1024  # shadow map resolution per tile
-PCF_CHOICES = (0, 1, 2)  # kernel radius: one tap, 3 x 3, 5 x 5
 ATLAS_COLUMNS = 8  # tiles per atlas row (TILE x 8 = 8192 px wide, within GL limits)
 SHADOW_KINDS = (DirectionalLight, SpotLight, PointLight)
 CUBE_FOV = 95.0  # degrees per cube face (90 plus a margin for PCF at the seams)
@@ -89,6 +91,29 @@ def _single(light, bounds):
     return proj @ view, (0.0, 2.0 * np.tan(np.radians(fov) / 2.0) / TILE)
 
 
+@dataclass(frozen=True, eq=False)
+class ShadowData:
+    """One frame's shadow maps as the lighting programs read them."""
+
+    atlas: object  # the depth atlas texture (compare mode: sampler2DShadow)
+    slots: tuple[int, ...]  # per light: its first tile (= matrix index), or -1
+    matrices: np.ndarray  # (tiles, 4, 4) float32: world -> atlas texture space
+    texels: np.ndarray  # (lights, 4) float32: texel size at distance 0, growth per unit
+    tiles: int
+    pcf: int  # filter kernel radius in texels
+
+    def bind(self, prog, unit: int) -> None:
+        """Point a lighting program at the atlas and the lights' shadow matrices."""
+        self.atlas.use(location=unit)
+        prog.set("u_shadow_atlas", unit)
+        if "u_shadow_matrix" in prog._active:
+            member = prog.gl["u_shadow_matrix"]
+            # The linker may trim the array to the tiles the program can reach.
+            matrices = self.matrices[:member.array_length]
+            member.write(np.ascontiguousarray(matrices.transpose(0, 2, 1)).tobytes())
+        prog.set_array("u_shadow_texel", self.texels)
+
+
 class ShadowMaps:
     """The depth atlas of one renderer and the program that fills it."""
 
@@ -117,7 +142,7 @@ class ShadowMaps:
         self.atlas.repeat_x = self.atlas.repeat_y = False
         self.fbo = self.ctx.framebuffer(depth_attachment=self.atlas)
 
-    def draw(self, scene: Scene, pcf: int = 1, sample: int = 0) -> dict | None:
+    def draw(self, scene: Scene, pcf: int = 1, sample: int = 0) -> ShadowData | None:
         """Fill the atlas for the scene's lights; the uniforms and defines for lighting.
         ``pcf``: the filter's kernel radius in texels (``PCF_CHOICES``). ``sample``: which
         shift of the transparent casters' dither mask (glsl/shadow/depth.frag) to use."""
@@ -154,19 +179,7 @@ class ShadowMaps:
                 texels[i] = (texel0, growth, 0.0, 0.0)
                 tile += 1
         self.fbo.viewport = (0, 0, TILE * cols, TILE * rows)
-        return {"slots": tuple(slots), "matrices": matrices, "texels": texels,
-                "tiles": self.tiles, "pcf": pcf}
-
-    def bind(self, prog, shadows: dict, unit: int = 1) -> None:
-        """Point a lighting program at the atlas and the lights' shadow matrices."""
-        self.atlas.use(location=unit)
-        prog.set("u_shadow_atlas", unit)
-        if "u_shadow_matrix" in prog._active:
-            member = prog.gl["u_shadow_matrix"]
-            # The linker may trim the array to the tiles the program can reach.
-            matrices = shadows["matrices"][:member.array_length]
-            member.write(np.ascontiguousarray(matrices.transpose(0, 2, 1)).tobytes())
-        prog.set_array("u_shadow_texel", shadows["texels"])
+        return ShadowData(self.atlas, tuple(slots), matrices, texels, self.tiles, pcf)
 
     def _release_atlas(self) -> None:
         if self.fbo is not None:

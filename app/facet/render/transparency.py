@@ -20,8 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..gl.glsl_source import glsl_root
-from ..gl.shaders import compile_program
+from ..gl.fullscreen import FullScreenPass
+from .state import UNITS
 
 WEIGHT_SCALE, WEIGHT_MIN = 3000.0, 0.01  # w = max(WEIGHT_MIN, WEIGHT_SCALE (1 - z)^3)
 
@@ -56,11 +56,10 @@ class Transparency:
         self.clear_fbo = ctx.framebuffer([self.accum, self.reveal])
         self.size = size
         self._multisample = None  # (samples, sums framebuffer), made for an MSAA depth
-        self._targets: dict[int, object] = {}  # zbuffer glo -> OIT framebuffer using it
-        root = glsl_root()
-        self.composite = compile_program(ctx, root / "shadertoy" / "fullscreen.vert",
-                                         root / "post" / "oit_composite.frag")
-        self.vao = ctx.vertex_array(self.composite.gl, [])
+        # zbuffer glo -> (that zbuffer, the OIT framebuffer using it). The zbuffer object is
+        # kept to tell a live buffer from a released one whose GL name was reused.
+        self._targets: dict[int, tuple] = {}
+        self.composite = FullScreenPass(ctx, "post/oit_composite.frag")
 
     def _sums(self, samples: int):
         """The framebuffer the layers are summed into: the textures themselves, or for a
@@ -82,9 +81,12 @@ class Transparency:
         sums = self._sums(zbuffer.samples)
         sums.clear(0.0, 0.0, 0.0, 0.0)
         key = zbuffer.glo
+        if key in self._targets and self._targets[key][0] is not zbuffer:
+            self._targets.pop(key)[1].release()
         if key not in self._targets:
-            self._targets[key] = self.ctx.framebuffer(sums.color_attachments, zbuffer)
-        fbo = self._targets[key]
+            self._targets[key] = (zbuffer, self.ctx.framebuffer(sums.color_attachments,
+                                                                zbuffer))
+        fbo = self._targets[key][1]
         fbo.use()
         ctx = self.ctx
         ctx.enable(ctx.DEPTH_TEST | ctx.BLEND)
@@ -108,11 +110,8 @@ class Transparency:
         # opaque background stays opaque and a transparent one gets the layers' coverage.
         ctx.blend_func = (ctx.SRC_ALPHA, ctx.ONE_MINUS_SRC_ALPHA, ctx.ONE,
                           ctx.ONE_MINUS_SRC_ALPHA)
-        self.accum.use(location=0)
-        self.reveal.use(location=1)
-        self.composite.set("u_accum", 0)
-        self.composite.set("u_reveal", 1)
-        self.vao.render(vertices=3)
+        self.composite.draw({"u_accum": (self.accum, UNITS["post"]),
+                             "u_reveal": (self.reveal, UNITS["post2"])})
         ctx.disable(ctx.BLEND)
         ctx.enable(ctx.DEPTH_TEST)
 
@@ -123,17 +122,12 @@ class Transparency:
                 buf.release()
         self._multisample = None
 
-    def forget_depth_buffers(self) -> None:
-        """Drop the framebuffers made with other targets' depth buffers (call when those
-        targets are released: GL reuses names, so a stale one would be found by name)."""
-        for fbo in self._targets.values():
+    def release(self) -> None:
+        for _, fbo in self._targets.values():
             fbo.release()
         self._targets.clear()
-
-    def release(self) -> None:
-        self.forget_depth_buffers()
         self._release_multisample()
-        for obj in (self.vao, self.clear_fbo, self.accum, self.reveal):
+        for obj in (self.clear_fbo, self.accum, self.reveal):
             obj.release()
         self.composite.release()
 

@@ -1,4 +1,5 @@
-"""Turntables: a camera orbiting the scene at a fixed step, rendered frame by frame."""
+"""Turntables: a camera orbiting the scene at a fixed step, rendered frame by frame with the
+same options every frame."""
 
 from __future__ import annotations
 
@@ -22,11 +23,12 @@ def orbit_cameras(camera: Camera, center, frames: int, axis=(0.0, 1.0, 0.0)) -> 
 
 
 def turntable(renderer, scene: Scene, frames: int, camera: Camera | None = None,
-              axis=(0.0, 1.0, 0.0), **render_kwargs) -> Iterator:
-    """Yield ``frames`` Frames of ``scene`` seen from a camera orbiting the scene's centre
-    about ``axis`` (``camera`` default: the scene's camera, else framed to fit)."""
-    if camera is None:
-        camera = scene.camera() or Camera.frame(scene.bounds,
-                                                aspect=renderer.width / renderer.height)
-    for cam in orbit_cameras(camera, scene.bounds.mean(axis=0), frames, axis):
-        yield renderer.render(scene, cam, **render_kwargs)
+              axis=(0.0, 1.0, 0.0), options=None, center=None, **kwargs) -> Iterator:
+    """Yield ``frames`` Frames of ``scene`` from a camera orbiting ``center`` (default: the
+    scene's centre) about ``axis``. ``camera`` defaults to the renderer's choice for the
+    scene; ``options`` and keywords are render options, resolved once for every frame."""
+    opts = renderer.options(scene, options, **kwargs)
+    camera = camera or renderer.camera(scene, opts)
+    center = scene.bounds.mean(axis=0) if center is None else center
+    for cam in orbit_cameras(camera, center, frames, axis):
+        yield renderer.render(scene, cam, opts)

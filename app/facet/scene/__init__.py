@@ -1,18 +1,27 @@
-"""Scene description without GL: meshes, materials, lights and the scene that holds them."""
+"""Scene description without GL: meshes, materials, lights, the scene that holds them, and
+the render options a scene asks for. Names are imported on first use, so that importing
+``facet.scene.options`` alone (the command line's ``--help``) loads no numpy."""
 
-from . import primitives
-from .light import AreaLight, DirectionalLight, PointLight, SpotLight
-from .material import Material
-from .mesh import Mesh
-from .scene import MAX_LIGHTS, RenderSettings, Scene, SceneObject
-from .texture import Texture
+from importlib import import_module
+
+_EXPORTS = {
+    "AreaLight": "light", "DirectionalLight": "light", "PointLight": "light",
+    "SpotLight": "light", "Material": "material", "Mesh": "mesh", "RenderOptions": "options",
+    "MAX_LIGHTS": "scene", "Scene": "scene", "SceneObject": "scene", "Texture": "texture",
+    "load_scene": "scenefile", "open_scene": "source",
+}
+__all__ = sorted([*_EXPORTS, "primitives"])
 
 
-def load_scene(path) -> Scene:
-    """Read a TOML scene file (see docs/scene-format.md) into a ``Scene``."""
-    from .scenefile import load_scene as _load
+def __getattr__(name: str):
+    if name == "primitives":
+        return import_module(f"{__name__}.primitives")
+    if name in _EXPORTS:
+        value = getattr(import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
-    return _load(path)
 
-__all__ = ["AreaLight", "DirectionalLight", "PointLight", "SpotLight", "Material", "Mesh", "Scene",
-           "SceneObject", "MAX_LIGHTS", "RenderSettings", "load_scene", "primitives", "Texture"]
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -146,3 +146,12 @@ def camera_rig(view) -> list[DirectionalLight]:
     turned into world space so they light what the camera sees."""
     to_world = np.linalg.inv(np.asarray(view, dtype=np.float64)[:3, :3])
     return [DirectionalLight(direction=to_world @ np.array(d), intensity=i) for d, i in _RIG]
+
+
+def active_lights(lights, view, mode: str = "auto") -> list:
+    """The lights that shine in a render, by the ``lights`` option (facet.scene.options):
+    "auto" the scene's own or, when it has none, the camera rig for the world -> camera
+    matrix ``view``; "scene" only its own; "camera" the rig in any case."""
+    if mode == "camera" or (mode == "auto" and not lights):
+        return camera_rig(view)
+    return list(lights)

@@ -24,7 +24,6 @@ import numpy as np
 
 from ..errors import FacetError, MeshError
 from .material import Material
-from .mesh import Mesh
 from .texture import Texture
 
 # Extensions we accept (lower case, no dot) and the trimesh file_type for each.
@@ -95,9 +94,10 @@ def _read(p: Path):
                         "is it truncated or in another format?") from None
 
 
-def load_mesh(path) -> Mesh:
-    """Load ``path`` into one ``Mesh`` (a scene graph is baked into one world-space mesh);
-    raises ``MeshError`` naming the file on any failure."""
+def load_mesh(path) -> dict:
+    """Read ``path`` as one mesh's ``Mesh`` keyword arguments (a scene graph is baked into
+    one world-space mesh); raises ``MeshError`` naming the file on any failure. This module
+    returns plain arrays so that it needs nothing from facet.scene.mesh (which calls it)."""
     import trimesh
 
     p = _check_path(path)
@@ -116,8 +116,8 @@ def load_mesh(path) -> Mesh:
     return _to_mesh(loaded, p, _material_from_trimesh(loaded))
 
 
-def load_parts(path) -> list[tuple[str, Mesh, np.ndarray]]:
-    """The parts of a mesh file as (node name, mesh, 4x4 node -> file transform).
+def load_parts(path) -> list[tuple[str, dict, np.ndarray]]:
+    """The parts of a mesh file as (node name, mesh arguments, 4x4 node -> file transform).
 
     glTF/GLB keep their node hierarchy: one part per node that holds geometry, with the
     node's world transform from the file's scene graph; a mesh used by several nodes is
@@ -132,7 +132,7 @@ def load_parts(path) -> list[tuple[str, Mesh, np.ndarray]]:
     if not loaded.geometry:
         raise MeshError(f"{p}: cannot read the file: no geometry found; is it truncated or "
                         "in another format?")
-    meshes: dict[str, Mesh] = {}
+    meshes: dict[str, dict] = {}
     parts = []
     for node in loaded.graph.nodes_geometry:
         matrix, geom_name = loaded.graph[node]
@@ -143,8 +143,8 @@ def load_parts(path) -> list[tuple[str, Mesh, np.ndarray]]:
     return parts
 
 
-def _to_mesh(tm, p: Path, material) -> Mesh:
-    """A facet Mesh from one trimesh geometry, with the checks every file gets."""
+def _to_mesh(tm, p: Path, material) -> dict:
+    """``Mesh`` arguments from one trimesh geometry, with the checks every file gets."""
     import trimesh
 
     if not isinstance(tm, trimesh.Trimesh):
@@ -175,8 +175,5 @@ def _to_mesh(tm, p: Path, material) -> Mesh:
         colors = np.asarray(tm.visual.vertex_colors, dtype=np.uint8)
         if len(colors) != len(vertices):
             colors = None
-    try:
-        return Mesh(vertices, faces, normals, uv, name=p.name, material=material,
-                    colors=colors)
-    except FacetError as exc:
-        raise MeshError(f"{p}: {exc}") from None
+    return {"positions": vertices, "faces": faces, "normals": normals, "uvs": uv,
+            "name": p.name, "material": material, "colors": colors, "path": str(p)}

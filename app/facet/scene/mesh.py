@@ -122,8 +122,35 @@ class Mesh:
         """
         from .loading import load_mesh
 
-        mesh = load_mesh(path)
+        mesh = cls._from_file(load_mesh(path))
         return mesh.flat_shaded() if flat else mesh
+
+    @classmethod
+    def load_parts(cls, path) -> list[tuple[str, Mesh, np.ndarray]]:
+        """The parts of a mesh file as (node name, mesh, 4x4 node -> file transform): a
+        glTF keeps its nodes (a mesh used by several nodes is made once), other formats
+        give one part with the identity."""
+        from .loading import load_parts
+
+        made: dict[int, Mesh] = {}
+        parts = []
+        for name, data, matrix in load_parts(path):
+            if id(data) not in made:
+                made[id(data)] = cls._from_file(data)
+            parts.append((name, made[id(data)], matrix))
+        return parts
+
+    @classmethod
+    def _from_file(cls, data: dict) -> Mesh:
+        """A Mesh from facet.scene.loading's arguments; a bad array names the file."""
+        from ..errors import MeshError
+
+        args = dict(data)
+        path = args.pop("path")
+        try:
+            return cls(**args)
+        except InputError as exc:
+            raise MeshError(f"{path}: {exc}") from None
 
     @property
     def vertex_count(self) -> int:

@@ -15,6 +15,7 @@ from ..geometry.camera import Camera
 from .light import AreaLight, DirectionalLight, Light, PointLight, SpotLight
 from .material import Material, as_color
 from .mesh import Mesh
+from .options import parse_layer
 
 # The shader's light array size; also the most lights a scene may hold.
 MAX_LIGHTS = 16
@@ -41,21 +42,6 @@ class SceneObject:
         return np.stack([w.min(axis=0), w.max(axis=0)])
 
 
-@dataclass
-class RenderSettings:
-    """How a scene wants to be rendered (a scene file's [render] table); the CLI's options
-    override these. ``camera`` names one of ``Scene.cameras`` (None: the first, else framed)."""
-
-    size: tuple[int, int] = (800, 600)
-    shading: str = "phong"
-    msaa: int = 4
-    outputs: tuple[str, ...] = ("color",)
-    camera: str | None = None
-    srgb: bool = False  # colour management (facet.image.colorspace)
-    aa: str | None = None  # "none", "msaa:N" or "ssaa:PATTERN:N"; None: use msaa
-    shadows: bool = False  # shadow maps for directional and spot lights
-
-
 class Scene:
     """Objects, lights, ambient light ``I_a``, background colour, and named cameras.
 
@@ -63,16 +49,20 @@ class Scene:
     ----------
     ambient : grey level or (3,) floats in [0, 1], the ambient intensity I_a
     background : (3,) or (4,) floats in [0, 1]; alpha 0 gives a transparent background
+    options : render options this scene asks for (a scene file's [render] table), e.g.
+        ``{"shadows": True, "lights": "scene"}``; explicit arguments override them
+        (facet.scene.options). Without lights the scene is lit by the default key + fill
+        rig following the camera unless ``lights`` is "scene".
     """
 
-    def __init__(self, ambient=0.1, background=(0.0, 0.0, 0.0, 1.0)):
+    def __init__(self, ambient=0.1, background=(0.0, 0.0, 0.0, 1.0), options=None):
         self.ambient = as_color(ambient, "ambient")
         bg = as_color(background, "background", channels=(3, 4))
         self.background = np.append(bg, 1.0) if bg.size == 3 else bg
         self.objects: list[SceneObject] = []
         self.lights: list[Light] = []
         self.cameras: dict[str, Camera] = {}
-        self.settings = RenderSettings()
+        self.options = dict(parse_layer(options))  # parsed: {option: value}
         # A facet.scene.environment.Environment: background and reflection source.
         self.environment = None
 
@@ -118,9 +108,9 @@ class Scene:
         return camera
 
     def camera(self, name: str | None = None) -> Camera | None:
-        """The camera called ``name``; without a name the settings' camera, else the first
+        """The camera called ``name``; without a name the options' camera, else the first
         one, else None (the renderer then frames the scene)."""
-        name = name or self.settings.camera
+        name = name or self.options.get("camera")
         if name is not None:
             if name not in self.cameras:
                 known = ", ".join(self.cameras) or "none"

@@ -21,15 +21,18 @@ from ..geometry import transforms as T
 from ..geometry.camera import Camera, depth_range
 from .light import AreaLight, DirectionalLight, PointLight, SpotLight
 from .material import Material
+from .mesh import Mesh
+from .options import parse_option
 from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
-from .scene import RenderSettings, Scene
+from .scene import Scene
 from .validate import AnyKey as _Any
 from .validate import Reader as _Reader
 from .validate import show as _show
 
 TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms", "environment")
+# The [render] table: render options (facet.scene.options parses each) and the background.
 RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb",
-          "shadows")
+          "shadows", "pcf", "lights", "wireframe", "engine", "max_depth")
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
             "gloss", "mirror", "texture", "shader", "vertex_shader", "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "transform_end", "matrix",
@@ -72,11 +75,11 @@ class _SceneBuilder:
     def build(self, data: dict) -> Scene:
         r = self.r
         r.table(data, "", TOP)
-        settings, background = self.render_settings(data.get("render", {}))
+        options, background = self.render_options(data.get("render", {}))
         self.uniforms = {name: self.uniform_value(v, f"uniforms.{name}") for name, v in
                          r.table(data.get("uniforms", {}), "uniforms", _Any()).items()}
         scene = Scene(background=background)
-        scene.settings = settings
+        scene.options = options
         materials = {name: self.material(m, f"materials.{name}")
                      for name, m in r.table(data.get("materials", {}), "materials",
                                             _Any()).items()}
@@ -93,54 +96,29 @@ class _SceneBuilder:
         cameras = r.table(data.get("cameras", {}), "cameras", _Any())
         for name, cam in cameras.items():
             scene.add_camera(name, self.camera(cam, f"cameras.{name}", scene))
-        if settings.camera is not None and settings.camera not in scene.cameras:
-            close = difflib.get_close_matches(settings.camera, list(scene.cameras), n=1)
+        camera = options.get("camera")
+        if camera is not None and camera not in scene.cameras:
+            close = difflib.get_close_matches(camera, list(scene.cameras), n=1)
             hint = f" (did you mean '{close[0]}'?)" if close else ""
-            r.fail("render.camera", f"no camera named {_show(settings.camera)}{hint}")
+            r.fail("render.camera", f"no camera named {_show(camera)}{hint}")
         return scene
 
-    def render_settings(self, t: dict):
+    def render_options(self, t: dict) -> tuple[dict, tuple]:
+        """({option: parsed value}, background) of the [render] table; every value goes
+        through the same parser as the CLI's flags and the Python keywords."""
         r = self.r
         r.table(t, "render", RENDER)
-        s = RenderSettings()
-        if "size" in t:
-            size = t["size"]
-            if not (isinstance(size, list) and len(size) == 2):
-                r.fail("render.size", f"expected [width, height], got {_show(size)}")
-            s.size = (r.integer(size[0], "render.size[0]"), r.integer(size[1], "render.size[1]"))
-        background = r.color(t["background"], "render.background", (3, 4)) \
-            if "background" in t else (0.0, 0.0, 0.0, 1.0)
-        if "shading" in t:
-            from ..render.shading import SHADING_MODELS
+        if "aa" in t and "msaa" in t:
+            r.fail("render.msaa", "give either aa or msaa (msaa = N means aa = \"msaa:N\")")
+        values = {("aa" if k == "msaa" else k): self.option(k, v) for k, v in t.items()}
+        background = values.pop("background", (0.0, 0.0, 0.0, 1.0))
+        return values, background
 
-            s.shading = r.choice(t["shading"], "render.shading", tuple(SHADING_MODELS))
-        if "msaa" in t:
-            s.msaa = int(r.choice(str(t["msaa"]), "render.msaa", ("0", "2", "4", "8")))
-        if "outputs" in t:
-            from ..image.outputs import CHANNELS
-
-            outs = t["outputs"]
-            if not isinstance(outs, list) or not outs:
-                r.fail("render.outputs", f"expected a list of channels, got {_show(outs)}")
-            s.outputs = tuple(r.choice(o, f"render.outputs[{i}]", CHANNELS)
-                              for i, o in enumerate(outs))
-        if "camera" in t:
-            s.camera = r.string(t["camera"], "render.camera")
-        if "aa" in t:
-            from ..render.antialias import parse_aa
-
-            try:
-                s.aa = str(parse_aa(r.string(t["aa"], "render.aa")))
-            except SceneError:
-                raise
-            except FacetError as exc:
-                r.fail("render.aa", str(exc))
-        for flag in ("srgb", "shadows"):
-            if flag in t:
-                if not isinstance(t[flag], bool):
-                    r.fail(f"render.{flag}", f"expected true or false, got {_show(t[flag])}")
-                setattr(s, flag, t[flag])
-        return s, background
+    def option(self, key: str, value):
+        try:
+            return parse_option(key, value)
+        except FacetError as exc:
+            self.r.fail(f"render.{key}", _strip_key(str(exc), key))
 
     def material(self, t, where: str) -> Material:
         r = self.r
@@ -347,10 +325,8 @@ class _SceneBuilder:
         if "mesh" in t:
             path = self.base / r.string(t["mesh"], f"{where}.mesh")
             if path not in self.parts_cache:
-                from .loading import load_parts
-
                 try:
-                    self.parts_cache[path] = load_parts(path)
+                    self.parts_cache[path] = Mesh.load_parts(path)
                 except FacetError as exc:
                     r.fail(f"{where}.mesh", str(exc))
             parts = self.parts_cache[path]
@@ -465,3 +441,8 @@ class _SceneBuilder:
             if "up is parallel" in message:
                 message = "the camera looks along its up vector; choose another 'up'"
             r.fail(where, message)
+
+
+def _strip_key(message: str, key: str | None) -> str:
+    """An option parser's message without its leading ``key: `` (the caller names the key)."""
+    return message[len(key) + 2:] if key and message.startswith(f"{key}: ") else message

@@ -1,14 +1,56 @@
 """``facet shader``: run a Shadertoy-style fragment shader headlessly (a frame, a GIF/MP4 or
-numbered PNGs, with a fixed time step so output is deterministic) or live in a window.
+numbered PNGs, with a fixed time step so output is deterministic) or live in a window
+(facet.window.shader).
 """
 
 from __future__ import annotations
 
+import argparse
+import math
 from pathlib import Path
 
-import numpy as np
+from ..errors import InputError
+from . import args as A
 
-from .errors import InputError
+DEFAULT_SIZE = (640, 360)  # frames and the live window alike
+
+
+def add_parser(sub) -> None:
+    sh = sub.add_parser("shader", help="run a Shadertoy-style fragment shader (window or files)",
+                        description="Run FILE, a fragment shader defining mainImage(out vec4 "
+                        "fragColor, in vec2 fragCoord) with Shadertoy's inputs (iResolution, "
+                        "iTime, iTimeDelta, iFrame, iFrameRate, iMouse, iDate, iChannel0-3, "
+                        "iChannelResolution). Without -o it opens a window that reloads the "
+                        "file (and its includes) when saved.",
+                        formatter_class=argparse.RawDescriptionHelpFormatter,
+                        epilog="examples:\n  facet shader waves.frag\n"
+                        "  facet shader waves.frag --time 1.5 -o frame.png\n"
+                        "  facet shader waves.frag --time 0:4 --fps 30 -o waves.mp4\n"
+                        "  facet shader image.frag --buffer-a a.frag --channel0 buffer-a\n"
+                        "  facet shader --list-uniforms toon.frag")
+    sh.add_argument("shader", help="fragment shader file with mainImage")
+    sh.add_argument("-o", "--output", metavar="OUT",
+                    help="a .png (one frame at --time), or .gif / .mp4 / frames/{:04d}.png "
+                    "for a --time range")
+    sh.add_argument("--time", default="0", metavar="T|A:B",
+                    help="seconds for one frame, or a range start:end (default 0)")
+    sh.add_argument("--fps", type=float, default=30.0, help="frames per second (default 30)")
+    sh.add_argument("--size", type=A.size, metavar="WxH",
+                    help=f"{A.SIZE_HELP}, of the frames and of the window (default "
+                    f"{DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]})")
+    sh.add_argument("--mouse", type=lambda t: A.floats(t, (2, 4), "mouse"),
+                    metavar="X,Y[,CX,CY]", help="iMouse for headless frames (pixels)")
+    for key in "abcd":
+        sh.add_argument(f"--buffer-{key}", metavar="FILE", help=f"buffer {key.upper()} pass")
+    sh.add_argument("--common", metavar="FILE", help="code prepended to every pass")
+    for i in range(4):
+        sh.add_argument(f"--channel{i}", metavar="IMAGE|buffer-X",
+                        help=f"iChannel{i}: an image file or a buffer (buffer-a ... buffer-d)")
+    sh.add_argument("--uniform", action="append", default=[], metavar="NAME=V[,V...]",
+                    help="set a user uniform; repeatable")
+    sh.add_argument("--list-uniforms", action="store_true",
+                    help="print the active uniforms with their types and exit")
+    sh.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
 
 
 def parse_time(text: str) -> tuple[float, float | None]:
@@ -16,11 +58,11 @@ def parse_time(text: str) -> tuple[float, float | None]:
     try:
         if ":" in text:
             a, b = (float(v) for v in text.split(":"))
-            if not (np.isfinite(a) and np.isfinite(b)) or b <= a or a < 0:
+            if not (math.isfinite(a) and math.isfinite(b)) or b <= a or a < 0:
                 raise ValueError
             return a, b
         t = float(text)
-        if not np.isfinite(t) or t < 0:
+        if not math.isfinite(t) or t < 0:
             raise ValueError
         return t, None
     except ValueError:
@@ -41,7 +83,7 @@ def parse_uniform(text: str) -> tuple[str, list[float]]:
 
 
 def build(args, size, context=None):
-    from .render.shadertoy import ShaderToy
+    from ..lab.shadertoy import ShaderToy
 
     buffers = {k: getattr(args, f"buffer_{k}") for k in "abcd" if getattr(args, f"buffer_{k}")}
     channels = {i: getattr(args, f"channel{i}") for i in range(4)
@@ -57,9 +99,9 @@ def build(args, size, context=None):
     return toy
 
 
-def run_shader(args) -> list[Path]:
+def run(args) -> list[Path]:
     """Headless output or the uniform list; the window when there is no -o."""
-    from .image.writers import check_image_path, save_image
+    from ..image.writers import check_image_path, save_image
 
     start, end = parse_time(args.time)
     if not 0 < args.fps <= 240:
@@ -75,18 +117,19 @@ def run_shader(args) -> list[Path]:
             print(f"{name:24} {gl_type}{f'[{length}]' if length > 1 else '':6} {kind}")
         return []
     if args.output is None:
-        from .playground import run_window
+        from ..window.shader import run_window
 
-        run_window(args)
+        run_window(lambda size, ctx: build(args, size, context=ctx), args.shader,
+                   args.size or DEFAULT_SIZE, args.fps)
         return []
-    size = args.size or (640, 360)
+    size = args.size or DEFAULT_SIZE
     if end is None:
         path = check_image_path(args.output)
         with build(args, size) as toy:
             image = toy.render(start, fps=args.fps, mouse=mouse)
         return [save_image(path, _to8(image))]
-    from .image.sequence import BackgroundWriter, SequenceSink, check_sequence_path
-    from .render_sequence import progress
+    from ..image.sequence import BackgroundWriter, SequenceSink, check_sequence_path
+    from .sequence import progress
 
     check_sequence_path(args.output)
     with build(args, size) as toy:
@@ -122,10 +165,10 @@ def is_mesh_stage(path) -> bool:
 
 def mesh_uniforms(path) -> dict[str, tuple[str, int, bool]]:
     """Active uniforms of a mesh shader linked with facet's mesh vertex shader."""
-    from .gl.context import create_headless
-    from .gl.glsl_source import glsl_root
-    from .gl.shaders import compile_program
-    from .render.user_shaders import DEFAULT_VERTEX, STANDARD
+    from ..gl.context import create_headless
+    from ..gl.glsl_source import glsl_root
+    from ..gl.shaders import compile_program
+    from ..lab.mesh_shaders import DEFAULT_VERTEX, STANDARD
 
     ctx = create_headless()
     try:
@@ -140,6 +183,8 @@ def mesh_uniforms(path) -> dict[str, tuple[str, int, bool]]:
         ctx.release()
 
 
-def _to8(image: np.ndarray) -> np.ndarray:
+def _to8(image):
     """Shader colour (floats) as 8-bit RGB; alpha is ignored, as on Shadertoy."""
+    import numpy as np
+
     return np.rint(np.clip(image[..., :3], 0.0, 1.0) * 255.0).astype(np.uint8)

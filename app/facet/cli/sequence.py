@@ -1,8 +1,9 @@
 """``facet render --turntable N``: render an orbit and write it while rendering goes on.
 
-Frames go to a ``BackgroundWriter``: a GIF/MP4/PNG sequence with ``-o``, or every channel
-of every frame into ``--out-dir`` (``0000_color.png``, ``0000_depth.npy``, ...,
-``0000_camera.json``). A progress bar shows on a terminal unless ``--quiet``.
+Frames go to a writer: a GIF/MP4/PNG sequence with ``-o`` (encoded on a thread, with one
+JSON of every frame's camera beside it), or every channel of every frame into ``--out-dir``
+(``0000_color.png``, ``0000_depth.npy``, ..., ``0000_camera.json``; written by a separate
+process). A progress bar shows on a terminal unless ``--quiet``.
 """
 
 from __future__ import annotations
@@ -10,10 +11,9 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .image.outputs import encode_color, write_outputs
-from .image.sequence import BackgroundWriter, ProcessWriter, SequenceSink
-from .render.turntable import orbit_cameras
-from .scene.light import camera_rig
+from ..image.outputs import encode_color, write_camera_json, write_outputs
+from ..image.sequence import BackgroundWriter, ProcessWriter, SequenceSink, cameras_path
+from ..render.turntable import turntable
 
 
 def progress(total: int, quiet: bool, desc: str):
@@ -24,28 +24,26 @@ def progress(total: int, quiet: bool, desc: str):
                 disable=quiet or not sys.stderr.isatty())
 
 
-def render_turntable(renderer, scene, camera, args, channels, target, color_options,
-                     outputs, headlights: bool = False, aa: str | None = None) -> list[Path]:
-    """Render the orbit; ``headlights``: the default light rig follows the camera (the model
-    turns under studio lights) instead of staying in world space."""
-    cameras = orbit_cameras(camera, scene.bounds.mean(axis=0), args.turntable, args.up)
+def render_turntable(renderer, scene, camera, opts, args, target,
+                     color_options) -> list[Path]:
+    """Render the orbit about ``args.up`` with the options ``opts`` (the default light rig,
+    if it is used, follows the camera: the model turns under studio lights)."""
     # Videos stream into one encoder object, so they use a thread; independent dataset
     # files go to a writer process (see ProcessWriter for why).
     writer = ProcessWriter() if args.out_dir else BackgroundWriter()
     sink = None if args.out_dir else SequenceSink(target, args.fps, writer)
     options = dict(png16=args.png16, normals_space=args.normals_space)
+    cameras = []
     try:
-        with progress(len(cameras), args.quiet, "turntable") as bar:
-            for i, cam in enumerate(cameras):
-                if headlights:
-                    scene.lights = camera_rig(cam.view)
-                frame = renderer.render(scene, cam, outputs=outputs, aa=aa)
+        with progress(args.turntable, args.quiet, "turntable") as bar:
+            frames = turntable(renderer, scene, args.turntable, camera, args.up, opts)
+            for i, frame in enumerate(frames):
+                cameras.append(frame.camera_info())
                 if sink is not None:
-                    kind, image = encode_color(frame.color, color_options)
-                    sink.add(i, image)
+                    sink.add(i, encode_color(frame.color, color_options)[1])
                 else:
-                    writer.submit(_write_frame, frame, args.out_dir, channels, color_options,
-                                  options, f"{i:04d}_")
+                    writer.submit(_write_frame, frame, args.out_dir, opts.outputs,
+                                  color_options, options, f"{i:04d}_")
                 bar.update(1)
         if sink is not None:
             written = sink.finish()
@@ -60,7 +58,8 @@ def render_turntable(renderer, scene, camera, args, channels, target, color_opti
         raise
     if sink is None:
         return [p for paths in writer.results for p in paths]
-    return sink.written if sink.kind == "pattern" else written
+    json_path = write_camera_json(cameras_path(target), {"frames": cameras})
+    return [*(sink.written if sink.kind == "pattern" else written), json_path]
 
 
 def _write_frame(frame, out_dir, channels, color_options, options, prefix) -> list[Path]:

@@ -16,31 +16,21 @@ errors (``path:line:col: error: ...``, mapped through includes to the user's fil
 from __future__ import annotations
 
 import datetime
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import FacetError, InputError, ShaderError
-from ..gl.glsl_source import file_digest, glsl_root
-from ..gl.shaders import GL_TYPES, INT_TYPES, Program, compile_program
+from ..errors import InputError, ShaderError
+from ..gl.fullscreen import fullscreen_vertex
+from ..gl.glsl_source import glsl_root
+from ..gl.shaders import Program, compile_program
+from .programs import ReloadResult, WatchedPrograms
+from .uniforms import check_uniform, write_uniform
 
 BUFFERS = ("a", "b", "c", "d")
 FILLED = ("iResolution", "iTime", "iTimeDelta", "iFrame", "iFrameRate", "iMouse", "iDate",
           "iSampleRate", "iChannelTime", "iChannelResolution", "iChannel0", "iChannel1",
           "iChannel2", "iChannel3")
-
-
-@dataclass
-class ReloadResult:
-    """What ``reload()`` did: ``success`` (all passes compiled and are in use), ``changed``
-    (some file's content differed), ``errors`` (compiler-style text) and ``diagnostics``."""
-
-    success: bool
-    changed: bool = True
-    errors: str = ""
-    diagnostics: list = field(default_factory=list)
-
 
 
 class ShaderToy:
@@ -59,15 +49,16 @@ class ShaderToy:
         self.width, self.height = _size(size)
         self._own_context = context is None
         self.ctx = glcontext.create_headless() if context is None else context
-        self.uniforms: dict[str, object] = {}
-        self.programs: dict[str, Program] = {}
-        self._hashes: dict[Path, str | None] = {}
+        self.uniforms: dict[str, np.ndarray] = {}  # user uniforms, kept across reloads
         self.frame, self.time = 0, 0.0
-        self._vertex = glsl_root() / "shadertoy" / "fullscreen.vert"
         self.vaos: dict = {}
+        self.watched = WatchedPrograms()
+        self.watched.watch(*self.paths.values(), *([self.common] if self.common else []))
         with self.ctx:
             self.targets = self._make_targets()
             self.channel_specs = self._channels(channels or {})
+            for key, path in self.paths.items():
+                self.watched.add(key, lambda path=path: self._compile(path))
             result = self.reload(force=True)
         if not result.success:
             self.close()
@@ -117,50 +108,41 @@ class ShaderToy:
         includes.append(f'#include "{path.resolve()}"')
         return host.replace("\nFACET_USER_CODE\n", "\n" + "\n".join(includes) + "\n")
 
+    def _compile(self, path: Path) -> Program:
+        prog = compile_program(self.ctx, fullscreen_vertex(),
+                               glsl_root() / "shadertoy" / "host.frag",
+                               fragment_text=self._host_text(path))
+        for name, values in self.uniforms.items():  # user uniforms survive a reload
+            write_uniform(prog, name, values)
+        return prog
+
+    def _make_vaos(self) -> None:
+        for vao in self.vaos.values():
+            vao.release()
+        # Attribute-less vertex arrays: the vertex shader makes the triangle itself.
+        self.vaos = {key: self.ctx.vertex_array(prog.gl, [])
+                     for key, prog in self.programs.items()}
+
+    @property
+    def programs(self) -> dict[str, Program]:
+        return self.watched.programs
+
     def watched_files(self) -> list[Path]:
         """Every file the programs were built from (includes too)."""
-        files = [p for p in self.paths.values()] + ([self.common] if self.common else [])
-        for prog in self.programs.values():
-            files += prog.sources["fragment"].files
-        return sorted({f.resolve() for f in files})
+        return self.watched.files()
 
     def changed(self) -> bool:
         """Whether any watched file's content differs from the last (re)load."""
-        return any(file_digest(f) != self._hashes.get(f) for f in self.watched_files())
+        return self.watched.changed()
 
     def reload(self, force: bool = False) -> ReloadResult:
         """Recompile every pass when a file changed (or ``force``); keep the old programs if
         any pass fails."""
-        if not force and not self.changed():
-            return ReloadResult(True, changed=False)
-        new, errors, diagnostics = {}, [], []
         with self.ctx:
-            for key, path in self.paths.items():
-                try:
-                    new[key] = compile_program(self.ctx, self._vertex,
-                                               glsl_root() / "shadertoy" / "host.frag",
-                                               fragment_text=self._host_text(path))
-                except ShaderError as exc:
-                    errors.append(str(exc))
-                    diagnostics += exc.diagnostics
-                except FacetError as exc:
-                    errors.append(str(exc))
-            self._hashes = {f: file_digest(f) for f in {*self.watched_files(),
-                                                   *(f for p in new.values()
-                                                     for f in p.sources["fragment"].files)}}
-            if errors:
-                for prog in new.values():
-                    prog.release()
-                return ReloadResult(False, errors="\n".join(errors), diagnostics=diagnostics)
-            for key, prog in self.programs.items():
-                self.vaos.pop(key).release()
-                prog.release()
-            self.programs = new
-            # Attribute-less vertex arrays: the vertex shader makes the triangle itself.
-            self.vaos = {key: self.ctx.vertex_array(prog.gl, []) for key, prog in new.items()}
-        for name, value in list(self.uniforms.items()):  # user uniforms survive a reload
-            self._write_user_uniform(name, value)
-        return ReloadResult(True)
+            result = self.watched.reload(force)
+            if result.success and result.changed:
+                self._make_vaos()
+        return result
 
     # -- uniforms ------------------------------------------------------------------------
     def active_uniforms(self) -> dict[str, tuple[str, int, bool]]:
@@ -174,33 +156,14 @@ class ShaderToy:
 
     def set_uniform(self, name: str, value) -> None:
         """Set a user uniform in every pass that uses it (kept across reloads)."""
-        active = self.active_uniforms()
-        if name not in active or active[name][2]:
-            user = [n for n, (_, _, filled) in active.items() if not filled]
-            raise InputError(f"no user uniform named {name!r} in "
-                             f"{', '.join(str(p) for p in self.paths.values())}; "
-                             f"it has: {', '.join(user) or 'none'}")
-        gl_type, length, _ = active[name]
-        values = np.atleast_1d(np.asarray(value, dtype=np.float64)).ravel()
-        size = {"float": 1, "int": 1, "bool": 1, "uint": 1, "mat2": 4, "mat3": 9,
-                "mat4": 16}.get(gl_type, int(gl_type[-1]) if gl_type[-1].isdigit() else 1)
-        if values.size != size * length or not np.all(np.isfinite(values)):
-            raise InputError(f"uniform {name} is {gl_type}"
-                             f"{f'[{length}]' if length > 1 else ''}: expected {size * length}"
-                             f" finite number(s), got {values.size}")
-        if gl_type in INT_TYPES and not np.all(values == np.round(values)):
-            raise InputError(f"uniform {name} is {gl_type}: expected integers, got "
-                             f"{values.tolist()}")
+        where = ", ".join(str(p) for p in self.paths.values())
+        values = check_uniform(name, value, list(self.programs.values()), set(FILLED), where)
+        if values is None:
+            return
         self.uniforms[name] = values
-        self._write_user_uniform(name, values)
-
-    def _write_user_uniform(self, name: str, values: np.ndarray) -> None:
         with self.ctx:
             for prog in self.programs.values():
-                if name in prog.gl:
-                    member = prog.gl[name]
-                    dtype = "i4" if GL_TYPES.get(member.gl_type) in INT_TYPES else "f4"
-                    member.write(values.astype(dtype).tobytes())
+                write_uniform(prog, name, values)
 
     # -- rendering -----------------------------------------------------------------------
     def step(self, time: float, time_delta: float, mouse=(0.0, 0.0, 0.0, 0.0),
@@ -303,8 +266,8 @@ class ShaderToy:
         with self.ctx:
             for vao in self.vaos.values():
                 vao.release()
-            for prog in self.programs.values():
-                prog.release()
+            self.vaos.clear()
+            self.watched.release()
             for pair in getattr(self, "targets", {}).values():
                 for tex, fbo in pair:
                     fbo.release()

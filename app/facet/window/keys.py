@@ -1,4 +1,5 @@
-"""The viewer's key map: key -> action with a one-line description (no GL, no glfw).
+"""The viewer's key map: key -> action with a one-line description (no GL, no glfw, so
+``facet view --help`` can print it).
 
 ``facet view --help`` and the ``h`` key print it; later features add rows to ``KEYMAP``.
 """
@@ -25,8 +26,8 @@ KEYMAP: dict[str, Action] = {
     "w": Action("toggle_wireframe", "wireframe overlay"),
     "a": Action("cycle_aa", "anti-aliasing: msaa:4, none, ssaa:jittered:16, ssaa:jittered:64 "
                 "(supersampling refines while the camera is still)"),
-    "l": Action("toggle_headlight", "lights follow the camera"),
-    "x": Action("toggle_shadows", "shadows (directional and spot lights)"),
+    "l": Action("toggle_headlight", "lights follow the camera / stay in the scene"),
+    "x": Action("toggle_shadows", "shadows (every light)"),
     "b": Action("cycle_background", "background colour"),
     "s": Action("screenshot", "save a screenshot (PNG, window size)"),
     "S": Action("screenshot_2x", "save a 2x screenshot (offscreen render)"),

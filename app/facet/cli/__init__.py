@@ -1,0 +1,135 @@
+"""The ``facet`` command line: one module per subcommand (render, view, shader, info), each
+with ``add_parser(sub)`` and ``run(args)``; no rendering logic lives here.
+
+A user's mistake prints one line ``facet: error: ...`` on stderr and exits with status 2,
+leaving no output file; a warning (facet.errors.FacetWarning) prints one line
+``facet: warning: ...``. Heavy modules (numpy, trimesh, moderngl, Pillow) are imported
+inside the commands, so ``facet --help`` starts instantly and each command loads only what
+it uses.
+"""
+
+from __future__ import annotations
+
+import argparse
+import difflib
+import re
+import sys
+from importlib import import_module
+
+EXIT_USAGE = 2
+COMMANDS = ("render", "view", "shader", "info")
+# A value that starts with a minus sign: -1,0,0  -0.5  -.5  -1e3 (argparse would take it
+# for an option unless written --opt=-1,0,0).
+_NEGATIVE = re.compile(r"-\.?\d[\d.,eE+\-]*")
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports a usage error in one line (plus where to find help)."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("allow_abbrev", False)  # typos get a did-you-mean instead
+        super().__init__(*args, **kwargs)
+
+    def error(self, message: str):
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="facet", description="facet: headless GPU rendering of meshes with "
+                     "Phong shading (OpenGL through EGL; Mesa llvmpipe when there is no GPU).")
+    parser.add_argument("--version", action="version", version="facet 0.1.0")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    for name in COMMANDS:
+        import_module(f"facet.cli.{name}").add_parser(sub)
+    return parser
+
+
+def _subparser(parser, command: str | None):
+    for action in parser._subparsers._group_actions:  # argparse keeps them only here
+        if command in getattr(action, "choices", {}):
+            return action.choices[command]
+    return None
+
+
+def _join_negative_values(parser, argv: list[str]) -> list[str]:
+    """``--target -1,0,0`` -> ``--target=-1,0,0`` for options that take one value."""
+    command = next((a for a in argv if a in COMMANDS), None)
+    sub = _subparser(parser, command)
+    if sub is None:
+        return argv
+    takes_value = {opt for action in sub._actions if action.nargs is None and
+                   action.option_strings for opt in action.option_strings}
+    out, i = [], 0
+    while i < len(argv):
+        if argv[i] in takes_value and i + 1 < len(argv) and _NEGATIVE.fullmatch(argv[i + 1]):
+            out.append(f"{argv[i]}={argv[i + 1]}")
+            i += 2
+        else:
+            out.append(argv[i])
+            i += 1
+    return out
+
+
+def _unknown(parser, command: str, extras: list[str]) -> str:
+    """One line for arguments the subcommand does not know, with a did-you-mean."""
+    sub = _subparser(parser, command)
+    first = extras[0]
+    if not first.startswith("-"):
+        return f"unexpected argument {first!r}"
+    known = [s for a in sub._actions for s in a.option_strings] if sub else []
+    close = difflib.get_close_matches(first.split("=", 1)[0], known, n=1, cutoff=0.6)
+    hint = f"; did you mean {close[0]}?" if close else ""
+    return f"unknown option {first}{hint}"
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    from ..errors import FacetWarning
+
+    if issubclass(category, FacetWarning):
+        print(f"facet: warning: {message}", file=sys.stderr)
+    else:
+        _default_showwarning(message, category, filename, lineno, file, line)
+
+
+_default_showwarning = None
+
+
+def main(argv: list[str] | None = None) -> int:
+    import warnings
+
+    global _default_showwarning
+    parser = build_parser()
+    argv = _join_negative_values(parser, list(sys.argv[1:] if argv is None else argv))
+    args, extras = parser.parse_known_args(argv)
+    if extras:
+        prog = f"facet {args.command}"
+        print(f"{prog}: error: {_unknown(parser, args.command, extras)} (see {prog} --help)",
+              file=sys.stderr)
+        return EXIT_USAGE
+    from ..errors import FacetError
+
+    _default_showwarning = warnings.showwarning
+    try:
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            result = import_module(f"facet.cli.{args.command}").run(args)
+        if args.command in ("render", "shader") and not args.quiet:
+            for path in result or ():
+                print(_printable(path))
+    except FacetError as exc:
+        print(f"facet: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except OSError as exc:  # unwritable output folder, disk full, ...
+        name = f"{exc.filename}: " if exc.filename else ""
+        print(f"facet: error: {name}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        return 130
+    return 0
+
+
+def _printable(path) -> str:
+    """A written path on one line (a newline in a name would split it for scripts)."""
+    return str(path).encode("unicode_escape").decode("ascii") if "\n" in str(path) \
+        else str(path)

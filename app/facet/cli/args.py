@@ -1,0 +1,151 @@
+"""Argument types and the option groups the subcommands share (no numpy, no GL: ``--help``
+stays instant). The render options (``add_render_options``) become one explicit layer of
+facet.scene.options through ``render_layer``, so a flag and a scene file's key are parsed by
+the same function."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+SIZE_HELP = "image size in pixels, WIDTHxHEIGHT"
+# What happens to MSAA counts the GL cannot do (facet.scene.options.clamp_msaa).
+MSAA_POLICY = "counts above the GL's maximum are lowered to it with a warning"
+
+
+def floats(text: str, n: tuple[int, ...], what: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) not in n or not all(math.isfinite(v) for v in values):
+        want = " or ".join(str(k) for k in n)
+        raise argparse.ArgumentTypeError(f"{what}: expected {want} comma-separated numbers, "
+                                         f"got {text!r}")
+    return values
+
+
+def vec3(text: str) -> list[float]:
+    return floats(text, (3,), "vector")
+
+
+def color(text: str) -> list[float]:
+    values = floats(text, (3,), "colour")
+    if min(values) < 0 or max(values) > 1:
+        raise argparse.ArgumentTypeError(f"colour {text!r}: each channel must be in [0, 1]")
+    return values
+
+
+def background(text: str) -> list[float]:
+    values = floats(text, (3, 4), "background")
+    if min(values) < 0 or max(values) > 1:
+        raise argparse.ArgumentTypeError(f"background {text!r}: each channel must be in [0, 1]")
+    return values
+
+
+def size(text: str) -> tuple[int, int]:
+    parts = text.lower().split("x")
+    try:
+        w, h = (int(p) for p in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size: expected WIDTHxHEIGHT like 800x600, "
+                                         f"got {text!r}") from None
+    if w < 1 or h < 1:
+        raise argparse.ArgumentTypeError(f"size {text!r}: width and height must be >= 1")
+    return w, h
+
+
+def light(text: str):
+    """Parse a --light spec (see facet render --help) into a facet light."""
+    from ..scene.light import DirectionalLight, PointLight, SpotLight
+
+    kind, _, rest = text.partition(":")
+    fields = rest.split(":") if rest else []
+    shapes = {"dir": 1, "directional": 1, "point": 1, "spot": 2}
+    if kind not in shapes or len(fields) < shapes[kind]:
+        raise argparse.ArgumentTypeError(
+            f"light {text!r}: expected dir:DX,DY,DZ, point:X,Y,Z or spot:X,Y,Z:DX,DY,DZ "
+            "(optionally followed by :R,G,B:INTENSITY)")
+    geo = [vec3(f) for f in fields[:shapes[kind]]]
+    extra = fields[shapes[kind]:]
+    if len(extra) > (3 if kind == "spot" else 2):
+        raise argparse.ArgumentTypeError(f"light {text!r}: too many ':' fields")
+    rgb = color(extra[0]) if extra else [1.0, 1.0, 1.0]
+    intensity = floats(extra[1], (1,), f"light {text!r} intensity")[0] if len(extra) > 1 \
+        else 1.0
+    try:
+        if kind in ("dir", "directional"):
+            return DirectionalLight(direction=geo[0], color=rgb, intensity=intensity)
+        if kind == "point":
+            return PointLight(position=geo[0], color=rgb, intensity=intensity)
+        angle = floats(extra[2], (1,), f"light {text!r} angle")[0] if len(extra) > 2 else 30.0
+        return SpotLight(position=geo[0], direction=geo[1], color=rgb, intensity=intensity,
+                         inner_angle=0.8 * angle, outer_angle=angle)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"light {text!r}: {exc}") from None
+
+
+def add_shader_options(p) -> None:
+    """--frag / --vert / --uniform: the model's own GLSL (docs in facet.scene.shader)."""
+    p.add_argument("--frag", metavar="FILE", help="the model's own fragment shader "
+                   "(see glsl/examples/, e.g. toon.frag)")
+    p.add_argument("--vert", metavar="FILE", help="the model's own vertex shader")
+    p.add_argument("--uniform", action="append", default=[], metavar="NAME=V[,V...]",
+                   help="a uniform of --frag/--vert; repeatable")
+
+
+def add_render_options(p, default_size: str) -> None:
+    """The render options of ``facet render`` and ``facet view``. Each one left out takes
+    the scene file's [render] value, else facet's default."""
+    from ..scene.options import LIGHTS, SHADING
+
+    g = p.add_argument_group("render options (a flag overrides the scene file's [render] "
+                             "value, which overrides the default)")
+    g.add_argument("--size", type=size, metavar="WxH", help=f"{SIZE_HELP} (default: the "
+                   f"scene file's or its intrinsics camera's, else {default_size})")
+    g.add_argument("--shading", choices=SHADING, metavar="MODEL",
+                   help=f"shading model: {', '.join(SHADING)} (default phong)")
+    g.add_argument("--msaa", type=int, choices=(0, 2, 4, 8), metavar="N",
+                   help=f"multisample anti-aliasing for colour: 0, 2, 4 or 8 (default 4; "
+                   f"{MSAA_POLICY})")
+    g.add_argument("--aa", metavar="MODE",
+                   help="anti-aliasing: none, msaa:N, or supersampling ssaa:PATTERN:N (also "
+                   "PATTERN:N) with PATTERN grid, random, poisson or jittered, e.g. "
+                   "--aa jittered:16 (colour only; depth and ids stay exact)")
+    g.add_argument("--shadows", action=argparse.BooleanOptionalAction,
+                   help="shadow maps for directional, spot, point and area lights")
+    g.add_argument("--pcf", type=int, choices=(0, 1, 2), metavar="R",
+                   help="shadow filter kernel radius in texels: 0 (one tap), 1 (3x3, "
+                   "default), 2 (5x5)")
+    g.add_argument("--srgb", action=argparse.BooleanOptionalAction,
+                   help="colour management: treat input colours and textures as sRGB, light "
+                   "in linear space, write sRGB (default: the shading value as is)")
+    g.add_argument("--background", type=background, metavar="R,G,B[,A]",
+                   help="background colour; A=0 for transparent (default: the scene's, "
+                   "else 0,0,0)")
+    g.add_argument("--camera", metavar="NAME", help="which of the scene file's cameras to use")
+    g.add_argument("--lights", choices=LIGHTS,
+                   help="auto: the scene's lights, or a key + fill rig following the camera "
+                   "when it has none (default); scene: only its own; camera: the rig always")
+    g.add_argument("--wireframe", action=argparse.BooleanOptionalAction,
+                   help="draw the triangle edges over the picture")
+    g.add_argument("--aperture", type=float, metavar="A",
+                   help="depth of field: lens diameter in scene units (needs a focus)")
+    g.add_argument("--focus", type=float, metavar="F",
+                   help="depth of field: distance along the view that stays sharp")
+    g.add_argument("--env", metavar="sky|IMAGE|DIR",
+                   help="environment: a generated sky, an equirectangular image, or a folder "
+                   "of six cube faces (px nx py ny pz nz); background and reflections")
+
+
+def render_layer(args) -> dict:
+    """The render options the command line gives (None: not given)."""
+    if args.aa is not None and args.msaa is not None:
+        from ..errors import InputError
+
+        raise InputError("give either --aa or --msaa (--msaa N means --aa msaa:N)")
+    return {"size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
+            "shadows": args.shadows, "pcf": args.pcf, "srgb": args.srgb,
+            "background": args.background, "camera": args.camera, "lights": args.lights,
+            "wireframe": args.wireframe, "aperture": args.aperture, "focus": args.focus,
+            "environment": args.env}

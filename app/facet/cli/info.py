@@ -1,0 +1,19 @@
+"""``facet info``: what the headless OpenGL context offers."""
+
+from __future__ import annotations
+
+
+def add_parser(sub) -> None:
+    sub.add_parser("info", help="print the OpenGL vendor, renderer, version and limits",
+                   description="Create a headless context and print what it offers.")
+
+
+def run(args) -> None:
+    from ..gl.context import create_headless, describe
+
+    ctx = create_headless()
+    try:
+        for key, value in describe(ctx).items():
+            print(f"{key:22} {value}")
+    finally:
+        ctx.release()

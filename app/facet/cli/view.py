@@ -1,0 +1,31 @@
+"""``facet view``: open a model or scene file in the interactive window (facet.window)."""
+
+from __future__ import annotations
+
+import argparse
+
+from . import args as A
+
+
+def add_parser(sub) -> None:
+    from ..window.keys import help_text
+
+    v = sub.add_parser("view", help="open a model or scene file in an interactive window",
+                       description="Explore MODEL (a mesh or .toml scene file) in a window, "
+                       "drawn as 'facet render' would draw it (the scene file's [render] "
+                       "table and the flags below apply). Drag to orbit, right-drag to pan, "
+                       "scroll to zoom; press h for keys.",
+                       epilog=help_text(), formatter_class=argparse.RawDescriptionHelpFormatter)
+    v.add_argument("model", nargs="?", help="mesh file or .toml scene file (default: the "
+                   "bundled torus knot)")
+    A.add_render_options(v, "1280x720 (the window's size)")
+    A.add_shader_options(v)
+
+
+def run(args) -> None:
+    from ..paths import default_model
+    from ..window.viewer import view
+    from .render import user_shader
+
+    view(args.model or default_model(), shader=user_shader(args),
+         options=A.render_layer(args))

@@ -1,0 +1,110 @@
+"""Hot reload, written once for mesh shaders and Shadertoy passes: programs built from files,
+recompiled when a file's content changes, and swapped in only when every one of them
+compiles, so the last good programs keep drawing while a file is broken.
+
+Files are compared by content (SHA-1), not timestamps: touching a file or saving it
+unchanged reloads nothing. ``reload`` returns a ``ReloadResult`` whose ``errors`` read like a
+compiler (``path:line:col: error: ...``, mapped through includes to the user's files).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Hashable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import FacetError, ShaderError
+from ..gl.glsl_source import file_digest
+from ..gl.shaders import Program
+
+
+@dataclass
+class ReloadResult:
+    """What ``reload()`` did: ``success`` (all programs compiled and are in use), ``changed``
+    (some file's content differed), ``errors`` (compiler-style text) and ``diagnostics``."""
+
+    success: bool
+    changed: bool = True
+    errors: str = ""
+    diagnostics: list = field(default_factory=list)
+
+
+class WatchedPrograms:
+    """Programs by key, each made by its ``build()`` (which compiles and writes the user's
+    uniforms); ``on_release(program)`` runs before a replaced program is released (to drop
+    vertex arrays made for it)."""
+
+    def __init__(self, on_release: Callable[[Program], None] | None = None):
+        self.programs: dict[Hashable, Program] = {}
+        self._builders: dict[Hashable, Callable[[], Program]] = {}
+        self._digests: dict[Path, str | None] = {}
+        self._extra: tuple[Path, ...] = ()
+        self._on_release = on_release
+
+    def get(self, key: Hashable, build: Callable[[], Program]) -> Program:
+        """The program for ``key``, built on first use (errors raise)."""
+        if key not in self.programs:
+            self.programs[key] = build()
+            self._builders[key] = build
+            self._remember()
+        return self.programs[key]
+
+    def add(self, key: Hashable, build: Callable[[], Program]) -> None:
+        """Register ``key``'s builder; the next ``reload(force=True)`` builds it."""
+        self._builders[key] = build
+
+    def watch(self, *paths) -> None:
+        """Also watch ``paths`` (files that decide what is built, e.g. a pass's source)."""
+        self._extra = tuple(Path(p).resolve() for p in paths)
+        self._remember()
+
+    def files(self) -> list[Path]:
+        """Every file the programs were built from (stages and includes), and the watched."""
+        found = {f.resolve() for prog in self.programs.values() for f in prog.files}
+        return sorted(found | set(self._extra))
+
+    def _remember(self, extra=()) -> None:
+        self._digests = {f: file_digest(f) for f in {*self.files(), *extra}}
+
+    def changed(self) -> bool:
+        """Whether a watched file's content differs from the last (re)load."""
+        return any(file_digest(f) != d for f, d in self._digests.items())
+
+    def reload(self, force: bool = False) -> ReloadResult:
+        """Rebuild every program when a file changed (or ``force``); keep the old ones if
+        any fails."""
+        if not force and not self.changed():
+            return ReloadResult(True, changed=False)
+        new, errors, diagnostics = {}, [], []
+        for key, build in self._builders.items():
+            try:
+                new[key] = build()
+            except ShaderError as exc:
+                errors.append(str(exc))
+                diagnostics += exc.diagnostics
+            except FacetError as exc:
+                errors.append(str(exc))
+        # Remember what was read now, the failed attempt's files included, so that only a
+        # new change triggers the next reload.
+        self._remember(extra=[f for p in new.values() for f in p.files])
+        if errors:
+            for prog in new.values():
+                prog.release()
+            return ReloadResult(False, errors="\n".join(dict.fromkeys(errors)),
+                                diagnostics=diagnostics)
+        for prog in self.programs.values():
+            self._release(prog)
+        self.programs = new
+        self._remember()
+        return ReloadResult(True)
+
+    def _release(self, prog: Program) -> None:
+        if self._on_release is not None:
+            self._on_release(prog)
+        prog.release()
+
+    def release(self) -> None:
+        for prog in self.programs.values():
+            self._release(prog)
+        self.programs.clear()
+        self._builders.clear()

@@ -1,0 +1,25 @@
+"""The wireframe overlay: every triangle's edges over the picture, in a dark unlit colour,
+drawn after the opaque objects with the depth test at "<=" so visible edges win."""
+
+from __future__ import annotations
+
+from ..scene.material import Material
+from ..scene.scene import SceneObject
+
+EDGE_COLOR = (0.05, 0.05, 0.05)
+
+
+def wireframe_overlay(forward, scene, state) -> None:
+    """Draw ``scene``'s edges into the bound target with ``forward`` (a ForwardPass)."""
+    material = Material(color=EDGE_COLOR)
+    edges = scene.view(objects=[SceneObject(o.id, o.mesh, material, o.transform, o.name)
+                                for o in scene.objects], lights=[])
+    ctx = forward.ctx
+    ctx.depth_func = "<="
+    ctx.wireframe = True
+    try:
+        forward.draw(edges, state.with_(shading="unlit", lights=(), shadows=None,
+                                        environment=None), colour_pass=False)
+    finally:
+        ctx.wireframe = False
+        ctx.depth_func = "<"

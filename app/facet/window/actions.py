@@ -1,0 +1,145 @@
+"""The viewer's actions: what the keys of ``facet.window.keys.KEYMAP`` do, plus grabbing and
+saving pictures. A mixin of ``facet.window.viewer.Viewer`` (which owns the window, the
+context and the renderer). Keys that change how the scene is drawn set render options in
+``self.keys``, one layer over the scene's and the command line's (facet.scene.options), so
+screenshots and recorded turntables render with exactly what the window shows."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .keys import TURNTABLE_FRAMES, help_text
+
+BACKGROUNDS = ((1.0, 1.0, 1.0, 1.0), (0.35, 0.37, 0.4, 1.0), (0.0, 0.0, 0.0, 1.0))
+AA_CYCLE = ("msaa:4", "none", "ssaa:jittered:16", "ssaa:jittered:64")
+
+
+def _next(options, current):
+    return options[(options.index(current) + 1) % len(options)] if current in options \
+        else options[0]
+
+
+class ViewerActions:
+    def grab(self) -> np.ndarray:
+        """The window's current picture, (H, W, 3) uint8, row 0 at the top."""
+        w, h = self.glfw.get_framebuffer_size(self.window)
+        with self.ctx:
+            data = self.ctx.screen.read(viewport=(0, 0, w, h), components=3)
+        return np.frombuffer(data, np.uint8).reshape(h, w, 3)[::-1].copy()
+
+    def save(self, path=None, scale: int = 1) -> Path:
+        """Save what the window shows as a PNG (``scale`` 2: an offscreen render at twice the
+        size), with the camera as JSON beside it; returns the PNG's path."""
+        from ..image.outputs import write_camera_json
+        from ..image.writers import save_image
+
+        path = Path(path or time.strftime(f"facet-%Y%m%d-%H%M%S{'-2x' if scale > 1 else ''}"
+                                          ".png"))
+        camera = self.camera()
+        w, h = self.glfw.get_framebuffer_size(self.window)
+        if scale == 1:
+            if self._dirty:
+                self.draw()
+            image = self.grab()
+        else:
+            opts = self.options(size=(w * scale, h * scale), outputs=("color",))
+            image = self.renderer.render(self.shown_scene(), camera, opts).color
+        save_image(path, image)
+        write_camera_json(path.with_suffix(".json"), camera.describe(w * scale, h * scale))
+        print(path)
+        return path
+
+    # -- actions (KEYMAP) ----------------------------------------------------------------
+    def frame(self):
+        self.control.bounds = np.asarray(self.scene.bounds)
+        self.control.frame(self.aspect)
+
+    def reset(self):
+        self.frame()
+        for key in ("shading", "wireframe", "background"):
+            self.keys.pop(key, None)
+
+    def toggle_projection(self):
+        self.control.toggle_projection()
+
+    def cycle_shading(self):
+        from ..scene.options import SHADING
+
+        self.keys["shading"] = _next(SHADING, self.options().shading)
+        print(f"shading: {self.keys['shading']}")
+
+    def toggle_wireframe(self):
+        self.keys["wireframe"] = not self.options().wireframe
+
+    def cycle_aa(self):
+        """Next anti-aliasing mode: MSAA, none, or progressive supersampling."""
+        self.keys["aa"] = _next(AA_CYCLE, str(self.options().aa))
+        self._samples = 0
+        print(f"aa: {self.keys['aa']}")
+
+    def toggle_shadows(self):
+        self.keys["shadows"] = not self.options().shadows
+
+    def toggle_headlight(self):
+        """Lights follow the camera, or stay in the world: a scene with its own lights
+        switches to the default rig following the camera and back; a scene lit by the rig
+        freezes it where the camera is now and back."""
+        from ..scene.light import camera_rig
+
+        if self.scene.lights:
+            following = self.options().lights == "camera"
+            self.keys["lights"] = "auto" if following else "camera"
+            print(f"lights: {'the scene' if following else 'follow the camera'}")
+        elif self.fixed_rig is None:
+            self.fixed_rig = camera_rig(self.camera().view)
+            print("lights: fixed in the scene")
+        else:
+            self.fixed_rig = None
+            print("lights: follow the camera")
+
+    def cycle_background(self):
+        current = self.keys.get("background")
+        options = (None, *BACKGROUNDS)
+        self.keys["background"] = options[(options.index(current) + 1) % len(options)] \
+            if current in options else None
+
+    def screenshot(self):
+        self.save()
+
+    def screenshot_2x(self):
+        self.save(scale=2)
+
+    def record_turntable(self):
+        from ..image.sequence import BackgroundWriter, SequenceSink
+        from ..render.turntable import turntable
+
+        path = Path(time.strftime("facet-turntable-%Y%m%d-%H%M%S.gif"))
+        self.win.set_title(f"facet - recording {path.name}")
+        writer = BackgroundWriter()
+        sink = SequenceSink(path, 30.0, writer)
+        frames = turntable(self.renderer, self.shown_scene(), TURNTABLE_FRAMES, self.camera(),
+                           options=self.options(outputs=("color",)), center=self.control.target)
+        try:
+            for i, frame in enumerate(frames):
+                sink.add(i, frame.color)
+            sink.finish()
+            writer.close()
+        except BaseException:
+            sink.abort()
+            raise
+        self.request_frame()
+        print(path)
+
+    def print_help(self):
+        print(help_text())
+
+    def quit(self):
+        self.win.quit()
+
+    def use_camera(self, index: int):
+        cameras = list(self.scene.cameras.values())
+        if index < len(cameras):
+            self.set_camera(cameras[index])

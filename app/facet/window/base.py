@@ -1,0 +1,128 @@
+"""What every facet window shares, and the only place glfw is set up: the display check, an
+OpenGL 3.3 core window with its moderngl context, the red frame around a stale picture, and
+debouncing of file changes (editors save in two steps)."""
+
+from __future__ import annotations
+
+import os
+import time
+
+from ..errors import FacetError
+
+DEBOUNCE = 0.15  # a change must stay put this long before it is loaded
+POLL = 0.1  # seconds between checks of watched files
+ERROR_FRAME = (0.85, 0.1, 0.1, 1.0)  # the red frame drawn around a stale picture
+ERROR_BORDER = 8  # pixels
+
+
+class NoDisplayError(FacetError):
+    """There is no display to open a window on."""
+
+
+def check_display(hint: str = "use 'facet render' for headless images") -> None:
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise NoDisplayError(f"no display to open a window on (DISPLAY is not set); {hint}")
+
+
+class GLWindow:
+    """A glfw window with an OpenGL 3.3 core context and a moderngl context over it."""
+
+    def __init__(self, size, title: str, hint: str = "use 'facet render' for headless images"):
+        import glfw
+
+        check_display(hint)
+        if not glfw.init():
+            raise NoDisplayError(f"cannot open the display {os.environ.get('DISPLAY', '')!r}; "
+                                 f"{hint}")
+        self.glfw = glfw
+        glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, 3)
+        glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, 3)
+        glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
+        glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
+        glfw.window_hint(glfw.SCALE_TO_MONITOR, True)
+        self.handle = glfw.create_window(int(size[0]), int(size[1]), title, None, None)
+        if not self.handle:
+            glfw.terminate()
+            raise NoDisplayError(f"the display gave no OpenGL 3.3 window; {hint}")
+        glfw.make_context_current(self.handle)
+        glfw.swap_interval(1)
+        from ..gl.context import create_for_current_window
+
+        try:
+            self.ctx = create_for_current_window()
+        except BaseException:
+            glfw.destroy_window(self.handle)
+            glfw.terminate()
+            raise
+
+    @property
+    def framebuffer_size(self) -> tuple[int, int]:
+        return tuple(self.glfw.get_framebuffer_size(self.handle))
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """In screen coordinates (the cursor's), which may differ from the framebuffer's."""
+        return tuple(self.glfw.get_window_size(self.handle))
+
+    def set_title(self, title: str) -> None:
+        self.glfw.set_window_title(self.handle, title)
+
+    def should_close(self) -> bool:
+        return self.glfw.window_should_close(self.handle)
+
+    def quit(self) -> None:
+        self.glfw.set_window_should_close(self.handle, True)
+
+    def draw_error_frame(self) -> None:
+        """A clearly visible red frame around the last good picture (a file has an error)."""
+        screen = self.ctx.screen
+        (w, h), b = self.framebuffer_size, ERROR_BORDER
+        for rect in ((0, 0, w, b), (0, h - b, w, b), (0, 0, b, h), (w - b, 0, b, h)):
+            screen.scissor = rect
+            screen.clear(*ERROR_FRAME)
+        screen.scissor = None
+
+    def swap(self) -> None:
+        self.glfw.swap_buffers(self.handle)
+
+    def close(self) -> None:
+        if self.handle is None:
+            return
+        self.ctx.release()
+        self.glfw.destroy_window(self.handle)
+        self.glfw.terminate()
+        self.handle = None
+
+
+class Debounce:
+    """Says when a change has stayed put for ``delay`` seconds, checking at most every
+    ``interval`` (editors save in two steps: a reload between them would see half a file)."""
+
+    def __init__(self, delay: float = DEBOUNCE, interval: float = POLL):
+        self.delay, self.interval = delay, interval
+        self._since: float | None = None
+        self._token = None
+        self._checked = 0.0
+
+    @property
+    def pending(self) -> bool:
+        return self._since is not None
+
+    def due(self, changed) -> bool:
+        """Whether to load now. ``changed()`` returns something false when the watched
+        content is as loaded, else a token of the new content (a digest; True will do):
+        a different token starts the wait again."""
+        now = time.monotonic()
+        if now - self._checked < self.interval:
+            return False
+        self._checked = now
+        token = changed()
+        if not token:
+            self._since = self._token = None
+            return False
+        if self._since is None or token != self._token:
+            self._since, self._token = now, token
+        if now - self._since < self.delay:
+            return False
+        self._since = self._token = None
+        return True

@@ -1,0 +1,122 @@
+"""The live shader window (``facet shader FILE`` without -o): Shadertoy-style, hot reloaded.
+
+Every file of the program (includes and the common file too) is watched by content hash;
+a change is reloaded once it has stayed put (facet.window.base.Debounce). A shader that
+fails to compile does not stop anything: the last good program keeps drawing inside a red
+frame, the error goes to the window title and to stderr as ``path:line:col: error:
+message``; fixing the file brings the picture back. Uniforms and textures survive a reload
+and iTime keeps running. Mouse: Shadertoy's iMouse (xy while a button is held, origin
+bottom-left; z/w the click, negative once released). Keys: q / Esc quit, space pauses,
+r restarts time and buffers.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+from .base import POLL, Debounce, GLWindow
+
+HEADLESS_HINT = "render frames with -o, e.g. -o frame.png or --time 0:4 -o clip.mp4"
+
+
+class ShaderWindow:
+    """``make_toy(size, context)`` makes the ShaderToy (facet.lab.shadertoy) it shows."""
+
+    def __init__(self, make_toy, name: str, size, fps: float = 60.0):
+        self.win = GLWindow(size, f"facet shader - {name}", HEADLESS_HINT)
+        glfw = self.glfw = self.win.glfw
+        try:
+            self.toy = make_toy(self.win.framebuffer_size, self.win.ctx)
+        except BaseException:
+            self.win.close()
+            raise
+        self.name = str(name)
+        self.error, self.paused, self.fps = "", False, fps
+        self.start = self.last = time.perf_counter()
+        self.mouse = [0.0, 0.0, 0.0, 0.0]
+        self.debounce = Debounce()
+        glfw.set_key_callback(self.win.handle, self._on_key)
+        glfw.set_mouse_button_callback(self.win.handle, self._on_button)
+        glfw.set_cursor_pos_callback(self.win.handle, self._on_cursor)
+
+    def _on_key(self, _w, key, _s, action, _m):
+        glfw = self.glfw
+        if action != glfw.PRESS:
+            return
+        if key in (glfw.KEY_ESCAPE, glfw.KEY_Q):
+            self.win.quit()
+        elif key == glfw.KEY_SPACE:
+            self.paused = not self.paused
+        elif key == glfw.KEY_R:
+            self.toy.restart()
+            self.start = time.perf_counter()
+
+    def _pixel(self, x, y):
+        """Window cursor -> framebuffer pixels, origin bottom-left (Shadertoy's iMouse)."""
+        (w, h), (fw, fh) = self.win.size, self.win.framebuffer_size
+        return x * fw / max(w, 1), (h - y) * fh / max(h, 1)
+
+    def _on_button(self, _w, button, action, _m):
+        x, y = self._pixel(*self.glfw.get_cursor_pos(self.win.handle))
+        if action == self.glfw.PRESS:
+            self.mouse = [x, y, x, y]  # z, w > 0: pressed, and w > 0 this frame: clicked
+        elif action == self.glfw.RELEASE:
+            self.mouse[2] = -abs(self.mouse[2])
+
+    def _on_cursor(self, _w, x, y):
+        if self.mouse[2] > 0:
+            self.mouse[0], self.mouse[1] = self._pixel(x, y)
+
+    def _check_reload(self):
+        if not self.debounce.due(self.toy.changed):
+            return
+        result = self.toy.reload()
+        if result.success:
+            if self.error:
+                print(f"{self.name}: compiled again", file=sys.stderr)
+            self.error = ""
+        else:
+            self.error = result.errors.splitlines()[0]
+            print(result.errors, file=sys.stderr)
+        title = f"facet shader - {self.name}"
+        self.win.set_title(f"{title} - error: {self.error}" if self.error else title)
+
+    def frame(self):
+        fb = self.win.framebuffer_size
+        if min(fb) < 1:
+            return
+        self.toy.resize(*fb)
+        now = time.perf_counter()
+        if not self.paused:
+            self.toy.step(now - self.start, now - self.last, tuple(self.mouse), fps=self.fps)
+            self.mouse[3] = -abs(self.mouse[3])  # the click shows for one frame only
+        self.last = now
+        ctx = self.win.ctx
+        with ctx:
+            ctx.screen.viewport = (0, 0, *fb)
+            ctx.copy_framebuffer(ctx.screen, self.toy.image_framebuffer)
+            if self.error:
+                self.win.draw_error_frame()
+        self.win.swap()
+
+    def run(self):
+        while not self.win.should_close():
+            self.frame()
+            self.glfw.poll_events()
+            self._check_reload()
+            if self.paused:
+                self.glfw.wait_events_timeout(POLL)
+
+    def close(self):
+        self.toy.close()
+        self.win.close()
+
+
+def run_window(make_toy, name: str, size, fps: float = 60.0) -> None:
+    """Show the toy ``make_toy(size, context)`` makes until the window is closed."""
+    window = ShaderWindow(make_toy, name, size, fps)
+    try:
+        window.run()
+    finally:
+        window.close()
