@@ -20,11 +20,10 @@ ROUNDS = 3  # best of
 
 def main() -> None:
     import facet
+    from facet.cli.sequence import render_turntable
     from facet.image.outputs import ColorOptions
     from facet.render.renderer import Renderer
     from facet.render.turntable import orbit_cameras
-    from facet.render_sequence import render_turntable
-    from facet.scene.light import camera_rig
 
     path = SHARED / "stanford-bunny.obj"
     if not path.is_file():
@@ -36,23 +35,21 @@ def main() -> None:
     outputs = ("color", "depth", "ids")
     with Renderer(SIZE, SIZE, msaa=4) as r:
         cams = orbit_cameras(camera, scene.bounds.mean(axis=0), FRAMES)
-        for light in camera_rig(camera.view):
-            scene.add_light(light)
-        r.render(scene, camera, outputs=outputs)  # warm-up: programs, uploads
+        opts = r.options(scene, outputs=outputs)  # the default lights follow the camera
+        r.render(scene, camera, opts)  # warm-up: programs, uploads
         render_only, with_files = [], []
         for _ in range(ROUNDS):  # alternate, so drift in machine load hits both alike
             t = time.perf_counter()
             for cam in cams:
-                scene.lights = camera_rig(cam.view)
-                r.render(scene, cam, outputs=outputs)
+                r.render(scene, cam, opts)
             render_only.append(time.perf_counter() - t)
             with tempfile.TemporaryDirectory() as tmp:
                 args = argparse.Namespace(turntable=FRAMES, up=(0.0, 1.0, 0.0), fps=30.0,
                                           out_dir=tmp, quiet=True, png16=False,
                                           normals_space="world")
                 t = time.perf_counter()
-                written = render_turntable(r, scene, camera, args, outputs, None,
-                                           ColorOptions(), outputs, headlights=True)
+                written = render_turntable(r, scene, camera, opts, args, None,
+                                           ColorOptions())
                 with_files.append(time.perf_counter() - t)
                 size_mb = sum(p.stat().st_size for p in written) / 2**20
         render_only, with_files = min(render_only), min(with_files)

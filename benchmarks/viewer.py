@@ -24,8 +24,7 @@ def measure() -> None:
     """Runs inside the Xvfb display (see main)."""
     import facet
     from facet.render.renderer import Renderer
-    from facet.scene.light import camera_rig
-    from facet.viewer import Viewer
+    from facet.window.viewer import Viewer
 
     scene = facet.Scene()
     scene.add(facet.Mesh.load(SHARED / "stanford-bunny.obj"))
@@ -44,8 +43,7 @@ def measure() -> None:
     headless = []
     with Renderer(*fb, msaa=4) as r:  # the same frames, same lights, offscreen
         r.render(scene, cameras[0], outputs=("color",))
-        for cam in cameras:
-            scene.lights = camera_rig(cam.view)
+        for cam in cameras:  # the default lights follow the camera in both
             t = time.perf_counter()
             r.render(scene, cam, outputs=("color",))
             headless.append(time.perf_counter() - t)

@@ -1,15 +1,30 @@
-"""Layering: geometry and scene never load GL; the CLI's --help loads nothing heavy."""
+"""Layering: geometry and scene never load GL (a scene file using every key loads where
+moderngl cannot be imported); imports point down the layers with no circles; the CLI's
+--help loads nothing heavy."""
 
+import ast
 import json
 import subprocess
 import sys
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "app" / "facet"
+EVERY_KEY = Path(__file__).resolve().parent / "data" / "every-key.toml"
+# Layers, lowest first (DESIGN.md): a module may import its own layer or lower ones.
+LAYERS = [{"errors", "paths"}, {"geometry"}, {"scene"}, {"gl"}, {"render", "lab", "image"},
+          {"cli", "window", "batch"}, {"__init__", "__main__"}]
+
+
+def _run(code: str) -> str:
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True).stdout
 
 
 def _loaded_after(code: str) -> set[str]:
-    out = subprocess.run([sys.executable, "-c", code + "\nimport sys, json\n"
-                          "print(json.dumps(sorted(sys.modules)))"],
-                         capture_output=True, text=True, check=True)
-    return set(json.loads(out.stdout.splitlines()[-1]))
+    out = _run(code + "\nimport sys, json\nprint(json.dumps(sorted(sys.modules)))")
+    return set(json.loads(out.splitlines()[-1]))
 
 
 def test_geometry_and_scene_do_not_import_gl():
@@ -18,6 +33,120 @@ def test_geometry_and_scene_do_not_import_gl():
                          "facet.scene.Mesh([[0,0,0],[1,0,0],[0,1,0]], [[0,1,2]])")
     assert "facet.geometry.camera" in mods and "facet.scene.mesh" in mods
     assert not {m for m in mods if m.split(".")[0] in ("moderngl", "glfw", "glcontext")}
+
+
+def test_a_scene_file_with_every_key_loads_without_gl():
+    """moderngl, glcontext and glfw are made unimportable: loading the scene and resolving
+    its render options must not need them, directly or through a helper."""
+    out = _run("import sys\n"
+               "for name in ('moderngl', 'glcontext', 'glfw'):\n"
+               "    sys.modules[name] = None  # any import of it raises ImportError\n"
+               "from facet.scene import load_scene\n"
+               "from facet.scene.options import options_for\n"
+               f"scene = load_scene({str(EVERY_KEY)!r})\n"
+               "opts = options_for(scene, {'msaa': 2})\n"
+               "print(len(scene.objects), opts.size, opts.shading, opts.aa, opts.shadows)")
+    assert out.split() == ["5", "(64,", "48)", "blinn", "msaa:2", "True"]
+
+
+def test_the_every_key_file_covers_every_key():
+    """The file above must use every key the scene-file parser knows (so adding a key
+    without trying it here fails)."""
+    from facet.scene import scenefile as sf
+
+    data = tomllib.loads(EVERY_KEY.read_text())
+    assert set(data) == set(sf.TOP)
+    # msaa is sugar for aa and may not share a table with it (tests/test_options.py)
+    assert set(data["render"]) | {"msaa"} == set(sf.RENDER)
+    materials = set().union(*(m for m in data["materials"].values()))
+    assert materials == set(sf.MATERIAL)
+    objects = set().union(*data["objects"])
+    assert objects == set(sf.OBJECT)
+    steps = {op for o in data["objects"] for s in o.get("transform", []) for op in s}
+    assert steps == set(sf.TRANSFORM_OPS)
+    for kind, keys in sf.LIGHT.items():
+        used = [set(x) - {"type"} for x in data["lights"] if x["type"] == kind]
+        assert used and used[0] == set(keys), kind
+    for kind, keys in sf.CAMERA.items():
+        used = [set(c) - {"type"} for c in data["cameras"].values() if c["type"] == kind]
+        assert used and used[0] == set(keys), kind
+
+
+def _imports() -> dict[str, set[str]]:
+    """facet module -> the facet modules it imports, at module level or inside functions."""
+    modules = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        modules[name] = path
+    graph = {}
+    for name, path in modules.items():
+        package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+        found = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    base = ".".join(package.split(".")[:len(package.split(".")) - node.level + 1]
+                                    + ([node.module] if node.module else []))
+                for alias in node.names:
+                    target = f"{base}.{alias.name}"
+                    found.add(target if target in modules else base)
+            elif isinstance(node, ast.Import):
+                found.update(a.name for a in node.names)
+        graph[name] = {m for m in found if m in modules and m != name}
+    return graph
+
+
+def _layer(module: str) -> int:
+    top = module.split(".")[1] if "." in module else "__init__"
+    return next(i for i, names in enumerate(LAYERS) if top in names)
+
+
+def test_imports_point_down_the_layers():
+    upward = [(a, b) for a, targets in _imports().items() for b in targets
+              if _layer(b) > _layer(a)]
+    assert not upward, upward
+
+
+def test_no_import_circles():
+    graph = _imports()
+    index, low, stack, on_stack, circles = {}, {}, [], set(), []
+
+    def visit(v):  # Tarjan's strongly connected components
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                circles.append(sorted(component))
+
+    sys.setrecursionlimit(10_000)
+    for v in graph:
+        if v not in index:
+            visit(v)
+    assert not circles, circles
+
+
+def test_the_circle_check_can_fail():
+    """The graph is real: the renderer imports the forward pass, which imports the lab."""
+    graph = _imports()
+    assert "facet.render.forward" in graph["facet.render.renderer"]
+    assert "facet.lab.mesh_shaders" in graph["facet.render.forward"]
+    assert _layer("facet.cli.render") > _layer("facet.render.renderer") > _layer("facet.gl")
 
 
 def test_cli_help_is_light():

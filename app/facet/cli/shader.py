@@ -23,11 +23,12 @@ def add_parser(sub) -> None:
                         "iChannelResolution). Without -o it opens a window that reloads the "
                         "file (and its includes) when saved.",
                         formatter_class=argparse.RawDescriptionHelpFormatter,
-                        epilog="examples:\n  facet shader waves.frag\n"
-                        "  facet shader waves.frag --time 1.5 -o frame.png\n"
-                        "  facet shader waves.frag --time 0:4 --fps 30 -o waves.mp4\n"
+                        epilog="examples (glsl/examples/ in a checkout):\n"
+                        "  facet shader glsl/examples/waves.frag\n"
+                        "  facet shader glsl/examples/waves.frag --time 1.5 -o frame.png\n"
+                        "  facet shader glsl/examples/sdf.frag --time 0:4 --fps 30 -o sdf.mp4\n"
                         "  facet shader image.frag --buffer-a a.frag --channel0 buffer-a\n"
-                        "  facet shader --list-uniforms toon.frag")
+                        "  facet shader --list-uniforms glsl/examples/toon.frag")
     sh.add_argument("shader", help="fragment shader file with mainImage")
     sh.add_argument("-o", "--output", metavar="OUT",
                     help="a .png (one frame at --time), or .gif / .mp4 / frames/{:04d}.png "

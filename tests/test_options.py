@@ -1,0 +1,109 @@
+"""Render options (no GL): one parser per key for every front, and the precedence
+defaults < scene file < explicit arguments, written once in facet.scene.options and tested
+once here."""
+
+import re
+
+import numpy as np
+import pytest
+
+from facet.errors import InputError, SceneError
+from facet.scene import Scene, load_scene
+from facet.scene.options import (
+    DEFAULT_AA,
+    RenderOptions,
+    options_for,
+    parse_aa,
+    parse_layer,
+    parse_option,
+)
+
+
+def _scene_file(tmp_path, render_table: str, extra: str = ""):
+    path = tmp_path / "s.toml"
+    path.write_text(f'[render]\n{render_table}\n[[objects]]\nprimitive = "sphere"\n{extra}')
+    return load_scene(path)
+
+
+def test_precedence_defaults_then_scene_then_explicit_layers(tmp_path):
+    scene = _scene_file(tmp_path, 'size = [64, 48]\nshading = "blinn"\naa = "jittered:4"\n'
+                        "shadows = true\npcf = 2")
+    defaults = RenderOptions()
+    assert (defaults.size, defaults.shading, str(defaults.aa)) == ((800, 600), "phong",
+                                                                   DEFAULT_AA)
+    from_scene = options_for(scene)
+    assert from_scene.size == (64, 48) and from_scene.shading == "blinn"
+    assert str(from_scene.aa) == "ssaa:jittered:4" and from_scene.shadows and from_scene.pcf == 2
+    assert from_scene.srgb is defaults.srgb  # what the file leaves out stays the default
+    renderer_layer, call_layer = {"shading": "flat", "msaa": 0}, {"shading": "unlit"}
+    resolved = options_for(scene, renderer_layer, call_layer)
+    assert resolved.shading == "unlit"  # the later explicit layer wins
+    assert str(resolved.aa) == "none"  # msaa=0 is aa="none", above the scene's aa
+    assert resolved.size == (64, 48) and resolved.shadows  # untouched keys come through
+    assert options_for(scene, {"shadows": False}).shadows is False
+    assert options_for(scene, {"shading": None}).shading == "blinn"  # None: not given
+
+
+def test_an_intrinsics_camera_sizes_the_image_below_explicit_sizes(tmp_path):
+    camera = ('[cameras.k]\ntype = "intrinsics"\nfx = 50\nfy = 50\ncx = 31.5\ncy = 23.5\n'
+              "width = 64\nheight = 48\n")
+    scene = _scene_file(tmp_path, "size = [10, 10]", camera)
+    assert options_for(scene).size == (64, 48)
+    assert options_for(scene, {"size": (20, 30)}).size == (20, 30)
+
+
+def test_msaa_is_aa_sugar_and_one_layer_may_not_give_both():
+    assert str(RenderOptions.build({"msaa": 8}).aa) == "msaa:8"
+    assert str(RenderOptions.build({"msaa": 0}).aa) == "none"
+    with pytest.raises(InputError, match="give either aa or msaa"):
+        parse_layer({"msaa": 4, "aa": "none"})
+    assert str(RenderOptions.build({"msaa": 4}, {"aa": "grid:4"}).aa) == "ssaa:grid:4"
+
+
+@pytest.mark.parametrize("key,value,message", [
+    ("aa", "ssaa:grid:7", "square number"),
+    ("aa", "supersample", "expected none, msaa:N or ssaa:PATTERN:N"),
+    ("msaa", 3, "msaa must be one of 0, 2, 4, 8, got 3"),
+    ("shading", "toon", "unknown shading model 'toon'"),
+    ("pcf", 5, "pcf: expected one of 0, 1, 2, got 5"),
+    ("size", [0, 10], "width and height must be >= 1"),
+    ("outputs", ["color", "albedo"], "unknown output channel 'albedo'"),
+    ("lights", "sun", "unknown lights mode 'sun'"),
+    ("background", [2, 0, 0], "floats in [0, 1]"),
+    ("shadows", "yes", "expected true or false"),
+])
+def test_every_front_gets_the_same_parse_error(tmp_path, key, value, message):
+    """Python keywords, scene files and the command line share the parser of each key."""
+    with pytest.raises(InputError, match=re.escape(message)):
+        RenderOptions.build({key: value})
+    toml = f'{key} = "{value}"' if isinstance(value, str) else f"{key} = {value}"
+    toml = toml.replace("'", '"')
+    tail = re.escape(message[-12:])
+    with pytest.raises(SceneError, match=f"s.toml: render.{key}: .*{tail}"):
+        _scene_file(tmp_path, toml)
+
+
+def test_unknown_option_keys_get_a_did_you_mean(tmp_path):
+    with pytest.raises(InputError, match="unknown render option 'shadow'; did you mean "
+                                         "'shadows'"):
+        parse_option("shadow", True)
+    with pytest.raises(SceneError, match="render.shadow: unknown key; did you mean 'shadows'"):
+        _scene_file(tmp_path, "shadow = true")
+
+
+def test_parsed_values_are_typed_once():
+    opts = RenderOptions.build({"size": "64x48", "background": 0.5, "aa": "jittered:16",
+                                "outputs": "color,depth,color", "aperture": 0.2})
+    assert opts.size == (64, 48) and opts.background == (0.5, 0.5, 0.5, 1.0)
+    assert opts.aa == parse_aa("ssaa:jittered:16") and opts.aa.supersampled
+    assert opts.outputs == ("color", "depth") and opts.aperture == 0.2
+    assert RenderOptions.build(opts) == opts  # a resolved object passes through unchanged
+    assert opts.merged({"shadows": True}).shadows and not opts.shadows  # frozen: a copy
+
+
+def test_a_python_scene_carries_options_like_a_scene_file():
+    scene = Scene(options={"lights": "scene", "msaa": 0})
+    assert options_for(scene).lights == "scene" and str(options_for(scene).aa) == "none"
+    with pytest.raises(InputError, match="unknown lights mode"):
+        Scene(options={"lights": "none!"})
+    assert np.array_equal(Scene().background, [0, 0, 0, 1])
