@@ -14,7 +14,8 @@ from PIL import Image
 
 from facet.cli import main
 from facet.geometry.camera import Camera
-from facet.scene import DirectionalLight, Material
+from facet.render.renderer import Renderer
+from facet.scene import DirectionalLight, Material, Mesh, PointLight, Scene, SpotLight
 
 from reference import erode, sphere_reference
 
@@ -59,16 +60,34 @@ def test_round_trip_png_and_depth(tmp_path, sphere_file, capsys):
     assert out.stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's private 0600
 
 
-def test_ortho_shading_and_light_kinds(tmp_path, sphere_file):
-    for extra in (["--ortho", "--shading", "flat"], ["--light", "point:0,2,4:1,1,1:2"],
-                  ["--light", "spot:0,0,4:0,0,-1:1,1,0:1:25", "--shading", "blinn"],
-                  ["--shading", "normals", "--fov", "60", "--target", "0.1,0,0"]):
-        out = tmp_path / "x.png"
-        assert main(["render", str(sphere_file), "-o", str(out), "--size", "32x32", "-q",
-                     *extra]) == 0
-        img = np.asarray(Image.open(out))
-        assert img[..., :3].max() > 100, extra  # something lit is in the image
-        out.unlink()
+@pytest.mark.parametrize("extra,lights,shading", [
+    (["--ortho", "--shading", "flat"], None, "flat"),
+    (["--light", "point:0,2,4:1,1,1:2"], [PointLight((0, 2, 4), intensity=2)], "phong"),
+    (["--light", "spot:0,0,4:0,0,-1:1,1,0:1:25", "--shading", "blinn"],
+     [SpotLight((0, 0, 4), (0, 0, -1), (1, 1, 0), 1.0, inner_angle=20, outer_angle=25)],
+     "blinn"),
+    (["--shading", "normals", "--fov", "60", "--target", "0.1,0,0"], None, "normals"),
+])
+def test_ortho_shading_and_light_kinds(tmp_path, sphere_file, extra, lights, shading):
+    """Each flag reaches the render: the CLI's image equals the Python API's render through
+    the camera the CLI wrote beside it, with the lights and shading the flags name (the
+    default rig when none), and differs from the plain default render."""
+    out = tmp_path / "x.png"
+    assert main(["render", str(sphere_file), "-o", str(out), "--size", "32x32", "-q",
+                 "--msaa", "0", *extra]) == 0
+    img = np.asarray(Image.open(out))
+    info = json.loads(out.with_suffix(".json").read_text())
+    kw = {"ortho_height": info["ortho_height"]} if info["model"] == "orthographic" else \
+        {"fov_y": info["fov_y"]}
+    camera = Camera(info["world_to_camera_opengl"], near=info["near"], far=info["far"], **kw)
+    scene = Scene()
+    scene.add(Mesh.load(sphere_file))
+    lit = scene.view(lights=lights or [])
+    with Renderer(32, 32, msaa=0) as r:
+        api = r.render(lit, camera, shading=shading).color[..., :3]
+        plain = r.render(scene, camera).color[..., :3]  # the default rig and shading
+    assert np.abs(img.astype(int) - api).max() <= 1, extra
+    assert np.abs(img.astype(int) - plain).max() > 6, extra  # the flags changed something
 
 
 def test_default_model_and_python_m(tmp_path):

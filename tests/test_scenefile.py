@@ -239,14 +239,13 @@ def test_documented_example_is_the_bundled_one_and_renders(renderer):
     scene = load_scene(root / "models" / "example.toml")
     assert [o.name for o in scene.objects] == ["floor", "top", "ball", "box", "knot", "ring"]
     assert set(scene.cameras) == {"main", "top", "dataset"}
-    r = renderer(160, 120)
-    for name in ("main", "dataset"):
+    for name in ("main", "top", "dataset"):
         cam = scene.camera(name)
-        if cam.intrinsics is not None:
-            r = renderer(640, 480)
-        frame = r.render(scene, cam)
+        size = (640, 480) if cam.intrinsics is not None else (160, 120)
+        frame = renderer(*size).render(scene, cam)
         visible = set(np.unique(frame.object_ids)) - {-1}
         assert visible == set(range(6)), (name, visible)
+    assert scene.camera("top").is_orthographic and scene.camera("dataset").intrinsics
 
 
 def test_cli_intrinsics_camera_sets_the_image_size(tmp_path, capsys):

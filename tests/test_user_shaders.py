@@ -15,6 +15,7 @@ from facet.scene.light import camera_rig
 from facet.scene.shader import UserShader
 
 from conftest import sphere_mesh
+from reference import erode
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "glsl" / "examples"
@@ -117,10 +118,19 @@ material = "board"
     scene = load_scene(tmp_path / "s.toml")
     shader = scene.objects[0].material.shader
     assert shader.fragment.name == "checker.frag" and shader.uniforms == {"u_squares": [4.0]}
-    for light in camera_rig(CAMERA.view):
-        scene.add_light(light)
-    frame = renderer(SIZE, SIZE).render(scene, CAMERA)
-    assert frame.color[..., :3].std() > 20
+    frame = renderer(SIZE, SIZE).render(scene, CAMERA, outputs=("color", "uv", "ids"),
+                                        msaa=0)
+    # The uniform's effect: the checker cells follow floor(uv * u_squares) with the
+    # material's 4, not the file-wide 2 nor the shader's default 8.
+    hit = erode(frame.object_ids == 0, 1)
+    bright = frame.color[..., :3].max(axis=2)[hit].astype(int)
+
+    def agreement(squares):
+        cell = np.floor(frame.uv[hit] * squares)
+        dark = cell.sum(axis=1) % 2 == 0  # mod(x + y, 2) == 0: the 0.15 albedo
+        return (np.where(dark, bright < np.median(bright), bright >= np.median(bright))).mean()
+
+    assert agreement(4) > 0.9 and agreement(2) < 0.75 and agreement(8) < 0.75
     (tmp_path / "bad.toml").write_text('[materials.m]\nshader = "none.frag"\n')
     with pytest.raises(SceneError, match=r"materials\.m\.shader: .*none\.frag: no such"):
         load_scene(tmp_path / "bad.toml")

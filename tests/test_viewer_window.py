@@ -48,8 +48,10 @@ class Window:
 
     def __init__(self, display, args, cwd):
         self.env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT / "app")}
-        self.proc = subprocess.Popen([sys.executable, "-m", "facet", "view", *args, "--size",
-                                      f"{W}x{H}"], cwd=cwd, env=self.env,
+        size = [] if "--size" in args or "--scene-size" in args else ["--size", f"{W}x{H}"]
+        args = [a for a in args if a != "--scene-size"]  # open at the scene file's size
+        self.proc = subprocess.Popen([sys.executable, "-m", "facet", "view", *args, *size],
+                                     cwd=cwd, env=self.env,
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         out = self.xdotool("search", "--sync", "--onlyvisible", "--name", "^facet", timeout=60)
         self.id = out.split()[0]
@@ -427,3 +429,149 @@ def test_depth_of_field_refines_in_msaa_mode(window, tmp_path):
     assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()
     blur = np.abs(pinhole.astype(int) - ref).max(axis=2)
     assert (blur > CHANNEL_TOL).mean() > 5 * MAX_DIFFERING  # the lens shows
+
+
+def test_lights_key_keeps_the_model_lit_and_turntables_too(window, tmp_path):
+    """`l` on a scene lit by the default rig freezes the rig where the camera is: the model
+    stays lit (not only ambient), the light stays put while the camera orbits, and a
+    turntable recorded in that state is lit too."""
+    from facet.geometry.camera import Camera
+    from facet.render.renderer import Renderer
+    from facet.scene import Mesh, Scene
+    from facet.scene.light import camera_rig
+
+    w = window()
+    w.key("s")
+    first = _wait_for(tmp_path, "facet-*.png")[0]
+    start = json.loads(first.with_suffix(".json").read_text())
+    first.rename(tmp_path / "start.png")
+    first.with_suffix(".json").rename(tmp_path / "start.json")
+    w.key("l")
+    w.xdotool("mousemove", "160", "120", "mousedown", "1", "mousemove", "220", "120",
+              "mousemove", "260", "120", "mouseup", "1")
+    time.sleep(0.5)
+    w.key("s")
+    shot = _wait_for(tmp_path, "facet-*.png")[0]
+    w.key("t")
+    gif = _wait_for(tmp_path, "facet-turntable-*.gif", timeout=60)
+    assert w.quit() == 0 and "lights: fixed in the scene" in w.proc.stdout.read()
+    info = json.loads(shot.with_suffix(".json").read_text())
+    camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
+                    far=info["far"])
+    start_view = np.asarray(start["world_to_camera_opengl"])
+    scene = Scene()
+    scene.add(Mesh.load(ROOT / "models" / "default.obj"))
+    with Renderer(W, H, msaa=4) as r:  # the viewer's default, like the window
+        fixed = r.render(scene.view(lights=camera_rig(start_view)), camera).color[..., :3]
+        unlit = r.render(scene, camera, lights="scene").color[..., :3].astype(int)
+        following = r.render(scene, camera).color[..., :3]
+    picture = np.asarray(Image.open(shot)).astype(int)
+    from test_golden import CHANNEL_TOL, MAX_DIFFERING
+
+    diff = np.abs(picture - fixed).max(axis=2)
+    assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()
+    moved = np.abs(following.astype(int) - fixed).max(axis=2) > CHANNEL_TOL
+    assert moved.mean() > 5 * MAX_DIFFERING  # the light really stayed behind
+    model = picture.max(axis=2) > 0
+    assert picture[model].mean() > 60  # lit, not just the ambient term
+    import imageio.v3 as iio
+
+    ambient = unlit.max()  # the brightest the bug's ambient-only picture gets
+    frames = iio.imread(gif[0], index=None).astype(int)
+    for frame in frames[::3]:  # directly lit in every frame, from behind in some
+        on = frame.max(axis=2) > 0
+        lit = (frame[on].max(axis=1) > 1.5 * ambient).mean()
+        assert on.mean() > 0.05 and lit > 0.1, lit
+
+
+FRONTS_SCENE = """
+[render]
+size = [160, 120]
+background = [0.15, 0.2, 0.3]
+shading = "blinn"
+srgb = true
+shadows = true
+aa = "ssaa:jittered:8"
+
+[[objects]]
+primitive = "plane"
+size = 6
+material = {color = [0.8, 0.8, 0.75]}
+
+[[objects]]
+primitive = "sphere"
+radius = 0.6
+material = {color = [0.9, 0.35, 0.2], ks = 0.6, shininess = 40}
+transform = [{translate = [0, 0.7, 0]}]
+
+[[lights]]
+type = "directional"
+direction = [-0.3, -1, -0.4]
+
+[cameras.main]
+type = "perspective"
+eye = [2.5, 2.2, 3.2]
+target = [0, 0.4, 0]
+fov = 40
+"""
+
+
+def test_every_front_draws_the_same_first_frame(window, tmp_path):
+    """One scene file through every front: `facet render` to a PNG, frame 0 of a turntable,
+    frame 0 of a dataset (single and turntable), and a screenshot of `facet view` once it
+    has refined: the same pixels within the golden tolerance, with the file's shadows,
+    supersampling, sRGB, shading and background all on (so the viewer honours [render])."""
+    from facet.cli import main
+    from test_golden import CHANNEL_TOL, MAX_DIFFERING
+
+    path = tmp_path / "fronts.toml"
+    path.write_text(FRONTS_SCENE)
+    assert main(["render", str(path), "-o", str(tmp_path / "single.png"), "-q"]) == 0
+    assert main(["render", str(path), "--turntable", "4", "-o",
+                 str(tmp_path / "tt-{:02d}.png"), "-q"]) == 0
+    assert main(["render", str(path), "--out-dir", str(tmp_path / "ds"), "-q"]) == 0
+    assert main(["render", str(path), "--turntable", "2", "--out-dir",
+                 str(tmp_path / "tds"), "-q"]) == 0
+    single = np.asarray(Image.open(tmp_path / "single.png")).astype(int)
+    assert single.shape == (120, 160, 3)
+    w = window(str(path), "--scene-size")
+    time.sleep(2.5)  # 8 supersamples, one per frame
+    w.key("s")
+    shot = _wait_for(tmp_path, "facet-*.png")
+    assert w.quit() == 0
+    fronts = {"turntable": tmp_path / "tt-00.png", "dataset": tmp_path / "ds" / "color.png",
+              "turntable dataset": tmp_path / "tds" / "0000_color.png", "viewer": shot[0]}
+    for name, file in fronts.items():
+        image = np.asarray(Image.open(file).convert("RGB")).astype(int)
+        assert image.shape == single.shape, name
+        diff = np.abs(image - single).max(axis=2)
+        assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (name, (diff > CHANNEL_TOL).mean())
+    # The settings are really on: the background as written (sRGB mode takes it as
+    # sRGB-encoded), and the ball's shadow.
+    assert np.allclose(single[2, 2], np.rint(255 * np.array([0.15, 0.2, 0.3])), atol=1)
+    from facet.render.renderer import Renderer
+    from facet.scene import load_scene
+
+    with Renderer() as r:
+        flat = r.render(load_scene(path), shadows=False).color[..., :3].astype(int)
+    assert ((flat - single).max(axis=2) > 30).sum() > 100  # the shadow
+
+
+def test_shader_window_opens_at_its_documented_size(display, tmp_path):
+    from facet.cli.shader import DEFAULT_SIZE
+
+    shader = tmp_path / "s.frag"
+    shader.write_text("void mainImage(out vec4 c, in vec2 p) { c = vec4(1.0); }\n")
+    env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT / "app")}
+    proc = subprocess.Popen([sys.executable, "-m", "facet", "shader", str(shader)], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        wid = subprocess.run(["xdotool", "search", "--sync", "--onlyvisible", "--name",
+                              "^facet shader"], env=env, capture_output=True, text=True,
+                             timeout=60, check=True).stdout.split()[0]
+        geometry = subprocess.run(["xdotool", "getwindowgeometry", wid], env=env,
+                                  capture_output=True, text=True, check=True).stdout
+        assert f"Geometry: {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}" in geometry, geometry
+    finally:
+        proc.kill()
+        proc.wait()
