@@ -53,6 +53,7 @@ def test_the_every_key_file_covers_every_key():
     """The file above must use every key the scene-file parser knows (so adding a key
     without trying it here fails)."""
     from facet.scene import scenefile as sf
+    from facet.scene import scenefile_lights as sl
 
     data = tomllib.loads(EVERY_KEY.read_text())
     assert set(data) == set(sf.TOP)
@@ -64,10 +65,10 @@ def test_the_every_key_file_covers_every_key():
     assert objects == set(sf.OBJECT)
     steps = {op for o in data["objects"] for s in o.get("transform", []) for op in s}
     assert steps == set(sf.TRANSFORM_OPS)
-    for kind, keys in sf.LIGHT.items():
+    for kind, keys in sl.LIGHT.items():
         used = [set(x) - {"type"} for x in data["lights"] if x["type"] == kind]
         assert used and used[0] == set(keys), kind
-    for kind, keys in sf.CAMERA.items():
+    for kind, keys in sl.CAMERA.items():
         used = [set(c) - {"type"} for c in data["cameras"].values() if c["type"] == kind]
         assert used and used[0] == set(keys), kind
 

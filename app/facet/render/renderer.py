@@ -23,8 +23,6 @@ format, programs per variant, meshes per Mesh; options are never stored.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ..errors import InputError
@@ -33,12 +31,10 @@ from ..geometry.lens import with_lens
 from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
-from ..gl.targets import Targets
 from ..scene.light import active_lights
 from ..scene.options import RenderOptions, clamp_msaa, options_for, parse_layer
 from ..scene.scene import Scene
 from .antialias import (
-    Accumulator,
     accumulation,
     distributed_sample,
     gloss_jitter,
@@ -46,73 +42,14 @@ from .antialias import (
     jitter_matrix,
     point_lights_for,
 )
+from .destination import Destination, Surfaces
 from .finish import Finisher, finish_for
 from .forward import ForwardPass
 from .frame import Frame
 from .overlay import wireframe_overlay
 from .shadow import ShadowMaps
 from .state import FrameState
-from .transparency import Transparency, split_transparent
-
-
-class _Surfaces:
-    """What depends on the image size: the targets, and the supersampling and OIT buffers
-    (made on first use)."""
-
-    def __init__(self, ctx, size: tuple[int, int]):
-        self.ctx, self.size = ctx, size
-        self.targets = Targets(ctx, *size)
-        self._accumulator = self._oit = None
-
-    @property
-    def accumulator(self) -> Accumulator:
-        if self._accumulator is None:
-            self._accumulator = Accumulator(self.ctx, *self.size)
-        return self._accumulator
-
-    @property
-    def oit(self) -> Transparency:
-        if self._oit is None:
-            self._oit = Transparency(self.ctx, *self.size)
-        return self._oit
-
-    def release(self) -> None:
-        for part in (self._accumulator, self._oit, self.targets):
-            if part is not None:
-                part.release()
-
-
-@dataclass(frozen=True)
-class _Destination:
-    """Where a sequence ends: offscreen (``window`` None: drawn flipped, read back) or a
-    window's framebuffer, adding progressive supersample ``sample`` (None: one picture)."""
-
-    window: object = None
-    sample: int | None = None
-
-    @property
-    def flip_y(self) -> bool:
-        return self.window is None
-
-    @property
-    def preview(self) -> bool:
-        """One plain picture in a window (what a moving camera shows)."""
-        return self.window is not None and self.sample is None
-
-    def channels(self, opts: RenderOptions) -> tuple[str, ...]:
-        """The exact channels to read back (a window shows colour only)."""
-        return () if self.window is not None else \
-            tuple(o for o in opts.outputs if o != "color")
-
-    def wants_colour(self, opts: RenderOptions) -> bool:
-        return self.window is not None or "color" in opts.outputs
-
-    def samples(self, n: int) -> range:
-        """Which of ``n`` supersamples to draw now: all offscreen, one more in a window."""
-        if self.window is None:
-            return range(n)
-        k = min(self.sample, n - 1)
-        return range(k, k + 1)
+from .transparency import split_transparent
 
 
 class Renderer:
@@ -138,10 +75,12 @@ class Renderer:
         self.forward = ForwardPass(self.ctx, self.cache)
         self._shadows: ShadowMaps | None = None  # the shadow atlas, made on first use
         self._finisher: Finisher | None = None
-        self._surfaces: _Surfaces | None = None
+        self._surfaces: Surfaces | None = None
         self._closed = False
-        if width is not None:  # fail early on a size this GL cannot render
-            with self.ctx:
+        with self.ctx:
+            # What the MSAA policy needs to know (facet.scene.options.clamp_msaa).
+            self._limits = (self.ctx.max_samples, self.ctx.info.get("GL_RENDERER", "this GL"))
+            if width is not None:  # fail early on a size this GL cannot render
                 self._surfaces_for((width, height))
 
     @property
@@ -163,8 +102,7 @@ class Renderer:
             opts = options.merged(kwargs)
         else:
             opts = options_for(scene, self.defaults, options, kwargs)
-        renderer = self.ctx.info.get("GL_RENDERER", "this GL")
-        return opts.merged({"aa": clamp_msaa(opts.aa, self.ctx.max_samples, renderer)})
+        return opts.merged({"aa": clamp_msaa(opts.aa, *self._limits)})
 
     def camera(self, scene: Scene, opts: RenderOptions) -> Camera:
         """The scene's camera the options name (else its first), else one framing it."""
@@ -180,7 +118,7 @@ class Renderer:
         opts = self.options(scene, options, **kwargs)
         with self.ctx:  # several renderers (contexts) may live in one thread
             return self._sequence(scene, camera or self.camera(scene, opts), opts,
-                                  _Destination())
+                                  Destination())
 
     def present(self, scene: Scene, camera: Camera, framebuffer, options=None, *,
                 sample: int | None = None, **kwargs) -> int:
@@ -192,7 +130,7 @@ class Renderer:
         after the last the picture equals ``render``'s. Returns the samples shown."""
         self._check_open()
         opts = self.options(scene, options, **kwargs)
-        return self._sequence(scene, camera, opts, _Destination(framebuffer, sample))
+        return self._sequence(scene, camera, opts, Destination(framebuffer, sample))
 
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
         """How many supersamples the colour of this render sums (0: one picture)."""
@@ -202,7 +140,7 @@ class Renderer:
         return aa.samples if aa is not None else 0
 
     # -- the pass sequence ---------------------------------------------------------------
-    def _sequence(self, scene, camera, opts: RenderOptions, dest: _Destination):
+    def _sequence(self, scene, camera, opts: RenderOptions, dest: Destination):
         scene, state = self._prepare(scene, camera, opts, dest)  # 1
         surf = self._surfaces_for(opts.size)
         aa = None if dest.preview else accumulation(opts.aa, scene, state.camera,
@@ -228,7 +166,7 @@ class Renderer:
                      channels.get("normals"), channels.get("position"), channels.get("uv"),
                      opts.size)
 
-    def _prepare(self, scene, camera, opts: RenderOptions, dest: _Destination):
+    def _prepare(self, scene, camera, opts: RenderOptions, dest: Destination):
         """The scene as this render sees it, and the frame's state (step 1)."""
         camera = with_lens(camera, opts.aperture, opts.focus)
         view = scene.view(lights=active_lights(scene.lights, camera.view, opts.lights))
@@ -354,10 +292,10 @@ class Renderer:
             self._shadows = ShadowMaps(self.ctx, self.cache)
         return self._shadows
 
-    def _surfaces_for(self, size) -> _Surfaces:
+    def _surfaces_for(self, size) -> Surfaces:
         """The size-dependent targets, made anew when the size changes."""
         if self._surfaces is None or self._surfaces.size != tuple(size):
-            new = _Surfaces(self.ctx, tuple(size))
+            new = Surfaces(self.ctx, tuple(size))
             # moderngl re-binds the bound framebuffer after making one: bind a live one
             # before releasing the old (a released one there is GL_INVALID_OPERATION).
             new.targets.color().use()

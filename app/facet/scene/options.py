@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import numbers
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
@@ -139,20 +140,27 @@ def _choice(choices, what: str):
     return parse
 
 
-def _number(minimum=None, above=None, allow_none=False):
-    def parse(value, key):
-        import numpy as np
+def number_problem(value, minimum=None, above=None) -> str | None:
+    """What is wrong with ``value`` as a finite number (>= ``minimum``, > ``above``), e.g.
+    "expected a number >= 0"; None when it is fine. Scene files check numbers with it too."""
+    ok = isinstance(value, numbers.Real) and not isinstance(value, bool) and \
+        math.isfinite(value)
+    if ok and minimum is not None:
+        ok = value >= minimum
+    if ok and above is not None:
+        ok = value > above
+    if ok:
+        return None
+    bound = f" >= {minimum:g}" if minimum is not None else \
+        f" > {above:g}" if above is not None else ""
+    return f"expected a number{bound}"
 
-        ok = isinstance(value, (int, float, np.integer, np.floating)) and \
-            not isinstance(value, bool) and math.isfinite(value)
-        if ok and minimum is not None:
-            ok = value >= minimum
-        if ok and above is not None:
-            ok = value > above
-        if not ok:
-            bound = f" >= {minimum:g}" if minimum is not None else \
-                f" > {above:g}" if above is not None else ""
-            raise InputError(f"{key}: expected a finite number{bound}, got {value!r}")
+
+def _number(minimum=None, above=None):
+    def parse(value, key):
+        problem = number_problem(value, minimum, above)
+        if problem:
+            raise InputError(f"{key}: {problem}, got {value!r}")
         return float(value)
     return parse
 

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import SceneError
+from .options import number_problem
 
 
 def show(value) -> str:
@@ -38,16 +39,9 @@ class Reader:
         return value
 
     def number(self, value, where: str, minimum=None, above=None) -> float:
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and \
-            np.isfinite(value)
-        if ok and minimum is not None:
-            ok = value >= minimum
-        if ok and above is not None:
-            ok = value > above
-        if not ok:
-            bound = f" >= {minimum:g}" if minimum is not None else \
-                f" > {above:g}" if above is not None else ""
-            self.fail(where, f"expected a number{bound}, got {show(value)}")
+        problem = number_problem(value, minimum, above)
+        if problem:
+            self.fail(where, f"{problem}, got {show(value)}")
         return float(value)
 
     def vector(self, value, where: str, n: int = 3) -> np.ndarray:

@@ -1,0 +1,77 @@
+"""Where a render goes and what it needs of the image size.
+
+``Destination``: offscreen (drawn upside down so readback lands row 0 on top, facet.gl.
+targets; every channel read back) or a window's framebuffer (bottom-up like GL, colour only,
+supersamples added one per frame while the view is still). ``Surfaces``: the targets,
+supersampling and OIT buffers of one image size, made on first use and replaced together
+when the size changes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..gl.targets import Targets
+from ..scene.options import RenderOptions
+from .antialias import Accumulator
+from .transparency import Transparency
+
+
+class Surfaces:
+    """What depends on the image size: the targets, and the supersampling and OIT buffers
+    (made on first use)."""
+
+    def __init__(self, ctx, size: tuple[int, int]):
+        self.ctx, self.size = ctx, size
+        self.targets = Targets(ctx, *size)
+        self._accumulator = self._oit = None
+
+    @property
+    def accumulator(self) -> Accumulator:
+        if self._accumulator is None:
+            self._accumulator = Accumulator(self.ctx, *self.size)
+        return self._accumulator
+
+    @property
+    def oit(self) -> Transparency:
+        if self._oit is None:
+            self._oit = Transparency(self.ctx, *self.size)
+        return self._oit
+
+    def release(self) -> None:
+        for part in (self._accumulator, self._oit, self.targets):
+            if part is not None:
+                part.release()
+
+
+@dataclass(frozen=True)
+class Destination:
+    """Where a sequence ends: offscreen (``window`` None: drawn flipped, read back) or a
+    window's framebuffer, adding progressive supersample ``sample`` (None: one picture)."""
+
+    window: object = None
+    sample: int | None = None
+
+    @property
+    def flip_y(self) -> bool:
+        return self.window is None
+
+    @property
+    def preview(self) -> bool:
+        """One plain picture in a window (what a moving camera shows)."""
+        return self.window is not None and self.sample is None
+
+    def channels(self, opts: RenderOptions) -> tuple[str, ...]:
+        """The exact channels to read back (a window shows colour only)."""
+        return () if self.window is not None else \
+            tuple(o for o in opts.outputs if o != "color")
+
+    def wants_colour(self, opts: RenderOptions) -> bool:
+        return self.window is not None or "color" in opts.outputs
+
+    def samples(self, n: int) -> range:
+        """Which of ``n`` supersamples to draw now: all offscreen, one more in a window."""
+        if self.window is None:
+            return range(n)
+        k = min(self.sample, n - 1)
+        return range(k, k + 1)
