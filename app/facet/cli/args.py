@@ -97,7 +97,7 @@ def add_shader_options(p) -> None:
 def add_render_options(p, default_size: str) -> None:
     """The render options of ``facet render`` and ``facet view``. Each one left out takes
     the scene file's [render] value, else facet's default."""
-    from ..scene.options import LIGHTS, SHADING
+    from ..scene.options import LIGHTS, MSAA_CHOICES, PCF_CHOICES, SHADING
 
     g = p.add_argument_group("render options (a flag overrides the scene file's [render] "
                              "value, which overrides the default)")
@@ -105,16 +105,16 @@ def add_render_options(p, default_size: str) -> None:
                    f"scene file's or its intrinsics camera's, else {default_size})")
     g.add_argument("--shading", choices=SHADING, metavar="MODEL",
                    help=f"shading model: {', '.join(SHADING)} (default phong)")
-    g.add_argument("--msaa", type=int, choices=(0, 2, 4, 8), metavar="N",
-                   help=f"multisample anti-aliasing for colour: 0, 2, 4 or 8 (default 4; "
-                   f"{MSAA_POLICY})")
+    g.add_argument("--msaa", type=int, choices=MSAA_CHOICES, metavar="N",
+                   help=f"multisample anti-aliasing for colour: "
+                   f"{', '.join(map(str, MSAA_CHOICES))} (default 4; {MSAA_POLICY})")
     g.add_argument("--aa", metavar="MODE",
                    help="anti-aliasing: none, msaa:N, or supersampling ssaa:PATTERN:N (also "
                    "PATTERN:N) with PATTERN grid, random, poisson or jittered, e.g. "
                    "--aa jittered:16 (colour only; depth and ids stay exact)")
     g.add_argument("--shadows", action=argparse.BooleanOptionalAction,
                    help="shadow maps for directional, spot, point and area lights")
-    g.add_argument("--pcf", type=int, choices=(0, 1, 2), metavar="R",
+    g.add_argument("--pcf", type=int, choices=PCF_CHOICES, metavar="R",
                    help="shadow filter kernel radius in texels: 0 (one tap), 1 (3x3, "
                    "default), 2 (5x5)")
     g.add_argument("--srgb", action=argparse.BooleanOptionalAction,

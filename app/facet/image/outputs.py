@@ -28,7 +28,6 @@ from ..errors import InputError
 from . import preview, quantize
 from .writers import save_array, save_image, save_indexed, save_png16, to_uint8, write_atomic
 
-CHANNELS = ("color", "depth", "ids", "normals", "position", "uv")
 MM_PER_UNIT = 1000.0  # depth_mm.png assumes scene units are metres
 
 
@@ -45,15 +44,6 @@ class ColorOptions:
     def needs_float(self) -> bool:
         """Whether the render should keep float colour (16-bit, dithering, reduced bits)."""
         return self.bits != (8,) or self.dither != "none" or self.palette is not None
-
-
-def parse_channels(text: str) -> tuple[str, ...]:
-    names = tuple(n.strip() for n in text.split(",") if n.strip())
-    unknown = [n for n in names if n not in CHANNELS]
-    if unknown or not names:
-        raise InputError(f"--outputs {text!r}: unknown channel {unknown[0]!r}; choose from "
-                         f"{','.join(CHANNELS)}" if unknown else "--outputs is empty")
-    return names
 
 
 def encode_color(color: np.ndarray, options: ColorOptions):
