@@ -150,6 +150,21 @@ def test_the_circle_check_can_fail():
     assert _layer("facet.cli.render") > _layer("facet.render.renderer") > _layer("facet.gl")
 
 
+def test_only_gl_imports_moderngl_and_only_window_imports_glfw():
+    owners = {"moderngl": "gl", "glcontext": "gl", "glfw": "window"}
+    found = []
+    for path in PACKAGE.rglob("*.py"):
+        package = path.relative_to(PACKAGE).parts[0]
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = [a.name for a in node.names] if isinstance(node, ast.Import) else \
+                [node.module or ""] if isinstance(node, ast.ImportFrom) else []
+            for name in names:
+                owner = owners.get(name.split(".")[0])
+                if owner is not None and owner != package:
+                    found.append((str(path.relative_to(PACKAGE)), name))
+    assert not found, found
+
+
 def test_cli_help_is_light():
     mods = _loaded_after("import facet.cli\nfacet.cli.build_parser()")
     heavy = {"numpy", "trimesh", "moderngl", "PIL", "glfw"}

@@ -259,6 +259,12 @@ def test_python_viewer_api(display, tmp_path):
 
     scene = facet.Scene()
     scene.add(facet.primitives.sphere(1.0))
+    from facet.errors import FacetWarning
+
+    with facet.Viewer(scene, size=(W, H), msaa=8) as v:  # the MSAA policy holds here too
+        if v.ctx.max_samples < 8:
+            with pytest.warns(FacetWarning, match="msaa:8 is more than .* using msaa:"):
+                v.draw()
     with facet.Viewer(scene, size=(W, H), msaa=0) as v:
         v.set_camera(Camera.look_at((0, 0, 5), (0, 0, 0), fov_y=30))
         path = v.save(tmp_path / "shot.png")

@@ -1,5 +1,5 @@
 #version 330 core
-// Shadertoy's inputs around a user's mainImage (facet.render.shadertoy fills them). The
+// Shadertoy's inputs around a user's mainImage (facet.lab.shadertoy fills them). The
 // user's code (and common file) is included at the marker line below; fragCoord has its
 // origin at the bottom-left pixel corner, as on Shadertoy.
 uniform vec3 iResolution;           // viewport size in pixels (z = pixel aspect, 1)

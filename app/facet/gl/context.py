@@ -2,6 +2,12 @@
 
 ``create_headless()`` either returns a core-profile context of at least GL 3.3 or raises one
 ``ContextError`` that says what was tried and what to install.
+
+``with ctx:`` makes a context current for a block, and leaving the block releases it (no
+context is current afterwards, whatever was current before: glcontext's EGL backend does
+not restore). So facet never nests ``with ctx:`` blocks: a nested one would leave the outer
+block's GL calls without a context, silently doing nothing. Public methods that enter the
+context (``Renderer.render``, ``ShaderToy.render``) must not be called inside one.
 """
 
 from __future__ import annotations

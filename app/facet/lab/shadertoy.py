@@ -59,7 +59,7 @@ class ShaderToy:
             self.channel_specs = self._channels(channels or {})
             for key, path in self.paths.items():
                 self.watched.add(key, lambda path=path: self._compile(path))
-            result = self.reload(force=True)
+        result = self.reload(force=True)  # not nested: see facet.gl.context
         if not result.success:
             self.close()
             raise ShaderError(result.errors, result.diagnostics)
