@@ -94,15 +94,15 @@ def add_shader_options(p) -> None:
                    help="a uniform of --frag/--vert; repeatable")
 
 
-def add_render_options(p, default_size: str) -> None:
+def add_render_options(p, size_default: str) -> None:
     """The render options of ``facet render`` and ``facet view``. Each one left out takes
     the scene file's [render] value, else facet's default."""
     from ..scene.options import LIGHTS, MSAA_CHOICES, PCF_CHOICES, SHADING
 
     g = p.add_argument_group("render options (a flag overrides the scene file's [render] "
                              "value, which overrides the default)")
-    g.add_argument("--size", type=size, metavar="WxH", help=f"{SIZE_HELP} (default: the "
-                   f"scene file's or its intrinsics camera's, else {default_size})")
+    g.add_argument("--size", type=size, metavar="WxH",
+                   help=f"{SIZE_HELP} (default: {size_default})")
     g.add_argument("--shading", choices=SHADING, metavar="MODEL",
                    help=f"shading model: {', '.join(SHADING)} (default phong)")
     g.add_argument("--msaa", type=int, choices=MSAA_CHOICES, metavar="N",

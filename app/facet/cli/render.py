@@ -69,7 +69,7 @@ def add_parser(sub) -> None:
     r.add_argument("--texture", metavar="IMAGE|checker",
                    help="diffuse texture for the model (needs texture coordinates); "
                    "'checker' generates a checkerboard")
-    A.add_render_options(r, "800x600")
+    A.add_render_options(r, "the scene file's, or its intrinsics camera's, else 800x600")
     r.add_argument("--turntable", type=int, metavar="N",
                    help="render N frames orbiting the model; -o takes .gif, .mp4 or a "
                    "pattern like frames/{:04d}.png")

@@ -12,13 +12,13 @@ def add_parser(sub) -> None:
 
     v = sub.add_parser("view", help="open a model or scene file in an interactive window",
                        description="Explore MODEL (a mesh or .toml scene file) in a window, "
-                       "drawn as 'facet render' would draw it (the scene file's [render] "
-                       "table and the flags below apply). Drag to orbit, right-drag to pan, "
+                       "drawn as 'facet render'\nwould draw it (the scene file's [render] "
+                       "table and the flags below apply).\nDrag to orbit, right-drag to pan, "
                        "scroll to zoom; press h for keys.",
                        epilog=help_text(), formatter_class=argparse.RawDescriptionHelpFormatter)
     v.add_argument("model", nargs="?", help="mesh file or .toml scene file (default: the "
                    "bundled torus knot)")
-    A.add_render_options(v, "1280x720 (the window's size)")
+    A.add_render_options(v, "the window opens at the scene file's size, else 1280x720")
     A.add_shader_options(v)
 
 
