@@ -1,0 +1,107 @@
+"""Bounding volume hierarchies (numpy, no GL): every primitive in exactly one reachable
+leaf, boxes that contain their contents, and nearest hits equal to brute force on random
+rays, for both builders (SAH, and clustered SAH for large inputs)."""
+
+import numpy as np
+import pytest
+import trimesh
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from facet.geometry import bvh as B
+
+
+def _triangles(kind: str, n_sub: int = 3) -> np.ndarray:
+    rng = np.random.default_rng(7)
+    if kind == "sphere":
+        ico = trimesh.creation.icosphere(subdivisions=n_sub)
+        return np.asarray(ico.vertices)[np.asarray(ico.faces)].astype(np.float32)
+    if kind == "soup":  # random triangles of very different sizes, overlapping
+        centres = rng.uniform(-1, 1, (3000, 1, 3))
+        return (centres + rng.normal(0, 1, (3000, 3, 3)) * rng.uniform(0.001, 0.3, (3000, 1, 1))
+                ).astype(np.float32)
+    if kind == "duplicates":  # many identical triangles: centroids coincide
+        one = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+        return np.concatenate([np.repeat(one[None], 500, 0),
+                               rng.uniform(-1, 1, (100, 3, 3)).astype(np.float32)])
+    raise ValueError(kind)
+
+
+def _check_structure(b: B.BVH, tri: np.ndarray) -> None:
+    covered = np.zeros(len(tri), int)
+    frontier = np.array([0])
+    while frontier.size:
+        for f in frontier[b.left[frontier] < 0]:
+            prims = b.order[b.first[f]: b.first[f] + b.count[f]]
+            covered[prims] += 1
+            assert b.count[f] >= 1
+            assert np.all(tri[prims].min(axis=1) >= b.lo[f] - 1e-6)
+            assert np.all(tri[prims].max(axis=1) <= b.hi[f] + 1e-6)
+        inner = frontier[b.left[frontier] >= 0]
+        for child in (b.left[inner], b.right[inner]):
+            assert np.all(b.lo[child] >= b.lo[inner] - 1e-6)
+            assert np.all(b.hi[child] <= b.hi[inner] + 1e-6)
+        frontier = np.concatenate([b.left[inner], b.right[inner]])
+    assert np.all(covered == 1)
+
+
+@pytest.mark.parametrize("builder", ["sah", "clustered"])
+@pytest.mark.parametrize("kind", ["sphere", "soup", "duplicates"])
+def test_every_primitive_in_one_leaf_inside_its_boxes(builder, kind):
+    tri = _triangles(kind)
+    b = getattr(B, f"_{builder}")(tri.min(axis=1), tri.max(axis=1))
+    _check_structure(b, tri)
+    leaves = b.count[b.left < 0]
+    assert leaves.max() <= B.MAX_LEAF
+
+
+def test_large_inputs_take_the_clustered_builder_and_stay_close_to_full_sah():
+    """The clustered build's SAH cost stays within 15% of the full binned SAH's."""
+    tri = _triangles("sphere", 6)  # 81920 triangles > SAH_LIMIT
+    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    full, fast = B._sah(lo, hi), B.build_bvh(lo, hi)
+
+    def cost(b):
+        area = B._area(b.lo, b.hi) / B._area(b.lo[0], b.hi[0])
+        total, frontier = 0.0, np.array([0])
+        while frontier.size:
+            leaf = b.left[frontier] < 0
+            total += area[frontier[~leaf]].sum() * B.C_TRAVERSE
+            total += (area[frontier[leaf]] * b.count[frontier[leaf]]).sum()
+            inner = frontier[~leaf]
+            frontier = np.concatenate([b.left[inner], b.right[inner]])
+        return total
+
+    _check_structure(fast, tri)
+    assert len(fast.left) != len(full.left)  # really the other builder
+    assert cost(fast) < 1.15 * cost(full)
+
+
+TRIS = {kind: _triangles(kind) for kind in ("sphere", "soup", "duplicates")}
+TREES = {(kind, name): getattr(B, f"_{name}")(t.min(axis=1), t.max(axis=1))
+         for kind, t in TRIS.items() for name in ("sah", "clustered")}
+
+
+@settings(max_examples=150, deadline=None)
+@given(kind=st.sampled_from(sorted(TRIS)), builder=st.sampled_from(["sah", "clustered"]),
+       origin=st.tuples(*[st.floats(-3, 3)] * 3), target=st.tuples(*[st.floats(-1, 1)] * 3))
+def test_nearest_hit_equals_brute_force(kind, builder, origin, target):
+    tri = TRIS[kind]
+    o = np.array(origin)
+    d = np.array(target) - o
+    if np.linalg.norm(d) < 1e-3:
+        return
+    d /= np.linalg.norm(d)
+    brute = B.ray_triangles(tri, o, d)
+    t, hit = B.traverse(TREES[kind, builder], tri, o, d)
+    assert t == pytest.approx(brute.min()) if np.isfinite(brute.min()) else hit == -1
+    if hit >= 0:
+        assert brute[hit] == pytest.approx(brute.min())
+
+
+def test_a_single_primitive_is_a_one_leaf_tree():
+    tri = _triangles("sphere")[:1]
+    b = B.build_bvh(tri.min(axis=1), tri.max(axis=1))
+    assert len(b.left) == 1 and b.count[0] == 1 and b.depth == 1
+    with pytest.raises(ValueError):
+        B.build_bvh(np.zeros((0, 3)), np.zeros((0, 3)))
