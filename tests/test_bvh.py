@@ -49,7 +49,7 @@ def _check_structure(b: B.BVH, tri: np.ndarray) -> None:
 @pytest.mark.parametrize("kind", ["sphere", "soup", "duplicates"])
 def test_every_primitive_in_one_leaf_inside_its_boxes(builder, kind):
     tri = _triangles(kind)
-    b = getattr(B, f"_{builder}")(tri.min(axis=1), tri.max(axis=1))
+    b = B.build_bvh(tri.min(axis=1), tri.max(axis=1), builder)
     _check_structure(b, tri)
     leaves = b.count[b.left < 0]
     assert leaves.max() <= B.MAX_LEAF
@@ -78,7 +78,7 @@ def test_large_inputs_take_the_clustered_builder_and_stay_close_to_full_sah():
 
 
 TRIS = {kind: _triangles(kind) for kind in ("sphere", "soup", "duplicates")}
-TREES = {(kind, name): getattr(B, f"_{name}")(t.min(axis=1), t.max(axis=1))
+TREES = {(kind, name): B.build_bvh(t.min(axis=1), t.max(axis=1), name)
          for kind, t in TRIS.items() for name in ("sah", "clustered")}
 
 
@@ -87,7 +87,10 @@ TREES = {(kind, name): getattr(B, f"_{name}")(t.min(axis=1), t.max(axis=1))
        origin=st.tuples(*[st.floats(-3, 3)] * 3), target=st.tuples(*[st.floats(-1, 1)] * 3))
 def test_nearest_hit_equals_brute_force(kind, builder, origin, target):
     tri = TRIS[kind]
-    o = np.array(origin)
+    # An irrational nudge keeps rays off exact vertices and edges, where a hit or a miss
+    # depends on the last bit of the barycentric sums (brute force and the tree test the
+    # same triangle in batches of different sizes).
+    o = np.array(origin) + np.array([np.pi, np.e, np.sqrt(2)]) * 1e-4
     d = np.array(target) - o
     if np.linalg.norm(d) < 1e-3:
         return
@@ -96,7 +99,7 @@ def test_nearest_hit_equals_brute_force(kind, builder, origin, target):
     t, hit = B.traverse(TREES[kind, builder], tri, o, d)
     assert t == pytest.approx(brute.min()) if np.isfinite(brute.min()) else hit == -1
     if hit >= 0:
-        assert brute[hit] == pytest.approx(brute.min())
+        assert B.ray_triangles(tri[[hit]], o, d)[0] == pytest.approx(brute.min())
 
 
 def test_a_single_primitive_is_a_one_leaf_tree():

@@ -14,7 +14,7 @@ EXPECTED_VOLUME = {
     "torus": 2 * np.pi**2 * 1.0 * 0.25**2,
 }
 ARGS = {"sphere": (0.7,), "cube": ((0.5, 1.0, 2.0),), "cylinder": (0.5, 2.0),
-        "cone": (0.5, 2.0), "torus": (1.0, 0.25), "plane": ((2.0, 3.0),)}
+        "cone": (0.5, 2.0), "torus": (1.0, 0.25), "plane": ((2.0, 3.0),), "disk": (1.5,)}
 
 
 @pytest.mark.parametrize("name", list(P.PRIMITIVES))
@@ -30,6 +30,9 @@ def test_primitive_geometry(name):
     volume = np.sum(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2]))) / 6
     if name == "plane":
         assert np.allclose(np.ptp(mesh.positions, axis=0), [2, 0, 3])
+    elif name == "disk":
+        assert np.allclose(np.ptp(mesh.positions, axis=0), [3, 0, 3])
+        assert np.all(np.abs(mesh.normals - [0, 1, 0]) < 1e-9)
     else:
         assert volume == pytest.approx(EXPECTED_VOLUME[name], rel=0.02)
 

@@ -8,7 +8,14 @@ import trimesh
 from facet.errors import SceneError
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
-from facet.scene import DirectionalLight, Material, PointLight, Scene, load_scene, primitives
+from facet.scene import (
+    DirectionalLight,
+    Material,
+    PointLight,
+    Scene,
+    load_scene,
+    shapes,
+)
 
 SCENE = """
 [render]
@@ -87,11 +94,12 @@ def _write(tmp_path, text, name="scene.toml"):
 def api_scene() -> Scene:
     scene = Scene(ambient=0.15, background=(0.1, 0.2, 0.3))
     table = T.translate((0, 0.5, 0))
-    scene.add(primitives.plane((4, 3)), Material(color=(0.5, 0.5, 0.5), ks=0))
-    scene.add(primitives.sphere(0.4), Material(color=(0.9, 0.2, 0.1), ks=0.5, shininess=64),
+    # A scene file's primitives are the exact shapes (facet.shapes), drawn tessellated.
+    scene.add(shapes.Plane((4, 3)), Material(color=(0.5, 0.5, 0.5), ks=0))
+    scene.add(shapes.Sphere(0.4), Material(color=(0.9, 0.2, 0.1), ks=0.5, shininess=64),
               table @ T.translate((0.6, 0, 0)))
     box = T.compose(T.shear(xy=0.3), T.rotate_y(30), T.translate((-0.6, 0, 0)))
-    scene.add(primitives.cube((0.5, 0.3, 0.5)), None, table @ box)
+    scene.add(shapes.Box((0.5, 0.3, 0.5)), None, table @ box)
     scene.add_light(DirectionalLight((-1, -2, -1)))
     scene.add_light(PointLight((1, 2, 2), intensity=0.5, attenuation=(1, 0, 0.1)))
     return scene

@@ -33,6 +33,7 @@ _EXPORTS = {
     "load_scene": "facet.scene",
     "open_scene": "facet.scene",
     "primitives": "facet.scene",
+    "shapes": "facet.scene",
     "Texture": "facet.scene.texture",
     "Environment": "facet.scene.environment",
     "Renderer": "facet.render.renderer",

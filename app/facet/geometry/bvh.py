@@ -28,6 +28,7 @@ BINS = 16
 LEAF_SIZE = 4
 SAH_LIMIT = 16384  # larger inputs: SAH over clusters of primitives (``_clustered``)
 CLUSTER_BITS = 15  # Morton bits of a cluster: cells of a 32^3 grid
+BOX_PAD = 2.0 ** -20  # relative widening of node boxes (float32 has 24 bits)
 MAX_LEAF = 16
 C_TRAVERSE = 1.0  # cost of a node visit, in triangle tests
 
@@ -68,15 +69,22 @@ def _area(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return d[..., 0] * d[..., 1] + d[..., 1] * d[..., 2] + d[..., 2] * d[..., 0]
 
 
-def build_bvh(lo, hi) -> BVH:
-    """The hierarchy of N boxes ``lo``, ``hi`` (N, 3); N >= 1 (module docstring)."""
+def build_bvh(lo, hi, method: str = "auto") -> BVH:
+    """The hierarchy of N boxes ``lo``, ``hi`` (N, 3); N >= 1 (module docstring).
+    ``method``: "sah", "clustered", or "auto" (SAH up to ``SAH_LIMIT`` boxes)."""
     lo = np.asarray(lo, dtype=np.float32).reshape(-1, 3)
     hi = np.asarray(hi, dtype=np.float32).reshape(-1, 3)
     if len(lo) == 0:
         raise ValueError("a BVH needs at least one primitive")
-    if len(lo) <= SAH_LIMIT:
-        return _sah(lo, hi)
-    return _clustered(lo, hi)
+    if method == "auto":
+        method = "sah" if len(lo) <= SAH_LIMIT else "clustered"
+    bvh = _sah(lo, hi) if method == "sah" else _clustered(lo, hi)
+    # Widen every box by a few float32 steps of its coordinates: a ray grazing a face, or
+    # running in a box's face plane with a zero direction component, still enters it
+    # (the slab test then sees (lo - o) / d with lo - o < 0 instead of 0 * inf).
+    pad = (np.abs(bvh.lo) + np.abs(bvh.hi) + (bvh.hi - bvh.lo)) * BOX_PAD + 1e-30
+    bvh.lo, bvh.hi = bvh.lo - pad, bvh.hi + pad
+    return bvh
 
 
 def _sah(lo, hi, weight=None, leaf_items: int = LEAF_SIZE) -> BVH:
@@ -330,7 +338,7 @@ def traverse(bvh: BVH, tri, origin, direction, t_max=np.inf):
     """Nearest hit of one ray through the hierarchy of triangles ``tri`` (N, 3, 3):
     (t, triangle index) or (inf, -1). The numpy reference for tests (slow: a loop)."""
     o, d = np.asarray(origin, float), np.asarray(direction, float)
-    inv = 1.0 / np.where(d == 0, 1e-30, d)
+    inv = 1.0 / np.where(np.abs(d) < 1e-30, np.copysign(1e-30, d), d)
     best, hit = t_max, -1
     stack = [0]
     while stack:

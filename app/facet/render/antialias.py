@@ -131,14 +131,14 @@ def distributed_sample(camera, scene, k: int, mode: AntiAliasing):
         lx, ly = disk[k] * camera.aperture / 2.0
         camera = lens_camera(camera, lx, ly)
     if any(o.transform_end is not None for o in scene.objects):
-        from ..scene.scene import SceneObject
+        from dataclasses import replace
 
         # Stratified shutter times, shuffled so they do not follow the pixel offsets.
         order = np.random.default_rng(TIME_SEED).permutation(n)
         t = (order[k] + 0.5) / n
         scene = scene.view(objects=[
             o if o.transform_end is None else
-            SceneObject(o.id, o.mesh, o.material,
-                        interpolate_transform(o.transform, o.transform_end, t), o.name)
+            replace(o, transform=interpolate_transform(o.transform, o.transform_end, t),
+                    transform_end=None)
             for o in scene.objects])
     return camera, scene

@@ -3,8 +3,9 @@ drawn after the opaque objects with the depth test at "<=" so visible edges win.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from ..scene.material import Material
-from ..scene.scene import SceneObject
 
 EDGE_COLOR = (0.05, 0.05, 0.05)
 
@@ -12,8 +13,8 @@ EDGE_COLOR = (0.05, 0.05, 0.05)
 def wireframe_overlay(forward, scene, state) -> None:
     """Draw ``scene``'s edges into the bound target with ``forward`` (a ForwardPass)."""
     material = Material(color=EDGE_COLOR)
-    edges = scene.view(objects=[SceneObject(o.id, o.mesh, material, o.transform, o.name)
-                                for o in scene.objects], lights=[])
+    edges = scene.view(objects=[replace(o, material=material) for o in scene.objects],
+                       lights=[])
     ctx = forward.ctx
     ctx.depth_func = "<="
     ctx.wireframe = True

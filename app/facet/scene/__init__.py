@@ -10,12 +10,12 @@ _EXPORTS = {
     "MAX_LIGHTS": "scene", "Scene": "scene", "SceneObject": "scene", "Texture": "texture",
     "load_scene": "scenefile", "open_scene": "source",
 }
-__all__ = sorted([*_EXPORTS, "primitives"])
+__all__ = sorted([*_EXPORTS, "primitives", "shapes"])
 
 
 def __getattr__(name: str):
-    if name == "primitives":
-        return import_module(f"{__name__}.primitives")
+    if name in ("primitives", "shapes"):
+        return import_module(f"{__name__}.{name}")
     if name in _EXPORTS:
         value = getattr(import_module(f"{__name__}.{_EXPORTS[name]}"), name)
         globals()[name] = value

@@ -8,6 +8,7 @@ Object space, y up. Every size must be a finite number > 0.
   uv (0, 0) at (-x, +z), (1, 1) at (+x, -z).
 * ``cube(size)``: side ``size`` (or ``[x, y, z]``), 24 vertices with flat face normals, each
   face mapped to the whole [0, 1]^2.
+* ``disk(radius)``: in the xz plane facing +y.
 * ``cylinder(radius, height)`` and ``cone(radius, height)``: axis along y, base at
   -height / 2, with capped ends.
 * ``torus(major_radius, minor_radius)``: in the xz plane around the y axis.
@@ -119,6 +120,12 @@ def _cap(radius: float, y: float, up: bool, segments: int):
     return _lathe(prof, n, np.array([0.0, 1.0]), segments)
 
 
+def disk(radius=1.0, segments: int = SEGMENTS) -> Mesh:
+    r = _size(radius, "disk radius")[0]
+    pos, nrm, uv, faces = _cap(r, 0.0, True, segments)
+    return Mesh(pos, faces, nrm, uv, name="disk")
+
+
 def cylinder(radius=0.5, height=1.0, segments: int = SEGMENTS) -> Mesh:
     r = _size(radius, "cylinder radius")[0]
     h = _size(height, "cylinder height")[0]
@@ -151,9 +158,10 @@ def torus(major_radius=1.0, minor_radius=0.25, segments: int = SEGMENTS,
     return _merge([_lathe(prof, nrm, np.linspace(0, 1, rings + 1), segments)], "torus")
 
 
-PRIMITIVES = {"sphere": sphere, "plane": plane, "cube": cube, "cylinder": cylinder,
-              "cone": cone, "torus": torus}
+PRIMITIVES = {"sphere": sphere, "plane": plane, "disk": disk, "cube": cube,
+              "cylinder": cylinder, "cone": cone, "torus": torus}
 # The size parameters each primitive takes (scene files validate against these).
-PRIMITIVE_PARAMS = {"sphere": ("radius",), "plane": ("size",), "cube": ("size",),
+PRIMITIVE_PARAMS = {"sphere": ("radius",), "plane": ("size",), "disk": ("radius",),
+                    "cube": ("size",),
                     "cylinder": ("radius", "height"), "cone": ("radius", "height"),
                     "torus": ("major_radius", "minor_radius")}

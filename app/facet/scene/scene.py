@@ -33,6 +33,13 @@ class SceneObject:
     # Motion blur: the object -> world matrix at shutter close (``transform`` is at shutter
     # open); None for an object that does not move.
     transform_end: np.ndarray | None = None
+    # An exact analytic shape (facet.scene.shapes) the ray tracer intersects; ``mesh`` is
+    # then its tessellation, which the rasterizer draws. None for meshes.
+    shape: object = None
+
+    @property
+    def infinite(self) -> bool:
+        return self.shape is not None and self.shape.infinite
 
     @property
     def world_bounds(self) -> np.ndarray:
@@ -66,16 +73,23 @@ class Scene:
         # A facet.scene.environment.Environment: background and reflection source.
         self.environment = None
 
-    def add(self, mesh: Mesh, material: Material | None = None, transform=None, *,
+    def add(self, mesh, material: Material | None = None, transform=None, *,
             name: str = "", transform_end=None) -> int:
-        """Place ``mesh`` in the scene; returns its object id (0, 1, 2, ...).
+        """Place ``mesh`` (a ``Mesh``, or an analytic ``facet.shapes`` shape) in the scene;
+        returns its object id (0, 1, 2, ...).
 
         ``material`` defaults to the mesh file's own material, else a grey ``Material()``.
         ``transform`` is the 4x4 object -> world matrix (default identity); with
         ``transform_end`` (the matrix at shutter close) the object is motion-blurred.
         """
+        from .shapes import Shape
+
+        shape = mesh if isinstance(mesh, Shape) else None
+        if shape is not None:
+            mesh = shape.mesh()
         if not isinstance(mesh, Mesh):
-            raise InputError(f"Scene.add expects a facet.Mesh, got {type(mesh).__name__}")
+            raise InputError(f"Scene.add expects a facet.Mesh or a facet.shapes shape, got "
+                             f"{type(mesh).__name__}")
         m = np.eye(4) if transform is None else np.asarray(transform, dtype=np.float64)
         if m.shape != (4, 4) or not np.all(np.isfinite(m)):
             raise InputError(f"transform must be a finite 4x4 matrix, got shape {m.shape}")
@@ -87,7 +101,7 @@ class Scene:
             if end.shape != (4, 4) or not np.all(np.isfinite(end)):
                 raise InputError("transform_end must be a finite 4x4 matrix")
             T.normal_matrix(end)
-        obj = SceneObject(len(self.objects), mesh, material, m, name or mesh.name, end)
+        obj = SceneObject(len(self.objects), mesh, material, m, name or mesh.name, end, shape)
         self.objects.append(obj)
         return obj.id
 
@@ -131,8 +145,10 @@ class Scene:
 
     @property
     def bounds(self) -> np.ndarray:
-        """World-space bounds of all objects, (2, 3)."""
+        """World-space bounds of all objects, (2, 3). Infinite planes are left out (unless
+        there is nothing else): they would make every framing and shadow map infinite."""
         if not self.objects:
             raise InputError("the scene is empty; add a mesh first")
-        b = np.array([o.world_bounds for o in self.objects])
+        finite = [o for o in self.objects if not o.infinite] or self.objects
+        b = np.array([o.world_bounds for o in finite])
         return np.stack([b[:, 0].min(axis=0), b[:, 1].max(axis=0)])

@@ -22,6 +22,7 @@ from .material import Material
 from .mesh import Mesh
 from .options import parse_option
 from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
+from .shapes import SHAPES
 from .scene import Scene
 from .scenefile_lights import read_camera, read_lights
 from .validate import AnyKey as _Any
@@ -331,10 +332,21 @@ class _SceneBuilder:
         kwargs = {}
         for p in params:
             v = t[p]
+            if kind == "plane" and v == float("inf"):  # size = inf: the infinite plane
+                kwargs[p] = None
+                continue
             kwargs[p] = r.vector(v, f"{where}.{p}", len(v)) if isinstance(v, list) else \
                 r.number(v, f"{where}.{p}", above=0)
         try:
+            # Primitives are exact shapes for the ray tracer (a torus, or flat = true, a
+            # mesh); the rasterizer draws their tessellation.
+            if kind in SHAPES and not t.get("flat"):
+                return [(None, SHAPES[kind](**kwargs), np.eye(4))]
+            if kwargs.get("size", 0) is None:
+                r.fail(f"{where}.size", "an infinite plane cannot be flat-shaded")
             mesh = PRIMITIVES[kind](**kwargs)
+        except SceneError:
+            raise
         except FacetError as exc:
             r.fail(where, str(exc))
         return [(None, mesh.flat_shaded() if t.get("flat") else mesh, np.eye(4))]
