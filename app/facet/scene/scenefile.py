@@ -22,9 +22,9 @@ from .material import Material
 from .mesh import Mesh
 from .options import parse_option
 from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
-from .shapes import SHAPES
 from .scene import Scene
 from .scenefile_lights import read_camera, read_lights
+from .shapes import SHAPES
 from .validate import AnyKey as _Any
 from .validate import Reader as _Reader
 from .validate import show as _show
