@@ -37,6 +37,10 @@ const int LIGHT_KINDS[LIGHT_COUNT] = LIGHT_KIND_LIST;
 #define LIGHTS_IN_USE u_light_count.x
 #endif
 
+// The material's products with the lights. The rasterizer sets them per draw as uniforms;
+// the ray tracer, whose material changes from hit to hit, defines these four macros
+// before including this file (glsl/trace/shade.glsl).
+#ifndef LIGHT_DIFFUSE
 #ifdef LIGHT_COUNT
 #define LIGHT_ARRAY_SIZE (LIGHT_COUNT > 0 ? LIGHT_COUNT : 1)
 #else
@@ -46,6 +50,11 @@ uniform vec3 u_ambient_term;                     // I_a k_a C
 uniform vec3 u_light_diffuse[LIGHT_ARRAY_SIZE];  // I_i k_d C
 uniform vec3 u_light_specular[LIGHT_ARRAY_SIZE]; // I_i k_s
 uniform float u_shininess;                       // n
+#define AMBIENT_TERM u_ambient_term
+#define LIGHT_DIFFUSE(i) u_light_diffuse[i]
+#define LIGHT_SPECULAR(i) u_light_specular[i]
+#define SHININESS u_shininess
+#endif
 
 // Unit vector from p towards light i, and the fraction of the light's intensity that
 // arrives at p (1 for directional lights; attenuation and cone for point and spot lights).
@@ -65,25 +74,29 @@ float incident_light(int i, vec3 p, out vec3 L) {
     return falloff;
 }
 
+// The fraction of light i that reaches p: shadow maps in the rasterizer, shadow rays in the
+// ray tracer (which defines SHADOW itself), 1 without shadows.
+#ifndef SHADOW
 #if defined(SHADOWS) && defined(LIGHT_COUNT) && LIGHT_COUNT > 0
 #include "lib/shadows.glsl"
 #define SHADOW(i, p, N, L) shadow_factor(i, p, N, L, length(u_lights[i].position.xyz - p))
 #else
 #define SHADOW(i, p, N, L) 1.0
 #endif
+#endif
 
 // I = I_a k_a C + sum_i (diffuse + specular), clamped to [0, 1]. ``albedo`` multiplies C
 // where it varies over the surface (texture x vertex colour; vec3(1) for plain materials).
 // blinn selects the halfway-vector specular.
 vec3 shade_scene(vec3 p, vec3 N, vec3 V, vec3 albedo, bool blinn) {
-    vec3 I = u_ambient_term * albedo;
+    vec3 I = AMBIENT_TERM * albedo;
     for (int i = 0; i < LIGHTS_IN_USE; ++i) {
         vec3 L;
         float falloff = incident_light(i, p, L) * SHADOW(i, p, N, L);
-        vec3 diffuse = u_light_diffuse[i] * albedo;
+        vec3 diffuse = LIGHT_DIFFUSE(i) * albedo;
         I += falloff * (blinn
-            ? blinn_light(N, L, V, diffuse, u_light_specular[i], u_shininess)
-            : phong_light(N, L, V, diffuse, u_light_specular[i], u_shininess));
+            ? blinn_light(N, L, V, diffuse, LIGHT_SPECULAR(i), SHININESS)
+            : phong_light(N, L, V, diffuse, LIGHT_SPECULAR(i), SHININESS));
     }
     return clamp(I, 0.0, 1.0);
 }

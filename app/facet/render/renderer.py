@@ -32,7 +32,14 @@ from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..scene.light import active_lights
-from ..scene.options import RenderOptions, clamp_msaa, options_for, parse_layer
+from ..scene.options import (
+    AntiAliasing,
+    RenderOptions,
+    clamp_msaa,
+    options_for,
+    parse_aa,
+    parse_layer,
+)
 from ..scene.scene import Scene
 from .antialias import (
     accumulation,
@@ -75,6 +82,7 @@ class Renderer:
         self.forward = ForwardPass(self.ctx, self.cache)
         self._shadows: ShadowMaps | None = None  # the shadow atlas, made on first use
         self._finisher: Finisher | None = None
+        self._trace = None  # the ray tracer (facet.render.trace), made on first use
         self._surfaces: Surfaces | None = None
         self._closed = False
         with self.ctx:
@@ -135,18 +143,20 @@ class Renderer:
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
         """How many supersamples the colour of this render sums (0: one picture)."""
         opts = self.options(scene, options, **kwargs)
-        aa = accumulation(opts.aa, scene, with_lens(camera, opts.aperture, opts.focus),
-                          opts.shadows)
+        aa = self._sampling(scene, with_lens(camera, opts.aperture, opts.focus), opts,
+                            Destination())
         return aa.samples if aa is not None else 0
 
     # -- the pass sequence ---------------------------------------------------------------
     def _sequence(self, scene, camera, opts: RenderOptions, dest: Destination):
         scene, state = self._prepare(scene, camera, opts, dest)  # 1
         surf = self._surfaces_for(opts.size)
-        aa = None if dest.preview else accumulation(opts.aa, scene, state.camera,
-                                                    opts.shadows)
+        trace = opts.engine == "trace"
+        aa = self._sampling(scene, state.camera, opts, dest)
         centre = point_lights_for(scene)  # an area light without supersamples: its centre
-        if opts.shadows and not (aa is not None and has_area_lights(scene)):  # 2
+        if trace:  # the tracer casts shadow rays: its geometry instead of shadow maps
+            self._tracer().prepare(scene, state)
+        elif opts.shadows_on and not (aa is not None and has_area_lights(scene)):  # 2
             state = state.with_(shadows=self._shadow_maps().draw(centre, opts.pcf))
         aux = dest.channels(opts)
         # Without MSAA, supersampling or users' shaders, colour and the exact channels come
@@ -154,7 +164,8 @@ class Renderer:
         users = any(o.material.shader is not None for o in scene.objects)
         together = aux if (dest.wants_colour(opts) and aa is None and not opts.aa.msaa
                            and not users) else ()
-        channels = self._exact(centre, state, aux, surf) if aux and not together else {}  # 3
+        channels = self._exact(centre, state, aux, surf, trace) \
+            if aux and not together else {}  # 3
         color, shown = self._colour(scene, state, opts, aa, dest, surf, together) \
             if dest.wants_colour(opts) else (None, 0)  # 4, 5
         if together:
@@ -165,6 +176,19 @@ class Renderer:
         return Frame(color, channels.get("depth"), channels.get("ids"), state.camera,
                      channels.get("normals"), channels.get("position"), channels.get("uv"),
                      opts.size)
+
+    def _sampling(self, scene, camera, opts, dest) -> AntiAliasing | None:
+        """The supersamples colour sums, None for one picture. A window's moving view gets
+        one plain picture (the tracer's: one ray through each pixel's centre). The tracer
+        always sums: msaa:N becomes N samples (a grid if N is square, else jittered)."""
+        trace = opts.engine == "trace"
+        if dest.preview:
+            return parse_aa("ssaa:grid:1") if trace else None
+        aa = accumulation(opts.aa, scene, camera, opts.shadows_on)
+        if trace and aa is None:
+            n = opts.aa.msaa or 1
+            aa = parse_aa(f"ssaa:{'grid' if round(n ** 0.5) ** 2 == n else 'jittered'}:{n}")
+        return aa
 
     def _prepare(self, scene, camera, opts: RenderOptions, dest: Destination):
         """The scene as this render sees it, and the frame's state (step 1)."""
@@ -194,16 +218,19 @@ class Renderer:
             source = surf.targets.color_texture(dtype)
             return self._finish(source, fbo, finish, opts, dest, surf), 1
         samples = dest.samples(aa.samples)
-        source = self._accumulate(scene, state, opts, aa, samples, clear, surf)
+        source = self._accumulate(scene, state, opts, aa, samples, bg, surf, dest.preview)
         finish = finish_for(bg, opts.srgb, samples.stop)
         return self._finish(source, None, finish, opts, dest, surf), samples.stop
 
-    def _exact(self, scene, state: FrameState, aux, surf) -> dict:
+    def _exact(self, scene, state: FrameState, aux, surf, trace: bool) -> dict:
         """The exact channels at pixel centres, from the opaque objects (step 3)."""
         fbo = surf.targets.aux(aux)
         fbo.use()
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
+        if trace:
+            self._tracer().draw_exact(scene, state, aux)
+            return {name: surf.targets.read_aux(name) for name in aux}
         opaque, _ = split_transparent(scene)
         self.forward.draw(opaque, state.with_(shading="unlit", shadows=None, environment=None),
                           aux=aux, colour_pass=False)
@@ -241,22 +268,33 @@ class Renderer:
             surf.oit.end(oit, result)
         return result
 
-    def _accumulate(self, scene, state, opts, aa, samples: range, clear, surf):
+    def _accumulate(self, scene, state, opts, aa, samples: range, bg, surf, plain=False):
         """Add supersamples ``samples`` of ``aa`` (step 4): each with its pixel offset, lens
-        point, shutter time, area-light points and gloss tilt; returns the sum's texture."""
+        point, shutter time, area-light points and gloss tilt (``plain``: the centre of
+        each); returns the sum's texture."""
         acc = surf.accumulator
+        clear = (*(bg[:3] * bg[3]), bg[3])
         if samples.start == 0:
             acc.clear()
         for k in samples:
-            cam_k, scene_k = distributed_sample(state.camera, scene, k, aa)
-            dx, dy = pattern(aa.pattern, aa.samples)[k]
-            sample = state.with_(camera=cam_k, lights=tuple(scene_k.lights),
-                                 jitter=jitter_matrix(dx, dy, opts.width, opts.height),
-                                 gloss_jitter=gloss_jitter(k, aa.samples))
-            if opts.shadows and has_area_lights(scene):  # the maps follow the light points
+            if plain:
+                sample, scene_k = state, point_lights_for(scene)
+            else:
+                cam_k, scene_k = distributed_sample(state.camera, scene, k, aa)
+                dx, dy = pattern(aa.pattern, aa.samples)[k]
+                sample = state.with_(camera=cam_k, lights=tuple(scene_k.lights),
+                                     jitter=jitter_matrix(dx, dy, opts.width, opts.height),
+                                     gloss_jitter=gloss_jitter(k, aa.samples))
+            trace = opts.engine == "trace"
+            if opts.shadows_on and not trace and has_area_lights(scene) and not plain:
+                # The maps follow the area lights' points.
                 sample = sample.with_(shadows=self._shadow_maps().draw(scene_k, opts.pcf, k))
             acc.begin_sample(clear)
             self.ctx.enable_only(self.ctx.DEPTH_TEST)
+            if trace:
+                self._tracer().draw(scene_k, sample, bg, opts.max_depth, opts.shadows_on)
+                acc.add_sample()
+                continue
             opaque, transparent = split_transparent(scene_k)
             self.forward.draw(opaque, sample)
             if opts.wireframe:
@@ -287,6 +325,13 @@ class Renderer:
         return t.read_color(t.output(out), out)
 
     # -- resources -----------------------------------------------------------------------
+    def _tracer(self):
+        if self._trace is None:
+            from .trace.engine import Tracer
+
+            self._trace = Tracer(self.ctx, self.cache)
+        return self._trace
+
     def _shadow_maps(self) -> ShadowMaps:
         if self._shadows is None:
             self._shadows = ShadowMaps(self.ctx, self.cache)
@@ -327,7 +372,8 @@ class Renderer:
         with self.ctx:
             if self._surfaces is not None:
                 self._surfaces.release()
-            for part in (self._finisher, self._shadows, self.forward, self.cache):
+            for part in (self._finisher, self._shadows, self._trace, self.forward,
+                         self.cache):
                 if part is not None:
                     part.release()
         if self._own_context:

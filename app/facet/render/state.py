@@ -21,8 +21,11 @@ from ..scene.scene import MAX_LIGHTS
 
 # Texture units. Scene passes: the material's texture, the shadow atlas, the environment
 # cube, a mirror's reflection. Full-screen passes (accumulation, OIT composite, finishing)
-# read their inputs from the "post" units.
-UNITS = {"material": 0, "shadow": 1, "environment": 2, "mirror": 3, "post": 4, "post2": 5}
+# read their inputs from the "post" units. The ray tracer's scene data (glsl/trace/data.glsl)
+# has units of its own: every sampler a program declares needs a unit of its own type.
+UNITS = {"material": 0, "shadow": 1, "environment": 2, "mirror": 3, "post": 4, "post2": 5,
+         "tris": 6, "tri_index": 7, "vertices": 8, "nodes": 9, "instances": 10, "tlas": 11,
+         "textures": 12}
 LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in lighting.glsl
 
 

@@ -41,7 +41,8 @@ PCF_CHOICES = (0, 1, 2)  # shadow filter kernel radius: one tap, 3 x 3, 5 x 5
 # camera when it has none; "scene" only its own (none: only ambient); "camera" the rig even
 # when the scene has lights.
 LIGHTS = ("auto", "scene", "camera")
-ENGINES = ("raster",)
+ENGINES = ("raster", "trace")  # the rasterizer, the ray tracer (facet.render.trace)
+DEFAULT_MAX_DEPTH = 5  # reflection/refraction bounces of the ray tracer
 DEFAULT_AA = "msaa:4"
 # Depth of field, motion blur, area-light shadows and gloss are sums over samples: a render
 # with any of them supersamples with this unless its aa already supersamples.
@@ -110,6 +111,13 @@ def msaa_mode(samples, where: str = "") -> AntiAliasing:
         raise InputError(f"{where}msaa must be one of {', '.join(map(str, MSAA_CHOICES))}, "
                          f"got {samples!r}")
     return AntiAliasing("msaa", int(samples)) if samples else AntiAliasing("none")
+
+
+def spp_mode(samples) -> AntiAliasing:
+    """``spp=N``: N samples per pixel over the jittered pattern (``aa="ssaa:jittered:N"``)."""
+    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
+        raise InputError(f"spp must be an integer >= 1 (samples per pixel), got {samples!r}")
+    return parse_aa(f"ssaa:jittered:{samples}")
 
 
 def clamp_msaa(aa: AntiAliasing, max_samples: int, renderer: str = "this GL") -> AntiAliasing:
@@ -251,6 +259,7 @@ PARSERS = {
     "shading": _choice(SHADING, "shading model"),
     "aa": lambda v, key: parse_aa(v),
     "msaa": lambda v, key: msaa_mode(v),
+    "spp": lambda v, key: spp_mode(v),
     "shadows": _bool,
     "pcf": _integer(choices=PCF_CHOICES),
     "srgb": _bool,
@@ -284,20 +293,22 @@ class RenderOptions:
 
     size : (width, height) pixels            background : RGBA or None (the scene's)
     shading : one of SHADING                 aa : AntiAliasing (none / msaa:N / ssaa:P:N)
-    shadows, pcf : shadow maps, PCF radius   srgb : colour management (image.colorspace)
+    shadows : shadow maps / rays (None: the engine's default); pcf : PCF radius
+    srgb : colour management (image.colorspace)
     float_color : float32 colour out         outputs : channels to return (OUTPUTS)
     camera : a scene camera's name or None   aperture, focus : a lens over the camera's
     environment : an Environment or None (the scene's)
     lights : LIGHTS                          wireframe : overlay the triangle edges
-    time : seconds (users' shaders' u_time)  engine, max_depth : the rendering engine and
-                                             its reflection/refraction recursion
+    time : seconds (users' shaders' u_time)  engine : "raster" or "trace"
+    max_depth : the ray tracer's reflection/refraction recursion (1: the notes' one
+                reflection and one transmission ray; default DEFAULT_MAX_DEPTH)
     """
 
     size: tuple[int, int] = (800, 600)
     background: tuple[float, float, float, float] | None = None
     shading: str = "phong"
     aa: AntiAliasing = field(default_factory=lambda: parse_aa(DEFAULT_AA))
-    shadows: bool = False
+    shadows: bool | None = None  # None: the engine's default (rasterizer off, tracer on)
     pcf: int = 1
     srgb: bool = False
     float_color: bool = False
@@ -310,7 +321,13 @@ class RenderOptions:
     wireframe: bool = False
     time: float = 0.0
     engine: str = "raster"
-    max_depth: int = 1
+    max_depth: int = DEFAULT_MAX_DEPTH
+
+    @property
+    def shadows_on(self) -> bool:
+        """Whether this render has shadows: as asked, else the engine's default (the ray
+        tracer casts shadow rays, the rasterizer draws shadow maps only when asked)."""
+        return self.shadows if self.shadows is not None else self.engine == "trace"
 
     @classmethod
     def build(cls, *layers) -> RenderOptions:
@@ -350,10 +367,11 @@ def parse_layer(layer) -> dict:
         raise InputError(f"render options must be a mapping or RenderOptions, got "
                          f"{type(layer).__name__}")
     given = {k: v for k, v in layer.items() if v is not None}
-    if "msaa" in given and "aa" in given:
-        raise InputError(f"give either aa or msaa, not both (msaa={given['msaa']!r} means "
-                         f"aa='msaa:{given['msaa']}')")
-    return {("aa" if key == "msaa" else key): parse_option(key, value)
+    sugar = [k for k in ("aa", "msaa", "spp") if k in given]
+    if len(sugar) > 1:
+        raise InputError(f"give one of aa, msaa and spp, not {' and '.join(sugar)} (msaa=N "
+                         "means aa='msaa:N', spp=N means aa='ssaa:jittered:N')")
+    return {("aa" if key in ("msaa", "spp") else key): parse_option(key, value)
             for key, value in given.items()}
 
 

@@ -81,7 +81,7 @@ class ViewerActions:
         print(f"aa: {self.keys['aa']}")
 
     def toggle_shadows(self):
-        self.keys["shadows"] = not self.options().shadows
+        self.keys["shadows"] = not self.options().shadows_on
 
     def toggle_headlight(self):
         """Lights follow the camera, or stay in the world: a scene with its own lights

@@ -1,0 +1,203 @@
+"""The ray tracer on the GPU: uploads what facet.render.trace.pack lays out, and draws one
+supersample of traced colour (glsl/trace/trace.frag) or the exact channels
+(glsl/trace/primary.frag) as full-screen passes, on any GL 3.3 context (llvmpipe and the
+viewer's window included).
+
+Meshes are packed once per Mesh (kept while it lives) and the scene's geometry textures are
+uploaded again only when the set of meshes changes; instances and the top level are packed
+per call (per supersample when objects move, for motion blur): a turntable or a moving
+camera never rebuilds a mesh's hierarchy.
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import numpy as np
+
+from ...gl.fullscreen import FullScreenPass
+from ...gl.glsl_source import glsl_root
+from ...gl.shaders import compile_program
+from ...gl.targets import aux_locations
+from ..shading import SHADING_MODELS
+from ..state import UNITS, FrameState
+from . import pack
+
+MAX_TEXTURE_LAYER = 2048  # materials' images are resized to at most this square
+
+
+class Tracer:
+    """The ray tracer of one renderer: programs, the scene's textures, and the draws."""
+
+    def __init__(self, ctx, cache):
+        self.ctx, self.cache = ctx, cache
+        self.programs: dict[tuple, FullScreenPass] = {}
+        self._meshes = weakref.WeakKeyDictionary()  # Mesh -> pack.MeshData
+        self._geometry_key: tuple | None = None
+        self._geometry_refs: list = []  # the meshes of the uploaded geometry (alive)
+        self._roots: dict[int, int] = {}
+        self._textures: dict[str, object] = {}
+        self._layers_key: tuple | None = None
+        self._layers: dict[int, int] = {}
+        self.lights_ubo = ctx.buffer(reserve=16 * 4 * 66)
+        limit = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
+        self.max_texels = pack.TEX_WIDTH * limit
+
+    # -- scene data ----------------------------------------------------------------------
+    def _upload(self, name: str, rows: np.ndarray, dtype: str = "f4") -> None:
+        image = pack.to_texels(rows)
+        old = self._textures.pop(name, None)
+        if old is not None:
+            old.release()
+        tex = self.ctx.texture((pack.TEX_WIDTH, image.shape[0]), 4, image.tobytes(),
+                               dtype=dtype)
+        tex.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
+        self._textures[name] = tex
+
+    def _geometry(self, scene) -> None:
+        """Upload every mesh's triangles and hierarchy when the set of meshes changed."""
+        meshes = list({id(o.mesh): o.mesh for o in scene.objects if o.shape is None}.values())
+        key = tuple(id(m) for m in meshes)
+        if key == self._geometry_key and "tris" in self._textures:
+            return
+        data = []
+        for mesh in meshes:
+            if mesh not in self._meshes:
+                self._meshes[mesh] = pack.mesh_data(mesh)
+            data.append(self._meshes[mesh])
+        if not data:  # shapes only: one dummy triangle keeps every sampler valid
+            from ...scene.mesh import Mesh
+
+            data = [pack.mesh_data(Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]))]
+        geo = pack.pack_geometry(data, self.max_texels)
+        self._upload("tris", geo["tris"])
+        self._upload("tri_index", geo["index"], "i4")
+        self._upload("vertices", geo["vertices"])
+        self._upload("nodes", geo["nodes"])
+        self._roots = {id(m): int(r) for m, r in zip(meshes, geo["root"], strict=False)}
+        self._geometry_key, self._geometry_refs = key, meshes
+
+    def _texture_layers(self, scene, srgb: bool) -> None:
+        """The materials' images as layers of one texture array (resized to one size)."""
+        images = list({id(o.material.texture): o.material.texture for o in scene.objects
+                       if o.material.texture is not None}.values())
+        key = (tuple(id(t) for t in images), srgb)
+        if key == self._layers_key:
+            return
+        old = self._textures.pop("textures", None)
+        if old is not None:
+            old.release()
+        if images:
+            from PIL import Image
+
+            side = min(max(max(t.pixels.shape[:2]) for t in images), MAX_TEXTURE_LAYER)
+            layers = [np.asarray(Image.fromarray(t.pixels).resize((side, side),
+                                                                  Image.Resampling.LANCZOS))
+                      for t in images]
+            # Rows flipped: GL's first row is v = 0, the image's bottom (as gl.resources).
+            data = np.ascontiguousarray(np.stack(layers)[:, ::-1])
+        else:
+            side, data = 1, np.full((1, 1, 1, 4), 255, np.uint8)
+        dtype = "f1"
+        if srgb:  # decoded here (moderngl makes no sRGB texture arrays); half floats keep
+            from ...image.colorspace import srgb_to_linear  # the dark tones
+
+            rgb = srgb_to_linear(data[..., :3] / 255.0)
+            data = np.concatenate([rgb, data[..., 3:] / 255.0], -1).astype(np.float16)
+            dtype = "f2"
+        tex = self.ctx.texture_array((side, side, len(data)), 4, data.tobytes(), dtype=dtype)
+        tex.build_mipmaps()
+        tex.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
+        self._textures["textures"] = tex
+        self._layers = {id(t): i for i, t in enumerate(images)}
+        self._layers_key = key
+
+    def prepare(self, scene, state: FrameState) -> None:
+        """Geometry and textures for this scene (uploaded only when they changed)."""
+        self._geometry(scene)
+        self._texture_layers(scene, state.srgb)
+
+    def _instances(self, scene, state: FrameState) -> tuple[int, bool]:
+        rows, tlas, unbounded = pack.pack_instances(scene.objects, self._roots,
+                                                    state.to_linear, self._layers)
+        self._upload("instances", rows.reshape(-1, 4))
+        self._upload("tlas", tlas.reshape(-1, 4) if tlas is not None else
+                     np.zeros((4, 4), np.float32))
+        return unbounded, tlas is not None
+
+    # -- drawing -------------------------------------------------------------------------
+    def _program(self, stage: str, state: FrameState, shadows: bool, aux=()) -> FullScreenPass:
+        kinds = state.light_kinds
+        defines = {SHADING_MODELS[state.shading].define: None, "TEX_SHIFT": pack.TEX_SHIFT,
+                   "MAX_LIGHTS": 16, "LIGHT_COUNT": len(kinds)}
+        if kinds:
+            defines["LIGHT_KIND_LIST"] = f"int[{len(kinds)}]({', '.join(map(str, kinds))})"
+        flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
+                 "HAS_ENVIRONMENT": state.environment is not None and stage == "trace"}
+        defines.update({k: None for k, on in flags.items() if on})
+        for name, location in aux_locations(aux).items():
+            defines[f"OUT_{name.upper()}"] = location
+        key = (stage, tuple(sorted(defines.items())))
+        if key not in self.programs:
+            root = glsl_root()
+            prog = compile_program(self.ctx, root / "post" / "fullscreen.vert",
+                                   root / "trace" / f"{stage}.frag", defines)
+            if "Lights" in prog.gl:
+                prog.gl["Lights"].binding = 1
+            self.programs[key] = FullScreenPass(self.ctx, None, program=prog)
+        return self.programs[key]
+
+    def _bind(self, scene, state: FrameState, program: FullScreenPass) -> None:
+        unbounded, has_tlas = self._instances(scene, state)
+        self.lights_ubo.write(state.lights_block)
+        self.lights_ubo.bind_to_uniform_block(1)
+        prog = program.program
+        for name in ("tris", "tri_index", "vertices", "nodes", "instances", "tlas",
+                     "textures"):
+            self._textures[name].use(location=UNITS[name])
+            prog.set(f"u_{name}", UNITS[name], strict=False)
+        prog.set("u_unbounded", unbounded, strict=False)
+        prog.set("u_has_tlas", has_tlas, strict=False)
+        inv = np.linalg.inv(state.view_projection())
+        prog.set("u_inv_view_projection", inv)
+        prog.set("u_viewport", (float(state.width), float(state.height)))
+
+    def draw(self, scene, state: FrameState, background, max_depth: int,
+             shadows: bool) -> None:
+        """Trace one supersample (``state``'s camera, jitter, lights, gloss tilt) into the
+        bound target: premultiplied colour and coverage."""
+        program = self._program("trace", state, shadows)
+        self._bind(scene, state, program)
+        prog = program.program
+        prog.set("u_background", tuple(float(c) for c in background))
+        prog.set("u_max_depth", int(max_depth))
+        prog.set("u_gloss_jitter", tuple(float(v) for v in state.gloss_jitter),
+                 strict=False)
+        textures = {}
+        if state.environment is not None:
+            textures["u_environment"] = (self.cache.cube(state.environment),
+                                         UNITS["environment"])
+        self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
+        program.draw(textures)
+        self.ctx.enable(self.ctx.DEPTH_TEST)
+
+    def draw_exact(self, scene, state: FrameState, aux) -> None:
+        """The exact channels ``aux`` at pixel centres into the bound target (cleared)."""
+        program = self._program("primary", state, False, aux)
+        self._bind(scene, state, program)
+        prog = program.program
+        camera = state.camera
+        prog.set("u_eye_world", tuple(float(v) for v in camera.eye), strict=False)
+        prog.set("u_forward", tuple(float(v) for v in camera.forward), strict=False)
+        self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
+        program.draw()
+        self.ctx.enable(self.ctx.DEPTH_TEST)
+
+    def release(self) -> None:
+        for program in self.programs.values():
+            program.release()
+        self.programs.clear()
+        for tex in self._textures.values():
+            tex.release()
+        self._textures.clear()
+        self.lights_ubo.release()

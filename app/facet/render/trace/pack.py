@@ -1,0 +1,162 @@
+"""The ray tracer's scene as arrays of texels (numpy, no GL), in the layout glsl/trace/ reads.
+
+Per mesh, once (``mesh_data``, cached by facet.render.trace.engine while the mesh lives):
+its triangles in hierarchy order as (v0, e1, e2), their vertex indices, the vertices'
+normal / uv / colour, and its hierarchy (facet.geometry.bvh) in object space, with both
+children's boxes in each node. Moving or instancing a mesh never rebuilds this.
+
+Per scene (``pack_geometry``): every mesh's arrays concatenated, references shifted by
+their offsets. Per frame, or per supersample when objects move (``pack_instances``): one
+row of ``INSTANCE_TEXELS`` texels per placed object (matrices, kind, material) and a top
+level hierarchy over their world boxes; infinite planes go first, outside it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import InputError
+from ...geometry.bvh import build_bvh
+
+TEX_SHIFT = 12
+TEX_WIDTH = 1 << TEX_SHIFT  # texels per texture row (glsl/trace/data.glsl)
+NODE_TEXELS = 4
+INSTANCE_TEXELS = 11
+KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
+EMPTY_CHILD = ((1e30, 1e30, 1e30, -1.0), (-1e30, -1e30, -1e30, 0.0))  # lo > hi: never hit
+
+
+@dataclass
+class MeshData:
+    """One mesh for the tracer (module docstring); references local to the mesh."""
+
+    tris: np.ndarray  # (N, 3, 4) float32
+    index: np.ndarray  # (N, 4) int32
+    vertices: np.ndarray  # (V, 2, 4) float32
+    nodes: np.ndarray  # (K, 4, 4) float32
+    has_colors: bool
+
+
+def pack_nodes(bvh) -> np.ndarray:
+    """(K, 4, 4) texels of the inner nodes (module docstring of glsl/trace/data.glsl): per
+    child its box, and w = packed child index, or -(first + 1) and the count for a leaf."""
+    inner = np.flatnonzero(bvh.left >= 0)
+    if inner.size == 0:  # a single leaf: a root with that leaf and an empty child
+        leaf = np.array([[*bvh.lo[0], -1.0], [*bvh.hi[0], float(bvh.count[0])]])
+        return np.concatenate([leaf, EMPTY_CHILD]).reshape(1, 4, 4).astype(np.float32)
+    packed = np.full(len(bvh.left), -1, np.int64)
+    packed[inner] = np.arange(inner.size)  # the root (0) stays 0
+    out = np.empty((inner.size, 4, 4), np.float32)
+    for slot, child in enumerate((bvh.left[inner], bvh.right[inner])):
+        is_leaf = bvh.left[child] < 0
+        out[:, 2 * slot, :3] = bvh.lo[child]
+        out[:, 2 * slot, 3] = np.where(is_leaf, -(bvh.first[child] + 1.0), packed[child])
+        out[:, 2 * slot + 1, :3] = bvh.hi[child]
+        out[:, 2 * slot + 1, 3] = np.where(is_leaf, bvh.count[child], 0)
+    return out
+
+
+def mesh_data(mesh) -> MeshData:
+    """The tracer's arrays for ``mesh`` (module docstring)."""
+    faces = mesh.faces.astype(np.int64)
+    tri = mesh.positions[faces].astype(np.float32)  # (N, 3, 3) object space
+    bvh = build_bvh(tri.min(axis=1), tri.max(axis=1))
+    tri, faces = tri[bvh.order], faces[bvh.order]  # leaves become contiguous ranges
+    tris = np.zeros((len(tri), 3, 4), np.float32)
+    tris[:, 0, :3] = tri[:, 0]
+    tris[:, 1, :3] = tri[:, 1] - tri[:, 0]
+    tris[:, 2, :3] = tri[:, 2] - tri[:, 0]
+    index = np.zeros((len(faces), 4), np.int32)
+    index[:, :3] = faces
+    n = len(mesh.positions)
+    vertices = np.ones((n, 2, 4), np.float32)
+    vertices[:, 0, :3] = mesh.normals
+    uvs = mesh.uvs if mesh.uvs is not None else np.zeros((n, 2), np.float32)
+    vertices[:, 0, 3], vertices[:, 1, 0] = uvs[:, 0], uvs[:, 1]
+    if mesh.colors is not None:
+        vertices[:, 1, 1:] = mesh.colors[:, :3]
+    return MeshData(tris, index, vertices, pack_nodes(bvh), mesh.colors is not None)
+
+
+def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
+    """Every mesh's arrays in one set (references shifted); ``root``: each mesh's root node.
+    InputError when a texture would exceed ``max_texels`` (the GL's size limit)."""
+    node_off = np.cumsum([0] + [len(m.nodes) for m in meshes])
+    tri_off = np.cumsum([0] + [len(m.tris) for m in meshes])
+    vert_off = np.cumsum([0] + [len(m.vertices) for m in meshes])
+    nodes = np.concatenate([m.nodes for m in meshes]).copy()
+    refs = nodes[:, [0, 2], 3]  # the children's references
+    own = np.repeat(np.arange(len(meshes)), [len(m.nodes) for m in meshes])[:, None]
+    nodes[:, [0, 2], 3] = np.where(refs >= 0, refs + node_off[own], refs - tri_off[own])
+    index = np.concatenate([m.index + np.array([1, 1, 1, 0]) * vert_off[i]
+                            for i, m in enumerate(meshes)])
+    out = {"tris": np.concatenate([m.tris for m in meshes]).reshape(-1, 4),
+           "index": index.astype(np.int32),
+           "vertices": np.concatenate([m.vertices for m in meshes]).reshape(-1, 4),
+           "nodes": nodes.reshape(-1, 4), "root": node_off[:-1]}
+    for name in ("tris", "vertices", "nodes"):
+        if len(out[name]) > max_texels:
+            raise InputError(f"the scene has {int(tri_off[-1]):,} triangles, more than the "
+                             f"ray tracer can hold on this GL ({name} would need "
+                             f"{len(out[name]):,} texels of {max_texels:,}); use the "
+                             "rasterizer (engine='raster') or simplify the meshes")
+    return out
+
+
+def pack_instances(objects, mesh_root: dict, to_linear, layers: dict):
+    """(instances (n, INSTANCE_TEXELS, 4) float32, top-level nodes or None, unbounded count)
+    for the scene's ``objects``: infinite planes first, then the rest in top-level order.
+    ``mesh_root``: id(mesh) -> its root node; ``layers``: id(texture) -> texture layer."""
+    unbounded = [o for o in objects if o.infinite]
+    bounded = [o for o in objects if not o.infinite]
+    tlas = None
+    if bounded:
+        boxes = np.array([_world_box(o) for o in bounded])
+        bvh = build_bvh(boxes[:, 0], boxes[:, 1])
+        bounded = [bounded[i] for i in bvh.order]
+        tlas = pack_nodes(bvh)
+        tlas[:, [0, 2], 3] = np.where(tlas[:, [0, 2], 3] >= 0, tlas[:, [0, 2], 3],
+                                      tlas[:, [0, 2], 3] - len(unbounded))
+    ordered = unbounded + bounded
+    rows = np.zeros((len(ordered), INSTANCE_TEXELS, 4), np.float32)
+    for i, o in enumerate(ordered):  # one row per placed object, not per triangle
+        rows[i] = _instance(o, mesh_root, to_linear, layers)
+    return rows, tlas, len(unbounded)
+
+
+def _instance(obj, mesh_root, to_linear, layers) -> np.ndarray:
+    m = np.asarray(obj.transform, dtype=np.float64)
+    row = np.zeros((INSTANCE_TEXELS, 4), np.float32)
+    row[0:3] = np.linalg.inv(m)[:3]
+    row[3:6] = m[:3]
+    mat = obj.material
+    if obj.shape is not None:
+        kind, root = KINDS[obj.shape.kind], 0
+        params = np.array(obj.shape.params, dtype=np.float64)
+        row[7, :len(params)] = np.where(np.isinf(params), 1e30, params)
+    else:
+        kind, root = KINDS["mesh"], mesh_root[id(obj.mesh)]
+    row[6] = (kind, root, obj.id, obj.mesh.colors is not None and obj.shape is None)
+    row[8] = (*to_linear(mat.color), mat.ka)
+    row[9] = (mat.kd, mat.ks, mat.shininess, mat.opacity)
+    layer = layers.get(id(mat.texture), -1) if mat.texture is not None else -1
+    row[10] = (mat.reflectivity, mat.ior, mat.gloss, layer)
+    return row
+
+
+def _world_box(obj) -> np.ndarray:
+    b = obj.shape.bounds if obj.shape is not None else obj.mesh.bounds
+    corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
+    w = corners @ np.asarray(obj.transform)[:3, :3].T + np.asarray(obj.transform)[:3, 3]
+    return np.stack([w.min(axis=0), w.max(axis=0)])
+
+
+def to_texels(rows: np.ndarray) -> np.ndarray:
+    """(n, 4) rows as a (ceil(n / TEX_WIDTH), TEX_WIDTH, 4) image, zero-padded."""
+    n = max(len(rows), 1)
+    height = -(-n // TEX_WIDTH)
+    out = np.zeros((height * TEX_WIDTH, 4), rows.dtype)
+    out[:len(rows)] = rows
+    return out.reshape(height, TEX_WIDTH, 4)

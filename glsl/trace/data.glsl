@@ -1,0 +1,50 @@
+// The ray tracer's scene in textures (packed by facet.render.trace.pack): rows of TEX_WIDTH
+// texels, element i at (i mod TEX_WIDTH, i / TEX_WIDTH). Object space for meshes and shapes,
+// world space for instances and the top level. GL 3.3: no buffers bound by index, so
+// everything is a texelFetch.
+#ifndef TEX_SHIFT
+#define TEX_SHIFT 12  // TEX_WIDTH = 4096
+#endif
+const int TEX_MASK = (1 << TEX_SHIFT) - 1;
+
+uniform sampler2D u_tris;        // 3 texels per triangle: v0, e1 = v1 - v0, e2 = v2 - v0
+uniform isampler2D u_tri_index;  // 1 texel per triangle: its vertices' indices
+uniform sampler2D u_vertices;    // 2 texels per vertex: (normal, u), (v, colour rgb)
+uniform sampler2D u_nodes;       // meshes' hierarchies, NODE_TEXELS per inner node
+uniform sampler2D u_instances;   // INSTANCE_TEXELS per placed object (see scene.glsl)
+uniform sampler2D u_tlas;        // the top level over instances, laid out like u_nodes
+uniform int u_unbounded;         // instances [0, u_unbounded) are infinite: not in u_tlas
+uniform bool u_has_tlas;
+
+const float INF = 1e30;
+// A hierarchy node holds both children's boxes: texels (left lo, ref), (left hi, count),
+// (right lo, ref), (right hi, count). ref >= 0: an inner child's node index; ref < 0: a leaf
+// of count elements starting at -ref - 1. An empty child has lo > hi.
+const int NODE_TEXELS = 4;
+
+vec4 fetch(sampler2D s, int i) {
+    return texelFetch(s, ivec2(i & TEX_MASK, i >> TEX_SHIFT), 0);
+}
+
+ivec4 fetch_int(isampler2D s, int i) {
+    return texelFetch(s, ivec2(i & TEX_MASK, i >> TEX_SHIFT), 0);
+}
+
+// 1 / d with zero components replaced by a tiny number of the same sign: the slab test
+// then sees huge finite distances instead of 0 * inf (node boxes are padded for grazing
+// rays; facet.geometry.bvh).
+vec3 safe_inverse(vec3 d) {
+    vec3 tiny = vec3(1e-30);
+    return 1.0 / mix(d, mix(-tiny, tiny, step(0.0, d)), lessThan(abs(d), tiny));
+}
+
+// Entry distance of the ray into box [lo, hi] within [0, t_max], or INF when it misses.
+float box_entry(vec3 lo, vec3 hi, vec3 o, vec3 inv_d, float t_max) {
+    vec3 t0 = (lo - o) * inv_d;
+    vec3 t1 = (hi - o) * inv_d;
+    vec3 near3 = min(t0, t1);
+    vec3 far3 = max(t0, t1);
+    float near = max(max(near3.x, near3.y), max(near3.z, 0.0));
+    float far = min(min(far3.x, far3.y), min(far3.z, t_max));
+    return near <= far ? near : INF;
+}

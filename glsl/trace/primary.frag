@@ -1,0 +1,58 @@
+#version 330 core
+// The exact channels of the ray tracer: the nearest opaque surface on the ray through each
+// pixel's centre (the pinhole camera, no shift), written like the rasterizer's
+// (facet.gl.targets): linear depth along the camera axis, object id + 1, the normal facing
+// the viewer, the world position and the texture coordinates; 0 where nothing is hit.
+#include "trace/shade.glsl"
+
+uniform mat4 u_inv_view_projection;
+uniform vec2 u_viewport;
+uniform vec3 u_eye_world;
+uniform vec3 u_forward;  // the camera's viewing direction (unit)
+
+layout(location = 0) out vec4 f_color;
+#ifdef OUT_DEPTH
+layout(location = OUT_DEPTH) out float f_depth;
+#endif
+#ifdef OUT_IDS
+layout(location = OUT_IDS) out int f_object_id;
+#endif
+#ifdef OUT_NORMALS
+layout(location = OUT_NORMALS) out vec4 f_normal;
+#endif
+#ifdef OUT_POSITION
+layout(location = OUT_POSITION) out vec4 f_position;
+#endif
+#ifdef OUT_UV
+layout(location = OUT_UV) out vec2 f_uv;
+#endif
+
+void main() {
+    vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
+    vec4 near = u_inv_view_projection * vec4(ndc, -1.0, 1.0);
+    vec4 far = u_inv_view_projection * vec4(ndc, 1.0, 1.0);
+    vec3 o = near.xyz / near.w;
+    vec3 span = far.xyz / far.w - o;
+    vec3 d = normalize(span);
+    Hit h = trace_scene(o, d, length(span), true);
+    if (h.inst < 0) discard;  // the targets were cleared to 0
+    Surface s = surface_at(h, o, d);
+    f_color = vec4(0.0);
+#ifdef OUT_DEPTH
+    // Linear depth along the camera axis: (p - eye) . forward; a parallel projection's
+    // "eye" is any point on its axis plane, the same formula holds.
+    f_depth = dot(s.p - u_eye_world, u_forward);
+#endif
+#ifdef OUT_IDS
+    f_object_id = s.id + 1;
+#endif
+#ifdef OUT_NORMALS
+    f_normal = vec4(s.n, 0.0);
+#endif
+#ifdef OUT_POSITION
+    f_position = vec4(s.p, 1.0);
+#endif
+#ifdef OUT_UV
+    f_uv = s.uv;
+#endif
+}

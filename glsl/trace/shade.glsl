@@ -1,0 +1,136 @@
+// Surfaces at hits, and their shading by the rasterizer's own equation: lib/lights.glsl's
+// shade_scene, with this hit's material products and shadow rays in place of the per-draw
+// uniforms and shadow maps.
+#include "trace/scene.glsl"
+#include "lib/color.glsl"
+
+uniform sampler2DArray u_textures;  // materials' images, one layer each (resized alike)
+
+struct Surface {
+    vec3 p;       // world position
+    vec3 n;       // unit shading normal, facing the incoming ray (two-sided, as rasterized)
+    vec3 ng;      // unit geometric normal, the same side
+    bool front;   // the ray arrived on the outward side (entering a solid)
+    vec2 uv;      // texture coordinates
+    vec3 albedo;  // texture x vertex colour (1 for plain materials)
+    vec3 color;   // the material colour C (linear)
+    vec4 k;       // k_a, k_d, k_s, shininess
+    vec4 fx;      // opacity, reflectivity, ior, gloss
+    int id;       // object id
+};
+
+// The surface at hit h of the ray o + t d (d unit). The position is rebuilt from the
+// object-space hit (barycentrics on the triangle, the shape's own point) and carried to
+// world space, so its error is a few ulps of its own size: what offset_ray allows for.
+Surface surface_at(Hit h, vec3 o, vec3 d) {
+    int base = h.inst * INSTANCE_TEXELS;
+    vec4 info = fetch(u_instances, base + 6);
+    vec4 m0 = fetch(u_instances, base + 8), m1 = fetch(u_instances, base + 9);
+    vec4 m2 = fetch(u_instances, base + 10);
+    vec3 n_obj, ng_obj, p_obj;
+    vec2 uv;
+    vec3 albedo = vec3(1.0);
+    if (h.tri >= 0) {
+        vec3 w = vec3(1.0 - h.bary.x - h.bary.y, h.bary);
+        vec3 e1 = fetch(u_tris, 3 * h.tri + 1).xyz, e2 = fetch(u_tris, 3 * h.tri + 2).xyz;
+        p_obj = fetch(u_tris, 3 * h.tri).xyz + h.bary.x * e1 + h.bary.y * e2;
+        ng_obj = cross(e1, e2);
+        ivec4 vi = fetch_int(u_tri_index, h.tri);
+        vec4 a0 = fetch(u_vertices, 2 * vi.x), b0 = fetch(u_vertices, 2 * vi.x + 1);
+        vec4 a1 = fetch(u_vertices, 2 * vi.y), b1 = fetch(u_vertices, 2 * vi.y + 1);
+        vec4 a2 = fetch(u_vertices, 2 * vi.z), b2 = fetch(u_vertices, 2 * vi.z + 1);
+        n_obj = a0.xyz * w.x + a1.xyz * w.y + a2.xyz * w.z;
+        uv = vec2(a0.w, b0.x) * w.x + vec2(a1.w, b1.x) * w.y + vec2(a2.w, b2.x) * w.z;
+        if (info.w > 0.0) {
+            vec3 c = b0.yzw * w.x + b1.yzw * w.y + b2.yzw * w.z;
+#ifdef COLOR_SRGB
+            c = srgb_to_linear(c);
+#endif
+            albedo = c;
+        }
+    } else {
+        n_obj = ng_obj = h.n_obj;
+        uv = h.uv;
+        p_obj = apply_rows(base, o + h.t * d, 1.0);
+    }
+    Surface s;
+    s.p = apply_rows(base + 3, p_obj, 1.0);
+    // Normals go by (M^-1)^T: the world -> object rows, as columns.
+    mat3 to_world_n = mat3(fetch(u_instances, base).xyz, fetch(u_instances, base + 1).xyz,
+                           fetch(u_instances, base + 2).xyz);
+    s.n = normalize(to_world_n * n_obj);
+    s.ng = normalize(to_world_n * ng_obj);
+    s.front = dot(s.ng, d) < 0.0;
+    if (!s.front) { s.n = -s.n; s.ng = -s.ng; }
+    if (m2.w >= 0.0) albedo *= textureLod(u_textures, vec3(uv, m2.w), 0.0).rgb;
+    s.albedo = albedo;
+    s.uv = uv;
+    s.color = m0.rgb;
+    s.k = vec4(m0.w, m1.xyz);
+    s.fx = vec4(m1.w, m2.xyz);
+    s.id = int(info.z);
+    return s;
+}
+
+// Wächter and Binder (Ray Tracing Gems, ch. 6): p moved off its surface along n by
+// OFFSET_INT ulps of each coordinate (a fixed tiny step near the origin, where ulps
+// vanish), more than the rounding error of p, so a ray from it cannot hit the surface it
+// leaves, and little enough that contact shadows stay attached.
+const float OFFSET_ORIGIN = 1.0 / 32.0;
+const float OFFSET_FLOAT = 1.0 / 65536.0;
+const float OFFSET_INT = 256.0;
+
+vec3 offset_ray(vec3 p, vec3 n) {
+    ivec3 step_i = ivec3(OFFSET_INT * n);
+    ivec3 bits = floatBitsToInt(p);
+    vec3 p_i = intBitsToFloat(bits + ivec3(p.x < 0.0 ? -step_i.x : step_i.x,
+                                           p.y < 0.0 ? -step_i.y : step_i.y,
+                                           p.z < 0.0 ? -step_i.z : step_i.z));
+    return mix(p_i, p + OFFSET_FLOAT * n, lessThan(abs(p), vec3(OFFSET_ORIGIN)));
+}
+
+// The material of the surface being shaded, for lib/lights.glsl's macros.
+vec3 g_ambient_term, g_kd_c, g_ks;
+float g_shininess;
+vec3 g_ng;  // its geometric normal, for the shadow rays' offset
+float light_visibility(int i, vec3 p, vec3 L);
+#define AMBIENT_TERM g_ambient_term
+#define LIGHT_DIFFUSE(i) (u_lights[i].color.rgb * g_kd_c)
+#define LIGHT_SPECULAR(i) (u_lights[i].color.rgb * g_ks)
+#define SHININESS g_shininess
+#define SHADOW(i, p, N, L) light_visibility(i, p, L)
+#include "lib/lights.glsl"
+
+// Shadow rays: towards the light from the side of the surface the light is on, up to the
+// light (directional lights: without end).
+float light_visibility(int i, vec3 p, vec3 L) {
+#ifdef SHADOWS
+    float dist = LIGHT_KIND(i) == LIGHT_DIRECTIONAL ? INF
+                                                    : length(u_lights[i].position.xyz - p);
+    vec3 side = dot(g_ng, L) >= 0.0 ? g_ng : -g_ng;
+    return trace_shadow(offset_ray(p, side), L, dist);
+#else
+    return 1.0;
+#endif
+}
+
+// The local colour of a surface seen from direction V (towards the viewer).
+vec3 shade_surface(Surface s, vec3 V) {
+    vec3 c = s.color;
+    g_ambient_term = u_ambient.rgb * s.k.x * c;
+    g_kd_c = s.k.y * c;
+    g_ks = vec3(s.k.z);
+    g_shininess = s.k.w;
+    g_ng = s.ng;
+#if defined(SHADE_UNLIT)
+    return c * s.albedo;
+#elif defined(SHADE_NORMALS)
+    return (s.front ? s.n : -s.n) * 0.5 + 0.5;  // the outward normal, as rasterized
+#elif defined(SHADE_FLAT)
+    return shade_scene(s.p, s.ng, V, s.albedo, false);
+#elif defined(SHADE_BLINN)
+    return shade_scene(s.p, s.n, V, s.albedo, true);
+#else  // SHADE_PHONG; SHADE_GOURAUD is a rasterizer's per-vertex shortcut: traced as Phong
+    return shade_scene(s.p, s.n, V, s.albedo, false);
+#endif
+}

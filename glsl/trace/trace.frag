@@ -1,0 +1,127 @@
+#version 330 core
+// The ray tracer (notes §2.6-2.11): one supersample of one pixel per fragment, added to the
+// accumulation (facet.render.trace). The eye ray goes through this sample's point of the
+// pixel (and lens, and shutter time: the camera and instances of this sample); at each hit
+// the surface is shaded by the rasterizer's equation with shadow rays, and spawns up to
+// three rays: reflection (reflectivity; with ior > 0 split with refraction by Schlick's
+// Fresnel, total internal reflection sending all to reflection), and straight on through
+// what is not opaque. Rays are kept on a small stack, each with the weight it carries;
+// reflection and refraction go at most u_max_depth bounces deep, where an unfinished ray
+// takes the environment's colour (black without one).
+#include "trace/shade.glsl"
+
+uniform mat4 u_inv_view_projection;  // window NDC -> world, this sample's camera and shift
+uniform vec2 u_viewport;
+uniform vec4 u_background;  // straight RGB (linear) and alpha, for eye rays that escape
+uniform int u_max_depth;
+uniform vec2 u_gloss_jitter;  // this sample's tilt of glossy reflection and transmission
+#ifdef HAS_ENVIRONMENT
+uniform samplerCube u_environment;
+#endif
+out vec4 f_color;  // premultiplied colour and coverage of this sample
+
+const int RAY_STACK = 12;
+const int MAX_SEGMENTS = 32;        // bounds the work per sample
+const float MIN_WEIGHT = 1.0 / 1024.0;  // rays that would change nothing are not traced
+
+vec3 escaped(vec3 d) {
+#ifdef HAS_ENVIRONMENT
+    return texture(u_environment, d).rgb;
+#else
+    return u_background.rgb;
+#endif
+}
+
+vec3 tilt(vec3 r, float gloss) {  // the rasterizer's glossy tilt (glsl/mesh/phong.frag)
+    vec3 t1 = normalize(cross(r, abs(r.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
+    vec3 t2 = cross(r, t1);
+    return normalize(r + 2.0 * gloss * (t1 * u_gloss_jitter.x + t2 * u_gloss_jitter.y));
+}
+
+void main() {
+    vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
+    vec4 near = u_inv_view_projection * vec4(ndc, -1.0, 1.0);
+    vec4 far = u_inv_view_projection * vec4(ndc, 1.0, 1.0);
+    vec3 o0 = near.xyz / near.w;
+    vec3 span = far.xyz / far.w - o0;
+    // The stack: origin, direction (w: 1 for the eye ray and what passes straight through
+    // it, which decide coverage), weight (w: bounces so far), and the segment's end.
+    vec4 ray_o[RAY_STACK], ray_d[RAY_STACK], ray_w[RAY_STACK];
+    float ray_end[RAY_STACK];
+    int sp = 0;
+    ray_o[0] = vec4(o0, 0.0);
+    ray_d[0] = vec4(normalize(span), 1.0);
+    ray_w[0] = vec4(1.0, 1.0, 1.0, 0.0);
+    ray_end[0] = length(span);  // the eye ray stops at the far plane, as rasterized
+    sp = 1;
+    vec3 color = vec3(0.0);
+    float alpha = 0.0;
+    for (int segment = 0; segment < MAX_SEGMENTS && sp > 0; ++segment) {
+        --sp;
+        vec3 o = ray_o[sp].xyz, d = ray_d[sp].xyz, w = ray_w[sp].xyz;
+        bool eye = ray_d[sp].w > 0.0;
+        int depth = int(ray_w[sp].w);
+        float end = ray_end[sp];
+        Hit h = trace_scene(o, d, end, false);
+        if (h.inst < 0) {
+            if (eye) {
+#ifdef HAS_ENVIRONMENT
+                color += w * escaped(d);
+                alpha += w.x;
+#else
+                color += w * u_background.rgb * u_background.a;
+                alpha += w.x * u_background.a;
+#endif
+            } else {
+                color += w * escaped(d);
+            }
+            continue;
+        }
+        Surface s = surface_at(h, o, d);
+        float opacity = s.fx.x, reflectivity = s.fx.y, ior = s.fx.z, gloss = s.fx.w;
+        vec3 local = shade_surface(s, -d);
+        color += w * opacity * (1.0 - reflectivity) * local;
+        if (eye) alpha += w.x * opacity;
+        vec3 carried = w * opacity * reflectivity;
+        if (reflectivity > 0.0 && max(carried.r, max(carried.g, carried.b)) > MIN_WEIGHT) {
+            vec3 r = tilt(reflect(d, s.n), gloss);
+            float fresnel = 1.0;
+            vec3 t_dir = vec3(0.0);
+            if (ior > 0.0) {
+                float eta = s.front ? 1.0 / ior : ior;
+                t_dir = refract(d, s.n, eta);
+                float f0 = pow((ior - 1.0) / (ior + 1.0), 2.0);
+                // Schlick with the angle on the less dense side (continuous at total
+                // internal reflection, where refract() gives 0 and all is reflected).
+                float cos_i = s.front ? -dot(d, s.n) : dot(t_dir, -s.n);
+                fresnel = dot(t_dir, t_dir) == 0.0 ? 1.0
+                        : f0 + (1.0 - f0) * pow(1.0 - clamp(cos_i, 0.0, 1.0), 5.0);
+            }
+            if (depth >= u_max_depth) {
+                color += carried * escaped(r);  // the recursion ends here
+            } else {
+                if (fresnel < 1.0 && sp < RAY_STACK) {
+                    ray_o[sp] = vec4(offset_ray(s.p, -s.ng), 0.0);
+                    ray_d[sp] = vec4(tilt(normalize(t_dir), gloss), 0.0);
+                    ray_w[sp] = vec4(carried * (1.0 - fresnel), depth + 1);
+                    ray_end[sp++] = INF;
+                }
+                if (sp < RAY_STACK) {
+                    ray_o[sp] = vec4(offset_ray(s.p, s.ng), 0.0);
+                    ray_d[sp] = vec4(r, 0.0);
+                    ray_w[sp] = vec4(carried * fresnel, depth + 1);
+                    ray_end[sp++] = INF;
+                }
+            }
+        }
+        vec3 through = w * (1.0 - opacity);
+        if (opacity < 1.0 && max(through.r, max(through.g, through.b)) > MIN_WEIGHT &&
+            sp < RAY_STACK) {
+            ray_o[sp] = vec4(offset_ray(s.p, -s.ng), 0.0);
+            ray_d[sp] = vec4(d, eye ? 1.0 : 0.0);
+            ray_w[sp] = vec4(through, depth);
+            ray_end[sp++] = eye ? end - h.t : INF;
+        }
+    }
+    f_color = vec4(color, alpha);
+}
