@@ -115,3 +115,71 @@ def erode(mask: np.ndarray, pixels: int) -> np.ndarray:
 
 def iou(a: np.ndarray, b: np.ndarray) -> float:
     return float((a & b).sum() / max((a | b).sum(), 1))
+
+
+def object_rays(origins, dirs, transform):
+    """World rays in the object space of ``transform`` (object -> world): o', d' with the
+    same parameter t (d' not normalised)."""
+    inv = np.linalg.inv(np.asarray(transform, dtype=float))
+    return origins @ inv[:3, :3].T + inv[:3, 3], dirs @ inv[:3, :3].T
+
+
+def _first_root(a, b, c, valid):
+    """Smallest root s > 0 of a s^2 + 2 b s + c = 0 passing ``valid(s)``, else inf."""
+    disc = b * b - a * c
+    ok = (disc >= 0) & (a != 0)
+    r = np.sqrt(np.where(ok, disc, 0.0))
+    safe_a = np.where(a != 0, a, 1.0)
+    s = np.sort(np.stack([(-b - r) / safe_a, (-b + r) / safe_a]), axis=0)
+    out = np.full(a.shape, np.inf)
+    for root in s[::-1]:  # the smaller root wins when both are valid
+        good = ok & (root > 0) & valid(root)
+        out = np.where(good, root, out)
+    return out
+
+
+def ray_cone(o, d, radius, height):
+    """The notes' right circular cone (apex up at y = h/2, base radius r at -h/2) with its
+    base disc: nearest t per ray (object space), inf where missed."""
+    slope, k0 = radius / height, radius / 2.0
+    ky, kd = k0 - slope * o[..., 1], -slope * d[..., 1]
+    a = d[..., 0] ** 2 + d[..., 2] ** 2 - kd ** 2
+    b = o[..., 0] * d[..., 0] + o[..., 2] * d[..., 2] - ky * kd
+    c = o[..., 0] ** 2 + o[..., 2] ** 2 - ky ** 2
+    side = _first_root(a, b, c, lambda s: np.abs(o[..., 1] + s * d[..., 1]) <= height / 2)
+    return np.minimum(side, ray_disk(o, d, radius, -height / 2))
+
+
+def ray_cylinder(o, d, radius, height):
+    a = d[..., 0] ** 2 + d[..., 2] ** 2
+    b = o[..., 0] * d[..., 0] + o[..., 2] * d[..., 2]
+    c = o[..., 0] ** 2 + o[..., 2] ** 2 - radius ** 2
+    side = _first_root(a, b, c, lambda s: np.abs(o[..., 1] + s * d[..., 1]) <= height / 2)
+    caps = np.minimum(ray_disk(o, d, radius, height / 2), ray_disk(o, d, radius, -height / 2))
+    return np.minimum(side, caps)
+
+
+def ray_disk(o, d, radius, y=0.0, half=None):
+    """The plane y = const within a disc of ``radius`` (or a rectangle of half sizes)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = (y - o[..., 1]) / d[..., 1]
+    p = o + s[..., None] * d
+    inside = (p[..., 0] ** 2 + p[..., 2] ** 2 <= radius ** 2) if half is None else \
+        (np.abs(p[..., 0]) <= half[0]) & (np.abs(p[..., 2]) <= half[1])
+    return np.where(np.isfinite(s) & (s > 0) & inside, s, np.inf)
+
+
+def ray_box(o, d, size):
+    half = np.asarray(size, dtype=float) / 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0, t1 = (-half - o) / d, (half - o) / d
+    near = np.nanmax(np.minimum(t0, t1), axis=-1)
+    far = np.nanmin(np.maximum(t0, t1), axis=-1)
+    return np.where((near <= far) & (near > 0), near, np.inf)
+
+
+def ray_sphere_object(o, d, radius):
+    """|o + s d| = r for rays with any direction length (object space)."""
+    a = np.sum(d * d, axis=-1)
+    return _first_root(a, np.sum(o * d, axis=-1), np.sum(o * o, axis=-1) - radius ** 2,
+                       lambda s: np.ones(s.shape, bool))

@@ -80,16 +80,19 @@ def bars(widths=(0.03, 0.012, 0.05, 0.02, 0.008), angles=(7, 23, 41, 66, 83)):
     return scene
 
 
-def test_measured_errors_follow_the_notes():
+@pytest.mark.parametrize("engine", ["raster", "trace"])
+def test_measured_errors_follow_the_notes(engine):
     """Mean error against a 256-sample grid reference at N = 4, 16, 64: jittered and Poisson
-    beat random at equal N, and every pattern beats one centre sample."""
+    beat random at equal N, and every pattern beats one centre sample (rasterized, and
+    traced: rays through the same points of each pixel)."""
     from facet.render.renderer import Renderer
 
     scene = bars()
     errors = {}
     with Renderer(S, S, float_color=True) as r:
         def img(aa):
-            return r.render(scene, CAMERA, shading="unlit", aa=aa, outputs=("color",)).color
+            return r.render(scene, CAMERA, shading="unlit", aa=aa, outputs=("color",),
+                            engine=engine).color
 
         ref = img("ssaa:grid:256")[..., 0]
         centre = np.abs(img("none")[..., 0] - ref).mean()
@@ -145,7 +148,7 @@ def test_cli_aa(tmp_path, capsys):
     assert len(np.unique(smooth.reshape(-1, 3), axis=0)) > len(np.unique(sharp.reshape(-1, 3),
                                                                         axis=0))
     for args, message in ((["--aa", "ssaa:grid:7"], "square number"),
-                          (["--aa", "none", "--msaa", "4"], "either --aa or --msaa"),
+                          (["--aa", "none", "--msaa", "4"], "one of --aa, --msaa and --spp"),
                           (["--aa", "supersample"], "expected none, msaa:N")):
         assert main(["render", *args, "-o", str(tmp_path / "x.png")]) == 2
         assert message in capsys.readouterr().err

@@ -35,17 +35,19 @@ def test_concentric_disk_stays_in_the_unit_disk():
     assert r.max() <= 1 + 1e-12 and r.mean() > 0.6  # fills the disc, not just its middle
 
 
-def test_depth_of_field_follows_the_circle_of_confusion(renderer):
+@pytest.mark.parametrize("engine", ["raster", "trace"])
+def test_depth_of_field_follows_the_circle_of_confusion(renderer, engine):
     """A dot on the focus plane stays sharp; dots nearer and farther spread over the circle of
     confusion c = A f_px |d - f| / (d f) (within 25% and 1.5 px)."""
     camera = Camera.look_at((0, 0, 0), (0, 0, -1), fov_y=30, near=0.5, far=50)
     camera.aperture, camera.focus_distance = 0.25, 4.0
     r = renderer(W, H)
-    sharp = r.render(_dots((0, 0, -4.0)), camera, aa="ssaa:jittered:64", shading="unlit")
+    sharp = r.render(_dots((0, 0, -4.0)), camera, aa="ssaa:jittered:64", shading="unlit",
+                     engine=engine)
     assert _spread(sharp.color[..., 0]) < 4  # about the dot's own size (~2 px)
     for depth in (2.5, 7.0):
         frame = r.render(_dots((0, 0, -depth)), camera, aa="ssaa:jittered:64",
-                         shading="unlit")
+                         shading="unlit", engine=engine)
         c = circle_of_confusion(camera, depth, H)
         spread = _spread(frame.color[..., 0])
         assert c > 4 and abs(spread - c) < 0.25 * c + 1.5, (depth, spread, c)
@@ -55,12 +57,16 @@ def test_depth_of_field_follows_the_circle_of_confusion(renderer):
             assert (frame.depth > 0).sum() == (frame.object_ids == 0).sum()
 
 
-def test_motion_blur_streak(renderer):
+@pytest.mark.parametrize("engine", ["raster", "trace"])
+def test_motion_blur_streak(renderer, engine):
     """A dot moving 0.5 units sideways during the shutter leaves a streak as long as its
     path in the image (plus its size), of even, dimmer intensity."""
     camera = Camera.look_at((0, 0, 3), (0, 0, 0), ortho_height=2.0, near=1, far=5)
     scene = _dots((-0.25, 0, 0), ends=[(0.25, 0, 0)])
-    frame = renderer(W, H).render(scene, camera, aa="ssaa:jittered:64", shading="unlit")
+    # 256 samples: a pixel of the path is covered by ~1/20 of them, and fewer would leave
+    # the count (in steps of 1/N) too coarse to call the streak even.
+    frame = renderer(W, H).render(scene, camera, aa="ssaa:jittered:256", shading="unlit",
+                                  engine=engine)
     row = frame.color[H // 2, :, 0].astype(int)
     lit = np.nonzero(row > 2)[0]
     path_px = 0.5 / 2.0 * W  # 0.5 units of a 2-unit-wide view

@@ -27,14 +27,17 @@ def test_face_directions_follow_opengl():
     assert signs == [1, -1, 1, -1, 1, -1]
 
 
-def test_background_and_mirror_reflect_the_sky(renderer):
+@pytest.mark.parametrize("engine", ["raster", "trace"])
+def test_background_and_mirror_reflect_the_sky(renderer, engine):
     """Background pixels show the sky along their view ray; a mirror sphere shows it along
-    R = 2 (N.V) N - V (within the cube map's filtering)."""
+    R = 2 (N.V) N - V (within the cube map's filtering): by environment lookups when
+    rasterized, by reflection rays escaping to the sky when traced."""
     env = Environment.sky(size=128)
     scene = Scene(ambient=0.0)
     scene.environment = env
     scene.add(sphere_mesh(5), Material(color=(0, 0, 0), ka=0, kd=0, ks=0, reflectivity=1.0))
-    frame = renderer(S, S).render(scene, CAMERA, outputs=("color", "ids", "normals"))
+    frame = renderer(S, S).render(scene, CAMERA, outputs=("color", "ids", "normals"),
+                                  engine=engine)
     img = frame.color[..., :3] / 255.0
     _, dirs = pixel_rays(CAMERA.view, CAMERA.projection(S, S), S, S)
     bg = frame.object_ids == -1

@@ -55,8 +55,11 @@ def test_an_intrinsics_camera_sizes_the_image_below_explicit_sizes(tmp_path):
 def test_msaa_is_aa_sugar_and_one_layer_may_not_give_both():
     assert str(RenderOptions.build({"msaa": 8}).aa) == "msaa:8"
     assert str(RenderOptions.build({"msaa": 0}).aa) == "none"
-    with pytest.raises(InputError, match="give either aa or msaa"):
+    with pytest.raises(InputError, match="give one of aa, msaa and spp, not aa and msaa"):
         parse_layer({"msaa": 4, "aa": "none"})
+    assert str(RenderOptions.build({"spp": 9}).aa) == "ssaa:jittered:9"
+    with pytest.raises(InputError, match="spp must be an integer >= 1"):
+        RenderOptions.build({"spp": 0})
     assert str(RenderOptions.build({"msaa": 4}, {"aa": "grid:4"}).aa) == "ssaa:grid:4"
 
 

@@ -35,8 +35,10 @@ def test_a_lit_sphere_does_not_shadow_itself(renderer):
     assert diff.max() <= 1, f"{(diff > 1).mean():.2%} of lit pixels darkened"
 
 
+@pytest.mark.parametrize("engine", ["raster", "trace"])
 @pytest.mark.parametrize("kind", ["directional", "spot", "point"])
-def test_shadow_of_a_sphere_on_a_plane(renderer, kind):
+def test_shadow_of_a_sphere_on_a_plane(renderer, kind, engine):
+    """Shadow maps and shadow rays both cast the analytic shadow (IoU >= 0.95)."""
     scene = Scene(ambient=0.2)
     scene.add(primitives.plane(8), Material(color=(1, 1, 1), ka=1, kd=0.8, ks=0))
     scene.add(sphere_mesh(5, RADIUS), Material(color=(0.9, 0.2, 0.1)), T.translate(CENTRE))
@@ -50,7 +52,7 @@ def test_shadow_of_a_sphere_on_a_plane(renderer, kind):
     scene.add_light(light)
     camera = Camera.look_at((0.0, 6.0, 2.5), (0.0, 0.0, 0.0), fov_y=45, near=1, far=20)
     frame = renderer(SIZE, SIZE).render(scene, camera, outputs=("color", "ids", "position"),
-                                        shadows=True)
+                                        shadows=True, engine=engine)
     plane = frame.object_ids == 0
     p = frame.position[plane]
     # Analytic: does the segment from the plane point towards the light hit the sphere?
@@ -119,7 +121,8 @@ def test_pcf_kernel_softens_the_edge(renderer):
         r.render(scene, camera, shadows=True, pcf=5)
 
 
-def test_area_light_penumbra_grows_with_its_size(renderer):
+@pytest.mark.parametrize("engine", ["raster", "trace"])
+def test_area_light_penumbra_grows_with_its_size(renderer, engine):
     """An area light's shadow has a penumbra as wide as similar triangles say:
     w = L (d_receiver - d_occluder) / d_occluder, measured across the shadow's edge."""
     from facet.scene import AreaLight
@@ -135,8 +138,9 @@ def test_area_light_penumbra_grows_with_its_size(renderer):
         scene.add(primitives.cube((2.0, 0.02, 4.0)), Material(), T.translate((-1.0, 1.0, 0)))
         scene.add_light(AreaLight((0, 3.0, 0), (0, -1, 0), (size, size), attenuation=(1, 0, 0)))
         frame = r.render(scene, camera, shadows=True, aa="ssaa:jittered:64",
-                         outputs=("color", "ids", "position"))
-        open_ = r.render(scene, camera, aa="ssaa:jittered:64").color
+                         outputs=("color", "ids", "position"), engine=engine)
+        open_ = r.render(scene, camera, aa="ssaa:jittered:64", engine=engine,
+                         shadows=False).color
         row = frame.color[SIZE // 2, :, 0].astype(float)
         visible = row / np.maximum(open_[SIZE // 2, :, 0].astype(float), 1.0)
         x = frame.position[SIZE // 2, :, 0]

@@ -26,6 +26,29 @@ bool hit_triangle(int tri, vec3 o, vec3 d, inout float t, out vec2 bary) {
     return true;
 }
 
+// One child of a node: its entry distance (INF when missed); a leaf's triangles are tested
+// at once (``found`` and t, tri, bary updated), an inner child's index goes to ``inner``.
+void visit_child(vec4 lo, vec4 hi, vec3 o, vec3 d, vec3 inv, inout float t, inout int tri,
+                 inout vec2 bary, inout bool found, out float entry, out int inner) {
+    entry = box_entry(lo.xyz, hi.xyz, o, inv, t);
+    inner = -1;
+    if (entry >= INF) return;
+    if (lo.w >= 0.0) {
+        inner = int(lo.w);
+        return;
+    }
+    int first = int(-lo.w) - 1;
+    int last = first + int(hi.w);
+    for (int k = first; k < last; ++k) {
+        vec2 b;
+        if (hit_triangle(k, o, d, t, b)) {
+            tri = k;
+            bary = b;
+            found = true;
+        }
+    }
+}
+
 // The mesh hierarchy at node ``root``: its nearest triangle hit in (0, t) (t, tri, bary
 // updated), or with ``any_hit`` the first one found. True when something was hit.
 bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout vec2 bary,
@@ -37,36 +60,19 @@ bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout ve
     bool found = false;
     while (node >= 0) {
         int base = node * NODE_TEXELS;
-        vec4 child[4];
-        for (int k = 0; k < 4; ++k) child[k] = fetch(u_nodes, base + k);
-        int inner[2];
-        float entry[2];
-        for (int c = 0; c < 2; ++c) {
-            vec4 lo = child[2 * c], hi = child[2 * c + 1];
-            entry[c] = box_entry(lo.xyz, hi.xyz, o, inv, t);
-            inner[c] = -1;
-            if (entry[c] >= INF) continue;
-            if (lo.w >= 0.0) {
-                inner[c] = int(lo.w);
-                continue;
-            }
-            int first = int(-lo.w) - 1;
-            for (int k = 0; k < int(hi.w); ++k) {
-                vec2 b;
-                if (hit_triangle(first + k, o, d, t, b)) {
-                    tri = first + k;
-                    bary = b;
-                    found = true;
-                    if (any_hit) return true;
-                }
-            }
-        }
-        if (inner[0] >= 0 && inner[1] >= 0) {
-            bool left_first = entry[0] <= entry[1];
-            if (sp < STACK_SIZE) stack[sp++] = left_first ? inner[1] : inner[0];
-            node = left_first ? inner[0] : inner[1];
-        } else if (inner[0] >= 0 || inner[1] >= 0) {
-            node = max(inner[0], inner[1]);
+        float entry_l, entry_r;
+        int inner_l, inner_r;
+        visit_child(fetch(u_nodes, base), fetch(u_nodes, base + 1), o, d, inv, t, tri, bary,
+                    found, entry_l, inner_l);
+        visit_child(fetch(u_nodes, base + 2), fetch(u_nodes, base + 3), o, d, inv, t, tri,
+                    bary, found, entry_r, inner_r);
+        if (found && any_hit) return true;
+        if (inner_l >= 0 && inner_r >= 0) {
+            bool left_first = entry_l <= entry_r;
+            if (sp < STACK_SIZE) stack[sp++] = left_first ? inner_r : inner_l;
+            node = left_first ? inner_l : inner_r;
+        } else if (inner_l >= 0 || inner_r >= 0) {
+            node = max(inner_l, inner_r);
         } else {
             node = sp > 0 ? stack[--sp] : -1;
         }

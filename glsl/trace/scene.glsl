@@ -51,6 +51,23 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
     return true;
 }
 
+float h_entry;  // the entry distance of the last tlas_child (a second result)
+
+// Child c of top-level node ``node``: its instances are tested when it is a leaf; returns
+// the index of an inner child whose box the ray enters (else -1), its entry in h_entry.
+int tlas_child(int node, int c, vec3 o, vec3 d, vec3 inv, inout Hit h, bool opaque_only) {
+    vec4 lo = fetch(u_tlas, node * NODE_TEXELS + 2 * c);
+    vec4 hi = fetch(u_tlas, node * NODE_TEXELS + 2 * c + 1);
+    h_entry = box_entry(lo.xyz, hi.xyz, o, inv, h.t);
+    if (h_entry >= INF) return -1;
+    if (lo.w >= 0.0) return int(lo.w);
+    int first = int(-lo.w) - 1;
+    for (int k = first; k < first + int(hi.w); ++k) {
+        if (!opaque_only || instance_opacity(k) >= 1.0) hit_instance(k, o, d, h, false);
+    }
+    return -1;
+}
+
 // The nearest hit of o + t d for t in (0, t_max); ``opaque_only`` skips transparent objects
 // (the exact channels describe the nearest opaque surface, as the rasterizer's do).
 Hit trace_scene(vec3 o, vec3 d, float t_max, bool opaque_only) {
@@ -64,26 +81,16 @@ Hit trace_scene(vec3 o, vec3 d, float t_max, bool opaque_only) {
     int sp = 0;
     int node = 0;
     while (node >= 0) {
-        int inner[2];
-        float entry[2];
-        for (int c = 0; c < 2; ++c) {
-            vec4 lo = fetch(u_tlas, node * NODE_TEXELS + 2 * c);
-            vec4 hi = fetch(u_tlas, node * NODE_TEXELS + 2 * c + 1);
-            entry[c] = box_entry(lo.xyz, hi.xyz, o, inv, h.t);
-            inner[c] = entry[c] < INF && lo.w >= 0.0 ? int(lo.w) : -1;
-            if (entry[c] >= INF || lo.w >= 0.0) continue;
-            int first = int(-lo.w) - 1;
-            for (int k = 0; k < int(hi.w); ++k) {
-                if (!opaque_only || instance_opacity(first + k) >= 1.0)
-                    hit_instance(first + k, o, d, h, false);
-            }
-        }
-        if (inner[0] >= 0 && inner[1] >= 0) {
-            bool left_first = entry[0] <= entry[1];
-            if (sp < STACK_SIZE) stack[sp++] = left_first ? inner[1] : inner[0];
-            node = left_first ? inner[0] : inner[1];
-        } else if (inner[0] >= 0 || inner[1] >= 0) {
-            node = max(inner[0], inner[1]);
+        int inner_l = tlas_child(node, 0, o, d, inv, h, opaque_only);
+        float entry_l = h_entry;
+        int inner_r = tlas_child(node, 1, o, d, inv, h, opaque_only);
+        float entry_r = h_entry;
+        if (inner_l >= 0 && inner_r >= 0) {
+            bool left_first = entry_l <= entry_r;
+            if (sp < STACK_SIZE) stack[sp++] = left_first ? inner_r : inner_l;
+            node = left_first ? inner_l : inner_r;
+        } else if (inner_l >= 0 || inner_r >= 0) {
+            node = max(inner_l, inner_r);
         } else {
             node = sp > 0 ? stack[--sp] : -1;
         }

@@ -97,7 +97,14 @@ def add_shader_options(p) -> None:
 def add_render_options(p, size_default: str) -> None:
     """The render options of ``facet render`` and ``facet view``. Each one left out takes
     the scene file's [render] value, else facet's default."""
-    from ..scene.options import LIGHTS, MSAA_CHOICES, PCF_CHOICES, SHADING
+    from ..scene.options import (
+        DEFAULT_MAX_DEPTH,
+        ENGINES,
+        LIGHTS,
+        MSAA_CHOICES,
+        PCF_CHOICES,
+        SHADING,
+    )
 
     g = p.add_argument_group("render options (a flag overrides the scene file's [render] "
                              "value, which overrides the default)")
@@ -112,8 +119,17 @@ def add_render_options(p, size_default: str) -> None:
                    help="anti-aliasing: none, msaa:N, or supersampling ssaa:PATTERN:N (also "
                    "PATTERN:N) with PATTERN grid, random, poisson or jittered, e.g. "
                    "--aa jittered:16 (colour only; depth and ids stay exact)")
+    g.add_argument("--engine", choices=ENGINES,
+                   help="raster: the rasterizer (default); trace: the GPU ray tracer "
+                   "(shadow rays, reflection and refraction rays, exact shapes)")
+    g.add_argument("--max-depth", type=int, metavar="N",
+                   help="the ray tracer's reflection/refraction bounces (default "
+                   f"{DEFAULT_MAX_DEPTH}; 1 is one reflection and one transmission ray)")
+    g.add_argument("--spp", type=int, metavar="N",
+                   help="samples per pixel, jittered (the same as --aa jittered:N)")
     g.add_argument("--shadows", action=argparse.BooleanOptionalAction,
-                   help="shadow maps for directional, spot, point and area lights")
+                   help="shadows from every light: shadow maps when rasterizing (default "
+                   "off), shadow rays when tracing (default on)")
     g.add_argument("--pcf", type=int, choices=PCF_CHOICES, metavar="R",
                    help="shadow filter kernel radius in texels: 0 (one tap), 1 (3x3, "
                    "default), 2 (5x5)")
@@ -140,11 +156,14 @@ def add_render_options(p, size_default: str) -> None:
 
 def render_layer(args) -> dict:
     """The render options the command line gives (None: not given)."""
-    if args.aa is not None and args.msaa is not None:
+    given = [flag for flag, v in (("--aa", args.aa), ("--msaa", args.msaa),
+                                  ("--spp", args.spp)) if v is not None]
+    if len(given) > 1:
         from ..errors import InputError
 
-        raise InputError("give either --aa or --msaa (--msaa N means --aa msaa:N)")
-    return {"size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
+        raise InputError(f"give one of --aa, --msaa and --spp, not {' and '.join(given)} "
+                         "(--msaa N means --aa msaa:N, --spp N means --aa jittered:N)")
+    return {"engine": args.engine, "max_depth": args.max_depth, "spp": args.spp,"size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
             "shadows": args.shadows, "pcf": args.pcf, "srgb": args.srgb,
             "background": args.background, "camera": args.camera, "lights": args.lights,
             "wireframe": args.wireframe, "aperture": args.aperture, "focus": args.focus,

@@ -83,6 +83,11 @@ class ViewerActions:
     def toggle_shadows(self):
         self.keys["shadows"] = not self.options().shadows_on
 
+    def toggle_engine(self):
+        self.keys["engine"] = "raster" if self.options().engine == "trace" else "trace"
+        self._samples = 0
+        print(f"engine: {self.keys['engine']}")
+
     def toggle_headlight(self):
         """Lights follow the camera, or stay in the world: a scene with its own lights
         switches to the default rig following the camera and back; a scene lit by the rig

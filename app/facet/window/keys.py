@@ -28,6 +28,7 @@ KEYMAP: dict[str, Action] = {
                 "(supersampling refines while the camera is still)"),
     "l": Action("toggle_headlight", "lights follow the camera / stay in the scene"),
     "x": Action("toggle_shadows", "shadows (every light)"),
+    "e": Action("toggle_engine", "engine: rasterizer / ray tracer (refines while still)"),
     "b": Action("cycle_background", "background colour"),
     "s": Action("screenshot", "save a screenshot (PNG, window size)"),
     "S": Action("screenshot_2x", "save a 2x screenshot (offscreen render)"),
