@@ -163,7 +163,8 @@ def render_layer(args) -> dict:
 
         raise InputError(f"give one of --aa, --msaa and --spp, not {' and '.join(given)} "
                          "(--msaa N means --aa msaa:N, --spp N means --aa jittered:N)")
-    return {"engine": args.engine, "max_depth": args.max_depth, "spp": args.spp,"size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
+    return {"size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
+            "spp": args.spp, "engine": args.engine, "max_depth": args.max_depth,
             "shadows": args.shadows, "pcf": args.pcf, "srgb": args.srgb,
             "background": args.background, "camera": args.camera, "lights": args.lights,
             "wireframe": args.wireframe, "aperture": args.aperture, "focus": args.focus,
