@@ -75,13 +75,15 @@ float incident_light(int i, vec3 p, out vec3 L) {
 }
 
 // The fraction of light i that reaches p: shadow maps in the rasterizer, shadow rays in the
-// ray tracer (which defines SHADOW itself), 1 without shadows.
+// ray tracer (which defines SHADOW itself), 1 without shadows. ``falloff`` is what arrives
+// unshadowed (0: nothing to shadow, so the tracer casts no ray).
 #ifndef SHADOW
 #if defined(SHADOWS) && defined(LIGHT_COUNT) && LIGHT_COUNT > 0
 #include "lib/shadows.glsl"
-#define SHADOW(i, p, N, L) shadow_factor(i, p, N, L, length(u_lights[i].position.xyz - p))
+#define SHADOW(i, p, N, L, falloff) shadow_factor(i, p, N, L, \
+                                                  length(u_lights[i].position.xyz - p))
 #else
-#define SHADOW(i, p, N, L) 1.0
+#define SHADOW(i, p, N, L, falloff) 1.0
 #endif
 #endif
 
@@ -92,7 +94,8 @@ vec3 shade_scene(vec3 p, vec3 N, vec3 V, vec3 albedo, bool blinn) {
     vec3 I = AMBIENT_TERM * albedo;
     for (int i = 0; i < LIGHTS_IN_USE; ++i) {
         vec3 L;
-        float falloff = incident_light(i, p, L) * SHADOW(i, p, N, L);
+        float falloff = incident_light(i, p, L);
+        falloff *= SHADOW(i, p, N, L, falloff);
         vec3 diffuse = LIGHT_DIFFUSE(i) * albedo;
         I += falloff * (blinn
             ? blinn_light(N, L, V, diffuse, LIGHT_SPECULAR(i), SHININESS)

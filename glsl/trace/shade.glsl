@@ -93,18 +93,20 @@ vec3 offset_ray(vec3 p, vec3 n) {
 vec3 g_ambient_term, g_kd_c, g_ks;
 float g_shininess;
 vec3 g_ng;  // its geometric normal, for the shadow rays' offset
-float light_visibility(int i, vec3 p, vec3 L);
+float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff);
 #define AMBIENT_TERM g_ambient_term
 #define LIGHT_DIFFUSE(i) (u_lights[i].color.rgb * g_kd_c)
 #define LIGHT_SPECULAR(i) (u_lights[i].color.rgb * g_ks)
 #define SHININESS g_shininess
-#define SHADOW(i, p, N, L) light_visibility(i, p, L)
+#define SHADOW(i, p, N, L, falloff) light_visibility(i, p, N, L, falloff)
 #include "lib/lights.glsl"
 
 // Shadow rays: towards the light from the side of the surface the light is on, up to the
-// light (directional lights: without end).
-float light_visibility(int i, vec3 p, vec3 L) {
+// light (directional lights: without end); none where the light adds nothing anyway
+// (outside a spot's cone, or behind the shading normal, where N.L <= 0).
+float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff) {
 #ifdef SHADOWS
+    if (falloff <= 0.0 || dot(N, L) <= 0.0) return 1.0;
     float dist = LIGHT_KIND(i) == LIGHT_DIRECTIONAL ? INF
                                                     : length(u_lights[i].position.xyz - p);
     vec3 side = dot(g_ng, L) >= 0.0 ? g_ng : -g_ng;

@@ -44,6 +44,21 @@ void main() {
     vec4 far = u_inv_view_projection * vec4(ndc, 1.0, 1.0);
     vec3 o0 = near.xyz / near.w;
     vec3 span = far.xyz / far.w - o0;
+#ifndef SECONDARY
+    // No material reflects or lets light through (facet compiles this variant for such
+    // scenes): the eye ray alone, without the stack.
+    vec3 d0 = normalize(span);
+    Hit h0 = trace_scene(o0, d0, length(span), false);
+    if (h0.inst < 0) {
+#ifdef HAS_ENVIRONMENT
+        f_color = vec4(escaped(d0), 1.0);
+#else
+        f_color = vec4(u_background.rgb * u_background.a, u_background.a);
+#endif
+    } else {
+        f_color = vec4(shade_surface(surface_at(h0, o0, d0), -d0), 1.0);
+    }
+#else
     // The stack: origin, direction (w: 1 for the eye ray and what passes straight through
     // it, which decide coverage), weight (w: bounces so far), and the segment's end.
     vec4 ray_o[RAY_STACK], ray_d[RAY_STACK], ray_w[RAY_STACK];
@@ -124,4 +139,5 @@ void main() {
         }
     }
     f_color = vec4(color, alpha);
+#endif
 }

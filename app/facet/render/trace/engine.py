@@ -126,13 +126,15 @@ class Tracer:
         return unbounded, tlas is not None
 
     # -- drawing -------------------------------------------------------------------------
-    def _program(self, stage: str, state: FrameState, shadows: bool, aux=()) -> FullScreenPass:
+    def _program(self, stage: str, state: FrameState, shadows: bool, aux=(),
+                 secondary: bool = False) -> FullScreenPass:
         kinds = state.light_kinds
         defines = {SHADING_MODELS[state.shading].define: None, "TEX_SHIFT": pack.TEX_SHIFT,
                    "MAX_LIGHTS": 16, "LIGHT_COUNT": len(kinds)}
         if kinds:
             defines["LIGHT_KIND_LIST"] = f"int[{len(kinds)}]({', '.join(map(str, kinds))})"
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
+                 "SECONDARY": secondary and stage == "trace",
                  "HAS_ENVIRONMENT": state.environment is not None and stage == "trace"}
         defines.update({k: None for k, on in flags.items() if on})
         for name, location in aux_locations(aux).items():
@@ -166,7 +168,11 @@ class Tracer:
              shadows: bool) -> None:
         """Trace one supersample (``state``'s camera, jitter, lights, gloss tilt) into the
         bound target: premultiplied colour and coverage."""
-        program = self._program("trace", state, shadows)
+        # Reflection, refraction and transparency need the ray stack; without them a
+        # simpler program runs (glsl/trace/trace.frag, SECONDARY).
+        secondary = any(o.material.reflectivity > 0 or o.material.opacity < 1
+                        for o in scene.objects)
+        program = self._program("trace", state, shadows, secondary=secondary)
         self._bind(scene, state, program)
         prog = program.program
         prog.set("u_background", tuple(float(c) for c in background))

@@ -1,0 +1,159 @@
+"""Ray tracing benchmark: facet's GPU tracer (glsl/trace/, here on whatever GL the machine
+has) next to Embree (embreex, a bench-only dependency: pip install embreex) casting the same
+rays on the same cores in the same run.
+
+    python benchmarks/trace.py [--quick]
+
+Primary rays: one through every pixel centre of a 1024x1024 camera framing the mesh (facet:
+the exact-channel pass, ``outputs=("depth",)``; Embree: intersects_first). Shadow rays: one
+per hit pixel towards a directional light (facet: the colour pass with shadow rays minus
+the same without; Embree: intersects_any from the hit points). Build: facet's hierarchy
+(facet.geometry.bvh, numpy) against Embree's scene build. Then a frame of
+models/example.toml, traced with shadows and one bounce against rasterized with shadow
+maps, both at 4 samples per pixel. Prints tables; asserts nothing.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+HERE = Path(__file__).resolve().parent
+SHARED = HERE.parents[1] / "shared" / "models"
+SIZE = 1024
+LIGHT = np.array([-0.4, -1.0, -0.3]) / np.linalg.norm([-0.4, -1.0, -0.3])
+
+
+def _best(fn, runs=3) -> float:
+    times = []
+    for _ in range(runs):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def _meshes(quick: bool):
+    out = []
+    bunny = SHARED / "stanford-bunny.obj"
+    if bunny.is_file():
+        m = trimesh.load(bunny, process=False)
+        out.append(("bunny", np.asarray(m.vertices), np.asarray(m.faces)))
+    for sub in ((5,) if quick else (5, 8)):
+        ico = trimesh.creation.icosphere(subdivisions=sub)
+        out.append((f"icosphere {len(ico.faces) // 1000}k", np.asarray(ico.vertices),
+                    np.asarray(ico.faces)))
+    return out
+
+
+def _embree(vertices, faces, origins, dirs):
+    """(build s, primary s, hit points, shadow s) with embreex through trimesh."""
+    from trimesh.ray.ray_pyembree import RayMeshIntersector
+
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    t = time.perf_counter()
+    rmi = RayMeshIntersector(mesh)
+    rmi._scene  # builds and commits the Embree scene
+    build = time.perf_counter() - t
+    prim = _best(lambda: rmi.intersects_first(origins, dirs))
+    locations, ray_index, _ = rmi.intersects_location(origins, dirs, multiple_hits=False)
+    normals = mesh.face_normals[rmi.intersects_first(origins[ray_index], dirs[ray_index])]
+    start = locations + normals * 1e-4
+    shadow_dirs = np.broadcast_to(-LIGHT, start.shape).copy()
+    shadow = _best(lambda: rmi.intersects_any(start, shadow_dirs))
+    return build, prim, len(start), shadow
+
+
+def table(quick: bool) -> None:
+    import facet
+    from facet.geometry.bvh import build_bvh
+    from facet.render.renderer import Renderer
+
+    try:
+        import embreex  # noqa: F401
+        have_embree = True
+    except ImportError:
+        have_embree = False
+    print(f"\nRay tracing: {SIZE}x{SIZE}, one ray per pixel centre, rays/s in millions "
+          "(median of 3)" + ("" if have_embree else "; Embree: not installed "
+                             "(pip install embreex)"))
+    print(f"{'mesh':>16} {'faces':>8} | {'build s':>7} {'embree':>7} | {'primary':>8} "
+          f"{'embree':>7} {'ratio':>6} | {'shadow':>7} {'embree':>7} {'ratio':>6}")
+    with Renderer(SIZE, SIZE) as r:
+        for name, vertices, faces in _meshes(quick):
+            tri = vertices[faces].astype(np.float32)
+            build = _best(lambda tri=tri: build_bvh(tri.min(axis=1), tri.max(axis=1)), 1)
+            scene = facet.Scene()
+            scene.add(facet.Mesh(vertices, faces))
+            scene.add_light(facet.DirectionalLight(LIGHT))
+            camera = facet.Camera.frame(scene.bounds)
+            kw = dict(engine="trace", aa="none")
+            r.render(scene, camera, outputs=("depth",), **kw)  # upload, compile
+            primary = _best(lambda: r.render(scene, camera, outputs=("depth",), **kw))
+            hits = int((r.render(scene, camera, outputs=("depth",), **kw).depth > 0).sum())
+            lit = _best(lambda: r.render(scene, camera, outputs=("color",), shadows=False,
+                                         **kw))
+            shadowed = _best(lambda: r.render(scene, camera, outputs=("color",), shadows=True,
+                                              **kw))
+            rays = SIZE * SIZE
+            ours_p = rays / primary / 1e6
+            ours_s = hits / max(shadowed - lit, 1e-9) / 1e6
+            row = f"{name:>16} {len(faces):>8} | {build:7.2f} "
+            if have_embree:
+                origins, dirs = _rays(camera)
+                e_build, e_prim, e_hits, e_shadow = _embree(vertices, faces, origins, dirs)
+                e_p, e_s = rays / e_prim / 1e6, e_hits / e_shadow / 1e6
+                row += (f"{e_build:7.2f} | {ours_p:8.2f} {e_p:7.2f} {ours_p / e_p:6.2f} | "
+                        f"{ours_s:7.2f} {e_s:7.2f} {ours_s / e_s:6.2f}")
+            else:
+                row += f"{'-':>7} | {ours_p:8.2f} {'-':>7} {'-':>6} | {ours_s:7.2f}"
+            print(row)
+
+
+def _rays(camera):
+    """World origins and unit directions through every pixel centre (as the tracer)."""
+    i, j = np.meshgrid(np.arange(SIZE), np.arange(SIZE))
+    x, y = 2.0 * (i + 0.5) / SIZE - 1.0, 1.0 - 2.0 * (j + 0.5) / SIZE
+    inv = np.linalg.inv(camera.projection(SIZE, SIZE) @ camera.view)
+
+    def unproject(z):
+        p = np.stack([x, y, np.full_like(x, z, float), np.ones_like(x, float)], -1) @ inv.T
+        return p[..., :3] / p[..., 3:]
+
+    near, far = unproject(-1.0), unproject(1.0)
+    d = far - near
+    return near.reshape(-1, 3), (d / np.linalg.norm(d, axis=-1, keepdims=True)).reshape(-1, 3)
+
+
+def frame(quick: bool) -> None:
+    import facet
+    from facet.render.renderer import Renderer
+
+    scene = facet.load_scene(HERE.parent / "models" / "example.toml")
+    print("\nA frame: models/example.toml, 640x480, 4 samples per pixel, colour (median of 3)")
+    print(f"{'':>44} | {'ms':>8}")
+    with Renderer(640, 480) as r:
+        raster = dict(shadows=True, outputs=("color",))
+        traced = dict(engine="trace", shadows=True, max_depth=1, outputs=("color",))
+        for kw in (raster, traced):
+            r.render(scene, **kw)
+        t_raster = _best(lambda: r.render(scene, **raster))
+        t_trace = _best(lambda: r.render(scene, **traced))
+    print(f"{'rasterized, shadow maps, 4x MSAA':>44} | {t_raster * 1e3:8.1f}")
+    print(f"{'traced, shadow rays, one bounce, 4 spp':>44} | {t_trace * 1e3:8.1f}   "
+          f"ratio {t_trace / t_raster:.1f}")
+
+
+def main() -> None:
+    quick = "--quick" in sys.argv
+    table(quick)
+    frame(quick)
+
+
+if __name__ == "__main__":
+    main()
