@@ -147,6 +147,7 @@ def main() -> None:
         models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
         cold_table(2 if a.quick else 5, models)
     import antialias
+    import raytrace
     import shadows
     import transparency
     import turntable
@@ -157,6 +158,8 @@ def main() -> None:
     transparency.main()
     turntable.main()
     viewer.main()
+    raytrace.table(a.quick)
+    raytrace.frame(a.quick)
 
 
 if __name__ == "__main__":

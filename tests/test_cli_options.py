@@ -181,3 +181,39 @@ def test_a_gif_turntable_is_not_black(tmp_path):
     for frame in frames:  # the model is lit in every frame (the rig turns with the camera)
         model = frame.max(axis=-1) > 0
         assert model.mean() > 0.1 and frame[model].mean() > 60
+
+
+def test_the_ray_tracer_from_flags_scene_files_and_turntables(tmp_path):
+    """--engine trace, [render] engine = "trace" and a turntable all reach the tracer: the
+    same pixels from the flag and from the file, frame 0 of a traced turntable equal to the
+    traced single image, and a picture that differs from the rasterized one (the tracer's
+    default shadows)."""
+    plain = _shadow_scene(tmp_path)
+    single, raster = tmp_path / "t.png", tmp_path / "r.png"
+    assert main(["render", str(plain), "--engine", "trace", "--max-depth", "2", "--spp", "4",
+                 "-o", str(single), "-q"]) == 0
+    assert main(["render", str(plain), "-o", str(raster), "-q"]) == 0
+    traced = _png(single)
+    assert np.abs(traced - _png(raster)).max() > 40  # shadows by default when tracing
+    filed = _shadow_scene(tmp_path, 'engine = "trace"\nmax_depth = 2\naa = "jittered:4"')
+    assert main(["render", str(filed), "-o", str(tmp_path / "f.png"), "-q"]) == 0
+    assert np.array_equal(_png(tmp_path / "f.png"), traced)
+    frames = tmp_path / "tt-{:02d}.png"
+    assert main(["render", str(filed), "--turntable", "3", "-o", str(frames), "-q"]) == 0
+    assert np.array_equal(_png(str(frames).format(0)), traced)
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--engine", "path"], "invalid choice: 'path'"),
+    (["--engine", "trace", "--max-depth", "-1"], "max_depth: expected an integer in [0, 16]"),
+    (["--engine", "trace", "--spp", "0"], "spp must be an integer >= 1"),
+    (["--spp", "4", "--aa", "grid:4"], "give one of --aa, --msaa and --spp"),
+])
+def test_bad_tracer_flags(tmp_path, capsys, args, message):
+    try:
+        code = main(["render", *args, "-o", str(tmp_path / "x.png")])
+    except SystemExit as exc:  # argparse's own usage errors
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2 and message in err and len(err.strip().splitlines()) == 1, err
+    assert not (tmp_path / "x.png").exists()

@@ -295,3 +295,62 @@ def test_bad_tracer_options_and_a_scene_too_big(renderer):
             r.render(bigger, engine="trace", outputs=("color",))
     finally:
         tracer.max_texels = limit
+
+
+def test_an_infinite_plane_in_a_scene_file(tmp_path, renderer):
+    """plane with size = inf: left out of the scene's bounds (framing a ball on it works),
+    traced to the horizon, drawn by the rasterizer as a large square; both engines agree on
+    the floor's depth in front of the camera."""
+    from facet.scene import load_scene
+
+    path = tmp_path / "inf.toml"
+    path.write_text('[[objects]]\nprimitive = "plane"\nsize = inf\n[[objects]]\n'
+                    'primitive = "disk"\nradius = 0.4\n'
+                    'transform = [{translate = [1.2, 0.02, 0.5]}]\n'
+                    '[[objects]]\nprimitive = "sphere"\nradius = 0.5\n'
+                    'transform = [{translate = [0, 0.5, 0]}]\n')
+    scene = load_scene(path)
+    assert scene.objects[0].infinite and np.allclose(scene.bounds, [[-0.5, 0, -0.5],
+                                                                    [1.6, 1.0, 0.9]])
+    camera = Camera.look_at((0, 1.0, 4.0), (0, 0.3, 0), fov_y=60, near=0.1, far=100)
+    r = renderer(S, S)
+    traced = r.render(scene, camera, engine="trace", outputs=("depth", "ids"), aa="none")
+    raster = r.render(scene, camera, outputs=("depth", "ids"), msaa=0)
+    floor = (traced.object_ids == 0) & (raster.object_ids == 0)
+    assert floor.sum() > 0.25 * S * S
+    rel = np.abs(traced.depth - raster.depth)[floor] / raster.depth[floor]
+    assert rel.max() < 1e-3
+    assert set(np.unique(traced.object_ids)) == {-1, 0, 1, 2}
+
+
+def test_a_million_triangles_fit_and_stay_exact(renderer):
+    """A 1.3M-triangle icosphere: the hierarchy builds, the scene uploads, and the traced
+    depth is the sphere's own within 1e-4 (its facets are a micrometre off the sphere)."""
+    import trimesh
+
+    from facet.scene import Mesh
+
+    ico = trimesh.creation.icosphere(subdivisions=8)
+    v = np.asarray(ico.vertices)
+    scene = Scene()
+    scene.add(Mesh(v, np.asarray(ico.faces), v), Material())
+    assert scene.objects[0].mesh.face_count == 1_310_720
+    camera = CAMERAS["perspective"]
+    frame = renderer(32, 32).render(scene, camera, engine="trace", outputs=("depth",))
+    origins, dirs = pixel_rays(camera.view, camera.projection(32, 32), 32, 32)
+    t = ray_sphere_object(origins, dirs, 1.0)
+    hit = np.isfinite(t) & (frame.depth > 0)
+    expected = linear_depth(camera.view, origins + np.where(hit, t, 0)[..., None] * dirs)
+    assert hit.sum() > 200
+    assert (np.abs(frame.depth - expected)[hit] / expected[hit]).max() < 1e-4
+
+
+@pytest.mark.parametrize("make,message", [
+    (lambda: shapes.Sphere(-1), "sphere radius must be a number > 0"),
+    (lambda: shapes.Box((1, 0, 1)), "box size must be"),
+    (lambda: shapes.Cone(0.5, float("nan")), "cone height must be a number > 0"),
+    (lambda: shapes.Plane((1, -2)), "plane size must be"),
+])
+def test_bad_shapes(make, message):
+    with pytest.raises(InputError, match=message):
+        make()

@@ -581,3 +581,33 @@ def test_shader_window_opens_at_its_documented_size(display, tmp_path):
     finally:
         proc.kill()
         proc.wait()
+
+
+def test_the_engine_key_refines_the_traced_picture(window, tmp_path):
+    """`e` switches to the ray tracer: with the camera still the window refines to the
+    headless traced render of the same camera (4 samples for the default msaa:4)."""
+    from facet.render.renderer import Renderer
+    from facet.scene import Mesh, Scene
+    from test_golden import CHANNEL_TOL, MAX_DIFFERING
+
+    w = window()
+    w.key("e")
+    time.sleep(3.0)  # 4 traced samples, one per frame
+    w.key("s")
+    shots = _wait_for(tmp_path, "facet-*.png")
+    assert w.quit() == 0 and "engine: trace" in w.proc.stdout.read()
+    info = json.loads(shots[0].with_suffix(".json").read_text())
+    from facet.geometry.camera import Camera
+
+    camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
+                    far=info["far"])
+    scene = Scene()
+    scene.add(Mesh.load(ROOT / "models" / "default.obj"))
+    with Renderer(W, H) as r:
+        traced = r.render(scene, camera, engine="trace", outputs=("color",)).color[..., :3]
+        raster = r.render(scene, camera, outputs=("color",)).color[..., :3]
+    shot = np.asarray(Image.open(shots[0])).astype(int)
+    diff = np.abs(shot - traced).max(axis=2)
+    assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()
+    # Really the tracer: its shadow rays darken the knot where it hides itself.
+    assert (np.abs(traced.astype(int) - raster).max(axis=2) > 30).mean() > 0.01

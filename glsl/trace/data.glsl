@@ -14,7 +14,8 @@ uniform sampler2D u_nodes;       // meshes' hierarchies, NODE_TEXELS per inner n
 uniform sampler2D u_instances;   // INSTANCE_TEXELS per placed object (see scene.glsl)
 uniform sampler2D u_tlas;        // the top level over instances, laid out like u_nodes
 uniform int u_unbounded;         // instances [0, u_unbounded) are infinite: not in u_tlas
-uniform bool u_has_tlas;
+uniform bool u_has_tlas;         // false: at most one bounded instance, u_single
+uniform int u_single;            // that instance, or -1
 
 const float INF = 1e30;
 // A hierarchy node holds both children's boxes: texels (left lo, ref), (left hi, count),

@@ -36,15 +36,17 @@ void main() {
     vec3 d = normalize(span);
     Hit h = trace_scene(o, d, length(span), true);
     if (h.inst < 0) discard;  // the targets were cleared to 0
-    Surface s = surface_at(h, o, d);
     f_color = vec4(0.0);
+#if defined(OUT_NORMALS) || defined(OUT_POSITION) || defined(OUT_UV) || defined(OUT_DEPTH)
+    Surface s = surface_at(h, o, d);
+#endif
 #ifdef OUT_DEPTH
     // Linear depth along the camera axis: (p - eye) . forward; a parallel projection's
     // "eye" is any point on its axis plane, the same formula holds.
     f_depth = dot(s.p - u_eye_world, u_forward);
 #endif
 #ifdef OUT_IDS
-    f_object_id = s.id + 1;
+    f_object_id = int(fetch(u_instances, h.inst * INSTANCE_TEXELS + 6).z) + 1;
 #endif
 #ifdef OUT_NORMALS
     f_normal = vec4(s.n, 0.0);

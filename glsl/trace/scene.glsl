@@ -32,8 +32,10 @@ float instance_opacity(int i) {
 // Instance i against the ray, in its object space (t keeps its world meaning).
 bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
     int base = i * INSTANCE_TEXELS;
-    vec3 oo = apply_rows(base, o, 1.0);
-    vec3 od = apply_rows(base, d, 0.0);
+    vec4 r0 = fetch(u_instances, base), r1 = fetch(u_instances, base + 1);
+    vec4 r2 = fetch(u_instances, base + 2);
+    vec3 oo = vec3(dot(r0, vec4(o, 1.0)), dot(r1, vec4(o, 1.0)), dot(r2, vec4(o, 1.0)));
+    vec3 od = vec3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
     vec4 info = fetch(u_instances, base + 6);
     int kind = int(info.x);
     if (kind == KIND_MESH) {
@@ -75,7 +77,11 @@ Hit trace_scene(vec3 o, vec3 d, float t_max, bool opaque_only) {
     for (int i = 0; i < u_unbounded; ++i) {
         if (!opaque_only || instance_opacity(i) >= 1.0) hit_instance(i, o, d, h, false);
     }
-    if (!u_has_tlas) return h;
+    if (!u_has_tlas) {  // one placed object: no top level to walk
+        if (u_single >= 0 && (!opaque_only || instance_opacity(u_single) >= 1.0))
+            hit_instance(u_single, o, d, h, false);
+        return h;
+    }
     vec3 inv = safe_inverse(d);
     int stack[STACK_SIZE];
     int sp = 0;
@@ -102,6 +108,10 @@ Hit trace_scene(vec3 o, vec3 d, float t_max, bool opaque_only) {
 // times (1 - opacity) for each transparent one (as the rasterizer's shadow maps count it).
 float trace_shadow(vec3 o, vec3 d, float t_max) {
     float through = 1.0;
+    if (!u_has_tlas && u_single >= 0) {
+        Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
+        if (hit_instance(u_single, o, d, h, true)) through *= 1.0 - instance_opacity(u_single);
+    }
     for (int i = 0; i < u_unbounded + (u_has_tlas ? 1 : 0); ++i) {
         // Unbounded instances first, then the top level (one more pass of this loop).
         if (i < u_unbounded) {

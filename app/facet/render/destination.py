@@ -73,5 +73,5 @@ class Destination:
         """Which of ``n`` supersamples to draw now: all offscreen, one more in a window."""
         if self.window is None:
             return range(n)
-        k = min(self.sample, n - 1)
+        k = 0 if self.sample is None else min(self.sample, n - 1)  # a preview: one
         return range(k, k + 1)

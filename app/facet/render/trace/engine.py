@@ -117,13 +117,16 @@ class Tracer:
         self._geometry(scene)
         self._texture_layers(scene, state.srgb)
 
-    def _instances(self, scene, state: FrameState) -> tuple[int, bool]:
+    def _instances(self, scene, state: FrameState) -> tuple[int, bool, int]:
+        """Upload the placed objects: (unbounded count, has a top level, the single
+        bounded instance without one or -1)."""
         rows, tlas, unbounded = pack.pack_instances(scene.objects, self._roots,
                                                     state.to_linear, self._layers)
         self._upload("instances", rows.reshape(-1, 4))
         self._upload("tlas", tlas.reshape(-1, 4) if tlas is not None else
                      np.zeros((4, 4), np.float32))
-        return unbounded, tlas is not None
+        single = unbounded if tlas is None and len(rows) > unbounded else -1
+        return unbounded, tlas is not None, single
 
     # -- drawing -------------------------------------------------------------------------
     def _program(self, stage: str, state: FrameState, shadows: bool, aux=(),
@@ -150,7 +153,7 @@ class Tracer:
         return self.programs[key]
 
     def _bind(self, scene, state: FrameState, program: FullScreenPass) -> None:
-        unbounded, has_tlas = self._instances(scene, state)
+        unbounded, has_tlas, single = self._instances(scene, state)
         self.lights_ubo.write(state.lights_block)
         self.lights_ubo.bind_to_uniform_block(1)
         prog = program.program
@@ -160,6 +163,7 @@ class Tracer:
             prog.set(f"u_{name}", UNITS[name], strict=False)
         prog.set("u_unbounded", unbounded, strict=False)
         prog.set("u_has_tlas", has_tlas, strict=False)
+        prog.set("u_single", single, strict=False)
         inv = np.linalg.inv(state.view_projection())
         prog.set("u_inv_view_projection", inv)
         prog.set("u_viewport", (float(state.width), float(state.height)))

@@ -25,6 +25,7 @@ TEX_WIDTH = 1 << TEX_SHIFT  # texels per texture row (glsl/trace/data.glsl)
 NODE_TEXELS = 4
 INSTANCE_TEXELS = 11
 KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
+MAX_REFERENCE = 1 << 24  # node and triangle indices are exact in float32 up to here
 EMPTY_CHILD = ((1e30, 1e30, 1e30, -1.0), (-1e30, -1e30, -1e30, 0.0))  # lo > hi: never hit
 
 
@@ -96,6 +97,10 @@ def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
            "index": index.astype(np.int32),
            "vertices": np.concatenate([m.vertices for m in meshes]).reshape(-1, 4),
            "nodes": nodes.reshape(-1, 4), "root": node_off[:-1]}
+    if tri_off[-1] > MAX_REFERENCE or node_off[-1] > MAX_REFERENCE:
+        raise InputError(f"the scene has {int(tri_off[-1]):,} triangles; the ray tracer "
+                         f"holds at most {MAX_REFERENCE:,} (its references are float32); "
+                         "use the rasterizer (engine='raster') or simplify the meshes")
     for name in ("tris", "vertices", "nodes"):
         if len(out[name]) > max_texels:
             raise InputError(f"the scene has {int(tri_off[-1]):,} triangles, more than the "
@@ -107,12 +112,13 @@ def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
 
 def pack_instances(objects, mesh_root: dict, to_linear, layers: dict):
     """(instances (n, INSTANCE_TEXELS, 4) float32, top-level nodes or None, unbounded count)
-    for the scene's ``objects``: infinite planes first, then the rest in top-level order.
+    for the scene's ``objects``: infinite planes first, then the rest in top-level order
+    (one bounded object needs no top level: the tracer tests it directly).
     ``mesh_root``: id(mesh) -> its root node; ``layers``: id(texture) -> texture layer."""
     unbounded = [o for o in objects if o.infinite]
     bounded = [o for o in objects if not o.infinite]
     tlas = None
-    if bounded:
+    if len(bounded) > 1:
         boxes = np.array([_world_box(o) for o in bounded])
         bvh = build_bvh(boxes[:, 0], boxes[:, 1])
         bounded = [bounded[i] for i in bvh.order]

@@ -2,12 +2,13 @@
 has) next to Embree (embreex, a bench-only dependency: pip install embreex) casting the same
 rays on the same cores in the same run.
 
-    python benchmarks/trace.py [--quick]
+    python benchmarks/raytrace.py [--quick]
 
-Primary rays: one through every pixel centre of a 1024x1024 camera framing the mesh (facet:
-the exact-channel pass, ``outputs=("depth",)``; Embree: intersects_first). Shadow rays: one
-per hit pixel towards a directional light (facet: the colour pass with shadow rays minus
-the same without; Embree: intersects_any from the hit points). Build: facet's hierarchy
+Primary rays: one through every pixel centre of a 1024x1024 camera framing the mesh, the
+nearest hit's object or triangle (facet: the exact-channel pass, ``outputs=("ids",)``;
+Embree: rtcIntersect's primID). Shadow rays: one per hit pixel towards a directional light
+(facet: the colour pass with shadow rays minus the same without; Embree: rtcOccluded from
+the hit points). Build: facet's hierarchy
 (facet.geometry.bvh, numpy) against Embree's scene build. Then a frame of
 models/example.toml, traced with shadows and one bounce against rasterized with shadow
 maps, both at 4 samples per pixel. Prints tables; asserts nothing.
@@ -52,21 +53,29 @@ def _meshes(quick: bool):
 
 
 def _embree(vertices, faces, origins, dirs):
-    """(build s, primary s, hit points, shadow s) with embreex through trimesh."""
-    from trimesh.ray.ray_pyembree import RayMeshIntersector
+    """(build s, primary s, hit count, shadow s) with embreex (float32 rays, as facet's)."""
+    from embreex import rtcore_scene
+    from embreex.mesh_construction import TriangleMesh
 
-    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    tri = vertices[faces].astype(np.float32)
+    o, d = origins.astype(np.float32), dirs.astype(np.float32)
     t = time.perf_counter()
-    rmi = RayMeshIntersector(mesh)
-    rmi._scene  # builds and commits the Embree scene
+    scene = rtcore_scene.EmbreeScene()
+    TriangleMesh(scene, tri)
+    scene.run(o[:1], d[:1])  # the first query commits the scene
     build = time.perf_counter() - t
-    prim = _best(lambda: rmi.intersects_first(origins, dirs))
-    locations, ray_index, _ = rmi.intersects_location(origins, dirs, multiple_hits=False)
-    normals = mesh.face_normals[rmi.intersects_first(origins[ray_index], dirs[ray_index])]
-    start = locations + normals * 1e-4
-    shadow_dirs = np.broadcast_to(-LIGHT, start.shape).copy()
-    shadow = _best(lambda: rmi.intersects_any(start, shadow_dirs))
-    return build, prim, len(start), shadow
+    prim = _best(lambda: scene.run(o, d))  # nearest hit: the triangle per ray
+    found = scene.run(o, d, output=1)
+    hit = found["geomID"] >= 0
+    start = o[hit] + d[hit] * found["tfar"][hit, None]
+    normals = np.cross(tri[found["primID"][hit], 1] - tri[found["primID"][hit], 0],
+                       tri[found["primID"][hit], 2] - tri[found["primID"][hit], 0])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    normals *= -np.sign(np.sum(normals * d[hit], axis=1))[:, None]  # towards the eye
+    start = (start + normals * 1e-4).astype(np.float32)
+    to_light = np.broadcast_to(-LIGHT, start.shape).astype(np.float32)
+    shadow = _best(lambda: scene.run(start, to_light, query="OCCLUDED"))
+    return build, prim, int(hit.sum()), shadow
 
 
 def table(quick: bool) -> None:
@@ -92,14 +101,7 @@ def table(quick: bool) -> None:
             scene.add(facet.Mesh(vertices, faces))
             scene.add_light(facet.DirectionalLight(LIGHT))
             camera = facet.Camera.frame(scene.bounds)
-            kw = dict(engine="trace", aa="none")
-            r.render(scene, camera, outputs=("depth",), **kw)  # upload, compile
-            primary = _best(lambda: r.render(scene, camera, outputs=("depth",), **kw))
-            hits = int((r.render(scene, camera, outputs=("depth",), **kw).depth > 0).sum())
-            lit = _best(lambda: r.render(scene, camera, outputs=("color",), shadows=False,
-                                         **kw))
-            shadowed = _best(lambda: r.render(scene, camera, outputs=("color",), shadows=True,
-                                              **kw))
+            primary, hits, lit, shadowed = _facet_times(r, scene, camera)
             rays = SIZE * SIZE
             ours_p = rays / primary / 1e6
             ours_s = hits / max(shadowed - lit, 1e-9) / 1e6
@@ -113,6 +115,19 @@ def table(quick: bool) -> None:
             else:
                 row += f"{'-':>7} | {ours_p:8.2f} {'-':>7} {'-':>6} | {ours_s:7.2f}"
             print(row)
+
+
+def _facet_times(r, scene, camera):
+    """(primary s, hit pixels, colour s, colour with shadow rays s) of facet's tracer."""
+    def run(outputs, shadows=False):
+        return r.render(scene, camera, outputs=outputs, shadows=shadows, engine="trace",
+                        aa="none")
+
+    run(("ids",))  # upload, compile
+    primary = _best(lambda: run(("ids",)))
+    hits = int((run(("ids",)).object_ids >= 0).sum())
+    return (primary, hits, _best(lambda: run(("color",))),
+            _best(lambda: run(("color",), True)))
 
 
 def _rays(camera):
