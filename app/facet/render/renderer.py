@@ -33,16 +33,14 @@ from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..scene.light import active_lights
 from ..scene.options import (
-    AntiAliasing,
     RenderOptions,
     clamp_msaa,
     options_for,
-    parse_aa,
     parse_layer,
 )
 from ..scene.scene import Scene
 from .antialias import (
-    accumulation,
+    colour_sampling,
     distributed_sample,
     gloss_jitter,
     has_area_lights,
@@ -80,9 +78,7 @@ class Renderer:
         self.ctx = glcontext.create_headless() if context is None else context
         self.cache = ResourceCache(self.ctx)
         self.forward = ForwardPass(self.ctx, self.cache)
-        self._shadows: ShadowMaps | None = None  # the shadow atlas, made on first use
-        self._finisher: Finisher | None = None
-        self._trace = None  # the ray tracer (facet.render.trace), made on first use
+        self._parts: dict = {}  # shadow atlas, finishing pass, ray tracer: made on first use
         self._surfaces: Surfaces | None = None
         self._closed = False
         with self.ctx:
@@ -143,8 +139,7 @@ class Renderer:
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
         """How many supersamples the colour of this render sums (0: one picture)."""
         opts = self.options(scene, options, **kwargs)
-        aa = self._sampling(scene, with_lens(camera, opts.aperture, opts.focus), opts,
-                            Destination())
+        aa = colour_sampling(opts, scene, with_lens(camera, opts.aperture, opts.focus))
         return aa.samples if aa is not None else 0
 
     # -- the pass sequence ---------------------------------------------------------------
@@ -152,12 +147,12 @@ class Renderer:
         scene, state = self._prepare(scene, camera, opts, dest)  # 1
         surf = self._surfaces_for(opts.size)
         trace = opts.engine == "trace"
-        aa = self._sampling(scene, state.camera, opts, dest)
+        aa = colour_sampling(opts, scene, state.camera, dest.preview)
         centre = point_lights_for(scene)  # an area light without supersamples: its centre
         if trace:  # the tracer casts shadow rays: its geometry instead of shadow maps
-            self._tracer().prepare(scene, state)
+            self._part("tracer").prepare(scene, state)
         elif opts.shadows_on and not (aa is not None and has_area_lights(scene)):  # 2
-            state = state.with_(shadows=self._shadow_maps().draw(centre, opts.pcf))
+            state = state.with_(shadows=self._part("shadows").draw(centre, opts.pcf))
         aux = dest.channels(opts)
         # Without MSAA, supersampling or users' shaders, colour and the exact channels come
         # from one pass (multiple render targets); otherwise the exact ones get their own.
@@ -176,19 +171,6 @@ class Renderer:
         return Frame(color, channels.get("depth"), channels.get("ids"), state.camera,
                      channels.get("normals"), channels.get("position"), channels.get("uv"),
                      opts.size)
-
-    def _sampling(self, scene, camera, opts, dest) -> AntiAliasing | None:
-        """The supersamples colour sums, None for one picture. A window's moving view gets
-        one plain picture (the tracer's: one ray through each pixel's centre). The tracer
-        always sums: msaa:N becomes N samples (a grid if N is square, else jittered)."""
-        trace = opts.engine == "trace"
-        if dest.preview:
-            return parse_aa("ssaa:grid:1") if trace else None
-        aa = accumulation(opts.aa, scene, camera, opts.shadows_on)
-        if trace and aa is None:
-            n = opts.aa.msaa or 1
-            aa = parse_aa(f"ssaa:{'grid' if round(n ** 0.5) ** 2 == n else 'jittered'}:{n}")
-        return aa
 
     def _prepare(self, scene, camera, opts: RenderOptions, dest: Destination):
         """The scene as this render sees it, and the frame's state (step 1)."""
@@ -229,7 +211,7 @@ class Renderer:
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         if trace:
-            self._tracer().draw_exact(scene, state, aux)
+            self._part("tracer").draw_exact(scene, state, aux)
             return {name: surf.targets.read_aux(name) for name in aux}
         opaque, _ = split_transparent(scene)
         self.forward.draw(opaque, state.with_(shading="unlit", shadows=None, environment=None),
@@ -288,11 +270,11 @@ class Renderer:
             trace = opts.engine == "trace"
             if opts.shadows_on and not trace and has_area_lights(scene) and not plain:
                 # The maps follow the area lights' points.
-                sample = sample.with_(shadows=self._shadow_maps().draw(scene_k, opts.pcf, k))
+                sample = sample.with_(shadows=self._part("shadows").draw(scene_k, opts.pcf, k))
             acc.begin_sample(clear)
             self.ctx.enable_only(self.ctx.DEPTH_TEST)
             if trace:
-                self._tracer().draw(scene_k, sample, bg, opts.max_depth, opts.shadows_on)
+                self._part("tracer").draw(scene_k, sample, bg, opts.max_depth, opts.shadows_on)
                 acc.add_sample()
                 continue
             opaque, transparent = split_transparent(scene_k)
@@ -315,27 +297,27 @@ class Renderer:
         if dest.window is not None:
             dest.window.viewport = (0, 0, *opts.size)
             if needed:
-                self._finishing().draw(source, dest.window, finish)
+                self._part("finisher").draw(source, dest.window, finish)
             elif source_fbo is not dest.window:
                 self.ctx.copy_framebuffer(dest.window, source_fbo)
             return None
         if not needed:
             return t.read_color(source_fbo, out)
-        self._finishing().draw(source, t.output(out), finish)
+        self._part("finisher").draw(source, t.output(out), finish)
         return t.read_color(t.output(out), out)
 
     # -- resources -----------------------------------------------------------------------
-    def _tracer(self):
-        if self._trace is None:
-            from .trace.engine import Tracer
+    def _part(self, name: str):
+        """The shadow maps, the finishing pass or the ray tracer, made on first use."""
+        if name not in self._parts:
+            if name == "tracer":
+                from .trace.engine import Tracer  # the tracer's modules load only if used
 
-            self._trace = Tracer(self.ctx, self.cache)
-        return self._trace
-
-    def _shadow_maps(self) -> ShadowMaps:
-        if self._shadows is None:
-            self._shadows = ShadowMaps(self.ctx, self.cache)
-        return self._shadows
+                self._parts[name] = Tracer(self.ctx, self.cache)
+            else:
+                self._parts[name] = ShadowMaps(self.ctx, self.cache) if name == "shadows" \
+                    else Finisher(self.ctx)
+        return self._parts[name]
 
     def _surfaces_for(self, size) -> Surfaces:
         """The size-dependent targets, made anew when the size changes."""
@@ -348,11 +330,6 @@ class Renderer:
                 self._surfaces.release()
             self._surfaces = new
         return self._surfaces
-
-    def _finishing(self) -> Finisher:
-        if self._finisher is None:
-            self._finisher = Finisher(self.ctx)
-        return self._finisher
 
     def resize(self, width: int, height: int) -> None:
         """A new default size for later calls (a window was resized)."""
@@ -372,10 +349,8 @@ class Renderer:
         with self.ctx:
             if self._surfaces is not None:
                 self._surfaces.release()
-            for part in (self._finisher, self._shadows, self._trace, self.forward,
-                         self.cache):
-                if part is not None:
-                    part.release()
+            for part in (*self._parts.values(), self.forward, self.cache):
+                part.release()
         if self._own_context:
             self.ctx.release()
 
