@@ -26,53 +26,60 @@ bool hit_triangle(int tri, vec3 o, vec3 d, inout float t, out vec2 bary) {
     return true;
 }
 
-// One child of a node: its entry distance (INF when missed); a leaf's triangles are tested
-// at once (``found`` and t, tri, bary updated), an inner child's index goes to ``inner``.
-void visit_child(vec4 lo, vec4 hi, vec3 o, vec3 d, vec3 inv, inout float t, inout int tri,
-                 inout vec2 bary, inout bool found, out float entry, out int inner) {
-    entry = box_entry(lo.xyz, hi.xyz, o, inv, t);
-    inner = -1;
-    if (entry >= INF) return;
-    if (lo.w >= 0.0) {
-        inner = int(lo.w);
-        return;
-    }
-    int first = int(-lo.w) - 1;
-    int last = first + int(hi.w);
-    for (int k = first; k < last; ++k) {
-        vec2 b;
-        if (hit_triangle(k, o, d, t, b)) {
-            tri = k;
-            bary = b;
-            found = true;
-        }
-    }
-}
-
 // The mesh hierarchy at node ``root``: its nearest triangle hit in (0, t) (t, tri, bary
 // updated), or with ``any_hit`` the first one found. True when something was hit.
+// One flat loop with one triangle test: a leaf's triangles are tested as soon as its box
+// is hit, the nearer of two inner children is opened next and the farther one waits on
+// the stack (one call site of hit_triangle keeps the program small, which on llvmpipe is
+// speed; the flat loop also keeps SIMD lanes together).
 bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout vec2 bary,
                 bool any_hit) {
     vec3 inv = safe_inverse(d);
     int stack[STACK_SIZE];
     int sp = 0;
     int node = root;
+    int k = 0, end = 0;    // the triangles being tested
+    int k2 = 0, end2 = 0;  // a second leaf of the same node, tested next
     bool found = false;
-    while (node >= 0) {
+    for (;;) {
+        if (k < end) {
+            vec2 b;
+            if (hit_triangle(k, o, d, t, b)) {
+                tri = k;
+                bary = b;
+                found = true;
+                if (any_hit) return true;
+            }
+            ++k;
+            continue;
+        }
+        if (k2 < end2) {
+            k = k2;
+            end = end2;
+            end2 = 0;
+            continue;
+        }
+        if (node < 0) break;
         int base = node * NODE_TEXELS;
-        float entry_l, entry_r;
-        int inner_l, inner_r;
-        visit_child(fetch(u_nodes, base), fetch(u_nodes, base + 1), o, d, inv, t, tri, bary,
-                    found, entry_l, inner_l);
-        visit_child(fetch(u_nodes, base + 2), fetch(u_nodes, base + 3), o, d, inv, t, tri,
-                    bary, found, entry_r, inner_r);
-        if (found && any_hit) return true;
-        if (inner_l >= 0 && inner_r >= 0) {
-            bool left_first = entry_l <= entry_r;
-            if (sp < STACK_SIZE) stack[sp++] = left_first ? inner_r : inner_l;
-            node = left_first ? inner_l : inner_r;
-        } else if (inner_l >= 0 || inner_r >= 0) {
-            node = max(inner_l, inner_r);
+        vec4 lo0 = fetch(u_nodes, base), hi0 = fetch(u_nodes, base + 1);
+        vec4 lo1 = fetch(u_nodes, base + 2), hi1 = fetch(u_nodes, base + 3);
+        float e0 = box_entry(lo0.xyz, hi0.xyz, o, inv, t);
+        float e1 = box_entry(lo1.xyz, hi1.xyz, o, inv, t);
+        int inner0 = -1, inner1 = -1;
+        if (e0 < INF) {
+            if (lo0.w >= 0.0) inner0 = int(lo0.w);
+            else { k = int(-lo0.w) - 1; end = k + int(hi0.w); }
+        }
+        if (e1 < INF) {
+            if (lo1.w >= 0.0) inner1 = int(lo1.w);
+            else { k2 = int(-lo1.w) - 1; end2 = k2 + int(hi1.w); }
+        }
+        if (inner0 >= 0 && inner1 >= 0) {
+            bool first0 = e0 <= e1;
+            if (sp < STACK_SIZE) stack[sp++] = first0 ? inner1 : inner0;
+            node = first0 ? inner0 : inner1;
+        } else if (inner0 >= 0 || inner1 >= 0) {
+            node = max(inner0, inner1);
         } else {
             node = sp > 0 ? stack[--sp] : -1;
         }

@@ -53,54 +53,54 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
     return true;
 }
 
-float h_entry;  // the entry distance of the last tlas_child (a second result)
-
-// Child c of top-level node ``node``: its instances are tested when it is a leaf; returns
-// the index of an inner child whose box the ray enters (else -1), its entry in h_entry.
-int tlas_child(int node, int c, vec3 o, vec3 d, vec3 inv, inout Hit h, bool opaque_only) {
-    vec4 lo = fetch(u_tlas, node * NODE_TEXELS + 2 * c);
-    vec4 hi = fetch(u_tlas, node * NODE_TEXELS + 2 * c + 1);
-    h_entry = box_entry(lo.xyz, hi.xyz, o, inv, h.t);
-    if (h_entry >= INF) return -1;
-    if (lo.w >= 0.0) return int(lo.w);
-    int first = int(-lo.w) - 1;
-    for (int k = first; k < first + int(hi.w); ++k) {
-        if (!opaque_only || instance_opacity(k) >= 1.0) hit_instance(k, o, d, h, false);
-    }
-    return -1;
+// The candidates of a ray, one instance at a time: first the instances outside the top
+// level ([0, u_unbounded), and u_single = u_unbounded when there is no top level), then the
+// leaves of the top level as the ray enters their boxes (tested against the nearest hit so
+// far), nearer child first. One loop with one call of hit_instance: every call site of it
+// inlines a whole mesh traversal, and on CPU-emulated GL (llvmpipe) each copy costs time
+// even where it never runs. WALK(t_max, body) runs body with int i for each candidate;
+// the stack holds top-level children: a node index, or a leaf -(first + 1) and its count.
+#define WALK(T_MAX, BODY) {                                                             \
+    vec3 inv_ = safe_inverse(d);                                                       \
+    int stack_[STACK_SIZE], count_[STACK_SIZE];                                        \
+    int sp_ = 0, k_ = 0, node_ = u_has_tlas ? 0 : -1;                                  \
+    int end_ = u_unbounded + (!u_has_tlas && u_single >= 0 ? 1 : 0);                   \
+    for (;;) {                                                                         \
+        if (k_ < end_) {                                                               \
+            int i = k_++;                                                              \
+            BODY                                                                       \
+            continue;                                                                  \
+        }                                                                              \
+        if (node_ >= 0) {                                                              \
+            int b_ = node_ * NODE_TEXELS;                                              \
+            vec4 lo0 = fetch(u_tlas, b_), hi0 = fetch(u_tlas, b_ + 1);                 \
+            vec4 lo1 = fetch(u_tlas, b_ + 2), hi1 = fetch(u_tlas, b_ + 3);             \
+            float e0 = box_entry(lo0.xyz, hi0.xyz, o, inv_, T_MAX);                    \
+            float e1 = box_entry(lo1.xyz, hi1.xyz, o, inv_, T_MAX);                    \
+            bool near0 = e0 <= e1;                                                     \
+            node_ = -1;                                                                \
+            if (max(e0, e1) < INF && sp_ < STACK_SIZE) {                               \
+                stack_[sp_] = int(near0 ? lo1.w : lo0.w);                              \
+                count_[sp_++] = int(near0 ? hi1.w : hi0.w);                            \
+            }                                                                          \
+            if (min(e0, e1) < INF && sp_ < STACK_SIZE) {                               \
+                stack_[sp_] = int(near0 ? lo0.w : lo1.w);                              \
+                count_[sp_++] = int(near0 ? hi0.w : hi1.w);                            \
+            }                                                                          \
+            continue;                                                                  \
+        }                                                                              \
+        if (sp_ == 0) break;                                                           \
+        int e_ = stack_[--sp_];                                                        \
+        if (e_ >= 0) node_ = e_;                                                       \
+        else { k_ = -e_ - 1; end_ = k_ + count_[sp_]; }                                \
+    }                                                                                  \
 }
 
 // The nearest hit of o + t d for t in (0, t_max); ``opaque_only`` skips transparent objects
 // (the exact channels describe the nearest opaque surface, as the rasterizer's do).
 Hit trace_scene(vec3 o, vec3 d, float t_max, bool opaque_only) {
     Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
-    for (int i = 0; i < u_unbounded; ++i) {
-        if (!opaque_only || instance_opacity(i) >= 1.0) hit_instance(i, o, d, h, false);
-    }
-    if (!u_has_tlas) {  // one placed object: no top level to walk
-        if (u_single >= 0 && (!opaque_only || instance_opacity(u_single) >= 1.0))
-            hit_instance(u_single, o, d, h, false);
-        return h;
-    }
-    vec3 inv = safe_inverse(d);
-    int stack[STACK_SIZE];
-    int sp = 0;
-    int node = 0;
-    while (node >= 0) {
-        int inner_l = tlas_child(node, 0, o, d, inv, h, opaque_only);
-        float entry_l = h_entry;
-        int inner_r = tlas_child(node, 1, o, d, inv, h, opaque_only);
-        float entry_r = h_entry;
-        if (inner_l >= 0 && inner_r >= 0) {
-            bool left_first = entry_l <= entry_r;
-            if (sp < STACK_SIZE) stack[sp++] = left_first ? inner_r : inner_l;
-            node = left_first ? inner_l : inner_r;
-        } else if (inner_l >= 0 || inner_r >= 0) {
-            node = max(inner_l, inner_r);
-        } else {
-            node = sp > 0 ? stack[--sp] : -1;
-        }
-    }
+    WALK(h.t, if (!opaque_only || instance_opacity(i) >= 1.0) hit_instance(i, o, d, h, false);)
     return h;
 }
 
@@ -108,40 +108,10 @@ Hit trace_scene(vec3 o, vec3 d, float t_max, bool opaque_only) {
 // times (1 - opacity) for each transparent one (as the rasterizer's shadow maps count it).
 float trace_shadow(vec3 o, vec3 d, float t_max) {
     float through = 1.0;
-    if (!u_has_tlas && u_single >= 0) {
+    WALK(t_max, {
         Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
-        if (hit_instance(u_single, o, d, h, true)) through *= 1.0 - instance_opacity(u_single);
-    }
-    for (int i = 0; i < u_unbounded + (u_has_tlas ? 1 : 0); ++i) {
-        // Unbounded instances first, then the top level (one more pass of this loop).
-        if (i < u_unbounded) {
-            Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
-            if (hit_instance(i, o, d, h, true)) through *= 1.0 - instance_opacity(i);
-            continue;
-        }
-        vec3 inv = safe_inverse(d);
-        int stack[STACK_SIZE];
-        int sp = 0;
-        int node = 0;
-        while (node >= 0 && through > 0.0) {
-            int inner[2];
-            for (int c = 0; c < 2; ++c) {
-                vec4 lo = fetch(u_tlas, node * NODE_TEXELS + 2 * c);
-                vec4 hi = fetch(u_tlas, node * NODE_TEXELS + 2 * c + 1);
-                bool hit_box = box_entry(lo.xyz, hi.xyz, o, inv, t_max) < INF;
-                inner[c] = hit_box && lo.w >= 0.0 ? int(lo.w) : -1;
-                if (!hit_box || lo.w >= 0.0) continue;
-                int first = int(-lo.w) - 1;
-                for (int k = 0; k < int(hi.w); ++k) {
-                    Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
-                    if (hit_instance(first + k, o, d, h, true))
-                        through *= 1.0 - instance_opacity(first + k);
-                }
-            }
-            if (inner[0] >= 0 && inner[1] >= 0 && sp < STACK_SIZE) stack[sp++] = inner[1];
-            node = inner[0] >= 0 ? inner[0] : inner[1] >= 0 ? inner[1]
-                 : sp > 0 ? stack[--sp] : -1;
-        }
-    }
+        if (hit_instance(i, o, d, h, true)) through *= 1.0 - instance_opacity(i);
+        if (through <= 0.0) break;
+    })
     return through;
 }

@@ -131,11 +131,11 @@ class Tracer:
     # -- drawing -------------------------------------------------------------------------
     def _program(self, stage: str, state: FrameState, shadows: bool, aux=(),
                  secondary: bool = False) -> FullScreenPass:
-        kinds = state.light_kinds
+        # The lights are looped over at run time (u_light_count), not unrolled per light
+        # set as the rasterizer's are: each unrolled light would inline a whole shadow
+        # ray's traversal, and one program serves every light set.
         defines = {SHADING_MODELS[state.shading].define: None, "TEX_SHIFT": pack.TEX_SHIFT,
-                   "MAX_LIGHTS": 16, "LIGHT_COUNT": len(kinds)}
-        if kinds:
-            defines["LIGHT_KIND_LIST"] = f"int[{len(kinds)}]({', '.join(map(str, kinds))})"
+                   "MAX_LIGHTS": 16}
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
                  "SECONDARY": secondary and stage == "trace",
                  "HAS_ENVIRONMENT": state.environment is not None and stage == "trace"}
