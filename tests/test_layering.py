@@ -13,7 +13,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "app" / "facet"
 EVERY_KEY = Path(__file__).resolve().parent / "data" / "every-key.toml"
 # Layers, lowest first (DESIGN.md): a module may import its own layer or lower ones.
-LAYERS = [{"errors", "paths"}, {"geometry"}, {"scene"}, {"gl"}, {"render", "lab", "image"},
+LAYERS = [{"errors", "paths", "srgb"}, {"geometry"}, {"scene"}, {"gl"}, {"render", "lab", "image"},
           {"cli", "window", "batch"}, {"__init__", "__main__"}]
 
 

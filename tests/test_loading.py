@@ -7,6 +7,7 @@ import trimesh
 from facet.errors import FacetError, MeshError
 from facet.scene import Mesh
 from facet.scene.mesh import smooth_normals
+from facet.scene.pbr import PbrMaterial
 
 from conftest import shared_model
 
@@ -19,11 +20,13 @@ def test_smooth_normals_of_a_sphere_point_outwards():
 
 
 def test_flat_shaded_uses_face_normals():
-    mesh = Mesh.load(_write(trimesh.creation.box(), "box.stl"))
+    mesh = Mesh.load(_write(trimesh.creation.box(), "box.stl"), crease=180)
     flat = mesh.flat_shaded()
     assert flat.face_count == 12 and flat.vertex_count == 36
-    # Every normal is axis-aligned (a face normal of the cube), unlike the welded smooth ones.
+    # Every normal is axis-aligned (a face normal of the cube), unlike the welded smooth ones
+    # (crease 180: one vertex per corner position, its normal the mean of three faces).
     assert np.allclose(np.abs(flat.normals).max(axis=1), 1.0)
+    assert mesh.vertex_count == 8
     assert not np.allclose(np.abs(mesh.normals).max(axis=1), 1.0)
 
 
@@ -70,8 +73,11 @@ def test_gltf_base_color(tmp_path):
         baseColorFactor=[51, 204, 102, 255], roughnessFactor=0.5))
     box.export(tmp_path / "b.glb")
     mat = Mesh.load(tmp_path / "b.glb").material
-    assert np.allclose(mat.color, [0.2, 0.8, 0.4], atol=1 / 255)
-    assert mat.ks == pytest.approx(0.25) and mat.shininess > 10
+    # glTF's factors are linear and kept as they are; metallic defaults to 1 (the spec's).
+    assert isinstance(mat, PbrMaterial)
+    assert np.allclose(mat.base_color, [0.2, 0.8, 0.4, 1.0], atol=1 / 255)
+    assert mat.roughness == pytest.approx(0.5) and mat.metallic == 1.0
+    assert mat.kd == 0.0 and mat.shininess > 10  # the Phong stand-ins: a metal
 
 
 def test_no_material_when_the_file_has_none():

@@ -15,17 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..srgb import linear_to_srgb, srgb_to_linear
 
-def srgb_to_linear(c) -> np.ndarray:
-    """The sRGB decoding curve (IEC 61966-2-1), elementwise on values in [0, 1]."""
-    c = np.asarray(c, dtype=np.float64)
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-
-
-def linear_to_srgb(c) -> np.ndarray:
-    """The sRGB encoding curve, elementwise on values in [0, 1] (clipped first)."""
-    c = np.clip(np.asarray(c, dtype=np.float64), 0.0, 1.0)
-    return np.where(c <= 0.0031308, c * 12.92, 1.055 * c ** (1 / 2.4) - 0.055)
+__all__ = ["linear_to_srgb", "srgb_to_linear", "unpremultiply"]
 
 
 def unpremultiply(rgba: np.ndarray, empty=None) -> np.ndarray:

@@ -8,7 +8,8 @@ _EXPORTS = {
     "AreaLight": "light", "DirectionalLight": "light", "PointLight": "light",
     "SpotLight": "light", "Material": "material", "Mesh": "mesh", "RenderOptions": "options",
     "MAX_LIGHTS": "scene", "Scene": "scene", "SceneObject": "scene", "Texture": "texture",
-    "load_scene": "scenefile", "open_scene": "source",
+    "load_scene": "scenefile", "open_scene": "source", "load": "source",
+    "PbrMaterial": "pbr", "TextureSlot": "pbr",
 }
 __all__ = sorted([*_EXPORTS, "primitives", "shapes"])
 

@@ -1,34 +1,39 @@
-"""Reading mesh files through trimesh into ``facet.scene.Mesh``, with clear errors.
+"""The one loader of mesh files: path -> parts (each its own mesh, material and node
+transform) and named cameras, used by every front (CLI, viewer, scene files, ``Mesh.load``,
+``facet.load``). Returns plain arrays so that it needs nothing from facet.scene.mesh.
 
-Every failure (missing file, a directory, an unknown extension, a parse error, no faces,
-NaN/inf vertices) becomes one ``MeshError`` that names the file and says what to do.
+* glTF / GLB: facet.scene.gltf (pygltflib + numpy): per-primitive parts with PbrMaterial,
+  both uv sets, tangents, vertex colours, node transforms, cameras.
+* OBJ, STL, PLY, OFF: trimesh. An OBJ keeps one part per material (MTL: C = Kd, k_d = 1,
+  k_s = mean(Ks), n = Ns, k_a = 1, map_Kd the texture); a missing .mtl or texture loads
+  without it and says so in one warning line. PLY faces stored as triangle strips load.
 
-Materials found in the file map to Phong (``facet.scene.Material``):
-
-* OBJ/MTL: C = Kd, k_d = 1, k_s = mean(Ks), n = Ns, k_a = 1; map_Kd becomes the texture.
-* glTF/GLB (metallic-roughness): C = baseColorFactor.rgb, k_d = 1,
-  k_s = 0.5 (1 - roughness), n = 2 / alpha^2 - 2 with alpha = max(roughness^2, 0.05)
-  (the Blinn-Phong exponent that matches a GGX lobe of that roughness), clamped to [1, 512];
-  baseColorTexture becomes the texture.
-
-Per-vertex colours (PLY, OBJ's "v x y z r g b" extension, glTF COLOR_0) become
-``Mesh.colors``.
+Normals: a file's own normals are used as they are. Without them, vertices are split at
+edges sharper than the crease angle (facet.scene.normals; default 60 degrees, 180 = all
+smooth), so a cube is a cube and a sphere stays smooth. Per-vertex colours (PLY, OBJ's
+``v x y z r g b``, glTF COLOR_0) become ``colors``. Every failure (missing file, a
+directory, an unknown extension, a parse error, no faces, only degenerate triangles,
+NaN/inf vertices) is one ``MeshError`` naming the file and what to do.
 """
 
 from __future__ import annotations
 
 import os
+import re
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import FacetError, MeshError
+from ..errors import FacetError, FacetWarning, MeshError
 from .material import Material
+from .normals import DEFAULT_CREASE, crease_normals, face_normals
 from .texture import Texture
 
 # Extensions we accept (lower case, no dot) and the trimesh file_type for each.
 FORMATS = {"obj": "obj", "stl": "stl", "ply": "ply", "off": "off", "glb": "glb",
            "gltf": "gltf"}
+PER_VERTEX = ("positions", "normals", "uvs", "uvs1", "tangents", "colors")
 
 
 def _check_path(path) -> Path:
@@ -48,41 +53,73 @@ def _check_path(path) -> Path:
     return p
 
 
-def _material_from_trimesh(tm) -> Material | None:
-    """The Phong material a trimesh geometry's file defined, or None (mapping: module doc)."""
-    mat = getattr(getattr(tm, "visual", None), "material", None)
-    if mat is None:
-        return None
-    kwargs = getattr(mat, "kwargs", None) or {}
-    if "kd" in kwargs:  # an MTL file's own values (trimesh invents defaults otherwise)
-        ks = np.clip(np.mean(kwargs.get("ks", [0.0])), 0.0, 1.0)
-        ns = float(kwargs.get("ns", 32.0))
-        image = getattr(mat, "image", None)  # map_Kd
-        return Material(color=np.clip(np.asarray(kwargs["kd"], dtype=float)[:3], 0, 1),
-                        ka=1.0, kd=1.0, ks=float(ks), shininess=max(ns, 0.0),
-                        name=getattr(mat, "name", "") or "",
-                        texture=None if image is None else Texture.from_pil(image, "map_Kd"))
-    if hasattr(mat, "baseColorFactor"):  # glTF metallic-roughness (factor default: white)
-        base = mat.baseColorFactor
-        base = np.ones(3) if base is None else np.asarray(base, dtype=float)[:3]
-        if base.max() > 1.0:  # trimesh stores uint8 colours
-            base = base / 255.0
-        rough = getattr(mat, "roughnessFactor", None)
-        rough = 1.0 if rough is None else float(np.clip(rough, 0.0, 1.0))
-        alpha = max(rough * rough, 0.05)
-        shininess = float(np.clip(2.0 / alpha**2 - 2.0, 1.0, 512.0))
-        image = getattr(mat, "baseColorTexture", None)
-        return Material(color=np.clip(base, 0, 1), ka=1.0, kd=1.0, ks=0.5 * (1.0 - rough),
-                        shininess=shininess, name=getattr(mat, "name", "") or "",
-                        texture=None if image is None else
-                        Texture.from_pil(image, "baseColorTexture"))
-    return None
+def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict]:
+    """``(parts, cameras)`` of a mesh file: parts as (name, ``Mesh`` keyword arguments,
+    4x4 node -> file transform), a part's arguments shared by every node that uses the
+    same mesh; cameras as {name: Camera} (glTF only)."""
+    p = _check_path(path)
+    crease = _check_crease(crease)
+
+    def finish(arrays: dict, where: str) -> dict:
+        return _finish(arrays, p, where, crease)
+
+    if p.suffix.lower() in (".gltf", ".glb"):
+        from .gltf import read_gltf
+
+        return read_gltf(p, finish)
+    return _trimesh_parts(p, finish), {}
 
 
+def _check_crease(crease) -> float:
+    from ..errors import InputError
+
+    if not (isinstance(crease, (int, float)) and 0 <= crease <= 180):
+        raise InputError(f"crease angle must be in [0, 180] degrees (180: fully smooth), got "
+                         f"{crease!r}")
+    return float(crease)
+
+
+def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
+    """Checked ``Mesh`` arguments: finite positions, faces in range, some triangle with
+    area, normals split at creases when the file has none."""
+    vertices = np.asarray(arrays["positions"], dtype=np.float64)
+    faces = np.asarray(arrays["faces"], dtype=np.int64).reshape(-1, 3)
+    at = f"{p}: {where}: " if where else f"{p}: "
+    if len(faces) == 0:
+        raise MeshError(f"{at}the mesh has 0 faces; nothing to render")
+    if not np.isfinite(vertices).all():
+        bad = int((~np.isfinite(vertices).all(axis=1)).sum())
+        raise MeshError(f"{at}{bad} vertices are NaN or infinite; fix or remove them")
+    if faces.min() < 0 or faces.max() >= len(vertices):
+        raise MeshError(f"{at}faces refer to vertices that do not exist; the file is corrupt")
+    _, area2 = face_normals(vertices, faces)
+    if not np.any(area2 > 0):
+        raise MeshError(f"{at}all {len(faces)} triangles have zero area (degenerate); "
+                        "nothing to render")
+    out = dict(arrays, positions=vertices.astype(np.float32), faces=faces, path=str(p))
+    normals = arrays.get("normals")
+    if normals is not None and (len(normals) != len(vertices) or
+                                not np.all(np.linalg.norm(normals, axis=1) > 0)):
+        normals = None  # missing or broken normals in the file: compute them
+    if normals is None:
+        extra = [np.asarray(out[k], dtype=np.float64).reshape(len(vertices), -1)
+                 for k in ("uvs", "uvs1", "colors", "tangents") if out.get(k) is not None]
+        source, new_faces, out["normals"] = crease_normals(
+            vertices, faces, crease, np.hstack(extra) if extra else None)
+        for key in PER_VERTEX:
+            if key != "normals" and out.get(key) is not None:
+                out[key] = np.asarray(out[key])[source]
+        out["faces"] = new_faces
+    return out
+
+
+# -- trimesh formats ------------------------------------------------------------------------
 def _read(p: Path):
     """trimesh's object for a checked path (a Trimesh, a Scene, or something else)."""
     import trimesh  # imported here: commands that load no mesh do not pay for it
 
+    if p.suffix.lower() == ".obj":
+        _warn_missing_obj_files(p)
     try:
         return trimesh.load(str(p), file_type=FORMATS[p.suffix.lower().lstrip(".")],
                             process=False)
@@ -94,41 +131,32 @@ def _read(p: Path):
                         "is it truncated or in another format?") from None
 
 
-def load_mesh(path) -> dict:
-    """Read ``path`` as one mesh's ``Mesh`` keyword arguments (a scene graph is baked into
-    one world-space mesh); raises ``MeshError`` naming the file on any failure. This module
-    returns plain arrays so that it needs nothing from facet.scene.mesh (which calls it)."""
+def _warn_missing_obj_files(p: Path) -> None:
+    """One warning line per material library or texture an OBJ names but that is missing
+    (the model then loads without it)."""
+    pattern = re.compile(rb"^[ \t]*mtllib[ \t]+(.+?)[ \t]*$", re.M)
+    for lib in pattern.findall(p.read_bytes()):
+        name = lib.decode("utf-8", "replace")
+        mtl = p.parent / name
+        if not mtl.is_file():
+            warnings.warn(f"{p.name}: material library '{name}' not found in {p.parent}; "
+                          "loaded without its materials", FacetWarning, stacklevel=4)
+            continue
+        maps = re.findall(rb"^[ \t]*(?:map_\w+|bump|disp|decal)[ \t]+(?:-\S+[ \t]+\S+[ \t]+)*"
+                          rb"(.+?)[ \t]*$", mtl.read_bytes(), re.M)
+        for image in dict.fromkeys(maps):
+            image_name = image.decode("utf-8", "replace")
+            if not (mtl.parent / image_name).is_file():
+                warnings.warn(f"{mtl.name}: texture '{image_name}' not found in "
+                              f"{mtl.parent}; loaded without it", FacetWarning, stacklevel=4)
+
+
+def _trimesh_parts(p: Path, finish) -> list:
     import trimesh
 
-    p = _check_path(path)
-    loaded = _read(p)
-    if isinstance(loaded, trimesh.Scene):
-        if not loaded.geometry:
-            raise MeshError(f"{p}: cannot read the file: no geometry found; is it truncated or "
-                            "in another format?")
-        material = None
-        for geom in loaded.geometry.values():
-            material = material or _material_from_trimesh(geom)
-        # Bake every node's transform into its geometry (scene graph -> one world mesh).
-        tm = loaded.to_geometry() if hasattr(loaded, "to_geometry") else \
-            loaded.dump(concatenate=True)
-        return _to_mesh(tm, p, material)
-    return _to_mesh(loaded, p, _material_from_trimesh(loaded))
-
-
-def load_parts(path) -> list[tuple[str, dict, np.ndarray]]:
-    """The parts of a mesh file as (node name, mesh arguments, 4x4 node -> file transform).
-
-    glTF/GLB keep their node hierarchy: one part per node that holds geometry, with the
-    node's world transform from the file's scene graph; a mesh used by several nodes is
-    converted once. Other formats give one part with the identity.
-    """
-    import trimesh
-
-    p = _check_path(path)
     loaded = _read(p)
     if not isinstance(loaded, trimesh.Scene):
-        return [(p.stem, _to_mesh(loaded, p, _material_from_trimesh(loaded)), np.eye(4))]
+        return [(p.stem, _to_mesh(loaded, p, finish), np.eye(4))]
     if not loaded.geometry:
         raise MeshError(f"{p}: cannot read the file: no geometry found; is it truncated or "
                         "in another format?")
@@ -137,43 +165,74 @@ def load_parts(path) -> list[tuple[str, dict, np.ndarray]]:
     for node in loaded.graph.nodes_geometry:
         matrix, geom_name = loaded.graph[node]
         if geom_name not in meshes:
-            geom = loaded.geometry[geom_name]
-            meshes[geom_name] = _to_mesh(geom, p, _material_from_trimesh(geom))
+            meshes[geom_name] = _to_mesh(loaded.geometry[geom_name], p, finish, str(geom_name))
         parts.append((str(node), meshes[geom_name], np.asarray(matrix, dtype=np.float64)))
     return parts
 
 
-def _to_mesh(tm, p: Path, material) -> dict:
-    """``Mesh`` arguments from one trimesh geometry, with the checks every file gets."""
+def _to_mesh(tm, p: Path, finish, where: str = "") -> dict:
+    """``Mesh`` arguments from one trimesh geometry."""
     import trimesh
 
     if not isinstance(tm, trimesh.Trimesh):
-        kind = "points" if "Point" in type(tm).__name__ else "lines or curves"
-        raise MeshError(f"{p}: the file has 0 faces (it holds only {kind}); nothing to render")
-    vertices = np.asarray(tm.vertices)
-    faces = np.asarray(tm.faces)
-    if len(faces) == 0:
-        raise MeshError(f"{p}: the mesh has 0 faces; nothing to render")
-    if not np.isfinite(vertices).all():
-        bad = int((~np.isfinite(vertices).all(axis=1)).sum())
-        raise MeshError(f"{p}: {bad} vertices are NaN or infinite; fix or remove them")
-    if faces.min() < 0 or faces.max() >= len(vertices):
-        raise MeshError(f"{p}: faces refer to vertices that do not exist; the file is corrupt")
-    # Normals the file itself carried (OBJ vn, PLY nx/ny/nz, glTF NORMAL) sit in trimesh's
-    # cache; asking trimesh to compute them is slow without scipy, so we compute our own.
+        faces = _ply_strips(tm)
+        if faces is None:
+            kind = "points" if "Point" in type(tm).__name__ else "lines or curves"
+            raise MeshError(f"{p}: the file has 0 faces (it holds only {kind}); nothing to "
+                            "render")
+        colors = getattr(tm, "colors", None)
+        colors = None if colors is None or len(colors) != len(tm.vertices) else \
+            np.asarray(colors, dtype=np.uint8)
+        return finish({"positions": np.asarray(tm.vertices), "faces": faces,
+                       "name": p.name, "colors": colors}, where)
+    # Normals the file itself carried (OBJ vn, PLY nx/ny/nz) sit in trimesh's cache.
     normals = tm._cache.cache.get("vertex_normals") if hasattr(tm, "_cache") else None
-    if normals is None:
-        # Files without normals, STL above all, repeat vertices per face: weld them so the
-        # smooth normals average over neighbours (texture seams stay split).
-        tm.merge_vertices()
-        vertices, faces = np.asarray(tm.vertices), np.asarray(tm.faces)
+    vertices = np.asarray(tm.vertices)
     uv = getattr(tm.visual, "uv", None)
     if uv is not None and len(uv) != len(vertices):
         uv = None
-    colors = None  # per-vertex colours: PLY red/green/blue, OBJ "v x y z r g b", COLOR_0
+    colors = None  # per-vertex colours: PLY red/green/blue, OBJ "v x y z r g b"
     if getattr(tm.visual, "kind", None) == "vertex":
         colors = np.asarray(tm.visual.vertex_colors, dtype=np.uint8)
         if len(colors) != len(vertices):
             colors = None
-    return {"positions": vertices, "faces": faces, "normals": normals, "uvs": uv,
-            "name": p.name, "material": material, "colors": colors, "path": str(p)}
+    return finish({"positions": vertices, "faces": np.asarray(tm.faces), "normals": normals,
+                   "uvs": uv, "name": p.name, "material": _material_from_trimesh(tm),
+                   "colors": colors}, where)
+
+
+def _ply_strips(tm) -> np.ndarray | None:
+    """(F, 3) triangles of a PLY's ``tristrips`` element (index -1 restarts a strip),
+    which trimesh leaves out; None when there is none."""
+    raw = (getattr(tm, "metadata", None) or {}).get("_ply_raw") or {}
+    strips = raw.get("tristrips", {}).get("data", {})
+    lists = next(iter(strips.values()), None) if isinstance(strips, dict) else None
+    if lists is None or len(lists) == 0:
+        return None
+    rows = [np.append(np.asarray(s, dtype=np.int64).reshape(-1), -1) for s in lists]
+    seq = np.concatenate(rows)
+    k = np.arange(len(seq) - 2)
+    # Triangle k takes seq[k:k+3]; every other one in a run is wound the other way round.
+    start = np.maximum.accumulate(np.where(seq < 0, np.arange(len(seq)), -1)) + 1
+    valid = (seq[k] >= 0) & (seq[k + 1] >= 0) & (seq[k + 2] >= 0)
+    odd = (k - start[k]) % 2 == 1
+    tri = np.stack([np.where(odd, seq[k + 1], seq[k]), np.where(odd, seq[k], seq[k + 1]),
+                    seq[k + 2]], axis=1)[valid]
+    # Strips repeat an index to turn or to join runs: those triangles are empty.
+    keep = (tri[:, 0] != tri[:, 1]) & (tri[:, 1] != tri[:, 2]) & (tri[:, 0] != tri[:, 2])
+    return tri[keep]
+
+
+def _material_from_trimesh(tm) -> Material | None:
+    """The Phong material an OBJ's MTL defined, or None (mapping: module doc)."""
+    mat = getattr(getattr(tm, "visual", None), "material", None)
+    kwargs = getattr(mat, "kwargs", None) or {}
+    if "kd" not in kwargs:  # trimesh invents defaults otherwise
+        return None
+    ks = np.clip(np.mean(kwargs.get("ks", [0.0])), 0.0, 1.0)
+    ns = float(kwargs.get("ns", 32.0))
+    image = getattr(mat, "image", None)  # map_Kd
+    return Material(color=np.clip(np.asarray(kwargs["kd"], dtype=float)[:3], 0, 1),
+                    ka=1.0, kd=1.0, ks=float(ks), shininess=max(ns, 0.0),
+                    name=getattr(mat, "name", "") or "",
+                    texture=None if image is None else Texture.from_pil(image, "map_Kd"))

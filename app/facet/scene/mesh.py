@@ -1,16 +1,21 @@
 """Triangle meshes as numpy arrays (object space), independent of any GL state.
 
 A ``Mesh`` holds ``positions`` (N, 3) float32, ``normals`` (N, 3) float32 (unit length),
-``uvs`` (N, 2) float32 or None, and ``faces`` (F, 3) uint32 indices, counter-clockwise seen
-from outside. Arrays are read-only after construction so a renderer can cache their upload by
-object identity.
+``uvs`` (N, 2) float32 or None (OpenGL's convention: v = 0 is the image's bottom row), an
+optional second set ``uvs1``, optional ``tangents`` (N, 4) (xyz and handedness, as glTF),
+optional ``colors`` (N, 4) (sRGB-encoded, as displayed), and ``faces`` (F, 3) uint32
+indices, counter-clockwise seen from outside. Arrays are read-only after construction so a
+renderer can cache their upload by object identity.
 """
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from ..errors import InputError
+from ..errors import FacetWarning, InputError
+from ..geometry import transforms as T
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -50,12 +55,15 @@ class Mesh:
     normals : (N, 3) optional; computed (area-weighted, smooth) when omitted
     uvs : (N, 2) optional texture coordinates
     colors : (N, 3|4) optional per-vertex colours, floats in [0, 1] (or uint8 0..255)
+    uvs1 : (N, 2) optional second texture coordinate set (glTF TEXCOORD_1)
+    tangents : (N, 4) optional tangent frames (computed from the uvs when a normal map
+        needs them and they are absent; facet.scene.normals.tangents)
     name : label used in messages
     material : the ``Material`` the file defined, if any (``Scene.add`` uses it by default)
     """
 
     def __init__(self, positions, faces, normals=None, uvs=None, *, name: str = "mesh",
-                 material=None, colors=None):
+                 material=None, colors=None, uvs1=None, tangents=None):
         self.name = name
         pos = np.asarray(positions, dtype=np.float32)
         if pos.ndim != 2 or pos.shape[1] != 3:
@@ -87,11 +95,9 @@ class Mesh:
                 nrm = smooth_normals(pos, fac)  # broken normals in the file: recompute
             else:
                 nrm = nrm / length
-        uv = None
-        if uvs is not None:
-            uv = np.asarray(uvs, dtype=np.float32)
-            if uv.shape != (len(pos), 2):
-                raise InputError(f"{name}: uvs must have shape ({len(pos)}, 2), got {uv.shape}")
+        uv, uv1 = (self._per_vertex(v, 2, key, name, len(pos))
+                   for v, key in ((uvs, "uvs"), (uvs1, "uvs1")))
+        tan = self._per_vertex(tangents, 4, "tangents", name, len(pos))
         col = None
         if colors is not None:
             col = np.asarray(colors)
@@ -110,35 +116,75 @@ class Mesh:
         self.faces = _readonly(fac)
         self.normals = _readonly(nrm.astype(np.float32))
         self.uvs = None if uv is None else _readonly(uv)
+        self.uvs1 = None if uv1 is None else _readonly(uv1)
+        self._tangents = None if tan is None else _readonly(tan)
         self.material = material
 
-    @classmethod
-    def load(cls, path, *, flat: bool = False) -> Mesh:
-        """Read a mesh file (OBJ, STL, PLY, OFF, GLB/glTF, ...) through trimesh.
+    @staticmethod
+    def _per_vertex(values, width: int, key: str, name: str, n: int):
+        if values is None:
+            return None
+        v = np.asarray(values, dtype=np.float32)
+        if v.shape != (n, width):
+            raise InputError(f"{name}: {key} must have shape ({n}, {width}), got {v.shape}")
+        if not np.all(np.isfinite(v)):
+            raise InputError(f"{name}: {key} must be finite")
+        return v
 
-        A file with several parts is merged into one mesh, each part placed by its node
-        transform. ``flat=True`` gives faceted normals (see ``flat_shaded``). Raises
+    @property
+    def has_tangents(self) -> bool:
+        """Whether the tangents came with the mesh (else ``tangents`` computes them)."""
+        return self._tangents is not None
+
+    @property
+    def tangents(self) -> np.ndarray | None:
+        """(N, 4) float32 tangent frames: the mesh's own, else computed from ``uvs`` once
+        (None without uvs)."""
+        if self._tangents is None and self.uvs is not None:
+            from .normals import tangents
+
+            self._tangents = _readonly(tangents(self.positions, self.normals, self.uvs,
+                                                self.faces))
+        return self._tangents
+
+    @classmethod
+    def load(cls, path, *, flat: bool = False, crease: float | None = None) -> Mesh:
+        """Read a mesh file (OBJ, STL, PLY, OFF, glTF/GLB) as ONE mesh.
+
+        A file with several parts is merged, each part placed by its node transform, with
+        the first part's material (a warning says so when the parts' materials differ: use
+        ``facet.open_scene`` or ``Mesh.load_parts`` to keep them). Normals: the file's, else
+        split at ``crease`` degrees (default facet.scene.normals.DEFAULT_CREASE).
+        ``flat=True`` gives faceted normals (see ``flat_shaded``). Raises
         ``facet.MeshError`` naming the file when it cannot be read.
         """
-        from .loading import load_mesh
-
-        mesh = cls._from_file(load_mesh(path))
+        parts = cls.load_parts(path, crease=crease)
+        mesh = parts[0][1] if len(parts) == 1 and np.array_equal(parts[0][2], np.eye(4)) \
+            else merge_parts(parts, str(path))
         return mesh.flat_shaded() if flat else mesh
 
     @classmethod
-    def load_parts(cls, path) -> list[tuple[str, Mesh, np.ndarray]]:
-        """The parts of a mesh file as (node name, mesh, 4x4 node -> file transform): a
-        glTF keeps its nodes (a mesh used by several nodes is made once), other formats
-        give one part with the identity."""
-        from .loading import load_parts
+    def load_parts(cls, path, *, crease: float | None = None) -> list[tuple[str, Mesh,
+                                                                             np.ndarray]]:
+        """The parts of a mesh file as (name, mesh, 4x4 part -> file transform), each mesh
+        with its own material: a glTF keeps its nodes and primitives (a mesh used by several
+        nodes is made once), an OBJ one part per material, other formats one part."""
+        return cls.load_file(path, crease=crease)[0]
 
+    @classmethod
+    def load_file(cls, path, *, crease: float | None = None) -> tuple[list, dict]:
+        """``(load_parts(path), {name: Camera})``: the parts and the file's cameras."""
+        from .loading import load_file
+        from .normals import DEFAULT_CREASE
+
+        raw, cameras = load_file(path, DEFAULT_CREASE if crease is None else crease)
         made: dict[int, Mesh] = {}
         parts = []
-        for name, data, matrix in load_parts(path):
+        for name, data, matrix in raw:
             if id(data) not in made:
                 made[id(data)] = cls._from_file(data)
             parts.append((name, made[id(data)], matrix))
-        return parts
+        return parts, cameras
 
     @classmethod
     def _from_file(cls, data: dict) -> Mesh:
@@ -175,8 +221,40 @@ class Mesh:
         faces = np.arange(3 * self.face_count, dtype=np.uint32).reshape(-1, 3)
         uvs = None if self.uvs is None else self.uvs[self.faces].reshape(-1, 2)
         colors = None if self.colors is None else self.colors[self.faces].reshape(-1, 4)
+        uvs1 = None if self.uvs1 is None else self.uvs1[self.faces].reshape(-1, 2)
         return Mesh(tri.reshape(-1, 3), faces, np.repeat(n, 3, axis=0), uvs,
-                    name=self.name, material=self.material, colors=colors)
+                    name=self.name, material=self.material, colors=colors, uvs1=uvs1)
 
     def __repr__(self) -> str:
         return f"Mesh({self.name!r}, vertices={self.vertex_count}, faces={self.face_count})"
+
+
+def merge_parts(parts, label: str):
+    """One ``Mesh`` of ``parts`` [(name, mesh, 4x4 part -> file)], with the first part's
+    material; warns when the parts' materials differ."""
+    meshes = [m for _, m, _ in parts]
+    materials = {id(m.material) for m in meshes}
+    if len(materials) > 1:
+        warnings.warn(f"{label}: Mesh.load merges {len(parts)} parts with {len(materials)} "
+                      "materials into one mesh with the first material; facet.open_scene "
+                      "or Mesh.load_parts keeps them apart", FacetWarning, stacklevel=3)
+    positions, normals, faces, offset = [], [], [], 0
+    for _, mesh, matrix in parts:
+        positions.append(T.transform_points(matrix, mesh.positions))
+        n = mesh.normals @ T.normal_matrix(matrix).T
+        normals.append(n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-30))
+        flip = np.linalg.det(matrix[:3, :3]) < 0  # a mirroring node turns the winding
+        f = mesh.faces[:, ::-1] if flip else mesh.faces
+        faces.append(f.astype(np.int64) + offset)
+        offset += mesh.vertex_count
+
+    def joined(key: str, fill=None):
+        arrays = [getattr(m, key) for m in meshes]
+        if all(a is None for a in arrays) or (fill is None and any(a is None for a in arrays)):
+            return None
+        return np.concatenate([np.tile(fill, (m.vertex_count, 1)) if a is None else a
+                               for a, m in zip(arrays, meshes, strict=True)])
+
+    return Mesh(np.concatenate(positions), np.concatenate(faces), np.concatenate(normals),
+                joined("uvs"), name=meshes[0].name, material=meshes[0].material,
+                colors=joined("colors", np.ones(4, np.float32)), uvs1=joined("uvs1"))

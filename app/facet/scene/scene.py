@@ -72,6 +72,9 @@ class Scene:
         self.options = dict(parse_layer(options))  # parsed: {option: value}
         # A facet.scene.environment.Environment: background and reflection source.
         self.environment = None
+        # True for a model file's scene: its cameras (glTF's) are there to be chosen by
+        # name, the default view frames the model.
+        self.frame_by_default = False
 
     def add(self, mesh, material: Material | None = None, transform=None, *,
             name: str = "", transform_end=None) -> int:
@@ -123,8 +126,11 @@ class Scene:
 
     def camera(self, name: str | None = None) -> Camera | None:
         """The camera called ``name``; without a name the options' camera, else the first
-        one, else None (the renderer then frames the scene)."""
+        one (none for a model file's scene: ``frame_by_default``), else None (the renderer
+        then frames the scene)."""
         name = name or self.options.get("camera")
+        if name is None and self.frame_by_default:
+            return None
         if name is not None:
             if name not in self.cameras:
                 known = ", ".join(self.cameras) or "none"

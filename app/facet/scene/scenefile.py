@@ -36,13 +36,14 @@ RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "s
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
             "gloss", "mirror", "texture", "shader", "vertex_shader", "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "transform_end", "matrix",
-          "parent", "flat",
+          "parent", "flat", "crease",
           *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
 TRANSFORM_OPS = ("translate", "scale", "rotate", "shear", "matrix")
 
 
-def load_scene(path) -> Scene:
-    """Read a TOML scene file into a ``Scene`` (with its cameras and render settings)."""
+def load_scene(path, *, crease: float | None = None) -> Scene:
+    """Read a TOML scene file into a ``Scene`` (with its cameras and render settings).
+    ``crease``: the default crease angle of its mesh files (an object's ``crease`` wins)."""
     path = Path(path)
     if not path.is_file():
         raise SceneError(f"{path}: no such scene file" if not path.exists() else
@@ -53,12 +54,12 @@ def load_scene(path) -> Scene:
         raise SceneError(f"{path.name}: invalid TOML: {exc}") from None
     except UnicodeDecodeError:
         raise SceneError(f"{path.name}: not a text file (TOML must be UTF-8)") from None
-    return _SceneBuilder(_Reader(path), path.parent).build(data)
+    return _SceneBuilder(_Reader(path), path.parent, crease).build(data)
 
 
 class _SceneBuilder:
-    def __init__(self, r: _Reader, base: Path):
-        self.r, self.base = r, base
+    def __init__(self, r: _Reader, base: Path, crease: float | None = None):
+        self.r, self.base, self.crease = r, base, crease
         self.parts_cache: dict[Path, list] = {}
         self.texture_cache: dict[Path, object] = {}
 
@@ -314,12 +315,18 @@ class _SceneBuilder:
             r.fail(f"{where}.{params[0]}", "size parameters belong to a 'primitive'")
         if "mesh" in t:
             path = self.base / r.string(t["mesh"], f"{where}.mesh")
-            if path not in self.parts_cache:
+            crease = self.crease
+            if "crease" in t:
+                crease = r.number(t["crease"], f"{where}.crease", minimum=0)
+                if crease > 180:
+                    r.fail(f"{where}.crease", f"expected degrees in [0, 180] (180: fully "
+                           f"smooth), got {_show(t['crease'])}")
+            if (path, crease) not in self.parts_cache:
                 try:
-                    self.parts_cache[path] = Mesh.load_parts(path)
+                    self.parts_cache[path, crease] = Mesh.load_parts(path, crease=crease)
                 except FacetError as exc:
                     r.fail(f"{where}.mesh", str(exc))
-            parts = self.parts_cache[path]
+            parts = self.parts_cache[path, crease]
             if t.get("flat"):
                 parts = [(n, m.flat_shaded(), x) for n, m, x in parts]
             return [(n if len(parts) > 1 else None, m, x) for n, m, x in parts]

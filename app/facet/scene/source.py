@@ -13,12 +13,25 @@ def is_scene_file(path) -> bool:
     return Path(path).suffix.lower() == ".toml"
 
 
-def open_scene(path) -> Scene:
-    """A scene file read with its settings, or a mesh file as a one-object scene."""
+def open_scene(path, *, crease: float | None = None) -> Scene:
+    """A scene file read with its settings, or a mesh file as a scene of its parts (each
+    with its own material and node transform; a glTF's cameras become named cameras, the
+    default view stays framed on the model). ``crease``: the angle at which vertices
+    without normals in the file are split (facet.scene.normals)."""
     if is_scene_file(path):
         from .scenefile import load_scene
 
-        return load_scene(path)
+        return load_scene(path, crease=crease)
+    parts, cameras = Mesh.load_file(path, crease=crease)
     scene = Scene()
-    scene.add(Mesh.load(path))
+    for name, mesh, matrix in parts:
+        scene.add(mesh, transform=matrix, name=name)
+    for name, camera in cameras.items():
+        scene.add_camera(name, camera)
+    scene.frame_by_default = True
     return scene
+
+
+def load(path, *, crease: float | None = None) -> Scene:
+    """``open_scene`` under the short name: ``facet.load("truck.glb")``."""
+    return open_scene(path, crease=crease)

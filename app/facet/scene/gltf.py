@@ -1,0 +1,303 @@
+"""glTF 2.0 (.gltf + .bin, .glb) -> facet parts and cameras, read with pygltflib and numpy.
+
+Each primitive of each mesh a node of the default scene uses becomes one part: its own
+``Mesh`` (positions, the file's normals, both texture coordinate sets, tangents, vertex
+colours) with its own ``PbrMaterial``, placed by the node's world matrix; a mesh used by
+several nodes is decoded once. Triangle strips and fans become triangles; points and lines
+are left out with a warning. Cameras become named cameras. Supported extensions:
+KHR_draco_mesh_compression (through DracoPy), KHR_mesh_quantization, KHR_texture_transform,
+KHR_materials_emissive_strength, KHR_materials_unlit; a file that *requires* another one is
+refused by name, one that only uses another one gets a warning that it is ignored.
+
+glTF is y-up, right-handed, metres, cameras looking down -z: facet's own conventions.
+Vertex colours (linear in glTF) are stored sRGB-encoded, as every facet mesh's colours are.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import FacetWarning, MeshError
+from ..srgb import linear_to_srgb
+from .gltf_data import GltfData
+from .pbr import PbrMaterial, TextureSlot, texture_transform
+
+SUPPORTED = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
+             "KHR_materials_emissive_strength", "KHR_materials_unlit"}
+TRIANGLES, STRIP, FAN = 4, 5, 6
+MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
+WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
+NEAREST = {9728, 9984, 9986}  # NEAREST, NEAREST_MIPMAP_*
+NO_MIPS = {9728, 9729}
+
+
+def read_gltf(path: Path, check_mesh) -> tuple[list, dict]:
+    """(parts as (name, mesh arguments, 4x4 node -> file), {camera name: Camera}).
+    ``check_mesh(arrays, where)`` finishes a primitive's arrays into ``Mesh`` arguments."""
+    from pygltflib import GLTF2
+
+    try:
+        gltf = GLTF2().load(str(path))
+    except Exception as exc:  # pygltflib raises what json/struct raise on bad files
+        detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise MeshError(f"{path}: cannot read the file as glTF ({detail}); is it truncated "
+                        "or in another format?") from None
+    if gltf is None:
+        raise MeshError(f"{path}: cannot read the file as glTF; is it truncated?")
+    return _Reader(gltf, path, check_mesh).read()
+
+
+class _Reader:
+    def __init__(self, gltf, path: Path, check_mesh):
+        self.gltf, self.path, self.check_mesh = gltf, path, check_mesh
+        self.data = GltfData(gltf, path)
+        self.materials: dict[int, PbrMaterial] = {}
+        self.textures: dict[int, object] = {}
+        self.primitives: dict[tuple[int, int], dict | None] = {}
+        self.skipped: set[str] = set()
+
+    def read(self) -> tuple[list, dict]:
+        g = self.gltf
+        required = set(g.extensionsRequired or ()) - SUPPORTED
+        if required:
+            self.data.fail(f"requires the glTF extension(s) {', '.join(sorted(required))}, "
+                           "which facet does not support")
+        ignored = set(g.extensionsUsed or ()) - SUPPORTED
+        if ignored:
+            self.warn(f"ignores the glTF extension(s) {', '.join(sorted(ignored))}")
+        if not g.scenes and not g.nodes:
+            self.data.fail("holds no scene and no nodes; nothing to render")
+        roots = g.scenes[g.scene or 0].nodes if g.scenes else self._roots()
+        parts, cameras = [], {}
+        stack = [(int(n), np.eye(4)) for n in reversed(roots or [])]
+        while stack:
+            index, parent = stack.pop()
+            node = g.nodes[index]
+            world = parent @ self._local(node)
+            label = node.name or f"node{index}"
+            if node.mesh is not None:
+                mesh = g.meshes[node.mesh]
+                prims = mesh.primitives
+                for p in range(len(prims)):
+                    args = self._primitive(node.mesh, p)
+                    if args is not None:
+                        suffix = f"/{p}" if len(prims) > 1 else ""
+                        parts.append((f"{label}{suffix}", args, world))
+            if node.camera is not None:
+                name = g.cameras[node.camera].name or label
+                cameras[name if name not in cameras else f"{name}{len(cameras)}"] = (
+                    node.camera, world)
+            if node.skin is not None or (node.mesh is not None and any(
+                    pr.targets for pr in g.meshes[node.mesh].primitives)):
+                self.skipped.add("skins and morph targets (drawn in their rest pose)")
+            stack.extend((int(c), world) for c in reversed(node.children or []))
+        if g.animations:
+            self.skipped.add("animations (drawn at rest)")
+        for what in sorted(self.skipped):
+            self.warn(f"leaves out {what}")
+        if not parts:
+            self.data.fail("has no triangles in its scene (only points, lines or empty "
+                           "nodes); nothing to render")
+        return parts, {name: self._camera(c, world, parts) for name, (c, world)
+                       in cameras.items()}
+
+    def warn(self, message: str) -> None:
+        warnings.warn(f"{self.path.name}: {message}", FacetWarning, stacklevel=4)
+
+    def _roots(self) -> list[int]:
+        children = {int(c) for n in self.gltf.nodes for c in (n.children or [])}
+        return [i for i in range(len(self.gltf.nodes)) if i not in children]
+
+    @staticmethod
+    def _local(node) -> np.ndarray:
+        """The node's local matrix: ``matrix`` (column-major in the file) or T R S."""
+        if node.matrix is not None and len(node.matrix) == 16:
+            return np.asarray(node.matrix, dtype=np.float64).reshape(4, 4).T
+        m = np.eye(4)
+        if node.rotation is not None:
+            x, y, z, w = np.asarray(node.rotation, dtype=np.float64) / max(
+                np.linalg.norm(node.rotation), 1e-300)
+            m[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+        if node.scale is not None:
+            m[:3, :3] = m[:3, :3] * np.asarray(node.scale, dtype=np.float64)[None, :]
+        if node.translation is not None:
+            m[:3, 3] = node.translation
+        return m
+
+    # -- geometry ------------------------------------------------------------------------
+    def _primitive(self, mesh: int, p: int) -> dict | None:
+        key = (mesh, p)
+        if key not in self.primitives:
+            self.primitives[key] = self._decode(mesh, p)
+        return self.primitives[key]
+
+    def _decode(self, mesh: int, p: int) -> dict | None:
+        prim = self.gltf.meshes[mesh].primitives[p]
+        where = f"mesh {self.gltf.meshes[mesh].name or mesh} primitive {p}"
+        mode = TRIANGLES if prim.mode is None else prim.mode
+        if mode in MODES:
+            self.skipped.add(MODES[mode])
+            return None
+        attrs = {k: v for k, v in vars(prim.attributes).items() if v is not None}
+        draco = (prim.extensions or {}).get("KHR_draco_mesh_compression")
+        if draco is not None:
+            decoded = self.data.draco(draco)
+            indices = decoded.pop("indices")
+            values = {}
+            for name, array in decoded.items():
+                acc = self.gltf.accessors[attrs[name]] if name in attrs else None
+                if acc is not None and acc.normalized and array.dtype.kind in "iu":
+                    array = np.maximum(array / np.iinfo(array.dtype).max, -1.0)
+                values[name] = np.asarray(array, dtype=np.float32)
+        else:
+            if "POSITION" not in attrs:
+                self.data.fail(f"{where} has no POSITION attribute")
+            values = {k: np.asarray(self.data.accessor(v), dtype=np.float32)
+                      for k, v in attrs.items()
+                      if k in ("POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "TANGENT",
+                               "COLOR_0")}
+            count = len(values["POSITION"])
+            indices = np.arange(count, dtype=np.uint32) if prim.indices is None else \
+                self.data.accessor(prim.indices).astype(np.int64)
+        faces = _triangles(np.asarray(indices, dtype=np.int64), mode, where, self.data.fail)
+        colors = values.get("COLOR_0")
+        if colors is not None:  # linear -> sRGB-encoded, alpha kept (module docstring)
+            colors = np.concatenate([linear_to_srgb(np.clip(colors[:, :3], 0, 1)),
+                                     colors[:, 3:4] if colors.shape[1] == 4 else
+                                     np.ones((len(colors), 1))], axis=1)
+        material = self._material(prim.material)
+        uvs = [None if values.get(k) is None else _flip_v(values[k])
+               for k in ("TEXCOORD_0", "TEXCOORD_1")]
+        arrays = {"positions": values["POSITION"], "faces": faces,
+                  "normals": values.get("NORMAL"), "uvs": uvs[0], "uvs1": uvs[1],
+                  "tangents": values.get("TANGENT"),
+                  "colors": None if colors is None else np.clip(colors, 0, 1),
+                  "material": material,
+                  "name": self.gltf.meshes[mesh].name or f"{self.path.stem}-{mesh}"}
+        return self.check_mesh(arrays, where)
+
+    # -- materials -----------------------------------------------------------------------
+    def _material(self, index: int | None) -> PbrMaterial:
+        if index is None:  # glTF's default material: white, metallic 1, roughness 1
+            return self.materials.setdefault(-1, PbrMaterial(name="default"))
+        if index not in self.materials:
+            m = self.gltf.materials[index]
+            pbr = m.pbrMetallicRoughness
+            ext = m.extensions or {}
+            strength = ext.get("KHR_materials_emissive_strength", {})
+            kw = dict(
+                base_color=np.clip(getattr(pbr, "baseColorFactor", None) or [1, 1, 1, 1],
+                                   0, 1),
+                metallic=1.0 if pbr is None or pbr.metallicFactor is None
+                else float(np.clip(pbr.metallicFactor, 0, 1)),
+                roughness=1.0 if pbr is None or pbr.roughnessFactor is None
+                else float(np.clip(pbr.roughnessFactor, 0, 1)),
+                emissive=np.clip(m.emissiveFactor or [0, 0, 0], 0, 1),
+                emissive_strength=float(strength.get("emissiveStrength", 1.0)),
+                alpha_mode=m.alphaMode or "OPAQUE",
+                alpha_cutoff=0.5 if m.alphaCutoff is None else float(m.alphaCutoff),
+                double_sided=bool(m.doubleSided), unlit="KHR_materials_unlit" in ext,
+                name=m.name or f"material{index}",
+                base_color_texture=self._slot(getattr(pbr, "baseColorTexture", None)),
+                metallic_roughness_texture=self._slot(
+                    getattr(pbr, "metallicRoughnessTexture", None)),
+                normal_texture=self._slot(m.normalTexture),
+                occlusion_texture=self._slot(m.occlusionTexture),
+                emissive_texture=self._slot(m.emissiveTexture))
+            if m.normalTexture is not None and m.normalTexture.scale is not None:
+                kw["normal_scale"] = abs(float(m.normalTexture.scale))
+            if m.occlusionTexture is not None and m.occlusionTexture.strength is not None:
+                kw["occlusion_strength"] = float(np.clip(m.occlusionTexture.strength, 0, 1))
+            self.materials[index] = PbrMaterial(**kw)
+        return self.materials[index]
+
+    def _slot(self, info) -> TextureSlot | None:
+        """A TextureSlot of a textureInfo (None when absent or its image is missing)."""
+        if info is None or info.index is None:
+            return None
+        tex = self.gltf.textures[info.index]
+        if tex.source is None:
+            return None
+        if tex.source not in self.textures:
+            self.textures[tex.source] = self.data.image(tex.source)
+        image = self.textures[tex.source]
+        if image is None:
+            return None
+        texcoord = info.texCoord or 0
+        transform = np.eye(3)
+        tt = (info.extensions or {}).get("KHR_texture_transform")
+        if tt is not None:
+            transform = texture_transform(tt.get("offset", (0, 0)), tt.get("rotation", 0.0),
+                                          tt.get("scale", (1, 1)))
+            texcoord = tt.get("texCoord", texcoord)
+        wrap, filt, mips = ("repeat", "repeat"), ("linear", "linear"), True
+        if tex.sampler is not None:
+            s = self.gltf.samplers[tex.sampler]
+            wrap = (WRAP.get(s.wrapS, "repeat"), WRAP.get(s.wrapT, "repeat"))
+            filt = ("nearest" if s.minFilter in NEAREST else "linear",
+                    "nearest" if s.magFilter == 9728 else "linear")
+            mips = s.minFilter not in NO_MIPS
+        # The transform is defined on glTF's uvs (v down); facet's are flipped (v up).
+        transform = FLIP_V @ transform @ FLIP_V
+        return TextureSlot(image, min(int(texcoord), 1), transform, wrap, filt, mips)
+
+    # -- cameras -------------------------------------------------------------------------
+    def _camera(self, index: int, world: np.ndarray, parts):
+        from ..geometry.camera import Camera
+
+        cam = self.gltf.cameras[index]
+        # The node's frame without its scale: glTF cameras look down their -z, y up.
+        frame = world.copy()
+        frame[:3, :3] /= np.linalg.norm(frame[:3, :3], axis=0, keepdims=True)
+        view = np.linalg.inv(frame)
+        corners = []
+        for _, args, m in parts:  # every part's box corners, in the file's frame
+            b = np.stack([args["positions"].min(axis=0), args["positions"].max(axis=0)])
+            box = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
+            corners.append(box @ m[:3, :3].T + m[:3, 3])
+        corners = np.concatenate(corners)
+        corners = np.hstack([corners, np.ones((len(corners), 1))])
+        depth = -(corners @ view[2])  # along the viewing axis
+        reach = float(max(depth.max(), 1e-3)) * 1.01
+        if cam.type == "orthographic" and cam.orthographic is not None:
+            o = cam.orthographic
+            return Camera(view, ortho_height=2.0 * abs(o.ymag or 1.0),
+                          near=max(o.znear or 0.0, 1e-4), far=o.zfar or reach)
+        p = cam.perspective
+        if p is None:
+            self.data.fail(f"camera {index} has neither perspective nor orthographic data")
+        near = p.znear or 0.01
+        return Camera(view, fov_y=float(np.degrees(p.yfov)), near=near,
+                      far=p.zfar or max(reach, near * 10))
+
+
+# glTF's texture coordinates have v = 0 at the image's top; facet's (OpenGL's) at its
+# bottom: v' = 1 - v, as a matrix on (u, v, 1) for texture transforms (its own inverse).
+FLIP_V = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 1.0], [0.0, 0.0, 1.0]])
+
+
+def _flip_v(uv: np.ndarray) -> np.ndarray:
+    return np.stack([uv[:, 0], 1.0 - uv[:, 1]], axis=1).astype(np.float32)
+
+
+def _triangles(indices: np.ndarray, mode: int, where: str, fail) -> np.ndarray:
+    """(F, 3) counter-clockwise triangles of a triangle list, strip or fan."""
+    if mode == TRIANGLES:
+        n = len(indices) - len(indices) % 3
+        return indices[:n].reshape(-1, 3)
+    if len(indices) < 3:
+        fail(f"{where}: a triangle {'strip' if mode == STRIP else 'fan'} needs at least "
+             "3 indices")
+    k = np.arange(len(indices) - 2)
+    if mode == STRIP:  # every other triangle is wound the other way round
+        odd = k % 2 == 1
+        a, b = np.where(odd, k + 1, k), np.where(odd, k, k + 1)
+        return np.stack([indices[a], indices[b], indices[k + 2]], axis=1)
+    if mode == FAN:
+        return np.stack([np.full_like(k, indices[0]), indices[k + 1], indices[k + 2]], axis=1)
+    fail(f"{where}: unknown primitive mode {mode}")

@@ -1,0 +1,171 @@
+"""The binary side of a glTF file as numpy: buffers (GLB chunk, .bin files, data URIs),
+accessors (strided, normalized, sparse), images and Draco-compressed primitives.
+
+Every failure is a ``MeshError`` naming the file and what it needs, e.g. a missing .bin:
+``Box.gltf: needs the buffer file 'Box.bin', which is not in /models``.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+from pathlib import Path
+from urllib.parse import unquote
+
+import numpy as np
+
+from ..errors import MeshError
+
+COMPONENTS = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16,
+              5125: np.uint32, 5126: np.float32}
+WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+
+
+def _data_uri(uri: str) -> bytes | None:
+    if not uri.startswith("data:"):
+        return None
+    head, _, payload = uri.partition(",")
+    return base64.b64decode(payload) if head.endswith(";base64") else unquote(payload).encode()
+
+
+class GltfData:
+    """Decodes the accessors, images and Draco primitives of one parsed glTF document
+    (``gltf``: a pygltflib.GLTF2 read from ``path``)."""
+
+    def __init__(self, gltf, path: Path):
+        self.gltf, self.path = gltf, path
+        self._buffers: dict[int, bytes] = {}
+
+    def fail(self, message: str):
+        raise MeshError(f"{self.path}: {message}")
+
+    # -- buffers -----------------------------------------------------------------------
+    def buffer(self, index: int) -> bytes:
+        if index not in self._buffers:
+            buf = self.gltf.buffers[index]
+            if buf.uri is None:  # the GLB's binary chunk
+                data = self.gltf.binary_blob()
+                if data is None:
+                    self.fail(f"buffer {index} has no uri and the file has no binary chunk")
+            else:
+                data = _data_uri(buf.uri)
+                if data is None:
+                    data = self._file(buf.uri, "buffer file")
+            if len(data) < (buf.byteLength or 0):
+                self.fail(f"buffer {index} holds {len(data)} bytes, the file says "
+                          f"{buf.byteLength}; is it truncated?")
+            self._buffers[index] = bytes(data)
+        return self._buffers[index]
+
+    def _file(self, uri: str, what: str) -> bytes:
+        p = self.path.parent / unquote(uri)
+        if not p.is_file():
+            self.fail(f"needs the {what} '{unquote(uri)}', which is not in {p.parent}")
+        return p.read_bytes()
+
+    def view(self, index: int) -> tuple[bytes, int, int, int | None]:
+        """(buffer bytes, offset, length, stride) of bufferView ``index``."""
+        bv = self.gltf.bufferViews[index]
+        data = self.buffer(bv.buffer)
+        offset, length = bv.byteOffset or 0, bv.byteLength
+        if offset + length > len(data):
+            self.fail(f"bufferView {index} reaches past the end of its buffer; is the file "
+                      "truncated?")
+        return data, offset, length, bv.byteStride
+
+    # -- accessors ---------------------------------------------------------------------
+    def accessor(self, index: int, normalize: bool = True) -> np.ndarray:
+        """(count, width) (or (count,) for scalars) of accessor ``index``; normalized
+        integers become floats in [0, 1] / [-1, 1] when ``normalize``; sparse values are
+        applied."""
+        acc = self.gltf.accessors[index]
+        dtype = np.dtype(COMPONENTS.get(acc.componentType) or self.fail(
+            f"accessor {index}: unknown componentType {acc.componentType}"))
+        width = WIDTH.get(acc.type) or self.fail(f"accessor {index}: unknown type {acc.type}")
+        if acc.bufferView is None:
+            out = np.zeros((acc.count, width), dtype)
+        else:
+            out = self._strided(acc.bufferView, acc.byteOffset or 0, acc.count, width, dtype)
+        if acc.sparse is not None and acc.sparse.count:
+            out = out.copy()
+            sp = acc.sparse
+            idx_dtype = np.dtype(COMPONENTS[sp.indices.componentType])
+            rows = self._strided(sp.indices.bufferView, sp.indices.byteOffset or 0, sp.count,
+                                 1, idx_dtype)[:, 0]
+            values = self._strided(sp.values.bufferView, sp.values.byteOffset or 0, sp.count,
+                                   width, dtype)
+            if rows.size and rows.max() >= acc.count:
+                self.fail(f"accessor {index}: sparse indices beyond its {acc.count} elements")
+            out[rows.astype(np.int64)] = values
+        if normalize and acc.normalized and dtype.kind in "iu":
+            info = np.iinfo(dtype)
+            out = np.maximum(out.astype(np.float32) / info.max, -1.0)
+        return out[:, 0] if acc.type == "SCALAR" else out
+
+    def _strided(self, view: int, offset: int, count: int, width: int, dtype) -> np.ndarray:
+        data, start, length, stride = self.view(view)
+        item = dtype.itemsize * width
+        stride = stride or item
+        need = offset + stride * (count - 1) + item if count else 0
+        if need > length:
+            self.fail(f"bufferView {view} is too short for {count} elements; is the file "
+                      "truncated?")
+        raw = np.frombuffer(data, np.uint8, count=length, offset=start)
+        rows = np.lib.stride_tricks.as_strided(raw[offset:], (count, item), (stride, 1))
+        return np.ascontiguousarray(rows).view(dtype).reshape(count, width)
+
+    # -- images ------------------------------------------------------------------------
+    def image(self, index: int):
+        """A facet Texture of image ``index``, or None (with one warning naming the file)
+        when its file is missing or unreadable: the material is drawn without it."""
+        import warnings
+
+        from PIL import Image, UnidentifiedImageError
+
+        from ..errors import FacetWarning
+        from .texture import Texture
+
+        img = self.gltf.images[index]
+        name = img.name or img.uri or f"image {index}"
+        try:
+            if img.bufferView is not None:
+                data, start, length, _ = self.view(img.bufferView)
+                raw = data[start:start + length]
+            elif _data_uri(img.uri or "") is not None:
+                raw = _data_uri(img.uri)
+            else:
+                p = self.path.parent / unquote(img.uri or "")
+                if not p.is_file():
+                    warnings.warn(f"{self.path.name}: texture file '{unquote(img.uri or '')}'"
+                                  f" not found in {p.parent}; drawn without it",
+                                  FacetWarning, stacklevel=2)
+                    return None
+                raw = p.read_bytes()
+            with Image.open(io.BytesIO(raw)) as pil:
+                return Texture.from_pil(pil, str(name))
+        except (UnidentifiedImageError, OSError, ValueError) as exc:
+            warnings.warn(f"{self.path.name}: cannot read texture {name} ({exc}); drawn "
+                          "without it", FacetWarning, stacklevel=2)
+            return None
+
+    # -- Draco -------------------------------------------------------------------------
+    def draco(self, ext: dict) -> dict[str, np.ndarray]:
+        """The attributes (by glTF name) and "indices" of a KHR_draco_mesh_compression
+        primitive, decoded with DracoPy."""
+        try:
+            import DracoPy
+        except ImportError:
+            self.fail("is Draco-compressed (KHR_draco_mesh_compression), which needs the "
+                      "DracoPy package: pip install 'facet[draco]' (or DracoPy)")
+        data, start, length, _ = self.view(ext["bufferView"])
+        try:
+            mesh = DracoPy.decode(data[start:start + length])
+        except Exception as exc:  # DracoPy raises its own types for corrupt data
+            self.fail(f"cannot decode its Draco data ({exc})")
+        out = {"indices": np.asarray(mesh.faces, dtype=np.uint32).reshape(-1)}
+        for name, uid in ext.get("attributes", {}).items():
+            attr = mesh.get_attribute_by_unique_id(uid)
+            if attr is None:
+                self.fail(f"its Draco data has no attribute {uid} for {name}")
+            out[name] = np.asarray(attr["data"])
+        return out

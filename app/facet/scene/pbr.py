@@ -1,0 +1,182 @@
+"""Physically based materials: glTF 2.0's metallic-roughness model (no GL).
+
+The colours here are *linear* (glTF's factors are; its base-colour and emissive images are
+sRGB-encoded and decoded when sampled). The renderer shades them with the glTF spec's BRDF
+(glsl/lib/pbr.glsl, ``shading = "pbr"``, chosen for these materials unless the user asks
+for another model). Where a Phong-only path meets one (``shading = "phong"``, the ray
+tracer), the Phong properties below stand in, mapped as documented on each.
+
+A light of intensity I gives irradiance pi I (so a white Lambertian surface facing it shows
+I, as a Phong surface with k_d = 1 does); an environment of radiance L lights a white
+Lambertian surface to L.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from .material import as_color
+
+ALPHA_MODES = ("OPAQUE", "MASK", "BLEND")
+WRAP_MODES = ("repeat", "clamp", "mirror")
+FILTERS = ("nearest", "linear")
+
+
+@dataclass
+class TextureSlot:
+    """One image a material samples, as glTF's textureInfo describes it.
+
+    ``texcoord``: which coordinate set (0: ``Mesh.uvs``, 1: ``Mesh.uvs1``). ``transform``:
+    (3, 3) applied to (u, v, 1) before sampling (KHR_texture_transform; identity without).
+    ``wrap``: (s, t) each of WRAP_MODES. ``filter``: (minification, magnification) each of
+    FILTERS; ``mipmaps``: whether minification blends mip levels.
+    """
+
+    texture: object  # facet.scene.texture.Texture
+    texcoord: int = 0
+    transform: np.ndarray = field(default_factory=lambda: np.eye(3))
+    wrap: tuple[str, str] = ("repeat", "repeat")
+    filter: tuple[str, str] = ("linear", "linear")
+    mipmaps: bool = True
+
+    def __post_init__(self):
+        from .texture import Texture
+
+        if not isinstance(self.texture, Texture):
+            raise InputError(f"texture slot: expected a facet Texture, got "
+                             f"{type(self.texture).__name__}")
+        if self.texcoord not in (0, 1):
+            raise InputError(f"texture slot: texcoord must be 0 or 1, got {self.texcoord!r}")
+        t = np.asarray(self.transform, dtype=np.float64)
+        if t.shape != (3, 3) or not np.all(np.isfinite(t)):
+            raise InputError("texture slot: transform must be a finite 3x3 matrix")
+        self.transform = t
+        for value, allowed, what in ((self.wrap, WRAP_MODES, "wrap"),
+                                     (self.filter, FILTERS, "filter")):
+            if len(value) != 2 or any(v not in allowed for v in value):
+                raise InputError(f"texture slot: {what} must be two of {', '.join(allowed)}, "
+                                 f"got {value!r}")
+        self.wrap, self.filter = tuple(self.wrap), tuple(self.filter)
+
+
+def texture_transform(offset=(0.0, 0.0), rotation: float = 0.0, scale=(1.0, 1.0)) -> np.ndarray:
+    """KHR_texture_transform's matrix T(offset) R(rotation) S(scale), (3, 3) on (u, v, 1).
+    The rotation turns uv counter-clockwise seen with v down, as the extension defines."""
+    c, s = np.cos(rotation), np.sin(rotation)
+    t = np.array([[1.0, 0.0, offset[0]], [0.0, 1.0, offset[1]], [0.0, 0.0, 1.0]])
+    r = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+    return t @ r @ np.diag([scale[0], scale[1], 1.0])
+
+
+SLOTS = ("base_color", "metallic_roughness", "normal", "occlusion", "emissive")
+
+
+@dataclass
+class PbrMaterial:
+    """glTF metallic-roughness. ``base_color`` (4,) linear RGBA; ``metallic``, ``roughness``
+    in [0, 1]; ``emissive`` (3,) linear, times ``emissive_strength``; texture slots
+    (``TextureSlot`` or None): ``base_color_texture`` (sRGB, RGBA multiplies base_color),
+    ``metallic_roughness_texture`` (B: metallic, G: roughness), ``normal_texture``
+    (tangent space, x and y scaled by ``normal_scale``), ``occlusion_texture`` (R, mixed
+    in by ``occlusion_strength``), ``emissive_texture`` (sRGB). ``alpha_mode``: OPAQUE
+    (alpha ignored), MASK (drawn where alpha >= ``alpha_cutoff``) or BLEND (transparent);
+    ``double_sided`` False culls back faces; ``unlit`` shows the base colour only
+    (KHR_materials_unlit). Vertex colours multiply the base colour."""
+
+    base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
+    metallic: float = 1.0
+    roughness: float = 1.0
+    emissive: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    emissive_strength: float = 1.0
+    base_color_texture: TextureSlot | None = None
+    metallic_roughness_texture: TextureSlot | None = None
+    normal_texture: TextureSlot | None = None
+    normal_scale: float = 1.0
+    occlusion_texture: TextureSlot | None = None
+    occlusion_strength: float = 1.0
+    emissive_texture: TextureSlot | None = None
+    alpha_mode: str = "OPAQUE"
+    alpha_cutoff: float = 0.5
+    double_sided: bool = False
+    unlit: bool = False
+    name: str = ""
+
+    # Not used by this model; present so that every material answers the same questions.
+    shader = None
+    reflectivity = 0.0
+    ior = 0.0
+    gloss = 0.0
+    mirror = False
+    ka = 1.0
+
+    def __post_init__(self):
+        self.base_color = as_color(self.base_color, "base color", channels=(4,)) \
+            if np.size(self.base_color) == 4 else \
+            np.append(as_color(self.base_color, "base color"), 1.0)
+        self.emissive = as_color(self.emissive, "emissive")
+        for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff"):
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float, np.floating)) and 0.0 <= v <= 1.0):
+                raise InputError(f"material {key} must be a number in [0, 1], got {v!r}")
+            setattr(self, key, float(v))
+        for key in ("emissive_strength", "normal_scale"):
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
+                raise InputError(f"material {key} must be a number >= 0, got {v!r}")
+            setattr(self, key, float(v))
+        if self.alpha_mode not in ALPHA_MODES:
+            raise InputError(f"material alpha_mode must be one of {', '.join(ALPHA_MODES)}, "
+                             f"got {self.alpha_mode!r}")
+        for slot in SLOTS:
+            value = getattr(self, f"{slot}_texture")
+            if value is not None and not isinstance(value, TextureSlot):
+                raise InputError(f"material {slot}_texture must be a TextureSlot, got "
+                                 f"{type(value).__name__}")
+
+    @property
+    def transparent(self) -> bool:
+        """Drawn in the transparent pass (order-independent, facet.render.transparency)."""
+        return self.alpha_mode == "BLEND"
+
+    @property
+    def slots(self) -> dict[str, TextureSlot]:
+        """The texture slots in use, by name (SLOTS order)."""
+        return {s: getattr(self, f"{s}_texture") for s in SLOTS
+                if getattr(self, f"{s}_texture") is not None}
+
+    # -- the Phong stand-ins (for shading = "phong" and the ray tracer) -------------------
+    @property
+    def color(self) -> np.ndarray:
+        """C: the base colour, linear (the renderer encodes it for non-sRGB output)."""
+        return self.base_color[:3]
+
+    @property
+    def opacity(self) -> float:
+        return float(self.base_color[3]) if self.alpha_mode == "BLEND" else 1.0
+
+    @property
+    def kd(self) -> float:
+        return 1.0 - self.metallic  # metals have no diffuse part
+
+    @property
+    def ks(self) -> float:
+        # Metals reflect their colour strongly; dielectrics about 4% at normal incidence,
+        # which a Phong highlight shows brighter as the surface gets smoother.
+        return float(np.clip(self.metallic + (1 - self.metallic) * 0.5 * (1 - self.roughness),
+                             0.0, 1.0))
+
+    @property
+    def shininess(self) -> float:
+        """n = 2 / alpha^2 - 2, alpha = roughness^2: the Blinn-Phong exponent of a GGX lobe
+        of that roughness, clamped to [1, 512]."""
+        alpha = max(self.roughness ** 2, 0.05)
+        return float(np.clip(2.0 / alpha ** 2 - 2.0, 1.0, 512.0))
+
+    @property
+    def texture(self):
+        """The base-colour image (the texture a Phong path multiplies C by)."""
+        slot = self.base_color_texture
+        return None if slot is None else slot.texture
