@@ -29,7 +29,8 @@ def test_precedence_defaults_then_scene_then_explicit_layers(tmp_path):
     scene = _scene_file(tmp_path, 'size = [64, 48]\nshading = "blinn"\naa = "jittered:4"\n'
                         "shadows = true\npcf = 2")
     defaults = RenderOptions()
-    assert (defaults.size, defaults.shading, str(defaults.aa)) == ((800, 600), "phong",
+    # "auto": pbr for glTF materials, phong for the rest (facet.render.materials)
+    assert (defaults.size, defaults.shading, str(defaults.aa)) == ((800, 600), "auto",
                                                                    DEFAULT_AA)
     from_scene = options_for(scene)
     assert from_scene.size == (64, 48) and from_scene.shading == "blinn"

@@ -9,12 +9,19 @@ in vec3 v_normal_world;
 in float v_depth_view;
 in vec2 v_uv;
 #ifdef HAS_VERTEX_COLORS
-in vec3 v_color;
+in vec4 v_color;
 #endif
 #ifdef HAS_TEXTURE
 // The material's texture. Uploaded as sRGB (decoded to linear when sampled) in the sRGB
 // colour mode, as plain RGBA8 (bytes / 255) otherwise; mipmapped, trilinear.
 uniform sampler2D u_texture;
+uniform mat3 u_uv_transform;  // on (u, v, 1): a glTF texture transform, else identity
+#endif
+#ifdef ALPHA_MASK
+// glTF alphaMode MASK (a PbrMaterial drawn by these models, and the exact channels):
+// fragments whose alpha (factor x texture x vertex colour) is below the cutoff are cut out.
+uniform float u_base_alpha;
+uniform float u_alpha_cutoff;
 #endif
 #ifdef SHADE_GOURAUD
 in vec3 v_color_front;
@@ -86,6 +93,19 @@ void main() {
 #ifdef CLIP_PLANE
     if (dot(u_clip_plane, vec4(v_pos_world, 1.0)) < 0.0) discard;
 #endif
+#ifdef HAS_TEXTURE
+    vec4 tex = texture(u_texture, (u_uv_transform * vec3(v_uv, 1.0)).xy);
+#endif
+#ifdef ALPHA_MASK
+    float alpha = u_base_alpha;
+#ifdef HAS_TEXTURE
+    alpha *= tex.a;
+#endif
+#ifdef HAS_VERTEX_COLORS
+    alpha *= v_color.a;
+#endif
+    if (alpha < u_alpha_cutoff) discard;
+#endif
 #ifdef OUT_DEPTH
     f_depth = v_depth_view;
 #endif
@@ -118,10 +138,10 @@ void main() {
     // What multiplies the material colour C at this point (1 for plain materials).
     vec3 albedo = vec3(1.0);
 #ifdef HAS_TEXTURE
-    albedo *= texture(u_texture, v_uv).rgb;
+    albedo *= tex.rgb;
 #endif
 #if defined(HAS_VERTEX_COLORS) && !defined(SHADE_GOURAUD)
-    albedo *= v_color;
+    albedo *= v_color.rgb;
 #endif
 #if defined(SHADE_GOURAUD)
     vec3 rgb = (gl_FrontFacing ? v_color_front : v_color_back) * albedo;

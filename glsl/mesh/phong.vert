@@ -6,9 +6,18 @@
 in vec3 in_position;  // object space
 in vec3 in_normal;    // object space
 in vec2 in_uv;        // texture coordinates ((0, 0) for meshes without them)
+#ifdef HAS_UV1
+in vec2 in_uv1;       // the second texture coordinate set
+out vec2 v_uv1;
+#endif
+#ifdef HAS_TANGENTS
+in vec4 in_tangent;   // object space, w: handedness (bitangent = w cross(N, T))
+out vec4 v_tangent;   // world space
+uniform float u_handedness;  // -1 where the model matrix mirrors, else 1
+#endif
 #ifdef HAS_VERTEX_COLORS
-in vec4 in_color;     // per-vertex colour; sRGB-encoded when COLOR_SRGB is defined
-out vec3 v_color;     // linear with COLOR_SRGB, else as given
+in vec4 in_color;     // per-vertex colour, sRGB-encoded (facet.scene.mesh)
+out vec4 v_color;     // linear with COLOR_SRGB and for SHADE_PBR, else as given
 #include "lib/color.glsl"
 #endif
 
@@ -35,11 +44,18 @@ void main() {
     v_pos_world = pos_world.xyz;
     v_normal_world = u_normal_matrix * in_normal;
     v_uv = in_uv;
+#ifdef HAS_UV1
+    v_uv1 = in_uv1;
+#endif
+#ifdef HAS_TANGENTS
+    // Tangents lie in the surface: they transform with the model matrix itself.
+    v_tangent = vec4(mat3(u_model) * in_tangent.xyz, in_tangent.w * u_handedness);
+#endif
 #ifdef HAS_VERTEX_COLORS
-#ifdef COLOR_SRGB
-    v_color = srgb_to_linear(in_color.rgb);
+#if defined(COLOR_SRGB) || defined(SHADE_PBR)
+    v_color = vec4(srgb_to_linear(in_color.rgb), in_color.a);
 #else
-    v_color = in_color.rgb;
+    v_color = in_color;
 #endif
 #endif
     v_depth_view = -dot(vec4(u_view[0][2], u_view[1][2], u_view[2][2], u_view[3][2]), pos_world);
@@ -51,7 +67,7 @@ void main() {
     vec3 V = normalize(u_eye_world - pos_world.xyz);
 #endif
 #ifdef HAS_VERTEX_COLORS
-    vec3 albedo = v_color;
+    vec3 albedo = v_color.rgb;
 #else
     vec3 albedo = vec3(1.0);
 #endif

@@ -111,7 +111,8 @@ def add_render_options(p, size_default: str) -> None:
     g.add_argument("--size", type=size, metavar="WxH",
                    help=f"{SIZE_HELP} (default: {size_default})")
     g.add_argument("--shading", choices=SHADING, metavar="MODEL",
-                   help=f"shading model: {', '.join(SHADING)} (default phong)")
+                   help=f"shading model: {', '.join(SHADING)} (default auto: pbr for "
+                   "glTF's metallic-roughness materials, phong for the others)")
     g.add_argument("--msaa", type=int, choices=MSAA_CHOICES, metavar="N",
                    help=f"multisample anti-aliasing for colour: "
                    f"{', '.join(map(str, MSAA_CHOICES))} (default 4; {MSAA_POLICY})")
@@ -149,9 +150,23 @@ def add_render_options(p, size_default: str) -> None:
                    help="depth of field: lens diameter in scene units (needs a focus)")
     g.add_argument("--focus", type=float, metavar="F",
                    help="depth of field: distance along the view that stays sharp")
+    g.add_argument("--up", metavar="x|y|z|X,Y,Z",
+                   help="the world's up axis: the default camera frames the model and "
+                   "turntables orbit around it (default y; CAD and scanner files are often "
+                   "z: --up z)")
     g.add_argument("--env", metavar="sky|IMAGE|DIR",
                    help="environment: a generated sky, an equirectangular image, or a folder "
                    "of six cube faces (px nx py ny pz nz); background and reflections")
+
+
+def add_model_options(p) -> None:
+    """How model files are read (facet.scene.loading)."""
+    from ..scene.options import DEFAULT_CREASE
+
+    p.add_argument("--crease", type=float, metavar="DEG",
+                   help="for files without normals: split vertices where neighbouring faces "
+                   f"meet at more than DEG degrees (default {DEFAULT_CREASE:g}; 180 = all "
+                   "smooth, 0 = faceted)")
 
 
 def render_layer(args) -> dict:
@@ -168,4 +183,4 @@ def render_layer(args) -> dict:
             "shadows": args.shadows, "pcf": args.pcf, "srgb": args.srgb,
             "background": args.background, "camera": args.camera, "lights": args.lights,
             "wireframe": args.wireframe, "aperture": args.aperture, "focus": args.focus,
-            "environment": args.env}
+            "environment": args.env, "up": args.up}

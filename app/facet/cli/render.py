@@ -56,8 +56,6 @@ def add_parser(sub) -> None:
                    help="camera position (default: framed to fit the model)")
     r.add_argument("--target", type=A.vec3, metavar="X,Y,Z",
                    help="point the camera looks at (default: the model's centre)")
-    r.add_argument("--up", type=A.vec3, default=[0.0, 1.0, 0.0], metavar="X,Y,Z",
-                   help="camera up direction (default 0,1,0)")
     r.add_argument("--fov", type=float, default=40.0, metavar="DEG",
                    help="vertical field of view in degrees (default 40)")
     r.add_argument("--ortho", action="store_true",
@@ -70,6 +68,7 @@ def add_parser(sub) -> None:
                    help="diffuse texture for the model (needs texture coordinates); "
                    "'checker' generates a checkerboard")
     A.add_render_options(r, "the scene file's, or its intrinsics camera's, else 800x600")
+    A.add_model_options(r)
     r.add_argument("--turntable", type=int, metavar="N",
                    help="render N frames orbiting the model; -o takes .gif, .mp4 or a "
                    "pattern like frames/{:04d}.png")
@@ -138,28 +137,31 @@ def _targets(args):
 
 
 def _camera(args, scene, opts):
-    """--eye / --target / --ortho frame a camera; otherwise the scene's, else framed."""
+    """--eye / --target / --ortho frame a camera; otherwise the scene's, else framed
+    around the options' up axis."""
     import numpy as np
 
-    from ..geometry.camera import DEFAULT_DIRECTION, Camera
+    from ..geometry.camera import Camera
 
-    bounds, (w, h) = scene.bounds, opts.size
+    bounds, (w, h), up = scene.bounds, opts.size, opts.up
     if args.camera is not None and not scene.cameras:
         raise InputError(f"--camera {args.camera}: this scene has no named cameras")
     if args.eye is None and args.target is None and not args.ortho and scene.cameras:
-        return scene.camera(opts.camera)
+        camera = scene.camera(opts.camera)
+        if camera is not None:  # else a model file's scene: framed below
+            return camera
     target = np.asarray(args.target if args.target else bounds.mean(axis=0))
     if args.eye is None:
-        direction = DEFAULT_DIRECTION if args.target is None else \
-            target - Camera.frame(bounds, aspect=w / h).eye
-        return Camera.frame(bounds, direction, args.up, fov_y=args.fov, aspect=w / h,
+        direction = None if args.target is None else \
+            target - Camera.frame(bounds, up=up, aspect=w / h).eye
+        return Camera.frame(bounds, direction, up, fov_y=args.fov, aspect=w / h,
                             ortho=args.ortho)
     direction = target - np.asarray(args.eye)
     if not np.linalg.norm(direction) > 0:
         raise InputError("--eye and --target are the same point")
-    height = Camera.frame(bounds, direction, args.up, fov_y=args.fov, aspect=w / h,
+    height = Camera.frame(bounds, direction, up, fov_y=args.fov, aspect=w / h,
                           ortho=True).ortho_height if args.ortho else None
-    return Camera.looking_at_bounds(args.eye, target, args.up, bounds, fov_y=args.fov,
+    return Camera.looking_at_bounds(args.eye, target, up, bounds, fov_y=args.fov,
                                     ortho_height=height)
 
 
@@ -167,7 +169,6 @@ def _scene(args):
     """The scene to render: a scene file, or one mesh (the bundled default without MODEL),
     with --color / --texture / --frag on its material and --light replacing its lights."""
     from ..paths import default_model
-    from ..scene.material import Material
     from ..scene.source import is_scene_file, open_scene
 
     shader = user_shader(args)
@@ -177,20 +178,39 @@ def _scene(args):
         raise InputError("--color, --texture and --frag apply to a single model; set "
                          "materials in the scene file instead")
     texture = _texture(args.texture) if args.texture else None
-    scene = open_scene(model)
-    if not is_scene_file(model):
-        obj = scene.objects[0]
-        if texture is not None and obj.mesh.uvs is None:
-            raise InputError(f"--texture: {obj.mesh.name} has no texture coordinates to map "
-                             "an image with")
-        m = obj.material
-        obj.material = Material(m.color if args.color is None else args.color, m.ka, m.kd,
-                                m.ks, m.shininess, m.name, texture or m.texture, shader)
+    scene = open_scene(model, crease=args.crease)
+    if not is_scene_file(model) and (args.color is not None or texture is not None or
+                                     shader is not None):
+        for obj in scene.objects:  # every part of the model
+            if texture is not None and obj.mesh.uvs is None:
+                raise InputError(f"--texture: {obj.mesh.name} has no texture coordinates to "
+                                 "map an image with")
+            obj.material = _override(obj.material, args.color, texture, shader)
     if args.light:
         scene.lights = []
         for light in args.light:
             scene.add_light(light)
     return scene
+
+
+def _override(m, color, texture, shader):
+    """``m`` with --color / --texture / --frag applied (a glTF material stays one: its
+    base colour and base-colour texture change; --frag makes it a Phong material)."""
+    from dataclasses import replace
+
+    from ..scene.material import Material
+    from ..scene.pbr import PbrMaterial, TextureSlot, as_phong
+
+    if isinstance(m, PbrMaterial) and shader is None:
+        changes = {}
+        if color is not None:
+            changes["base_color"] = (*color, m.base_color[3])
+        if texture is not None:
+            changes["base_color_texture"] = TextureSlot(texture)
+        return replace(m, **changes)
+    m = as_phong(m)
+    return Material(m.color if color is None else color, m.ka, m.kd, m.ks, m.shininess,
+                    m.name, texture or m.texture, shader)
 
 
 def user_shader(args):

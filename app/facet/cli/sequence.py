@@ -26,7 +26,7 @@ def progress(total: int, quiet: bool, desc: str):
 
 def render_turntable(renderer, scene, camera, opts, args, target,
                      color_options) -> list[Path]:
-    """Render the orbit about ``args.up`` with the options ``opts`` (the default light rig,
+    """Render the orbit about ``opts.up`` with the options ``opts`` (the default light rig,
     if it is used, follows the camera: the model turns under studio lights)."""
     # Videos stream into one encoder object, so they use a thread; independent dataset
     # files go to a writer process (see ProcessWriter for why).
@@ -36,7 +36,7 @@ def render_turntable(renderer, scene, camera, opts, args, target,
     cameras = []
     try:
         with progress(args.turntable, args.quiet, "turntable") as bar:
-            frames = turntable(renderer, scene, args.turntable, camera, args.up, opts)
+            frames = turntable(renderer, scene, args.turntable, camera, opts.up, opts)
             for i, frame in enumerate(frames):
                 cameras.append(frame.camera_info())
                 if sink is not None:

@@ -19,6 +19,7 @@ def add_parser(sub) -> None:
     v.add_argument("model", nargs="?", help="mesh file or .toml scene file (default: the "
                    "bundled torus knot)")
     A.add_render_options(v, "the window opens at the scene file's size, else 1280x720")
+    A.add_model_options(v)
     A.add_shader_options(v)
 
 
@@ -28,4 +29,4 @@ def run(args) -> None:
     from .render import user_shader
 
     view(args.model or default_model(), shader=user_shader(args),
-         options=A.render_layer(args))
+         options=A.render_layer(args), crease=args.crease)

@@ -118,10 +118,11 @@ class Camera:
         return cls(view, intrinsics=k, near=near, far=far)
 
     @classmethod
-    def frame(cls, bounds, direction=DEFAULT_DIRECTION, up=(0.0, 1.0, 0.0), *,
+    def frame(cls, bounds, direction=None, up=(0.0, 1.0, 0.0), *,
               fov_y: float = 40.0, aspect: float = 1.0, ortho: bool = False,
               margin: float = FRAME_MARGIN) -> Camera:
-        """A camera looking along ``direction`` that fits the box ``bounds`` (2, 3) in view.
+        """A camera looking along ``direction`` that fits the box ``bounds`` (2, 3) in view
+        (default: ``default_direction(up)``, from the front, right and above).
 
         The distance is the smallest for which all eight box corners fall inside the frustum
         (for an image of the given ``aspect`` = width / height), times ``margin``.
@@ -129,7 +130,7 @@ class Camera:
         b = np.asarray(bounds, dtype=np.float64).reshape(2, 3)
         if not np.all(np.isfinite(b)):
             raise InputError("frame: bounds must be finite")
-        d = T._vec3(direction, "direction")
+        d = T._vec3(default_direction(up) if direction is None else direction, "direction")
         if np.linalg.norm(d) == 0:
             raise InputError("frame: direction must not be zero")
         d = d / np.linalg.norm(d)
@@ -250,6 +251,20 @@ class Camera:
                 f"fov_y={self.fov_y:g}")
         return f"Camera(eye={np.round(self.eye, 4).tolist()}, {kind}, near={self.near:g}, " \
                f"far={self.far:g})"
+
+
+def default_direction(up=(0.0, 1.0, 0.0)) -> np.ndarray:
+    """DEFAULT_DIRECTION (given for y up) for a world whose up axis is ``up``: turned by
+    the smallest rotation taking +y to ``up``, so the view is from as high above."""
+    u = np.asarray(up, dtype=np.float64)
+    u = u / np.linalg.norm(u)
+    y = np.array([0.0, 1.0, 0.0])
+    d = np.asarray(DEFAULT_DIRECTION, dtype=np.float64)
+    axis = np.cross(y, u)
+    s, c = np.linalg.norm(axis), float(np.dot(y, u))
+    if s < 1e-12:  # up is +y (no turn) or -y (half a turn about z)
+        return d if c > 0 else d * np.array([-1.0, -1.0, 1.0])
+    return T.rotate(axis, np.degrees(np.arctan2(s, c)))[:3, :3] @ d
 
 
 def depth_range(view, bounds) -> tuple[float, float]:

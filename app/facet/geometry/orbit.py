@@ -83,12 +83,16 @@ def arcball_rotation(p0, p1, width: int, height: int) -> np.ndarray:
 class OrbitControl:
     """Orbit / pan / zoom state for a viewer; ``camera(aspect)`` builds the Camera."""
 
-    def __init__(self, bounds, direction=(-0.55, -0.4, -1.0), up=(0.0, 1.0, 0.0),
+    def __init__(self, bounds, direction=None, up=(0.0, 1.0, 0.0),
                  fov_y: float = 40.0, aspect: float = 1.0):
         self.fov_y = fov_y
         self.orthographic = False
         self.aperture, self.focus_distance = 0.0, None  # a thin lens, from set_camera
         self.bounds = np.asarray(bounds, dtype=np.float64).reshape(2, 3)
+        from .camera import default_direction
+
+        if direction is None:  # the default view for this up axis (Camera.frame's)
+            direction = default_direction(up)
         self._home = (np.asarray(direction, dtype=np.float64), np.asarray(up, np.float64))
         self.frame(aspect)
 

@@ -29,6 +29,9 @@ class MeshBuffers:
         self.extra: dict[str, tuple[moderngl.Buffer, str]] = {}
         if mesh.uvs is not None:
             self.extra["in_uv"] = (ctx.buffer(mesh.uvs), "2f")
+        if getattr(mesh, "uvs1", None) is not None:
+            self.extra["in_uv1"] = (ctx.buffer(mesh.uvs1), "2f")
+        self.mesh = weakref.ref(mesh)  # tangents are uploaded when a program first wants them
         colors = getattr(mesh, "colors", None)
         if colors is not None:
             self.extra["in_color"] = (ctx.buffer(colors), "4f")
@@ -39,6 +42,10 @@ class MeshBuffers:
         """The vertex array binding this mesh to ``program``'s active attributes; attributes
         the mesh lacks keep GL's default value (0, 0, 0, 1)."""
         key = program.glo
+        if "in_tangent" in program and "in_tangent" not in self.extra:
+            mesh = self.mesh()
+            if mesh is not None and mesh.tangents is not None:
+                self.extra["in_tangent"] = (ctx.buffer(mesh.tangents), "4f")
         if key not in self.vaos:
             names = [n for n in ("in_position", "in_normal") if n in program]
             fmt = "3f 3f" if names == ["in_position", "in_normal"] else "3f 3x4"

@@ -21,6 +21,16 @@ from ..gl.shaders import Program, compile_program
 from ..gl.targets import aux_locations
 from ..lab.mesh_shaders import UserPrograms
 from ..scene.scene import MAX_LIGHTS, Scene
+from .ibl import ImageLighting
+from .materials import (
+    IBL_UNITS,
+    SLOT_DEFINES,
+    SlotSamplers,
+    as_pbr,
+    model_for,
+    phong_color,
+    set_pbr_material,
+)
 from .mirror import MirrorTargets, mirror_plane
 from .shading import SHADING_MODELS, check_shading
 from .state import UNITS, FrameState, pack_lights
@@ -46,11 +56,18 @@ class Variant:
     environment: bool = False  # reflects / refracts the scene's environment
     mirror: bool = False  # mixes in its planar reflection (facet.render.mirror)
     clip_plane: bool = False  # discards what is behind a mirror (its reflection pass)
+    slots: tuple[str, ...] = ()  # the pbr model's texture slots in use
+    uv1: bool = False  # the mesh has a second texture coordinate set
+    tangents: bool = False  # normal mapping: the mesh's tangent frames
+    alpha_mask: bool = False  # glTF alphaMode MASK: discard below the cutoff
 
     @classmethod
     def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
         s = state.shadows
-        return cls(state.shading, state.light_kinds, tuple(aux_locations(aux)),
+        # "auto" picks a model per material (facet.render.materials.model_for); the base
+        # variant, which users' shaders see, is phong's.
+        shading = "phong" if state.shading == "auto" else state.shading
+        return cls(shading, state.light_kinds, tuple(aux_locations(aux)),
                    state.camera.is_orthographic, srgb=state.srgb,
                    shadow_slots=s.slots if s else None, shadow_tiles=s.tiles if s else 0,
                    shadow_pcf=s.pcf if s else 1, oit=oit,
@@ -70,7 +87,10 @@ class Variant:
             d["LIGHT_SHADOW_LIST"] = f"int[{len(self.shadow_slots)}]({slots})"
             d["SHADOW_TILES"] = max(self.shadow_tiles, 1)
             d["SHADOW_PCF"] = self.shadow_pcf
+        d.update({SLOT_DEFINES[s]: None for s in self.slots})
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
+                 "HAS_UV1": self.uv1, "HAS_TANGENTS": self.tangents,
+                 "ALPHA_MASK": self.alpha_mask,
                  "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb,
                  "OIT": self.oit, "HAS_ENVIRONMENT": self.environment,
                  "HAS_MIRROR": self.mirror, "CLIP_PLANE": self.clip_plane}
@@ -90,6 +110,8 @@ class ForwardPass:
         self.mirrors = MirrorTargets(ctx)  # planar reflection textures, made on first use
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights((), np.zeros(3))))
         self._lights_bytes = b""
+        self.ibl = ImageLighting(ctx, cache)  # the pbr model's ambient and environment light
+        self.samplers = SlotSamplers(ctx)
 
     def program(self, variant: Variant) -> Program:
         """The compiled program for ``variant`` (compiled on first use, then reused)."""
@@ -134,23 +156,45 @@ class ForwardPass:
                                 for x in state.lights]).reshape(-1, 3)
         ambient = to_linear(state.ambient)
         ready: set[int] = set()
+        if colour_pass and any(model_for(state.shading, o.material) == "pbr"
+                               for o in scene.objects):
+            # Made (once) before any draw: they are passes of their own.
+            self.ibl.lut()
+            if env is not None:
+                self.ibl.maps(env)
         for obj in scene.objects:
             m = obj.material
             user = m.shader is not None and not aux
             mirror = id(obj) in reflections
+            model = model_for(state.shading, m)
             reflects = (env is not None and m.reflectivity > 0 and colour_pass and not mirror
                         and not user)
             if user:
                 prog = self.user.program(m.shader, base.defines())
+            elif model == "pbr":
+                pbr = as_pbr(m)
+                mesh = obj.mesh
+                prog = self.program(replace(
+                    base, shading="pbr", slots=tuple(pbr.slots),
+                    vertex_colors=mesh.colors is not None, uv1=mesh.uvs1 is not None,
+                    tangents=pbr.normal_texture is not None and mesh.tangents is not None,
+                    alpha_mask=pbr.alpha_mode == "MASK",
+                    environment=env is not None and colour_pass))
             else:  # a mirror reflects the sky in its reflection
                 prog = self.program(replace(
-                    base, texture=m.texture is not None, mirror=mirror, environment=reflects,
-                    vertex_colors=obj.mesh.colors is not None))
+                    base, shading=model, texture=m.texture is not None, mirror=mirror,
+                    environment=reflects, vertex_colors=obj.mesh.colors is not None,
+                    alpha_mask=getattr(m, "alpha_mode", "") == "MASK"))
             strict = not user  # a user's shader need not declare every standard input
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 self._frame_uniforms(prog, state, view_projection, eye, user)
                 ready.add(id(prog))
-            color = to_linear(m.color)
+            # glTF's single-sided materials show no back faces.
+            self._cull(not getattr(m, "double_sided", True))
+            if model == "pbr" and not user:
+                self._draw_pbr(prog, obj, pbr, state, view_projection, env, colour_pass)
+                continue
+            color = phong_color(m, state)
             prog.set("u_model", obj.transform, strict)
             prog.set("u_mvp", view_projection @ obj.transform, strict)
             prog.set("u_normal_matrix", T.normal_matrix(obj.transform), strict)
@@ -178,7 +222,46 @@ class ForwardPass:
             if m.texture is not None:
                 self.cache.texture(m.texture, state.srgb).use(location=UNITS["material"])
                 prog.set("u_texture", UNITS["material"], strict)
+                slot = getattr(m, "base_color_texture", None)
+                prog.set("u_uv_transform", np.eye(3) if slot is None else slot.transform,
+                         strict=False)
+            if getattr(m, "alpha_mode", "") == "MASK":
+                prog.set("u_base_alpha", float(m.base_color[3]), strict=False)
+                prog.set("u_alpha_cutoff", m.alpha_cutoff, strict=False)
             self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
+        self._cull(False)
+
+    def _cull(self, on: bool) -> None:
+        if on:
+            self.ctx.enable(self.ctx.CULL_FACE)
+        else:
+            self.ctx.disable(self.ctx.CULL_FACE)
+
+    def _draw_pbr(self, prog, obj, m, state: FrameState, view_projection, env,
+                  colour_pass: bool) -> None:
+        """One object by the pbr model (glsl/mesh/pbr.frag)."""
+        prog.set("u_model", obj.transform)
+        prog.set("u_mvp", view_projection @ obj.transform)
+        prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
+        prog.set("u_handedness", -1.0 if np.linalg.det(obj.transform[:3, :3]) < 0 else 1.0,
+                 strict=False)
+        prog.set("u_object_id", obj.id + 1)
+        bound = set_pbr_material(prog, m, self.cache, self.samplers)
+        if colour_pass:
+            self.ibl.lut().use(location=IBL_UNITS["lut"])
+            prog.set("u_ibl_lut", IBL_UNITS["lut"], strict=False)
+        if env is not None and colour_pass:
+            from .ibl import PREFILTER_LEVELS
+
+            irradiance, prefiltered = self.ibl.maps(env)
+            irradiance.use(location=IBL_UNITS["irradiance"])
+            prefiltered.use(location=IBL_UNITS["prefiltered"])
+            prog.set("u_irradiance", IBL_UNITS["irradiance"], strict=False)
+            prog.set("u_prefiltered", IBL_UNITS["prefiltered"], strict=False)
+            prog.set("u_prefiltered_levels", float(PREFILTER_LEVELS), strict=False)
+        self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
+        for unit in bound:  # sampler objects outlive the draw otherwise
+            self.ctx.clear_samplers(unit, unit + 1)
 
     def _frame_uniforms(self, prog: Program, state: FrameState, view_projection, eye,
                         user: bool) -> None:
@@ -232,6 +315,8 @@ class ForwardPass:
         self.ctx.enable(self.ctx.DEPTH_TEST)
 
     def release(self) -> None:
+        self.ibl.release()
+        self.samplers.release()
         self.mirrors.release()
         if self._sky is not None:
             self._sky.release()

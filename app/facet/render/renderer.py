@@ -110,7 +110,7 @@ class Renderer:
 
     def camera(self, scene: Scene, opts: RenderOptions) -> Camera:
         """The scene's camera the options name (else its first), else one framing it."""
-        return scene.camera(opts.camera) or Camera.frame(scene.bounds,
+        return scene.camera(opts.camera) or Camera.frame(scene.bounds, up=opts.up,
                                                          aspect=opts.width / opts.height)
 
     def render(self, scene: Scene, camera: Camera | None = None, options=None,

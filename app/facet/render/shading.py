@@ -23,14 +23,18 @@ SHADING_MODELS: dict[str, ProgramSpec] = {
     "flat": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_FLAT"),
     "unlit": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_UNLIT"),
     "normals": ProgramSpec("mesh/phong.vert", "mesh/phong.frag", "SHADE_NORMALS"),
+    # glTF metallic-roughness (glsl/lib/pbr.glsl); Phong materials drawn by it become
+    # dielectrics of their colour (facet.render.materials.as_pbr).
+    "pbr": ProgramSpec("mesh/phong.vert", "mesh/pbr.frag", "SHADE_PBR"),
 }
 
-
-assert tuple(SHADING_MODELS) == SHADING
+# "auto" is no model of its own: pbr for PbrMaterial, phong for the rest
+# (facet.render.materials.model_for).
+assert set(SHADING_MODELS) | {"auto"} == set(SHADING)
 
 
 def check_shading(name: str) -> str:
-    if name not in SHADING_MODELS:
+    if name not in SHADING_MODELS and name != "auto":
         raise InputError(f"unknown shading model {name!r}; choose one of "
                          f"{', '.join(SHADING_MODELS)}")
     return name

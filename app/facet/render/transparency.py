@@ -11,9 +11,10 @@ between ``oit_two_layers`` (what the method computes, which the render must matc
 ``over_two_layers`` (the exact result): for two layers it is bounded by |C1 - C2| times
 a1 a2 (a1 + a2 - a1 a2) / (a1 + a2), at most |C1 - C2| / 8 for opacities of 1/2.
 
-Transparent objects (material opacity < 1) are drawn after the opaque scene, tested
-against its depth without writing depth; they do not appear in depth, ids or the other
-exact channels, which describe the nearest opaque surface.
+Transparent objects (``material.transparent``: opacity < 1, glTF alphaMode BLEND) are
+drawn after the opaque scene, tested against its depth without writing depth; they do not
+appear in depth, ids or the other exact channels, which describe the nearest opaque
+surface.
 """
 
 from __future__ import annotations
@@ -134,7 +135,7 @@ class Transparency:
 
 def split_transparent(scene):
     """(opaque scene, transparent scene or None): views of ``scene`` by material opacity."""
-    if all(o.material.opacity >= 1.0 for o in scene.objects):
+    if not any(o.material.transparent for o in scene.objects):
         return scene, None
-    return (scene.view(objects=[o for o in scene.objects if o.material.opacity >= 1.0]),
-            scene.view(objects=[o for o in scene.objects if o.material.opacity < 1.0]))
+    return (scene.view(objects=[o for o in scene.objects if not o.material.transparent]),
+            scene.view(objects=[o for o in scene.objects if o.material.transparent]))

@@ -47,6 +47,11 @@ class Material:
     # ``reflectivity`` (facet.render.mirror). Needs a flat mesh and reflectivity > 0.
     mirror: bool = False
 
+    @property
+    def transparent(self) -> bool:
+        """Drawn in the transparent pass (order-independent, facet.render.transparency)."""
+        return self.opacity < 1.0
+
     def __post_init__(self):
         from .texture import Texture
 

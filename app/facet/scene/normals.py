@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-DEFAULT_CREASE = 60.0  # degrees between neighbouring faces above which an edge is sharp
+from .options import DEFAULT_CREASE  # noqa: F401 - the loaders' default, kept with the options
+
 AREA_EPSILON = 1e-30  # below this |cross| a triangle counts as degenerate
 
 

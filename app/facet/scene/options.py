@@ -34,7 +34,8 @@ from ..errors import FacetWarning, InputError
 OUTPUTS = ("color", "depth", "ids", "normals", "position", "uv")
 DEFAULT_OUTPUTS = ("color", "depth", "ids")
 # Shading models (facet.render.shading maps each to its GLSL program).
-SHADING = ("phong", "blinn", "gouraud", "flat", "unlit", "normals")
+# "auto": glTF's metallic-roughness materials (PbrMaterial) by "pbr", the others by "phong".
+SHADING = ("auto", "phong", "pbr", "blinn", "gouraud", "flat", "unlit", "normals")
 MSAA_CHOICES = (0, 2, 4, 8)
 PCF_CHOICES = (0, 1, 2)  # shadow filter kernel radius: one tap, 3 x 3, 5 x 5
 # Which lights shine: "auto" the scene's own, or the default key + fill rig following the
@@ -44,6 +45,9 @@ LIGHTS = ("auto", "scene", "camera")
 ENGINES = ("raster", "trace")  # the rasterizer, the ray tracer (facet.render.trace)
 DEFAULT_MAX_DEPTH = 5  # reflection/refraction bounces of the ray tracer
 DEFAULT_AA = "msaa:4"
+# Files without normals: vertices split where faces meet at more than this many degrees
+# (facet.scene.normals; 180: all smooth).
+DEFAULT_CREASE = 60.0
 # Depth of field, motion blur, area-light shadows and gloss are sums over samples: a render
 # with any of them supersamples with this unless its aa already supersamples.
 DISTRIBUTED_AA = "ssaa:jittered:16"
@@ -173,6 +177,30 @@ def _number(minimum=None, above=None):
     return parse
 
 
+AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
+
+
+def _up(value, key):
+    """The world's up axis: "x", "y", "z" (or "-z"...), "X,Y,Z", or three numbers."""
+    v = value
+    if isinstance(v, str):
+        text = v.strip().lower()
+        sign = -1.0 if text.startswith("-") else 1.0
+        if text.lstrip("+-") in AXES:
+            return tuple(sign * c for c in AXES[text.lstrip("+-")])
+        try:
+            v = [float(t) for t in text.split(",")]
+        except ValueError:
+            v = ()
+    values = list(v) if isinstance(v, (list, tuple)) else []
+    if len(values) != 3 or any(number_problem(c) for c in values) or \
+            not math.hypot(*values) > 0:
+        raise InputError(f"{key}: expected x, y, z (or -x, -y, -z) or three numbers X,Y,Z "
+                         f"not all 0, got {value!r}")
+    norm = math.hypot(*values)
+    return tuple(float(c) / norm for c in values)
+
+
 def _size(value, key):
     import numpy as np
 
@@ -274,6 +302,7 @@ PARSERS = {
     "time": _number(),
     "engine": _choice(ENGINES, "engine"),
     "max_depth": _integer(minimum=0, maximum=MAX_RAY_DEPTH),
+    "up": _up,
 }
 
 
@@ -302,11 +331,13 @@ class RenderOptions:
     time : seconds (users' shaders' u_time)  engine : "raster" or "trace"
     max_depth : the ray tracer's reflection/refraction recursion (1: the notes' one
                 reflection and one transmission ray; default DEFAULT_MAX_DEPTH)
+    up : the world's up axis: default cameras frame the scene and turntables orbit
+         around it (CAD and scanner files are often z-up)
     """
 
     size: tuple[int, int] = (800, 600)
     background: tuple[float, float, float, float] | None = None
-    shading: str = "phong"
+    shading: str = "auto"
     aa: AntiAliasing = field(default_factory=lambda: parse_aa(DEFAULT_AA))
     shadows: bool | None = None  # None: the engine's default (rasterizer off, tracer on)
     pcf: int = 1
@@ -322,6 +353,7 @@ class RenderOptions:
     time: float = 0.0
     engine: str = "raster"
     max_depth: int = DEFAULT_MAX_DEPTH
+    up: tuple[float, float, float] = (0.0, 1.0, 0.0)
 
     @property
     def shadows_on(self) -> bool:

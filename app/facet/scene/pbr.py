@@ -180,3 +180,17 @@ class PbrMaterial:
         """The base-colour image (the texture a Phong path multiplies C by)."""
         slot = self.base_color_texture
         return None if slot is None else slot.texture
+
+
+def as_phong(material):
+    """A Phong ``Material`` standing in for ``material`` (itself if it is one): for a
+    user's own shader, which takes the Phong uniforms. Colours encoded for display, as a
+    Phong material's are."""
+    from ..srgb import linear_to_srgb
+    from .material import Material
+
+    if not isinstance(material, PbrMaterial):
+        return material
+    m = material
+    return Material(color=linear_to_srgb(m.color), ka=1.0, kd=m.kd, ks=m.ks,
+                    shininess=m.shininess, name=m.name, texture=m.texture, opacity=m.opacity)

@@ -21,6 +21,7 @@ from pathlib import Path
 from ..errors import FacetError
 from ..gl.glsl_source import file_digest
 from ..scene.options import options_for, parse_layer
+from ..scene.pbr import as_phong
 from .actions import ViewerActions
 from .base import DEBOUNCE, POLL, Debounce, GLWindow
 from .keys import KEYMAP
@@ -36,8 +37,9 @@ class Viewer(ViewerActions):
     defaults to the scene's, else 1280x720."""
 
     def __init__(self, source, size=None, msaa: int | None = None, title: str = "facet",
-                 shader=None, options=None):
+                 shader=None, options=None, crease: float | None = None):
         self.path = Path(source) if isinstance(source, (str, Path)) else None
+        self.crease = crease  # how files without normals are read (facet.scene.loading)
         self.user_shader = shader  # --frag: the model's own shader (a UserShader)
         self.explicit = parse_layer({**(options or {}), "msaa": msaa})
         scene = self._load(self.path) if self.path else source
@@ -64,10 +66,10 @@ class Viewer(ViewerActions):
     def _load(self, path):
         from ..scene.source import open_scene
 
-        scene = open_scene(path)
+        scene = open_scene(path, crease=self.crease)
         if self.user_shader is not None:
             for obj in scene.objects:
-                obj.material = replace(obj.material, shader=self.user_shader)
+                obj.material = replace(as_phong(obj.material), shader=self.user_shader)
         return scene
 
     def options(self, **changes):
@@ -101,8 +103,9 @@ class Viewer(ViewerActions):
 
         self.scene = scene
         if frame or not hasattr(self, "control"):
-            self.control = OrbitControl(scene.bounds, aspect=self.aspect)
-            camera = scene.camera(options_for(scene, self.explicit).camera)
+            opts = options_for(scene, self.explicit)
+            self.control = OrbitControl(scene.bounds, up=opts.up, aspect=self.aspect)
+            camera = scene.camera(opts.camera)
             if camera is not None:
                 self.control.set_camera(camera)
         else:
@@ -313,9 +316,10 @@ class Viewer(ViewerActions):
         self.close()
 
 
-def view(scene, size=None, msaa: int | None = None, shader=None, options=None) -> None:
+def view(scene, size=None, msaa: int | None = None, shader=None, options=None,
+         crease: float | None = None) -> None:
     """Open a window on ``scene`` (a Scene or a file path) and block until it closes;
     ``shader`` (a UserShader) replaces the file's materials' shaders; ``options`` are
-    render options over the scene's."""
-    with Viewer(scene, size, msaa, shader=shader, options=options) as v:
+    render options over the scene's; ``crease`` splits normals of files without them."""
+    with Viewer(scene, size, msaa, shader=shader, options=options, crease=crease) as v:
         v.run()

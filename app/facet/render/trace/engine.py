@@ -19,6 +19,7 @@ from ...gl.fullscreen import FullScreenPass
 from ...gl.glsl_source import glsl_root
 from ...gl.shaders import compile_program
 from ...gl.targets import aux_locations
+from ..materials import phong_color
 from ..shading import SHADING_MODELS
 from ..state import UNITS, FrameState
 from . import pack
@@ -120,8 +121,8 @@ class Tracer:
     def _instances(self, scene, state: FrameState) -> tuple[int, bool, int]:
         """Upload the placed objects: (unbounded count, has a top level, the single
         bounded instance without one or -1)."""
-        rows, tlas, unbounded = pack.pack_instances(scene.objects, self._roots,
-                                                    state.to_linear, self._layers)
+        rows, tlas, unbounded = pack.pack_instances(
+            scene.objects, self._roots, lambda m: phong_color(m, state), self._layers)
         self._upload("instances", rows.reshape(-1, 4))
         self._upload("tlas", tlas.reshape(-1, 4) if tlas is not None else
                      np.zeros((4, 4), np.float32))
@@ -134,7 +135,10 @@ class Tracer:
         # The lights are looped over at run time (u_light_count), not unrolled per light
         # set as the rasterizer's are: each unrolled light would inline a whole shadow
         # ray's traversal, and one program serves every light set.
-        defines = {SHADING_MODELS[state.shading].define: None, "TEX_SHIFT": pack.TEX_SHIFT,
+        # The tracer shades every material by the Phong equation (a PbrMaterial through
+        # its Phong stand-ins, facet.scene.pbr).
+        model = "phong" if state.shading in ("auto", "pbr") else state.shading
+        defines = {SHADING_MODELS[model].define: None, "TEX_SHIFT": pack.TEX_SHIFT,
                    "MAX_LIGHTS": 16}
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
                  "SECONDARY": secondary and stage == "trace",

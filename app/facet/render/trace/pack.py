@@ -110,7 +110,7 @@ def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
     return out
 
 
-def pack_instances(objects, mesh_root: dict, to_linear, layers: dict):
+def pack_instances(objects, mesh_root: dict, material_color, layers: dict):
     """(instances (n, INSTANCE_TEXELS, 4) float32, top-level nodes or None, unbounded count)
     for the scene's ``objects``: infinite planes first, then the rest in top-level order
     (one bounded object needs no top level: the tracer tests it directly).
@@ -128,11 +128,11 @@ def pack_instances(objects, mesh_root: dict, to_linear, layers: dict):
     ordered = unbounded + bounded
     rows = np.zeros((len(ordered), INSTANCE_TEXELS, 4), np.float32)
     for i, o in enumerate(ordered):  # one row per placed object, not per triangle
-        rows[i] = _instance(o, mesh_root, to_linear, layers)
+        rows[i] = _instance(o, mesh_root, material_color, layers)
     return rows, tlas, len(unbounded)
 
 
-def _instance(obj, mesh_root, to_linear, layers) -> np.ndarray:
+def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
     m = np.asarray(obj.transform, dtype=np.float64)
     row = np.zeros((INSTANCE_TEXELS, 4), np.float32)
     row[0:3] = np.linalg.inv(m)[:3]
@@ -145,7 +145,7 @@ def _instance(obj, mesh_root, to_linear, layers) -> np.ndarray:
     else:
         kind, root = KINDS["mesh"], mesh_root[id(obj.mesh)]
     row[6] = (kind, root, obj.id, obj.mesh.colors is not None and obj.shape is None)
-    row[8] = (*to_linear(mat.color), mat.ka)
+    row[8] = (*material_color(mat), mat.ka)
     row[9] = (mat.kd, mat.ks, mat.shininess, mat.opacity)
     layer = layers.get(id(mat.texture), -1) if mat.texture is not None else -1
     row[10] = (mat.reflectivity, mat.ior, mat.gloss, layer)

@@ -1,0 +1,126 @@
+"""Materials as the shading models see them: which model draws an object, the Phong and
+the physically based uniforms of a material, and the glTF samplers of its texture slots.
+
+Colour spaces (facet.image.colorspace): a Phong ``Material``'s colours are values "as
+given" (sRGB-encoded in the sRGB mode); a ``PbrMaterial``'s are linear. Each model gets
+what it expects: the Phong models a PbrMaterial's colour encoded for display (in the
+default mode), the pbr model a Material's colour decoded to linear.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..scene.pbr import SLOTS, PbrMaterial
+from ..srgb import linear_to_srgb, srgb_to_linear
+
+PBR_UNITS = {slot: 13 + i for i, slot in enumerate(SLOTS)}  # after facet.render.state.UNITS
+IBL_UNITS = {"lut": 18, "irradiance": 19, "prefiltered": 20}
+SLOT_UNIFORMS = {"base_color": "u_tex_base", "metallic_roughness": "u_tex_mr",
+                 "normal": "u_tex_normal", "occlusion": "u_tex_occlusion",
+                 "emissive": "u_tex_emissive"}
+SLOT_DEFINES = {"base_color": "TEX_BASE", "metallic_roughness": "TEX_MR",
+                "normal": "TEX_NORMAL", "occlusion": "TEX_OCCLUSION",
+                "emissive": "TEX_EMISSIVE"}
+SRGB_SLOTS = ("base_color", "emissive")  # colour images; the others hold data
+
+
+def model_for(shading: str, material) -> str:
+    """The shading model that draws ``material`` under the ``shading`` option: "auto" is
+    pbr for glTF's metallic-roughness materials and phong for the rest."""
+    if shading == "auto":
+        return "pbr" if isinstance(material, PbrMaterial) else "phong"
+    return shading
+
+
+def phong_color(material, state) -> np.ndarray:
+    """C for the Phong models, in the space lighting happens in."""
+    if isinstance(material, PbrMaterial):
+        return material.color if state.srgb else linear_to_srgb(material.color)
+    return state.to_linear(material.color)
+
+
+def as_pbr(material) -> PbrMaterial:
+    """A Phong ``Material`` drawn by the pbr model: a dielectric of the same colour whose
+    GGX lobe matches the Phong exponent (roughness = (2 / (n + 2))^(1/4))."""
+    if isinstance(material, PbrMaterial):
+        return material
+    cached = getattr(material, "_as_pbr", None)
+    if cached is not None and cached[0] == _phong_key(material):
+        return cached[1]
+    from ..scene.pbr import TextureSlot
+
+    rough = float((2.0 / (material.shininess + 2.0)) ** 0.25)
+    pbr = PbrMaterial(
+        base_color=np.append(srgb_to_linear(material.color), material.opacity), metallic=0.0,
+        roughness=rough, alpha_mode="BLEND" if material.opacity < 1 else "OPAQUE",
+        double_sided=True, name=material.name,
+        base_color_texture=None if material.texture is None else
+        TextureSlot(material.texture))
+    object.__setattr__(material, "_as_pbr", (_phong_key(material), pbr))
+    return pbr
+
+
+def _phong_key(m) -> tuple:
+    return (tuple(m.color), m.shininess, m.opacity, id(m.texture))
+
+
+class SlotSamplers:
+    """moderngl samplers for the texture slots' glTF settings, made once per setting.
+    Mirrored axes clamp here and are mirrored in glsl/mesh/pbr.frag."""
+
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self._samplers: dict[tuple, object] = {}
+
+    def get(self, slot):
+        key = (slot.wrap, slot.filter, slot.mipmaps)
+        if key not in self._samplers:
+            near = {"nearest": self.ctx.NEAREST, "linear": self.ctx.LINEAR}
+            mip = {"nearest": self.ctx.NEAREST_MIPMAP_LINEAR,
+                   "linear": self.ctx.LINEAR_MIPMAP_LINEAR}
+            minify = (mip if slot.mipmaps else near)[slot.filter[0]]
+            self._samplers[key] = self.ctx.sampler(
+                repeat_x=slot.wrap[0] == "repeat", repeat_y=slot.wrap[1] == "repeat",
+                filter=(minify, near[slot.filter[1]]))
+        return self._samplers[key]
+
+    def release(self) -> None:
+        for s in self._samplers.values():
+            s.release()
+        self._samplers.clear()
+
+
+def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> list[int]:
+    """The pbr model's material uniforms and texture slots; returns the units whose
+    sampler objects were bound (the caller clears them after the draw)."""
+    prog.set("u_base_color", tuple(float(c) for c in m.base_color))
+    prog.set("u_metallic", m.metallic)
+    prog.set("u_roughness", m.roughness)
+    prog.set("u_emissive", tuple(float(c) for c in m.emissive * m.emissive_strength))
+    prog.set("u_unlit", bool(m.unlit))
+    prog.set("u_alpha_cutoff", m.alpha_cutoff, strict=False)
+    prog.set("u_normal_scale", m.normal_scale, strict=False)
+    prog.set("u_occlusion_strength", m.occlusion_strength, strict=False)
+    transforms, sets, mirrors, bound = [], [], [], []
+    for slot_name in SLOTS:
+        slot = getattr(m, f"{slot_name}_texture")
+        if slot is None:
+            transforms.append(np.eye(3))
+            sets.append(0)
+            mirrors.append((0.0, 0.0))
+            continue
+        unit = PBR_UNITS[slot_name]
+        cache.texture(slot.texture, slot_name in SRGB_SLOTS).use(location=unit)
+        samplers.get(slot).use(location=unit)
+        bound.append(unit)
+        prog.set(SLOT_UNIFORMS[slot_name], unit, strict=False)
+        transforms.append(slot.transform)
+        sets.append(slot.texcoord)
+        mirrors.append(tuple(1.0 if w == "mirror" else 0.0 for w in slot.wrap))
+    if bound:
+        # GLSL matrices are column-major: each 3x3 goes in transposed.
+        prog.set_array("u_slot_transform", np.array([t.T for t in transforms]), strict=False)
+        prog.set_array("u_slot_set", np.array(sets, dtype=np.float32), strict=False)
+        prog.set_array("u_slot_mirror", np.array(mirrors), strict=False)
+    return bound

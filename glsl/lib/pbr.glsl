@@ -1,0 +1,63 @@
+// glTF 2.0's metallic-roughness BRDF (the specification's Appendix B), pure functions.
+// World space; all colours linear. alpha = roughness^2.
+//   f = mix(f_dielectric, f_metal, metallic)
+//   f_dielectric = F(0.04) f_specular + (1 - F(0.04)) f_diffuse,  f_diffuse = base / pi
+//   f_metal = F(base) f_specular,   F(f0) = f0 + (1 - f0) (1 - |V.H|)^5
+//   f_specular = D(alpha) Vis(alpha): GGX / Trowbridge-Reitz and height-correlated Smith.
+// facet's lights of intensity I give irradiance pi I (facet.scene.pbr), so a light adds
+// pi f I (N.L); the pi cancels f_diffuse's.
+
+const float PI = 3.14159265358979;
+const float DIELECTRIC_F0 = 0.04;  // ior 1.5
+const float MIN_ALPHA = 1e-3;  // keeps D finite for a perfect mirror
+
+float ggx_d(float n_dot_h, float alpha) {
+    float a2 = alpha * alpha;
+    float k = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    return a2 / (PI * k * k);
+}
+
+// Vis = G / (4 |N.L| |N.V|), height-correlated Smith for GGX.
+float smith_vis(float n_dot_l, float n_dot_v, float alpha) {
+    float a2 = alpha * alpha;
+    float gv = n_dot_l * sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2);
+    float gl = n_dot_v * sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2);
+    float g = gv + gl;
+    return g > 0.0 ? 0.5 / g : 0.0;
+}
+
+float schlick_weight(float v_dot_h) {
+    float m = clamp(1.0 - v_dot_h, 0.0, 1.0);
+    float m2 = m * m;
+    return m2 * m2 * m;
+}
+
+// pi f(L, V) (N.L): what a light of intensity 1 from direction L adds (module comment).
+vec3 pbr_light(vec3 N, vec3 V, vec3 L, vec3 base, float metallic, float roughness) {
+    float n_dot_l = dot(N, L);
+    if (n_dot_l <= 0.0) return vec3(0.0);
+    float n_dot_v = max(dot(N, V), 1e-4);
+    vec3 H = normalize(L + V);
+    float n_dot_h = max(dot(N, H), 0.0);
+    float fc = schlick_weight(max(dot(V, H), 0.0));
+    float alpha = max(roughness * roughness, MIN_ALPHA);
+    float spec = ggx_d(n_dot_h, alpha) * smith_vis(n_dot_l, n_dot_v, alpha);
+    float f_dielectric = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * fc;
+    vec3 f_metal = base + (1.0 - base) * fc;
+    vec3 dielectric = f_dielectric * vec3(spec) + (1.0 - f_dielectric) * base / PI;
+    vec3 metal = f_metal * spec;
+    return PI * mix(dielectric, metal, metallic) * n_dot_l;
+}
+
+// The same BRDF under light arriving from everywhere, by the split sum: ``lut`` holds, for
+// this N.V and roughness, A = int f_spec (1 - Fc) cos, B = int f_spec Fc cos and
+// C = int (1 - Fc) cos / pi over the hemisphere (glsl/post/ibl_lut.frag). ``diffuse`` is
+// the irradiance / pi around N (radiance L everywhere gives L), ``specular`` the
+// environment prefiltered by the GGX lobe around the mirror direction. Exact for a uniform
+// environment.
+vec3 pbr_ambient(vec3 diffuse, vec3 specular, vec3 lut, vec3 base, float metallic) {
+    vec3 dielectric = (1.0 - DIELECTRIC_F0) * base * lut.z * diffuse
+                    + (DIELECTRIC_F0 * lut.x + lut.y) * specular;
+    vec3 metal = (base * lut.x + lut.y) * specular;
+    return mix(dielectric, metal, metallic);
+}

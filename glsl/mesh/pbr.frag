@@ -1,0 +1,192 @@
+#version 330 core
+// glTF metallic-roughness shading (glsl/lib/pbr.glsl) per fragment, world space, linear
+// light; the exact channels as glsl/mesh/phong.frag writes them. Texture slots (SLOT_*),
+// each with its coordinate set, KHR_texture_transform matrix and mirrored axes (repeat and
+// clamp are the sampler's), are enabled by TEX_<SLOT> defines. Image-based light comes from
+// the environment's prefiltered maps (HAS_ENVIRONMENT), else from the ambient intensity
+// as a uniform environment. Without COLOR_SRGB the result is sRGB-encoded here (the other
+// models' inputs and outputs are then display values; this one's inputs are always linear).
+
+in vec3 v_pos_world;
+in vec3 v_normal_world;
+in float v_depth_view;
+in vec2 v_uv;
+#ifdef HAS_UV1
+in vec2 v_uv1;
+#endif
+#ifdef HAS_TANGENTS
+in vec4 v_tangent;  // world space, w: handedness
+#endif
+#ifdef HAS_VERTEX_COLORS
+in vec4 v_color;  // linear
+#endif
+
+// The shading equation's Phong inputs are not used here.
+#define AMBIENT_TERM vec3(0.0)
+#define LIGHT_DIFFUSE(i) vec3(0.0)
+#define LIGHT_SPECULAR(i) vec3(0.0)
+#define SHININESS 1.0
+#include "lib/lights.glsl"
+#include "lib/pbr.glsl"
+#include "lib/sampling.glsl"
+#include "lib/color.glsl"
+
+uniform vec3 u_eye_world;  // eye, or with VIEW_ORTHOGRAPHIC the direction to the viewer
+uniform vec4 u_base_color;  // linear RGBA factor
+uniform float u_metallic;
+uniform float u_roughness;
+uniform vec3 u_emissive;  // factor x strength
+uniform float u_normal_scale;
+uniform float u_occlusion_strength;
+uniform float u_alpha_cutoff;  // ALPHA_MASK
+uniform bool u_unlit;
+uniform int u_object_id;
+
+const int SLOT_BASE = 0, SLOT_MR = 1, SLOT_NORMAL = 2, SLOT_OCCLUSION = 3, SLOT_EMISSIVE = 4;
+uniform mat3 u_slot_transform[5];
+uniform float u_slot_set[5];   // 0: v_uv, 1: v_uv1
+uniform vec2 u_slot_mirror[5];  // 1 on mirrored axes
+uniform sampler2D u_tex_base, u_tex_mr, u_tex_normal, u_tex_occlusion, u_tex_emissive;
+
+#ifdef CLIP_PLANE
+uniform vec4 u_clip_plane;  // a mirror's reflection pass: world plane, n towards the viewer
+#endif
+uniform sampler2D u_ibl_lut;
+#ifdef HAS_ENVIRONMENT
+uniform sampler2D u_irradiance;   // latitude-longitude, irradiance / pi
+uniform sampler2D u_prefiltered;  // latitude-longitude, mip k: roughness k / (levels - 1)
+uniform float u_prefiltered_levels;
+#endif
+
+#ifdef OIT
+layout(location = 0) out vec4 f_color;
+layout(location = 1) out float f_reveal;
+const float OIT_MAX_OPACITY = 0.999;
+#else
+layout(location = 0) out vec4 f_color;
+#endif
+#ifdef OUT_DEPTH
+layout(location = OUT_DEPTH) out float f_depth;
+#endif
+#ifdef OUT_IDS
+layout(location = OUT_IDS) out int f_object_id;
+#endif
+#ifdef OUT_NORMALS
+layout(location = OUT_NORMALS) out vec4 f_normal;
+#endif
+#ifdef OUT_POSITION
+layout(location = OUT_POSITION) out vec4 f_position;
+#endif
+#ifdef OUT_UV
+layout(location = OUT_UV) out vec2 f_uv;
+#endif
+
+vec4 sample_slot(sampler2D tex, int k) {
+#ifdef HAS_UV1
+    vec2 uv = u_slot_set[k] > 0.5 ? v_uv1 : v_uv;
+#else
+    vec2 uv = v_uv;
+#endif
+    uv = (u_slot_transform[k] * vec3(uv, 1.0)).xy;
+    uv = mix(uv, 1.0 - abs(mod(uv, 2.0) - 1.0), u_slot_mirror[k]);
+    return texture(tex, uv);
+}
+
+void main() {
+#ifdef CLIP_PLANE
+    if (dot(u_clip_plane, vec4(v_pos_world, 1.0)) < 0.0) discard;
+#endif
+#ifdef VIEW_ORTHOGRAPHIC
+    vec3 V = u_eye_world;
+#else
+    vec3 V = normalize(u_eye_world - v_pos_world);
+#endif
+    vec4 base = u_base_color;
+#ifdef TEX_BASE
+    base *= sample_slot(u_tex_base, SLOT_BASE);  // an sRGB texture: decoded when sampled
+#endif
+#ifdef HAS_VERTEX_COLORS
+    base *= v_color;
+#endif
+#if defined(ALPHA_MASK)
+    if (base.a < u_alpha_cutoff) discard;
+#endif
+#ifdef OUT_DEPTH
+    f_depth = v_depth_view;
+#endif
+#ifdef OUT_IDS
+    f_object_id = u_object_id;
+#endif
+#ifdef OUT_POSITION
+    f_position = vec4(v_pos_world, 1.0);
+#endif
+#ifdef OUT_UV
+    f_uv = v_uv;
+#endif
+    // Seen from behind (double-sided materials), the whole frame turns round.
+    float side = gl_FrontFacing ? 1.0 : -1.0;
+    vec3 N = normalize(v_normal_world) * side;
+#if defined(TEX_NORMAL) && defined(HAS_TANGENTS)
+    vec3 T = normalize(v_tangent.xyz - N * dot(N, v_tangent.xyz)) * side;
+    vec3 B = cross(N, T) * v_tangent.w;
+    vec3 t = sample_slot(u_tex_normal, SLOT_NORMAL).xyz * 2.0 - 1.0;
+    t.xy *= u_normal_scale;
+    N = normalize(mat3(T, B, N) * t);
+#endif
+#ifdef OUT_NORMALS
+    f_normal = vec4(N, 0.0);
+#endif
+    float metallic = u_metallic, roughness = u_roughness;
+#ifdef TEX_MR
+    vec4 mr = sample_slot(u_tex_mr, SLOT_MR);
+    roughness *= mr.g;
+    metallic *= mr.b;
+#endif
+    vec3 rgb;
+    if (u_unlit) {
+        rgb = base.rgb;
+    } else {
+        rgb = vec3(0.0);
+        for (int i = 0; i < LIGHTS_IN_USE; ++i) {
+            vec3 L;
+            float falloff = incident_light(i, v_pos_world, L);
+            if (falloff <= 0.0) continue;
+            falloff *= SHADOW(i, v_pos_world, N, L, falloff);
+            rgb += falloff * u_lights[i].color.rgb *
+                   pbr_light(N, V, L, base.rgb, metallic, roughness);
+        }
+        float n_dot_v = clamp(dot(N, V), 0.0, 1.0);
+        const float LUT_SIZE = 64.0;  // facet.render.ibl.LUT_SIZE: texel centres at 0 and 1
+        vec2 at = (vec2(n_dot_v, roughness) * (LUT_SIZE - 1.0) + 0.5) / LUT_SIZE;
+        vec3 lut = texture(u_ibl_lut, at).rgb;
+#ifdef HAS_ENVIRONMENT
+        vec3 diffuse = texture(u_irradiance, latlong_uv(N)).rgb;
+        vec3 specular = textureLod(u_prefiltered, latlong_uv(reflect(-V, N)),
+                                   roughness * (u_prefiltered_levels - 1.0)).rgb;
+#else
+        vec3 diffuse = u_ambient.rgb, specular = u_ambient.rgb;
+#endif
+        vec3 ambient = pbr_ambient(diffuse, specular, lut, base.rgb, metallic);
+#ifdef TEX_OCCLUSION
+        ambient *= 1.0 + u_occlusion_strength * (sample_slot(u_tex_occlusion,
+                                                             SLOT_OCCLUSION).r - 1.0);
+#endif
+        rgb += ambient;
+    }
+    vec3 emissive = u_emissive;
+#ifdef TEX_EMISSIVE
+    emissive *= sample_slot(u_tex_emissive, SLOT_EMISSIVE).rgb;
+#endif
+    rgb += emissive;
+#ifndef COLOR_SRGB
+    rgb = linear_to_srgb(clamp(rgb, 0.0, 1.0));
+#endif
+#ifdef OIT
+    float a = clamp(base.a, 0.0, OIT_MAX_OPACITY);
+    float w = max(0.01, 3000.0 * pow(1.0 - gl_FragCoord.z, 3.0));
+    f_color = vec4(rgb * a, a) * w;
+    f_reveal = -log(1.0 - a);
+#else
+    f_color = vec4(rgb, 1.0);
+#endif
+}
