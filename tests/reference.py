@@ -183,3 +183,62 @@ def ray_sphere_object(o, d, radius):
     a = np.sum(d * d, axis=-1)
     return _first_root(a, np.sum(o * d, axis=-1), np.sum(o * o, axis=-1) - radius ** 2,
                        lambda s: np.ones(s.shape, bool))
+
+
+# -- glTF 2.0 metallic-roughness (the specification's Appendix B) ---------------------------
+def _pbr_brdf_cos(N, V, L, base, metallic, roughness):
+    """pi f(L, V) (N.L) per element: what a light of intensity 1 adds (facet.scene.pbr's
+    convention: intensity I gives irradiance pi I). Arrays broadcast over (..., 3)."""
+    base = np.asarray(base, dtype=float)
+    nl = np.sum(N * L, -1)
+    nv = np.maximum(np.sum(N * V, -1), 1e-4)
+    H = L + V
+    H = H / np.maximum(np.linalg.norm(H, axis=-1, keepdims=True), 1e-300)
+    nh = np.maximum(np.sum(N * H, -1), 0.0)
+    vh = np.maximum(np.sum(V * H, -1), 0.0)
+    a = max(roughness * roughness, 1e-3)
+    a2 = a * a
+    d = a2 / (np.pi * (nh * nh * (a2 - 1) + 1) ** 2)
+    g = nl * np.sqrt(nv * nv * (1 - a2) + a2) + nv * np.sqrt(nl * nl * (1 - a2) + a2)
+    vis = np.where(g > 0, 0.5 / np.where(g > 0, g, 1), 0.0)
+    spec = (d * vis)[..., None]
+    fc = ((1 - vh) ** 5)[..., None]
+    f_dielectric = 0.04 + 0.96 * fc
+    f_metal = base + (1 - base) * fc
+    dielectric = f_dielectric * spec + (1 - f_dielectric) * base / np.pi
+    metal = f_metal * spec
+    f = (1 - metallic) * dielectric + metallic * metal
+    return np.where((nl > 0)[..., None], np.pi * f * np.maximum(nl, 0)[..., None], 0.0)
+
+
+def pbr_directional(N, V, direction, intensity, base, metallic, roughness):
+    """Linear radiance (..., 3) of surfaces with normals N seen from V under one directional
+    light travelling along ``direction`` with intensity (3,)."""
+    L = -np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    L = np.broadcast_to(L, N.shape)
+    return _pbr_brdf_cos(N, V, L, base, metallic, roughness) * np.asarray(intensity)
+
+
+def pbr_uniform_environment(n_dot_v, base, metallic, roughness, radiance=1.0, steps=400):
+    """Linear radiance (len(n_dot_v), 3) reflected towards V at angle acos(n_dot_v) from the
+    normal under radiance L from every direction: L int f cos dw over the hemisphere, by
+    midpoint quadrature in (cos theta, phi) (exact integral of the BRDF; no split sum)."""
+    ct = (np.arange(steps) + 0.5) / steps  # cos theta of L, uniform: dw = d(cos t) d(phi)
+    ph = (np.arange(2 * steps) + 0.5) / (2 * steps) * 2 * np.pi
+    ct, ph = np.meshgrid(ct, ph, indexing="ij")
+    st = np.sqrt(1 - ct * ct)
+    L = np.stack([st * np.cos(ph), st * np.sin(ph), ct], -1)
+    N = np.array([0.0, 0.0, 1.0])
+    dw = (1.0 / steps) * (2 * np.pi / (2 * steps))
+    out = []
+    for nv in np.atleast_1d(n_dot_v):
+        V = np.array([np.sqrt(max(1 - nv * nv, 0)), 0.0, nv])
+        f_cos = _pbr_brdf_cos(np.broadcast_to(N, L.shape), np.broadcast_to(V, L.shape), L,
+                              base, metallic, roughness) / np.pi  # f cos
+        out.append(f_cos.sum(axis=(0, 1)) * dw * radiance)
+    return np.array(out)
+
+
+def srgb_encode(c):
+    c = np.clip(np.asarray(c, dtype=float), 0, 1)
+    return np.where(c <= 0.0031308, c * 12.92, 1.055 * c ** (1 / 2.4) - 0.055)
