@@ -289,5 +289,5 @@ def test_single_sided_materials_hide_back_faces(renderer):
     for double, seen in ((False, False), (True, True)):
         frame = _render(renderer, PbrMaterial(double_sided=double, unlit=True), mesh=_quad(),
                         camera=back, outputs=("color", "ids"))
-        assert bool((frame.object_ids[32, 32] >= 0)) == seen, double
+        assert bool(frame.object_ids[32, 32] >= 0) == seen, double
         assert (frame.color[32, 32, 0] > 128) == seen

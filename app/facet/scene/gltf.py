@@ -96,11 +96,11 @@ class _Reader:
             stack.extend((int(c), world) for c in reversed(node.children or []))
         if g.animations:
             self.skipped.add("animations (drawn at rest)")
-        for what in sorted(self.skipped):
-            self.warn(f"leaves out {what}")
         if not parts:
             self.data.fail("has no triangles in its scene (only points, lines or empty "
                            "nodes); nothing to render")
+        for what in sorted(self.skipped):
+            self.warn(f"leaves out {what}")
         return parts, {name: self._camera(c, world, parts) for name, (c, world)
                        in cameras.items()}
 

@@ -205,8 +205,16 @@ def _ply_strips(tm) -> np.ndarray | None:
     """(F, 3) triangles of a PLY's ``tristrips`` element (index -1 restarts a strip),
     which trimesh leaves out; None when there is none."""
     raw = (getattr(tm, "metadata", None) or {}).get("_ply_raw") or {}
-    strips = raw.get("tristrips", {}).get("data", {})
-    lists = next(iter(strips.values()), None) if isinstance(strips, dict) else None
+    data = raw.get("tristrips", {}).get("data")
+    # ASCII: {name: lists}; binary: a structured array whose field holds (count, list).
+    if isinstance(data, dict):
+        lists = next(iter(data.values()), None)
+    elif isinstance(data, np.ndarray) and data.dtype.names:
+        lists = data[data.dtype.names[0]]
+        if lists.dtype.names:  # (count, indices) pairs: the indices
+            lists = lists[lists.dtype.names[-1]]
+    else:
+        lists = None
     if lists is None or len(lists) == 0:
         return None
     rows = [np.append(np.asarray(s, dtype=np.int64).reshape(-1), -1) for s in lists]
