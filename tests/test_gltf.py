@@ -247,10 +247,12 @@ def test_draco_needs_dracopy_and_decodes_with_it(monkeypatch):
 
 @pytest.mark.parametrize("name,parts", [
     ("Box/Box.glb", 1), ("BoxVertexColors/BoxVertexColors.glb", 1),
-    ("OrientationTest/OrientationTest.glb", 13), ("TextureCoordinateTest/TextureCoordinateTest.glb", 5),
-    ("TextureSettingsTest/TextureSettingsTest.glb", 10), ("VertexColorTest/VertexColorTest.glb", 2),
-    ("AlphaBlendModeTest/AlphaBlendModeTest.glb", 9), ("NormalTangentTest/NormalTangentTest.glb", 1),
-    ("Cameras/Cameras.gltf", 1), ("SimpleSparseAccessor/SimpleSparseAccessor.gltf", 1),
+    ("OrientationTest/OrientationTest.glb", 13),
+    ("TextureCoordinateTest/TextureCoordinateTest.glb", 5),
+    ("TextureSettingsTest/TextureSettingsTest.glb", 10),
+    ("VertexColorTest/VertexColorTest.glb", 2), ("AlphaBlendModeTest/AlphaBlendModeTest.glb", 9),
+    ("NormalTangentTest/NormalTangentTest.glb", 1), ("Cameras/Cameras.gltf", 1),
+    ("SimpleSparseAccessor/SimpleSparseAccessor.gltf", 1),
 ])
 def test_khronos_samples_load_as_parts(name, parts):
     with warnings.catch_warnings():
