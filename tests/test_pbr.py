@@ -291,3 +291,24 @@ def test_single_sided_materials_hide_back_faces(renderer):
                         camera=back, outputs=("color", "ids"))
         assert bool(frame.object_ids[32, 32] >= 0) == seen, double
         assert (frame.color[32, 32, 0] > 128) == seen
+
+
+def test_occlusion_packed_with_metallic_roughness_reads_one_image(renderer):
+    """glTF's common ORM packing (occlusion in the red channel of the metallic-roughness
+    image) draws as the same occlusion given as an image of its own."""
+    orm = np.zeros((2, 2, 4), np.uint8)
+    orm[...] = (100, 200, 30, 255)  # occlusion 0.39, roughness 0.78, metallic 0.12
+    packed = Texture(orm)
+    alone = Texture(orm.copy())
+    base = dict(base_color=(0.6, 0.5, 0.4, 1), metallic=1.0, roughness=1.0)
+    one = PbrMaterial(**base, metallic_roughness_texture=TextureSlot(packed),
+                      occlusion_texture=TextureSlot(packed))
+    two = PbrMaterial(**base, metallic_roughness_texture=TextureSlot(packed),
+                      occlusion_texture=TextureSlot(alone))
+    light = DirectionalLight((0.3, -0.2, -1), (1, 1, 1), 0.5)
+    a = _render(renderer, one, [light], ambient=0.6, mesh=_quad(), camera=QUAD_CAMERA)
+    b = _render(renderer, two, [light], ambient=0.6, mesh=_quad(), camera=QUAD_CAMERA)
+    np.testing.assert_array_equal(a.color, b.color)
+    none = _render(renderer, PbrMaterial(**base, metallic_roughness_texture=TextureSlot(packed)),
+                   [light], ambient=0.6, mesh=_quad(), camera=QUAD_CAMERA)
+    assert int(none.color[32, 32, 0]) > int(a.color[32, 32, 0]) + 10  # occlusion applied

@@ -1,6 +1,6 @@
 #version 330 core
 // One level of the prefiltered environment (facet.render.ibl): the environment cube seen
-// through a GGX lobe of u_roughness around each direction of a latitude-longitude map,
+// through a GGX lobe of u_roughness around each direction of an octahedral map,
 // with N = V = R (the split-sum assumption). Filtered importance sampling: each sample
 // reads the source mip whose texels are about as large as the sample's solid angle.
 #include "lib/pbr.glsl"
@@ -14,7 +14,7 @@ uniform int u_samples;
 out vec4 f_color;
 
 void main() {
-    vec3 N = latlong_dir(gl_FragCoord.xy / u_size);
+    vec3 N = octahedral_dir(gl_FragCoord.xy / u_size);
     if (u_roughness <= 0.0) {
         f_color = vec4(textureLod(u_source, N, 0.0).rgb, 1.0);
         return;

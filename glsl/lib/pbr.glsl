@@ -32,32 +32,39 @@ float schlick_weight(float v_dot_h) {
     return m2 * m2 * m;
 }
 
+// What the BRDF needs of a surface point, computed once for all its lights. Both
+// Fresnel terms fold into one: (1 - metallic) F(0.04) + metallic F(base) = F(f0) with
+// f0 = mix(0.04, base, metallic); the diffuse part keeps (1 - metallic) (1 - F(0.04)).
+struct PbrSurface {
+    vec3 c_diff;    // (1 - metallic) base
+    vec3 f0;        // reflectance at normal incidence
+    float alpha;    // roughness^2
+    float n_dot_v;
+};
+
+PbrSurface pbr_surface(vec3 base, float metallic, float roughness, float n_dot_v) {
+    return PbrSurface((1.0 - metallic) * base, mix(vec3(DIELECTRIC_F0), base, metallic),
+                      max(roughness * roughness, MIN_ALPHA), max(n_dot_v, 1e-4));
+}
+
 // pi f(L, V) (N.L): what a light of intensity 1 from direction L adds (module comment).
-vec3 pbr_light(vec3 N, vec3 V, vec3 L, vec3 base, float metallic, float roughness) {
-    float n_dot_l = dot(N, L);
-    if (n_dot_l <= 0.0) return vec3(0.0);
-    float n_dot_v = max(dot(N, V), 1e-4);
-    vec3 H = normalize(L + V);
-    float n_dot_h = max(dot(N, H), 0.0);
+// Branch-free: lights behind the surface get n_dot_l = 0 (a branch that only some
+// fragments of a SIMD group take costs a CPU rasteriser more than the arithmetic).
+vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
+    float n_dot_l = max(dot(N, L), 0.0);
+    vec3 H = (L + V) * inversesqrt(max(dot(L + V, L + V), 1e-12));
     float fc = schlick_weight(max(dot(V, H), 0.0));
-    float alpha = max(roughness * roughness, MIN_ALPHA);
-    float spec = ggx_d(n_dot_h, alpha) * smith_vis(n_dot_l, n_dot_v, alpha);
-    float f_dielectric = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * fc;
-    vec3 f_metal = base + (1.0 - base) * fc;
-    vec3 dielectric = f_dielectric * vec3(spec) + (1.0 - f_dielectric) * base / PI;
-    vec3 metal = f_metal * spec;
-    return PI * mix(dielectric, metal, metallic) * n_dot_l;
+    float spec = ggx_d(max(dot(N, H), 0.0), s.alpha) * smith_vis(n_dot_l, s.n_dot_v, s.alpha);
+    vec3 F = s.f0 + (1.0 - s.f0) * fc;
+    return n_dot_l * (PI * spec * F + (1.0 - DIELECTRIC_F0) * (1.0 - fc) * s.c_diff);
 }
 
 // The same BRDF under light arriving from everywhere, by the split sum: ``lut`` holds, for
 // this N.V and roughness, A = int f_spec (1 - Fc) cos, B = int f_spec Fc cos and
-// C = int (1 - Fc) cos / pi over the hemisphere (glsl/post/ibl_lut.frag). ``diffuse`` is
+// C = int (1 - Fc) cos / pi over the hemisphere (glsl/ibl/lut.frag). ``diffuse`` is
 // the irradiance / pi around N (radiance L everywhere gives L), ``specular`` the
 // environment prefiltered by the GGX lobe around the mirror direction. Exact for a uniform
 // environment.
-vec3 pbr_ambient(vec3 diffuse, vec3 specular, vec3 lut, vec3 base, float metallic) {
-    vec3 dielectric = (1.0 - DIELECTRIC_F0) * base * lut.z * diffuse
-                    + (DIELECTRIC_F0 * lut.x + lut.y) * specular;
-    vec3 metal = (base * lut.x + lut.y) * specular;
-    return mix(dielectric, metal, metallic);
+vec3 pbr_ambient(PbrSurface s, vec3 diffuse, vec3 specular, vec3 lut) {
+    return (1.0 - DIELECTRIC_F0) * lut.z * s.c_diff * diffuse + (s.f0 * lut.x + lut.y) * specular;
 }

@@ -53,8 +53,8 @@ uniform vec4 u_clip_plane;  // a mirror's reflection pass: world plane, n toward
 #endif
 uniform sampler2D u_ibl_lut;
 #ifdef HAS_ENVIRONMENT
-uniform sampler2D u_irradiance;   // latitude-longitude, irradiance / pi
-uniform sampler2D u_prefiltered;  // latitude-longitude, mip k: roughness k / (levels - 1)
+uniform sampler2D u_irradiance;   // octahedral, irradiance / pi
+uniform sampler2D u_prefiltered;  // octahedral, mip k: roughness k / (levels - 1)
 uniform float u_prefiltered_levels;
 #endif
 
@@ -146,28 +146,29 @@ void main() {
     if (u_unlit) {
         rgb = base.rgb;
     } else {
+        float n_dot_v = clamp(dot(N, V), 0.0, 1.0);
+        PbrSurface s = pbr_surface(base.rgb, metallic, roughness, n_dot_v);
         rgb = vec3(0.0);
         for (int i = 0; i < LIGHTS_IN_USE; ++i) {
             vec3 L;
             float falloff = incident_light(i, v_pos_world, L);
-            if (falloff <= 0.0) continue;
             falloff *= SHADOW(i, v_pos_world, N, L, falloff);
-            rgb += falloff * u_lights[i].color.rgb *
-                   pbr_light(N, V, L, base.rgb, metallic, roughness);
+            rgb += falloff * u_lights[i].color.rgb * pbr_light(s, N, V, L);
         }
-        float n_dot_v = clamp(dot(N, V), 0.0, 1.0);
         const float LUT_SIZE = 64.0;  // facet.render.ibl.LUT_SIZE: texel centres at 0 and 1
         vec2 at = (vec2(n_dot_v, roughness) * (LUT_SIZE - 1.0) + 0.5) / LUT_SIZE;
         vec3 lut = texture(u_ibl_lut, at).rgb;
 #ifdef HAS_ENVIRONMENT
-        vec3 diffuse = texture(u_irradiance, latlong_uv(N)).rgb;
-        vec3 specular = textureLod(u_prefiltered, latlong_uv(reflect(-V, N)),
+        vec3 diffuse = texture(u_irradiance, octahedral_uv(N)).rgb;
+        vec3 specular = textureLod(u_prefiltered, octahedral_uv(reflect(-V, N)),
                                    roughness * (u_prefiltered_levels - 1.0)).rgb;
 #else
         vec3 diffuse = u_ambient.rgb, specular = u_ambient.rgb;
 #endif
-        vec3 ambient = pbr_ambient(diffuse, specular, lut, base.rgb, metallic);
-#ifdef TEX_OCCLUSION
+        vec3 ambient = pbr_ambient(s, diffuse, specular, lut);
+#if defined(ORM_PACKED)
+        ambient *= 1.0 + u_occlusion_strength * (mr.r - 1.0);  // the same image's red
+#elif defined(TEX_OCCLUSION)
         ambient *= 1.0 + u_occlusion_strength * (sample_slot(u_tex_occlusion,
                                                              SLOT_OCCLUSION).r - 1.0);
 #endif
@@ -179,7 +180,7 @@ void main() {
 #endif
     rgb += emissive;
 #ifndef COLOR_SRGB
-    rgb = linear_to_srgb(clamp(rgb, 0.0, 1.0));
+    rgb = linear_to_srgb_fast(clamp(rgb, 0.0, 1.0));
 #endif
 #ifdef OIT
     float a = clamp(base.a, 0.0, OIT_MAX_OPACITY);

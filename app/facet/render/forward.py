@@ -24,12 +24,12 @@ from ..scene.scene import MAX_LIGHTS, Scene
 from .ibl import ImageLighting
 from .materials import (
     IBL_UNITS,
-    SLOT_DEFINES,
     SlotSamplers,
     as_pbr,
     model_for,
     phong_color,
     set_pbr_material,
+    slot_defines,
 )
 from .mirror import MirrorTargets, mirror_plane
 from .shading import SHADING_MODELS, check_shading
@@ -56,7 +56,7 @@ class Variant:
     environment: bool = False  # reflects / refracts the scene's environment
     mirror: bool = False  # mixes in its planar reflection (facet.render.mirror)
     clip_plane: bool = False  # discards what is behind a mirror (its reflection pass)
-    slots: tuple[str, ...] = ()  # the pbr model's texture slots in use
+    slots: tuple[str, ...] = ()  # the pbr model's TEX_* defines (materials.slot_defines)
     uv1: bool = False  # the mesh has a second texture coordinate set
     tangents: bool = False  # normal mapping: the mesh's tangent frames
     alpha_mask: bool = False  # glTF alphaMode MASK: discard below the cutoff
@@ -87,7 +87,7 @@ class Variant:
             d["LIGHT_SHADOW_LIST"] = f"int[{len(self.shadow_slots)}]({slots})"
             d["SHADOW_TILES"] = max(self.shadow_tiles, 1)
             d["SHADOW_PCF"] = self.shadow_pcf
-        d.update({SLOT_DEFINES[s]: None for s in self.slots})
+        d.update({s: None for s in self.slots})
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
                  "HAS_UV1": self.uv1, "HAS_TANGENTS": self.tangents,
                  "ALPHA_MASK": self.alpha_mask,
@@ -175,7 +175,7 @@ class ForwardPass:
                 pbr = as_pbr(m)
                 mesh = obj.mesh
                 prog = self.program(replace(
-                    base, shading="pbr", slots=tuple(pbr.slots),
+                    base, shading="pbr", slots=slot_defines(pbr),
                     vertex_colors=mesh.colors is not None, uv1=mesh.uvs1 is not None,
                     tangents=pbr.normal_texture is not None and mesh.tangents is not None,
                     alpha_mask=pbr.alpha_mode == "MASK",

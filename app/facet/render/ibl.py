@@ -1,6 +1,6 @@
 """Image-based lighting for the physically based model (glsl/lib/pbr.glsl's pbr_ambient),
 computed on the GPU once and kept: the split-sum table (once per renderer) and, per
-environment, its irradiance and its GGX-prefiltered radiance as latitude-longitude maps
+environment, its irradiance and its GGX-prefiltered radiance as octahedral maps
 (glsl/lib/sampling.glsl); the prefiltered map's mip level k holds roughness k / (levels - 1),
 so one trilinear lookup blends between roughnesses.
 
@@ -18,10 +18,10 @@ import numpy as np
 from ..gl.fullscreen import FullScreenPass
 
 LUT_SIZE = 64
-PREFILTER_SIZE = (256, 128)  # level 0 of the prefiltered map: roughness 0
-PREFILTER_LEVELS = 6  # roughness 0, 0.2, ..., 1 at 256x128 ... 8x4
+PREFILTER_SIZE = (256, 256)  # level 0 of the prefiltered map: roughness 0
+PREFILTER_LEVELS = 6  # roughness 0, 0.2, ..., 1 at 256^2 ... 8^2
 PREFILTER_SAMPLES = 256
-IRRADIANCE_SIZE = (64, 32)
+IRRADIANCE_SIZE = (32, 32)
 
 
 class ImageLighting:
@@ -92,7 +92,7 @@ class ImageLighting:
             prefiltered.write(data, level=level)
         prefiltered.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
         for tex in (irradiance, prefiltered):
-            tex.repeat_x, tex.repeat_y = True, False  # wrap around in longitude only
+            tex.repeat_x = tex.repeat_y = False
         maps = (irradiance, prefiltered)
         self._maps[id(environment)] = (weakref.ref(environment), maps)
         return maps

@@ -25,6 +25,23 @@ SLOT_DEFINES = {"base_color": "TEX_BASE", "metallic_roughness": "TEX_MR",
 SRGB_SLOTS = ("base_color", "emissive")  # colour images; the others hold data
 
 
+def slot_defines(m: PbrMaterial) -> tuple[str, ...]:
+    """The TEX_* defines of ``m``'s slots; an occlusion map packed into the red channel of
+    the metallic-roughness image (glTF's common "ORM" texture) is read from that one fetch
+    (ORM_PACKED) instead of a second."""
+    slots = m.slots
+    mr, occ = slots.get("metallic_roughness"), slots.get("occlusion")
+    if mr is not None and occ is not None and _same_lookup(mr, occ):
+        return (*(SLOT_DEFINES[s] for s in slots if s != "occlusion"), "ORM_PACKED")
+    return tuple(SLOT_DEFINES[s] for s in slots)
+
+
+def _same_lookup(a, b) -> bool:
+    return (a.texture is b.texture and a.texcoord == b.texcoord and a.wrap == b.wrap and
+            a.filter == b.filter and a.mipmaps == b.mipmaps and
+            np.array_equal(a.transform, b.transform))
+
+
 def model_for(shading: str, material) -> str:
     """The shading model that draws ``material`` under the ``shading`` option: "auto" is
     pbr for glTF's metallic-roughness materials and phong for the rest."""
