@@ -1,6 +1,7 @@
 """Re-render the README's glTF gallery with `facet render` (needs ../shared/gltf beside the
-repository): each Khronos sample seen from the front, with the generated sky as its
-environment as its only light (glTF samples bring none), next to the sample's own reference screenshot (copied with its licence).
+repository): each Khronos sample seen from the front, lit only by the generated sky as its
+environment (the samples bring no lights), next to the sample's own reference screenshot
+(copied with its licence).
 
     .venv/bin/python docs/gallery/render.py
 """
@@ -43,7 +44,8 @@ def main() -> None:
         center = bounds.mean(axis=0)
         out = HERE / f"{folder}.png"
         subprocess.run([sys.executable, "-m", "facet", "render", str(path), "-o", str(out),
-                        "--size", f"{WIDTH}x{HEIGHT}", "--env", "sky", "--lights", "scene", "--aa", "jittered:8",
+                        "--size", f"{WIDTH}x{HEIGHT}", "--env", "sky", "--lights", "scene",
+                        "--aa", "jittered:8",
                         "--eye", ",".join(f"{v:.6g}" for v in camera.eye),
                         "--target", ",".join(f"{v:.6g}" for v in center), "-q", *extra],
                        check=True)
