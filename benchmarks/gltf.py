@@ -1,14 +1,14 @@
 """glTF benchmark: loading and the first frame of textured sample models through facet's
 glTF reader (pygltflib + numpy, per-part PBR materials, the pbr model) next to the
 single-mesh path facet had before (trimesh loads the file, its parts are baked into one
-mesh with the first material, drawn by Phong); then the pbr model's frame cost next to
-Phong's on the same scenes.
+mesh with the first material and its base-colour image, drawn by Phong): as whole
+processes (`facet render` against the old path in a script) and as a fresh Renderer in a
+warm process. The new path decodes and uploads every image the materials use (the old one
+drew one). Then the pbr model's frame cost next to Phong's on the same scenes.
 
     python benchmarks/gltf.py
 
-Needs ../shared/gltf (the Khronos samples); prints tables, asserts nothing. Each "load +
-first frame" is a fresh Renderer (context, shader compiles, uploads, image lighting
-tables) in this process, interleaved between the two paths, median of 5.
+Needs ../shared/gltf (the Khronos samples); prints tables, asserts nothing.
 """
 
 from __future__ import annotations
@@ -47,6 +47,16 @@ def single_mesh_path(path: Path):
     return scene
 
 
+def cold(command) -> float:
+    """Seconds of a whole process: start, imports, context, load, first frame, PNG."""
+    import subprocess
+    import sys
+
+    t = time.perf_counter()
+    subprocess.run([sys.executable, *command], check=True, capture_output=True)
+    return time.perf_counter() - t
+
+
 def first_frame(load):
     from facet.render.renderer import Renderer
 
@@ -57,41 +67,68 @@ def first_frame(load):
     return time.perf_counter() - t
 
 
-def frame_time(scene, shading: str, environment) -> float:
+def frame_times(scene, environment, frames: int = 11) -> dict[str, float]:
+    """Median seconds per frame by the phong and the pbr model, one renderer, the two
+    models taking turns frame by frame (so drift in machine load hits both alike)."""
     from facet.render.renderer import Renderer
 
+    times = {"phong": [], "pbr": []}
     with Renderer(*SIZE) as r:
-        r.render(scene, outputs=("color",), shading=shading, environment=environment)
-        times = []
-        for _ in range(7):
-            t = time.perf_counter()
+        for shading in times:  # warm-up: compiles, uploads, image lighting tables
             r.render(scene, outputs=("color",), shading=shading, environment=environment)
-            times.append(time.perf_counter() - t)
-    return statistics.median(times)
+        for _ in range(frames):
+            for shading, out in times.items():
+                t = time.perf_counter()
+                r.render(scene, outputs=("color",), shading=shading, environment=environment)
+                out.append(time.perf_counter() - t)
+    return {k: statistics.median(v) for k, v in times.items()}
 
 
-def main() -> None:
-    import facet
+def main(load: bool = True) -> None:
 
     if not SHARED.is_dir():
         print(f"(skipped: {SHARED} is absent)")
         return
-    print(f"\nglTF: load + first frame, {SIZE[0]}x{SIZE[1]}, 4x MSAA, fresh renderer "
-          "(median of 5)")
-    print(f"{'model':>28} {'faces':>8} | {'single mesh':>11} {'facet':>7} {'ratio':>6}")
+    if load:
+        load_table()
+    frame_table()
+
+
+def load_table() -> None:
+    import tempfile
+
+    import facet
+
+    print(f"\nglTF: load + first frame, {SIZE[0]}x{SIZE[1]}, 4x MSAA (median of 5): a whole "
+          "process writing the PNG, and a fresh Renderer in a warm process")
+    print(f"{'model':>28} {'faces':>8} {'images':>6} | {'process: single':>15} "
+          f"{'facet':>6} {'ratio':>5} | {'in-process: single':>18} {'facet':>6} {'ratio':>5}")
+    out = Path(tempfile.mkdtemp()) / "out.png"
     for name in MODELS:
         path = SHARED / name
-        old, new = [], []
+        rows = {k: [] for k in ("cold old", "cold new", "warm old", "warm new")}
         for _ in range(5):
-            old.append(first_frame(lambda p=path: single_mesh_path(p)))
-            new.append(first_frame(lambda p=path: facet.open_scene(p)))
-        faces = sum(o.mesh.face_count for o in facet.open_scene(path).objects)
-        a, b = statistics.median(old), statistics.median(new)
-        print(f"{Path(name).stem:>28} {faces:>8} | {a * 1e3:9.0f}ms {b * 1e3:5.0f}ms "
-              f"{b / a:6.2f}")
+            rows["cold old"].append(cold([__file__, "--single-mesh", str(path), str(out)]))
+            rows["cold new"].append(cold(["-m", "facet", "render", str(path), "-o", str(out),
+                                          "--size", f"{SIZE[0]}x{SIZE[1]}", "-q"]))
+            rows["warm old"].append(first_frame(lambda p=path: single_mesh_path(p)))
+            rows["warm new"].append(first_frame(lambda p=path: facet.open_scene(p)))
+        scene = facet.open_scene(path)
+        faces = sum(o.mesh.face_count for o in scene.objects)
+        images = len({id(s.texture) for o in scene.objects for s in o.material.slots.values()})
+        m = {k: statistics.median(v) for k, v in rows.items()}
+        print(f"{Path(name).stem:>28} {faces:>8} {images:>6} | {m['cold old'] * 1e3:13.0f}ms "
+              f"{m['cold new'] * 1e3:4.0f}ms {m['cold new'] / m['cold old']:5.2f} | "
+              f"{m['warm old'] * 1e3:16.0f}ms {m['warm new'] * 1e3:4.0f}ms "
+              f"{m['warm new'] / m['warm old']:5.2f}")
+
+
+
+def frame_table() -> None:
+    import facet
 
     print(f"\nPBR against Phong: the same scene, {SIZE[0]}x{SIZE[1]}, 4x MSAA, colour "
-          "(median of 7)")
+          "(median of 11, interleaved)")
     print(f"{'scene':>36} | {'phong ms':>8} {'pbr ms':>7} {'ratio':>6}")
     sky = facet.Environment.sky()
     bunny = ROOT.parent / "shared" / "models" / "stanford-bunny.obj"
@@ -103,11 +140,20 @@ def main() -> None:
         scenes.append(("bunny, one PbrMaterial", s))
     for label, scene in scenes:
         for env_name, env in (("", None), (" + sky", sky)):
-            phong = frame_time(scene, "phong", env)
-            pbr = frame_time(scene, "pbr", env)
-            print(f"{label + env_name:>36} | {phong * 1e3:8.1f} {pbr * 1e3:7.1f} "
-                  f"{pbr / phong:6.2f}")
+            t = frame_times(scene, env)
+            print(f"{label + env_name:>36} | {t['phong'] * 1e3:8.1f} {t['pbr'] * 1e3:7.1f} "
+                  f"{t['pbr'] / t['phong']:6.2f}")
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+
+    if sys.argv[1:2] == ["--frames"]:  # the second table only
+        main(load=False)
+    elif sys.argv[1:2] == ["--single-mesh"]:  # the old path, as one process (table 1)
+        from facet.render.renderer import Renderer
+
+        with Renderer(*SIZE) as r:
+            r.render(single_mesh_path(Path(sys.argv[2])), outputs=("color",)).save(sys.argv[3])
+    else:
+        main()

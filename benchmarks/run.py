@@ -147,6 +147,7 @@ def main() -> None:
         models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
         cold_table(2 if a.quick else 5, models)
     import antialias
+    import gltf
     import raytrace
     import shadows
     import transparency
@@ -158,6 +159,7 @@ def main() -> None:
     transparency.main()
     turntable.main()
     viewer.main()
+    gltf.main()
     raytrace.table(a.quick)
     raytrace.frame(a.quick)
 

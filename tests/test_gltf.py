@@ -15,6 +15,7 @@ from facet.cli import main
 from facet.errors import FacetWarning, MeshError
 from facet.scene import Mesh
 from facet.scene.pbr import PbrMaterial
+
 from gltf_files import FLOAT, UBYTE, USHORT, GltfBuilder, png, quad
 
 SHARED = Path(__file__).resolve().parents[2] / "shared" / "gltf"

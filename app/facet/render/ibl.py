@@ -24,6 +24,12 @@ PREFILTER_SAMPLES = 256
 IRRADIANCE_SIZE = (32, 32)
 
 
+def _half(data: bytes) -> bytes:
+    """float32 texels as float16: the maps are sampled per fragment, and half floats (11
+    significant bits, plenty for light) filter faster on a CPU rasteriser."""
+    return np.frombuffer(data, np.float32).astype(np.float16).tobytes()
+
+
 class ImageLighting:
     """The table and the per-environment maps of one context (released with it)."""
 
@@ -60,7 +66,7 @@ class ImageLighting:
         """The split-sum table (A, B, C) over (N.V, roughness), LUT_SIZE^2, bilinear."""
         if self._lut is None:
             data = self._draw("lut", (LUT_SIZE, LUT_SIZE))
-            self._lut = self.ctx.texture((LUT_SIZE, LUT_SIZE), 4, data, dtype="f4")
+            self._lut = self.ctx.texture((LUT_SIZE, LUT_SIZE), 4, _half(data), dtype="f2")
             self._lut.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
             self._lut.repeat_x = self._lut.repeat_y = False
         return self._lut
@@ -78,10 +84,10 @@ class ImageLighting:
         source = {"u_source": (cube, 0)}
         # Irradiance: its cosine lobe spans the sphere; a mip of about 16 texels suffices.
         lod = max(float(np.log2(environment.size / 16.0)), 0.0)
-        irradiance = self.ctx.texture(IRRADIANCE_SIZE, 4, self._draw(
-            "irradiance", IRRADIANCE_SIZE, source, u_lod=lod), dtype="f4")
+        irradiance = self.ctx.texture(IRRADIANCE_SIZE, 4, _half(self._draw(
+            "irradiance", IRRADIANCE_SIZE, source, u_lod=lod)), dtype="f2")
         irradiance.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
-        prefiltered = self.ctx.texture(PREFILTER_SIZE, 4, dtype="f4")
+        prefiltered = self.ctx.texture(PREFILTER_SIZE, 4, dtype="f2")
         prefiltered.build_mipmaps(0, PREFILTER_LEVELS - 1)
         for level in range(PREFILTER_LEVELS):
             size = (PREFILTER_SIZE[0] >> level, PREFILTER_SIZE[1] >> level)
@@ -89,7 +95,7 @@ class ImageLighting:
                               u_roughness=level / (PREFILTER_LEVELS - 1),
                               u_source_size=float(environment.size),
                               u_samples=PREFILTER_SAMPLES)
-            prefiltered.write(data, level=level)
+            prefiltered.write(_half(data), level=level)
         prefiltered.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
         for tex in (irradiance, prefiltered):
             tex.repeat_x = tex.repeat_y = False
