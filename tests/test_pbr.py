@@ -312,3 +312,32 @@ def test_occlusion_packed_with_metallic_roughness_reads_one_image(renderer):
     none = _render(renderer, PbrMaterial(**base, metallic_roughness_texture=TextureSlot(packed)),
                    [light], ambient=0.6, mesh=_quad(), camera=QUAD_CAMERA)
     assert int(none.color[32, 32, 0]) > int(a.color[32, 32, 0]) + 10  # occlusion applied
+
+
+def test_alpha_mask_cut_outs_cast_no_shadow(renderer):
+    """A MASK card whose left half is cut out, between a light and a floor: only its right
+    half shades the floor (the shadow map cuts it out as the picture does)."""
+    px = np.zeros((1, 2, 4), np.uint8)
+    px[..., :3] = 255
+    px[0, 1, 3] = 255  # left texel alpha 0, right texel alpha 1
+    slot = TextureSlot(Texture(px), filter=("nearest", "nearest"), mipmaps=False)
+    card = PbrMaterial(base_color_texture=slot, alpha_mode="MASK", double_sided=True)
+    scene = Scene(ambient=0.0)
+    floor = Mesh([[-3, 0, -3], [3, 0, -3], [3, 0, 3], [-3, 0, 3]], [[0, 2, 1], [0, 3, 2]])
+    scene.add(floor, PbrMaterial(base_color=(0.8, 0.8, 0.8, 1), metallic=0, roughness=1))
+    # The card 1 above the floor, facing down (its uv u runs along x).
+    scene.add(Mesh([[-1, 1, -1], [1, 1, -1], [1, 1, 1], [-1, 1, 1]], [[0, 1, 2], [0, 2, 3]],
+                   uvs=[[0, 0], [1, 0], [1, 1], [0, 1]]), card)
+    scene.add_light(DirectionalLight((0, -1, 0), (1, 1, 1), 1.0))
+    # Looking straight down (camera x = world x): through the cut-out half the floor shows.
+    cam = Camera.look_at((0, 6, 0.001), (0, 0, 0), up=(0, 0, -1), ortho_height=5, near=1,
+                         far=20)
+    frame = renderer(SIZE, SIZE).render(scene, cam, lights="scene", shadows=True, aa="none",
+                                        outputs=("color", "ids"))
+    x = (np.arange(SIZE) + 0.5) / SIZE * 5 - 2.5  # world x of each column
+    rows = slice(SIZE // 2 - 4, SIZE // 2 + 4)
+    cut = (x > -0.9) & (x < -0.1)  # under the cut-out half of the card
+    assert (frame.object_ids[rows][:, cut] == 0).all()  # the floor, seen through it
+    assert frame.color[rows][:, cut, 0].min() > 150  # and lit: the cut-out cast no shadow
+    kept = (x > 0.1) & (x < 0.9)
+    assert (frame.object_ids[rows][:, kept] == 1).all()  # the card's solid half

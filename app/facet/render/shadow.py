@@ -26,6 +26,7 @@ from ..gl.shaders import compile_program
 from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.options import PCF_CHOICES
 from ..scene.scene import Scene
+from .state import UNITS
 
 TILE = 1024  # shadow map resolution per tile
 ATLAS_COLUMNS = 8  # tiles per atlas row (TILE x 8 = 8192 px wide, within GL limits)
@@ -122,6 +123,7 @@ class ShadowMaps:
         root = glsl_root()
         self.program = compile_program(ctx, root / "shadow" / "depth.vert",
                                        root / "shadow" / "depth.frag")
+        self._masked = None  # the program for glTF MASK cut-outs, made on first use
         self.atlas = None
         self.fbo = None
         self.tiles = 0
@@ -157,7 +159,10 @@ class ShadowMaps:
         slots = [-1] * len(scene.lights)  # per light: its first tile (= matrix index)
         matrices = np.tile(np.eye(4, dtype=np.float32), (max(self.tiles, 1), 1, 1))
         texels = np.zeros((len(scene.lights), 4), np.float32)
-        self.program.set("u_dither_shift", (sample % 4, sample // 4 % 4))
+        shift = (sample % 4, sample // 4 % 4)
+        self.program.set("u_dither_shift", shift)
+        if any(_masked(o) for o in scene.objects):
+            self.masked().set("u_dither_shift", shift)
         self.fbo.use()
         self.fbo.clear(depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
@@ -169,9 +174,10 @@ class ShadowMaps:
                 col, row = tile % cols, tile // cols
                 self.fbo.viewport = (col * TILE, row * TILE, TILE, TILE)
                 for obj in scene.objects:
-                    self.program.set("u_light_mvp", vp @ obj.transform)
-                    self.program.set("u_opacity", obj.material.opacity)
-                    self.cache.buffers(obj.mesh).vao(self.ctx, self.program.gl).render()
+                    prog = self._program_for(obj)
+                    prog.set("u_light_mvp", vp @ obj.transform)
+                    prog.set("u_opacity", obj.material.opacity)
+                    self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
                 # World -> this tile of the atlas: clip [-1, 1] -> [0, 1] -> (col, row).
                 to_tile = T.compose(TO_UNIT, T.scale((1.0 / cols, 1.0 / rows, 1.0)),
                                     T.translate((col / cols, row / rows, 0.0)))
@@ -188,7 +194,37 @@ class ShadowMaps:
         self.fbo = self.atlas = None
         self.tiles = 0
 
+    def masked(self):
+        if self._masked is None:
+            root = glsl_root()
+            self._masked = compile_program(self.ctx, root / "shadow" / "depth.vert",
+                                           root / "shadow" / "depth.frag",
+                                           {"ALPHA_MASK": None})
+        return self._masked
+
+    def _program_for(self, obj):
+        """The depth program for ``obj``, its cut-out image bound (MASK materials)."""
+        if not _masked(obj):
+            return self.program
+        m, prog = obj.material, self.masked()
+        slot = m.base_color_texture
+        self.cache.texture(slot.texture, False).use(location=UNITS["material"])
+        prog.set("u_texture", UNITS["material"])
+        prog.set("u_uv_transform", slot.transform)
+        prog.set("u_base_alpha", float(m.base_color[3]))
+        prog.set("u_alpha_cutoff", m.alpha_cutoff)
+        return prog
+
     def release(self) -> None:
         self._release_atlas()
-        self.cache.forget_program(self.program.gl)
-        self.program.release()
+        for prog in (self.program, self._masked):
+            if prog is not None:
+                self.cache.forget_program(prog.gl)
+                prog.release()
+
+
+def _masked(obj) -> bool:
+    """A glTF MASK material whose cut-outs come from an image (and a mesh with uvs)."""
+    m = obj.material
+    return (getattr(m, "alpha_mode", "") == "MASK" and m.base_color_texture is not None
+            and obj.mesh.uvs is not None)
