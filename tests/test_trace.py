@@ -108,6 +108,27 @@ def test_traced_and_rasterized_agree_without_effects(renderer, projection):
         assert np.percentile(rel, 99) < 1e-4 and rel.max() < 1e-3, (name, rel.max())
 
 
+def test_gltf_materials_are_traced_by_their_phong_stand_ins(renderer):
+    """The tracer shades a PbrMaterial by the Phong stand-ins the rasterizer's phong model
+    uses (facet.scene.pbr): the two engines agree, in both colour modes."""
+    from facet.scene.pbr import PbrMaterial
+
+    scene = Scene(ambient=0.15)
+    scene.add(sphere_mesh(4), PbrMaterial(base_color=(0.6, 0.3, 0.2, 1), metallic=0.2,
+                                          roughness=0.5), T.rotate_y(20))
+    scene.add_light(DirectionalLight((-1, -0.8, -1.2), (1, 0.95, 0.9), 0.9))
+    r = renderer(S, S)
+    for srgb in (False, True):
+        kw = dict(outputs=("color", "ids"), shading="phong", shadows=False, srgb=srgb)
+        raster = r.render(scene, CAMERAS["perspective"], msaa=0, **kw)
+        traced = r.render(scene, CAMERAS["perspective"], engine="trace", aa="none", **kw)
+        inner = erode(raster.object_ids == 0, 2) & erode(traced.object_ids == 0, 2)
+        assert inner.sum() > 300
+        diff = np.abs(raster.color[..., :3].astype(int) - traced.color[..., :3])[inner]
+        assert diff.max() <= 2, (srgb, diff.max())
+        assert raster.color[..., :3][inner].std() > 5  # lit, not flat
+
+
 SQUARES = np.kron((np.indices((8, 8)).sum(axis=0) % 2), np.ones((16, 16)))  # 128 x 128
 
 

@@ -611,3 +611,29 @@ def test_the_engine_key_refines_the_traced_picture(window, tmp_path):
     assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()
     # Really the tracer: its shadow rays darken the knot where it hides itself.
     assert (np.abs(traced.astype(int) - raster).max(axis=2) > 30).mean() > 0.01
+
+
+def test_a_gltf_opens_framed_with_its_cameras_on_the_number_keys(display, tmp_path):
+    """`facet view model.glb`: the parts keep their materials, the first view frames the
+    model (not the file's camera), and key 1 switches to the file's first camera."""
+    os.environ["DISPLAY"] = display
+    import facet
+
+    from gltf_files import GltfBuilder, quad
+
+    b = GltfBuilder()
+    red = b.material(pbrMetallicRoughness={"baseColorFactor": [1, 0, 0, 1],
+                                           "metallicFactor": 0.0}, doubleSided=True)
+    quad(b, red)
+    b.node(mesh=0)
+    b.doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}]
+    b.node(camera=0, name="far", translation=[0.5, 0.5, 9])
+    path = b.write_glb(tmp_path / "cam.glb")
+    with facet.Viewer(path, size=(W, H), msaa=0) as v:
+        framed = v.camera().eye.copy()
+        assert np.linalg.norm(framed - [0.5, 0.5, 9]) > 1  # framed, not the file's camera
+        v.draw()
+        img = v.grab()
+        assert ((img[..., 0] > 100) & (img[..., 1] < 60)).mean() > 0.05  # its red material
+        v.use_camera(0)
+        np.testing.assert_allclose(v.camera().eye, [0.5, 0.5, 9], atol=1e-6)
