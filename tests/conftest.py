@@ -11,6 +11,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED_MODELS = ROOT.parent / "shared" / "models"
+SHARED_GLTF = ROOT.parent / "shared" / "gltf"  # Khronos glTF samples
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # tests/reference.py
 
 
@@ -19,11 +20,13 @@ def pytest_addoption(parser):
                      help="rewrite tests/golden/*.png from the current renderer (llvmpipe only)")
 
 
-def shared_model(name: str) -> Path:
-    path = SHARED_MODELS / name
+def shared_model(name: str, folder: Path = SHARED_MODELS) -> Path:
+    """A file of ../shared (models/, or gltf/ with ``folder=SHARED_GLTF``); the test skips
+    with the reason when the folder is absent."""
+    path = folder / name
     if not path.is_file():
-        pytest.skip(f"real-world model {name} not found in {SHARED_MODELS} "
-                    "(the shared models folder sits beside the repository)")
+        pytest.skip(f"real-world file {name} not found in {folder} (the shared folder "
+                    "sits beside the repository)")
     return path
 
 

@@ -16,17 +16,12 @@ from facet.errors import FacetWarning, MeshError
 from facet.scene import Mesh
 from facet.scene.pbr import PbrMaterial
 
+from conftest import SHARED_GLTF, shared_model
 from gltf_files import FLOAT, UBYTE, USHORT, GltfBuilder, png, quad
-
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "gltf"
 
 
 def shared_gltf(name: str) -> Path:
-    path = SHARED / name
-    if not path.is_file():
-        pytest.skip(f"glTF sample {name} not found in {SHARED} (the shared folder sits "
-                    "beside the repository)")
-    return path
+    return shared_model(name, SHARED_GLTF)
 
 
 def _quat(axis, degrees):
