@@ -28,6 +28,7 @@ class ShaderError(FacetError):
     def __init__(self, message: str, diagnostics=()):
         super().__init__(message)
         self.diagnostics = list(diagnostics)
+        self.missing: list = []  # included files that do not exist (yet): worth watching
 
 
 class ContextError(FacetError):

@@ -1,7 +1,11 @@
 #version 330 core
 // Shadertoy's inputs around a user's mainImage (facet.lab.shadertoy fills them). The
 // user's code (and common file) is included at the marker line below; fragCoord has its
-// origin at the bottom-left pixel corner, as on Shadertoy.
+// origin at the bottom-left pixel corner, as on Shadertoy. Each channel's sampler type
+// (sampler2D, or samplerCube for cube maps and the Cube A pass) comes as FACET_CHANNELn.
+// With FACET_CUBE_PASS this is the Cube A pass: mainCubemap for face u_face (OpenGL's
+// order +X, -X, +Y, -Y, +Z, -Z) with the ray through each texel centre.
+// The wrapper's own names all start with facet_ so a user's #define cannot reach them.
 uniform vec3 iResolution;           // viewport size in pixels (z = pixel aspect, 1)
 uniform float iTime;                // seconds since the start
 uniform float iTimeDelta;           // seconds per frame
@@ -12,17 +16,31 @@ uniform vec4 iDate;                 // year, month (0-11), day, seconds since mi
 uniform float iSampleRate;          // 44100
 uniform float iChannelTime[4];      // seconds, per channel
 uniform vec3 iChannelResolution[4]; // pixels, per channel
-uniform sampler2D iChannel0;
-uniform sampler2D iChannel1;
-uniform sampler2D iChannel2;
-uniform sampler2D iChannel3;
+uniform FACET_CHANNEL0 iChannel0;
+uniform FACET_CHANNEL1 iChannel1;
+uniform FACET_CHANNEL2 iChannel2;
+uniform FACET_CHANNEL3 iChannel3;
+#ifdef FACET_CUBE_PASS
+uniform int facet_face;
+#endif
 
 out vec4 facet_FragColor;
 
 FACET_USER_CODE
 
 void main() {
-    vec4 color = vec4(0.0, 0.0, 0.0, 1.0);
-    mainImage(color, gl_FragCoord.xy);
-    facet_FragColor = color;
+    vec4 facet_color = vec4(0.0, 0.0, 0.0, 1.0);
+#ifdef FACET_CUBE_PASS
+    vec2 facet_c = gl_FragCoord.xy / iResolution.xy * 2.0 - 1.0;  // (sc, tc) of the texel
+    vec3 facet_dirs[6] = vec3[6](vec3(1.0, -facet_c.y, -facet_c.x),
+                                 vec3(-1.0, -facet_c.y, facet_c.x),
+                                 vec3(facet_c.x, 1.0, facet_c.y),
+                                 vec3(facet_c.x, -1.0, -facet_c.y),
+                                 vec3(facet_c.x, -facet_c.y, 1.0),
+                                 vec3(-facet_c.x, -facet_c.y, -1.0));
+    mainCubemap(facet_color, gl_FragCoord.xy, vec3(0.0), normalize(facet_dirs[facet_face]));
+#else
+    mainImage(facet_color, gl_FragCoord.xy);
+#endif
+    facet_FragColor = facet_color;
 }

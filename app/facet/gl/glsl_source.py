@@ -68,12 +68,17 @@ class ExpandedSource:
 
 
 def expand(path, defines: dict[str, object] | None = None,
-           search: tuple[Path, ...] = (), text: str | None = None) -> ExpandedSource:
+           search: tuple[Path, ...] = (), text: str | None = None,
+           texts: dict[Path, str] | None = None) -> ExpandedSource:
     """Read the stage file ``path`` and expand its includes; see the module docstring.
 
     With ``text`` the stage is generated in memory (e.g. a host around a user's shader);
-    ``path`` then only names it and anchors its relative includes.
+    ``path`` then only names it and anchors its relative includes. ``texts``: files given
+    as text instead of read from disk (resolved paths: a user's file cleaned up, a pass of
+    a JSON export). A missing include's error lists the paths it looked for in
+    ``missing``, so a reload can watch for the file to appear.
     """
+    texts = {Path(k).resolve(): v for k, v in (texts or {}).items()}
     stage = Path(path)
     if text is None and not stage.is_file():
         raise ShaderError(f"{display_path(stage)}: no such shader file")
@@ -100,7 +105,7 @@ def expand(path, defines: dict[str, object] | None = None,
         name = display_path(file)
         try:
             body = stage_text if is_stage and stage_text is not None else \
-                file.read_text(encoding="utf-8")
+                texts[file] if file in texts else file.read_text(encoding="utf-8")
         except UnicodeDecodeError:
             raise ShaderError(f"{name}: error: not a text file (GLSL must be UTF-8)") from None
         for number, line in enumerate(body.splitlines(), start=1):
@@ -120,14 +125,16 @@ def expand(path, defines: dict[str, object] | None = None,
             target = m.group(1) or m.group(2)
             for base in (file.parent, *roots):
                 candidate = base / target
-                if candidate.is_file():
+                if candidate.is_file() or candidate.resolve() in texts:
                     include(candidate, [*chain, file], is_stage=False)
                     break
             else:
                 searched = ", ".join(display_path(b) for b in (file.parent, *roots))
                 col = line.index(target) + 1 if target in line else 1
-                raise ShaderError(f'{name}:{number}:{col}: error: cannot find include '
-                                  f'"{target}" (searched {searched})')
+                error = ShaderError(f'{name}:{number}:{col}: error: cannot find include '
+                                    f'"{target}" (searched {searched})')
+                error.missing = [file.parent / target]  # where a new file would be found
+                raise error
 
     include(stage, [], is_stage=True)
     if stage_text is not None:

@@ -60,12 +60,18 @@ def mesa_column(line_text: str, column: int) -> int:
     return i + 1
 
 
-def _context_lines(path: str, line: int, column: int, files: list[Path]) -> list[str]:
+def _context_lines(path: str, line: int, column: int, files: list[Path],
+                   texts: dict | None = None) -> list[str]:
     """The error line, the two before it, and a caret under the column."""
     source = next((f for f in files if display_path(f) == path), None)
     if source is None:
         return []
-    text = source.read_text(encoding="utf-8").splitlines()
+    body = (texts or {}).get(source.resolve())
+    if body is None:
+        if not source.is_file():
+            return []
+        body = source.read_text(encoding="utf-8")
+    text = body.splitlines()
     out = [f"{n:5d} | {text[n - 1]}" for n in range(max(1, line - 2), line + 1)
            if n <= len(text)]
     if column > 0 and out:
@@ -73,9 +79,10 @@ def _context_lines(path: str, line: int, column: int, files: list[Path]) -> list
     return out
 
 
-def map_log(log: str, sources: dict[str, ExpandedSource]) -> ShaderError:
-    """Build the ``ShaderError`` for a failed compile/link log (sections per stage)."""
-    stage, lines, diagnostics = None, [], []
+def map_log(log: str, sources: dict[str, ExpandedSource], texts=None) -> ShaderError:
+    """Build the ``ShaderError`` for a failed compile/link log (sections per stage): errors
+    first (the first with its source lines), warnings after them."""
+    stage, diagnostics, other = None, [], []
     for raw in log.splitlines():
         key = raw.strip().lower()
         if key in _STAGE_HEADERS:
@@ -88,16 +95,21 @@ def map_log(log: str, sources: dict[str, ExpandedSource]) -> ShaderError:
                 expanded = sources[stage].text.splitlines()
                 col = mesa_column(expanded[line - 1], col) if line <= len(expanded) else col
             path, src_line = sources[stage].locate(line)
-            diagnostics.append((path, src_line, col, severity, message))
-            lines.append(f"{path}:{src_line}:{col}: {severity}: {message}" if col else
-                         f"{path}:{src_line}: {severity}: {message}")
-            if severity == "error" and sum(d[3] == "error" for d in diagnostics) == 1:
-                lines.extend(_context_lines(path, src_line, col, sources[stage].files))
+            diagnostics.append((path, src_line, col, severity, message, stage))
         elif raw.strip().lower().startswith("error") or ": error" in raw.lower():
-            lines.append(f"{_link_label(sources)}: {raw.strip()}")
+            other.append(f"{_link_label(sources)}: {raw.strip()}")
+    lines = []
+    ordered = sorted(diagnostics, key=lambda d: d[3] != "error")  # stable: errors first
+    for i, (path, src_line, col, severity, message, stage) in enumerate(ordered):
+        lines.append(f"{path}:{src_line}:{col}: {severity}: {message}" if col else
+                     f"{path}:{src_line}: {severity}: {message}")
+        if i == 0 and severity == "error":
+            lines.extend(_context_lines(path, src_line, col, sources[stage].files, texts))
+    lines = [*other, *lines] if other and not any(d[3] == "error" for d in diagnostics) \
+        else [*lines, *other]
     if not lines:
         lines = [f"{_link_label(sources)}: error: {log.strip()}"]
-    return ShaderError("\n".join(lines), diagnostics)
+    return ShaderError("\n".join(lines), [d[:5] for d in diagnostics])
 
 
 def _link_label(sources: dict[str, ExpandedSource]) -> str:
@@ -106,16 +118,20 @@ def _link_label(sources: dict[str, ExpandedSource]) -> str:
 
 
 def compile_program(ctx: moderngl.Context, vertex, fragment, defines=None,
-                    search=(), fragment_text: str | None = None) -> Program:
+                    search=(), fragment_text: str | None = None,
+                    texts: dict | None = None) -> Program:
     """Expand, compile and link a vertex + fragment program; ``ShaderError`` on failure.
-    ``fragment_text``: a generated fragment stage named ``fragment`` (see ``expand``)."""
+    ``fragment_text``: a generated fragment stage named ``fragment``; ``texts``: files given
+    as text (see ``expand``)."""
     sources = {"vertex": expand(vertex, defines, search),
-               "fragment": expand(fragment, defines, search, text=fragment_text)}
+               "fragment": expand(fragment, defines, search, text=fragment_text,
+                                  texts=texts)}
     try:
         prog = ctx.program(vertex_shader=sources["vertex"].text,
                            fragment_shader=sources["fragment"].text)
     except moderngl.Error as exc:
-        raise map_log(str(exc), sources) from None
+        resolved = {Path(k).resolve(): v for k, v in (texts or {}).items()}
+        raise map_log(str(exc), sources, resolved) from None
     return Program(prog, sources)
 
 

@@ -40,6 +40,7 @@ class WatchedPrograms:
         self._digests: dict[Path, str | None] = {}
         self._extra: tuple[Path, ...] = ()
         self._on_release = on_release
+        self.labels: dict[Hashable, str] = {}  # key -> the name errors give it (passes)
 
     def get(self, key: Hashable, build: Callable[[], Program]) -> Program:
         """The program for ``key``, built on first use (errors raise)."""
@@ -75,28 +76,39 @@ class WatchedPrograms:
         any fails."""
         if not force and not self.changed():
             return ReloadResult(True, changed=False)
-        new, errors, diagnostics = {}, [], []
+        new, errors, diagnostics, missing = {}, [], [], []
         for key, build in self._builders.items():
             try:
                 new[key] = build()
             except ShaderError as exc:
-                errors.append(str(exc))
+                errors.append(self.label(key, str(exc)))
                 diagnostics += exc.diagnostics
+                missing += exc.missing
             except FacetError as exc:
-                errors.append(str(exc))
-        # Remember what was read now, the failed attempt's files included, so that only a
-        # new change triggers the next reload.
-        self._remember(extra=[f for p in new.values() for f in p.files])
+                errors.append(self.label(key, str(exc)))
+        # Remember what was read now, the failed attempt's files included (and includes
+        # that do not exist yet: creating one is a change), so that only a new change
+        # triggers the next reload.
+        self._remember(extra=[*(f for p in new.values() for f in p.files),
+                              *(Path(m).resolve() for m in missing)])
         if errors:
             for prog in new.values():
                 prog.release()
-            return ReloadResult(False, errors="\n".join(dict.fromkeys(errors)),
-                                diagnostics=diagnostics)
+            return ReloadResult(False, errors="\n".join(errors), diagnostics=diagnostics)
         for prog in self.programs.values():
             self._release(prog)
         self.programs = new
         self._remember()
         return ReloadResult(True)
+
+    def label(self, key: Hashable, text: str) -> str:
+        """``text`` with each line naming the program it is about (``labels[key]``), when
+        there is more than one program to tell apart."""
+        name = self.labels.get(key)
+        if name is None:
+            return text
+        return "\n".join(f"[{name}] {line}" if line and not line.startswith(" ") else line
+                         for line in text.splitlines())
 
     def _release(self, prog: Program) -> None:
         if self._on_release is not None:

@@ -1,16 +1,23 @@
-"""Full-screen shaders, Shadertoy-compatible: a host ``main()`` around the user's
-``mainImage(out vec4 fragColor, in vec2 fragCoord)``, the standard inputs, buffers A-D with
-feedback, channels from images or buffers, a ``common`` file, user uniforms, and hot reload.
+"""Full-screen shaders as people paste them: Shadertoy's ``mainImage`` with its passes
+(Image, Buffer A-D with feedback, Cube A rendering a cube map), each pass with its own four
+channels and their sampler settings (facet.lab.project), a common file, user uniforms and
+hot reload; and glslViewer / Book of Shaders files with their own ``main()``
+(facet.lab.dialect decides which).
 
-Passes run in the order A, B, C, D, image. A buffer that reads itself sees its previous
-frame; a pass that reads a buffer rendered earlier in the frame sees this frame's result,
-a later one its previous frame (Shadertoy's rules; each buffer is a ping-pong pair).
-Buffers are RGBA32F; the image pass renders to RGBA32F too and ``render`` returns its float
-values (row 0 at the top).
+Shadertoy's environment: ``HW_PERFORMANCE`` is 1, unset channels are black, buffers clamp
+and filter linearly unless a channel says otherwise, the keyboard is a 256 x 3 texture,
+``iDate`` is fixed (DEFAULT_DATE, or ``date``; None: the wall clock, as the live window
+does) so a render at a given time is always the same.
+
+Passes run in the order A, B, C, D, Cube A, Image. A buffer that reads itself sees its
+previous frame; a pass that reads a buffer rendered earlier in the frame sees this frame's
+result, a later one its previous frame (Shadertoy's rules; each buffer is a ping-pong
+pair). Buffers are RGBA32F; the image pass renders to RGBA32F too and ``render`` returns
+its float values (row 0 at the top). Nothing GL is made per frame.
 
 Reloading never breaks what runs: ``reload()`` compiles every pass anew and swaps them in
 only if all compiled; otherwise the last good programs stay and the result carries the
-errors (``path:line:col: error: ...``, mapped through includes to the user's files).
+errors, each line naming its pass, errors before warnings, mapped to the user's files.
 """
 
 from __future__ import annotations
@@ -20,100 +27,181 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, ShaderError
+from ..errors import InputError
 from ..gl.fullscreen import fullscreen_vertex
 from ..gl.glsl_source import glsl_root
 from ..gl.shaders import Program, compile_program
+from . import project as P
+from .channels import ChannelResources
+from .dialect import GLSLVIEWER, prepare
 from .programs import ReloadResult, WatchedPrograms
 from .uniforms import check_uniform, write_uniform
 
 BUFFERS = ("a", "b", "c", "d")
+DEFAULT_DATE = datetime.datetime(2000, 1, 1)  # iDate of headless renders (deterministic)
+CUBE_SIZE = 512  # texels along a Cube A face
 FILLED = ("iResolution", "iTime", "iTimeDelta", "iFrame", "iFrameRate", "iMouse", "iDate",
           "iSampleRate", "iChannelTime", "iChannelResolution", "iChannel0", "iChannel1",
-          "iChannel2", "iChannel3")
+          "iChannel2", "iChannel3", "facet_face", "u_resolution", "u_time", "u_mouse",
+          "u_date", "u_delta", "u_frame", "u_tex0", "u_tex1", "u_tex2", "u_tex3")
 
 
 class ShaderToy:
-    """A Shadertoy-style program set over one GL context (a headless one by default)."""
+    """A Shadertoy-style program set over one GL context (a headless one by default).
 
-    def __init__(self, image, *, buffers: dict | None = None, common=None,
-                 channels: dict | None = None, size=(640, 360), context=None):
+    ``image``, ``buffers`` ({"a": path, ...}), ``cube`` (the Cube A pass) and ``common``
+    are shader files; ``channels`` ({0: "buffer-a", 1: "wood.png", ...}) apply to every
+    pass that does not set its own in ``pass_channels`` ({"image": {0: ...}, "a": ...});
+    values are what facet.lab.project.channel takes, or Channel objects. Or give a whole
+    ``project`` (facet.lab.project: a TOML project, a Shadertoy JSON export).
+    """
+
+    def __init__(self, image=None, *, buffers: dict | None = None, common=None,
+                 channels: dict | None = None, size=(640, 360), context=None,
+                 project: P.Project | None = None, pass_channels: dict | None = None,
+                 cube=None, cube_size: int = CUBE_SIZE, date=DEFAULT_DATE):
         from ..gl import context as glcontext
 
-        self.paths = {"image": _existing(image, "shader")}
-        for key, path in (buffers or {}).items():
-            if key not in BUFFERS:
-                raise InputError(f"buffer {key!r}: buffers are a, b, c and d")
-            self.paths[key] = _existing(path, f"buffer {key}")
-        self.common = _existing(common, "common file") if common else None
+        self.project = project or _project(image, buffers, common, cube, channels or {},
+                                           pass_channels or {})
+        _check_channels(self.project)
         self.width, self.height = _size(size)
+        self.cube_size = int(cube_size)
+        self.date = date
         self._own_context = context is None
         self.ctx = glcontext.create_headless() if context is None else context
         self.uniforms: dict[str, np.ndarray] = {}  # user uniforms, kept across reloads
         self.frame, self.time = 0, 0.0
         self.vaos: dict = {}
+        self.dialects: dict[str, str] = {}
         self.watched = WatchedPrograms()
-        self.watched.watch(*self.paths.values(), *([self.common] if self.common else []))
+        files = [p.path for p in self.project.ordered() if p.code is None]
+        if self.project.common is not None and self.project.common_code is None:
+            files.append(self.project.common)
+        if self.project.origin is not None:  # a TOML project or a JSON export
+            files.append(self.project.origin)
+        self.watched.watch(*files)
         with self.ctx:
+            self.resources = ChannelResources(self.ctx)
             self.targets = self._make_targets()
-            self.channel_specs = self._channels(channels or {})
-            for key, path in self.paths.items():
-                self.watched.add(key, lambda path=path: self._compile(path))
+            self._bindings = {p.key: self._bind_channels(p) for p in self.project.ordered()}
+            for p in self.project.ordered():
+                self.watched.add(p.key, lambda p=p: self._compile(p))
+                self.watched.labels[p.key] = p.name
+            if len(self.project.passes) == 1:
+                self.watched.labels.clear()  # one pass: no need to name it
         result = self.reload(force=True)  # not nested: see facet.gl.context
         if not result.success:
             self.close()
+            from ..errors import ShaderError
+
             raise ShaderError(result.errors, result.diagnostics)
 
-    # -- construction --------------------------------------------------------------------
+    @property
+    def paths(self) -> dict[str, Path]:
+        return {p.key: p.path for p in self.project.ordered()}
+
+    # -- targets and channels ------------------------------------------------------------
     def _make_targets(self) -> dict:
-        """Ping-pong float targets per buffer, and one for the image pass."""
-        size = (self.width, self.height)
+        """Ping-pong float targets per buffer, one for the image pass, and for Cube A a
+        pair of cube maps with one face-sized target and a pixel buffer to copy through."""
+        ctx, size = self.ctx, (self.width, self.height)
         targets = {}
-        for key in [*[k for k in BUFFERS if k in self.paths], "image"]:
+        for p in self.project.ordered():
+            if p.key == "cube":
+                s = (self.cube_size, self.cube_size)
+                face = ctx.texture(s, 4, dtype="f4")
+                cubes = [ctx.texture_cube(s, 4, dtype="f4") for _ in range(2)]
+                targets["cube"] = {"face": (face, ctx.framebuffer([face])), "cubes": cubes,
+                                   "pixels": ctx.buffer(reserve=s[0] * s[1] * 16)}
+                continue
             pair = []
-            for _ in range(2 if key != "image" else 1):
-                tex = self.ctx.texture(size, 4, dtype="f4")
-                tex.filter = (self.ctx.LINEAR, self.ctx.LINEAR)
-                fbo = self.ctx.framebuffer([tex])
+            for _ in range(2 if p.key != "image" else 1):
+                tex = ctx.texture(size, 4, dtype="f4")
+                tex.repeat_x = tex.repeat_y = False  # Shadertoy's buffers clamp
+                fbo = ctx.framebuffer([tex])
                 fbo.clear(0.0, 0.0, 0.0, 0.0)
                 pair.append((tex, fbo))
-            targets[key] = pair
+            targets[p.key] = pair
         return targets
 
-    def _channels(self, channels: dict) -> dict:
-        """Channel index -> ("buffer", key) or ("texture", gl texture)."""
-        from ..gl.resources import upload_texture
-        from ..scene.texture import Texture
-
-        specs = {}
-        for index, spec in channels.items():
-            if index not in range(4):
-                raise InputError(f"channel {index}: channels are 0 to 3")
-            text = str(spec)
-            if text.startswith("buffer-") and text[7:] in BUFFERS:
-                if text[7:] not in self.paths:
-                    raise InputError(f"--channel{index} {text}: no {text} was given "
-                                     f"(--buffer-{text[7:]} FILE)")
-                specs[index] = ("buffer", text[7:])
+    def _bind_channels(self, p: P.Pass) -> list:
+        """Per channel 0-3: (texture getter, sampler, resolution, is cube)."""
+        out = []
+        for n in range(4):
+            ch = p.channels.get(n, P.Channel())
+            sampler = self.resources.sampler(ch.filter, ch.wrap)
+            if ch.kind == "buffer" and ch.source == "cube":
+                pair = self.targets["cube"]["cubes"]
+                # [1] holds the latest finished cube map (the pair swaps after each frame).
+                out.append((lambda pair=pair: pair[1], sampler, (self.cube_size,) * 2, True))
+            elif ch.kind == "buffer":
+                pair = self.targets[ch.source]
+                out.append((lambda pair=pair: pair[1][0], sampler, None, False))
+            elif ch.kind == "texture":
+                tex, size = self.resources.image(ch.source, ch.vflip)
+                out.append((lambda tex=tex: tex, sampler, size, False))
+            elif ch.kind == "cube":
+                tex, size = self.resources.cube(ch.source)
+                out.append((lambda tex=tex: tex, sampler, size, True))
+            elif ch.kind == "keyboard":
+                kb = self.resources.keyboard
+                out.append((lambda kb=kb: kb, sampler, (256, 3), False))
             else:
-                texture = spec if isinstance(spec, Texture) else Texture.load(spec)
-                specs[index] = ("texture", upload_texture(self.ctx, texture, srgb=False),
-                                texture.size)
-        return specs
+                black = self.resources.black
+                out.append((lambda black=black: black, sampler, (1, 1), False))
+        return out
 
     # -- programs and reloading ------------------------------------------------------------
-    def _host_text(self, path: Path) -> str:
-        host = (glsl_root() / "shadertoy" / "host.frag").read_text()
-        includes = [f'#include "{self.common.resolve()}"'] if self.common else []
-        includes.append(f'#include "{path.resolve()}"')
-        return host.replace("\nFACET_USER_CODE\n", "\n" + "\n".join(includes) + "\n")
+    def _source(self, p: P.Pass) -> str:
+        """The pass's current text (from its file, or from the export re-read)."""
+        if p.code is None:
+            if not p.path.is_file():
+                raise InputError(f"{p.path}: no such shader file" if not p.path.exists()
+                                 else f"{p.path}: is a directory, expected a shader file")
+            return p.path.read_text(encoding="utf-8")
+        origin = self.project.origin
+        if origin is not None and origin.suffix.lower() == ".json" and origin.is_file():
+            fresh = P.load_shadertoy_json(origin).passes.get(p.key)
+            if fresh is not None:
+                return fresh.code
+        return p.code
 
-    def _compile(self, path: Path) -> Program:
-        prog = compile_program(self.ctx, fullscreen_vertex(),
-                               glsl_root() / "shadertoy" / "host.frag",
-                               fragment_text=self._host_text(path))
-        for name, values in self.uniforms.items():  # user uniforms survive a reload
-            write_uniform(prog, name, values)
+    def _compile(self, p: P.Pass) -> Program:
+        name = _display(p.path)
+        try:
+            text = self._source(p)
+        except UnicodeDecodeError:
+            raise InputError(f"{name}: not a text file (GLSL must be UTF-8)") from None
+        prepared = prepare(text, name, cube=p.key == "cube")
+        texts = {p.path: prepared.text}
+        includes = []
+        common = self.project.common
+        if common is not None and prepared.kind != GLSLVIEWER:
+            code = self.project.common_code
+            if code is None:
+                code = common.read_text(encoding="utf-8") if common.is_file() else None
+                if code is None:
+                    raise InputError(f"{common}: no such common file")
+            texts[common] = prepare(code, _display(common), common=True).text
+            includes.append(f'#include "{common.resolve()}"')
+        includes.append(f'#include "{p.path.resolve()}"')
+        host = "viewer.frag" if prepared.kind == GLSLVIEWER else "host.frag"
+        host_path = glsl_root() / "shadertoy" / host
+        stage = host_path.read_text().replace("\nFACET_USER_CODE\n",
+                                              "\n" + "\n".join(includes) + "\n")
+        defines = {"HW_PERFORMANCE": 1}
+        for n, (_, _, _, cube) in enumerate(self._bindings[p.key]):
+            defines[f"FACET_CHANNEL{n}"] = "samplerCube" if cube else "sampler2D"
+        if p.key == "cube":
+            defines["FACET_CUBE_PASS"] = None
+        if prepared.frag_color:
+            defines["FACET_FRAG_COLOR"] = None
+        prog = compile_program(self.ctx, fullscreen_vertex(), host_path, defines,
+                               fragment_text=stage, texts=texts)
+        self.dialects[p.key] = prepared.kind
+        for uniform, values in self.uniforms.items():  # user uniforms survive a reload
+            write_uniform(prog, uniform, values)
         return prog
 
     def _make_vaos(self) -> None:
@@ -132,7 +220,8 @@ class ShaderToy:
         return self.watched.files()
 
     def changed(self) -> bool:
-        """Whether any watched file's content differs from the last (re)load."""
+        """Whether any watched file's content differs from the last (re)load (a missing
+        include that now exists counts)."""
         return self.watched.changed()
 
     def reload(self, force: bool = False) -> ReloadResult:
@@ -168,49 +257,76 @@ class ShaderToy:
     # -- rendering -----------------------------------------------------------------------
     def step(self, time: float, time_delta: float, mouse=(0.0, 0.0, 0.0, 0.0),
              date: datetime.datetime | None = None, fps: float = 60.0) -> None:
-        """Run every pass once: frame ``self.frame`` at ``time`` seconds."""
-        date = date or datetime.datetime.now()
+        """Run every pass once: frame ``self.frame`` at ``time`` seconds. ``date``: iDate
+        (default: ``self.date``; the wall clock where that is None)."""
+        date = date or self.date or datetime.datetime.now()
         seconds = date.hour * 3600 + date.minute * 60 + date.second + date.microsecond / 1e6
-        inputs = {"iResolution": (float(self.width), float(self.height), 1.0),
-                  "iTime": float(time), "iTimeDelta": float(time_delta),
+        day = (float(date.year), float(date.month - 1), float(date.day), seconds)
+        shared = {"iTime": float(time), "iTimeDelta": float(time_delta),
                   "iFrame": int(self.frame), "iFrameRate": float(fps),
-                  "iMouse": tuple(float(m) for m in mouse),
-                  "iDate": (float(date.year), float(date.month - 1), float(date.day), seconds),
-                  "iSampleRate": 44100.0}
+                  "iMouse": tuple(float(m) for m in mouse), "iDate": day,
+                  "iSampleRate": 44100.0, "u_time": float(time), "u_delta": float(time_delta),
+                  "u_frame": int(self.frame), "u_mouse": tuple(float(m) for m in mouse[:2]),
+                  "u_date": day}
         with self.ctx:
-            self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
-            for key in [*[k for k in BUFFERS if k in self.paths], "image"]:
-                prog = self.programs[key]
-                resolutions = np.zeros((4, 3), np.float32)
-                for index, spec in self.channel_specs.items():
-                    if spec[0] == "buffer":
-                        # pair[1] holds the buffer's latest result: last frame's while it is
-                        # not drawn yet (or for itself, drawing into pair[0]), this frame's
-                        # once it is (the pair is swapped after each draw).
-                        tex = self.targets[spec[1]][1][0]
-                        size = (self.width, self.height)
-                    else:
-                        tex, size = spec[1], spec[2]
-                    tex.use(location=index)
-                    resolutions[index] = (size[0], size[1], 1.0)
-                    if f"iChannel{index}" in prog.gl:
-                        prog.gl[f"iChannel{index}"].value = index
-                for name, value in inputs.items():
-                    if name in prog.gl:
-                        prog.gl[name].value = value
-                if "iChannelResolution" in prog.gl:
-                    prog.gl["iChannelResolution"].write(
-                        resolutions[:prog.gl["iChannelResolution"].array_length].tobytes())
-                if "iChannelTime" in prog.gl:
-                    n = prog.gl["iChannelTime"].array_length
-                    prog.gl["iChannelTime"].write(np.full(n, time, np.float32).tobytes())
-                out = self.targets[key][0][1]
-                out.use()
-                self.vaos[key].render(vertices=3)
-                if key != "image":
-                    self.targets[key].reverse()
+            self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND | self.ctx.CULL_FACE)
+            self.resources.upload_keys()
+            for p in self.project.ordered():
+                self._draw_pass(p, shared, time)
+            self.ctx.clear_samplers(0, 4)
         self.frame += 1
         self.time = time
+
+    def _draw_pass(self, p: P.Pass, shared: dict, time: float) -> None:
+        prog = self.programs[p.key].gl
+        cube = p.key == "cube"
+        w, h = (self.cube_size,) * 2 if cube else (self.width, self.height)
+        values = dict(shared, iResolution=(float(w), float(h), 1.0),
+                      u_resolution=(float(w), float(h)))
+        resolutions = []
+        for n, (texture, sampler, size, _) in enumerate(self._bindings[p.key]):
+            texture().use(location=n)
+            sampler.use(location=n)
+            size = size or (self.width, self.height)
+            resolutions.append((float(size[0]), float(size[1]), 1.0))
+            for name in (f"iChannel{n}", f"u_tex{n}"):
+                if name in prog:
+                    prog[name].value = n
+        for name, value in values.items():
+            if name in prog:
+                _write(prog[name], value)
+        if "iChannelResolution" in prog:
+            m = prog["iChannelResolution"]
+            m.value = resolutions[:m.array_length]
+        if "iChannelTime" in prog:
+            prog["iChannelTime"].value = [float(time)] * prog["iChannelTime"].array_length
+        if cube:
+            face_tex, fbo = self.targets["cube"]["face"]
+            target = self.targets["cube"]["cubes"][0]
+            pixels = self.targets["cube"]["pixels"]
+            fbo.use()
+            for face in range(6):
+                if "facet_face" in prog:
+                    prog["facet_face"].value = face
+                self.vaos[p.key].render(vertices=3)
+                fbo.read_into(pixels, components=4, dtype="f4")  # GPU to GPU, no copy out
+                target.write(face, pixels)
+            if any(ch.is_cube and ch.filter == "mipmap" for q in self.project.ordered()
+                   for ch in q.channels.values()):
+                target.build_mipmaps()
+            self.targets["cube"]["cubes"].reverse()  # [1]: the latest finished cube map
+            return
+        out = self.targets[p.key][0][1]
+        out.use()
+        self.vaos[p.key].render(vertices=3)
+        if p.key != "image":
+            if self._mipmapped(p.key):
+                self.targets[p.key][0][0].build_mipmaps()
+            self.targets[p.key].reverse()
+
+    def _mipmapped(self, key: str) -> bool:
+        return any(ch.kind == "buffer" and ch.source == key and ch.filter == "mipmap"
+                   for q in self.project.ordered() for ch in q.channels.values())
 
     def render(self, time: float = 0.0, *, fps: float = 60.0, mouse=(0.0, 0.0, 0.0, 0.0),
                date=None) -> np.ndarray:
@@ -218,7 +334,7 @@ class ShaderToy:
         frames run from 0 at a fixed step of 1 / ``fps`` up to ``time`` (so feedback is
         deterministic); without, one frame is drawn."""
         target = int(round(time * fps))
-        if len(self.paths) == 1:
+        if len(self.project.passes) == 1:
             self.frame = target
             self.step(time, 1.0 / fps, mouse, date, fps)
         else:
@@ -233,12 +349,10 @@ class ShaderToy:
         if (width, height) == (self.width, self.height):
             return
         with self.ctx:
-            for pair in self.targets.values():
-                for tex, fbo in pair:
-                    fbo.release()
-                    tex.release()
+            self._release_targets()
             self.width, self.height = _size((width, height))
             self.targets = self._make_targets()
+            self._bindings = {p.key: self._bind_channels(p) for p in self.project.ordered()}
         self.frame = 0
 
     @property
@@ -249,9 +363,15 @@ class ShaderToy:
     def restart(self) -> None:
         """Back to frame 0 with cleared buffers."""
         with self.ctx:
-            for pair in self.targets.values():
-                for _, fbo in pair:
-                    fbo.clear(0.0, 0.0, 0.0, 0.0)
+            for key, t in self.targets.items():
+                if key != "cube":
+                    for _, fbo in t:
+                        fbo.clear(0.0, 0.0, 0.0, 0.0)
+                else:
+                    zero = np.zeros((self.cube_size, self.cube_size, 4), np.float32)
+                    for cube in t["cubes"]:
+                        for face in range(6):
+                            cube.write(face, zero.tobytes())
         self.frame, self.time = 0, 0.0
 
     def read(self) -> np.ndarray:
@@ -259,6 +379,29 @@ class ShaderToy:
         with self.ctx:
             self.targets["image"][0][1].read_into(out, components=4, dtype="f4")
         return np.ascontiguousarray(out[::-1])  # fragCoord's origin is the bottom-left
+
+    def read_cube(self) -> np.ndarray:
+        """The Cube A pass's latest cube map, (6, S, S, 4) float32 in OpenGL's face order,
+        rows as written (t = 0 first)."""
+        s = self.cube_size
+        with self.ctx:
+            cube = self.targets["cube"]["cubes"][1]
+            faces = [np.frombuffer(cube.read(face), np.float32).reshape(s, s, 4)
+                     for face in range(6)]
+        return np.stack(faces)
+
+    def _release_targets(self) -> None:
+        for key, t in getattr(self, "targets", {}).items():
+            if key == "cube":
+                t["face"][1].release()
+                t["face"][0].release()
+                t["pixels"].release()
+                for cube in t["cubes"]:
+                    cube.release()
+                continue
+            for tex, fbo in t:
+                fbo.release()
+                tex.release()
 
     def close(self) -> None:
         if self.ctx is None:
@@ -268,13 +411,9 @@ class ShaderToy:
                 vao.release()
             self.vaos.clear()
             self.watched.release()
-            for pair in getattr(self, "targets", {}).values():
-                for tex, fbo in pair:
-                    fbo.release()
-                    tex.release()
-            for spec in getattr(self, "channel_specs", {}).values():
-                if spec[0] == "texture":
-                    spec[1].release()
+            self._release_targets()
+            if hasattr(self, "resources"):
+                self.resources.release()
         if self._own_context:
             self.ctx.release()
         self.ctx = None
@@ -284,6 +423,68 @@ class ShaderToy:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def _write(member, value) -> None:
+    """A value into a uniform of whatever size the user's shader declared it with (u_mouse
+    as vec2 or vec4, u_frame as int or float)."""
+    n = getattr(member, "dimension", 1)
+    if isinstance(value, tuple):
+        value = tuple(value[:n]) + (0.0,) * (n - len(value)) if n > 1 else value[0]
+    if member.gl_type in (0x1404, 0x8B56):  # int, bool
+        value = int(value) if not isinstance(value, tuple) else tuple(int(v) for v in value)
+    member.value = value
+
+
+def _display(path: Path) -> str:
+    from ..gl.glsl_source import display_path
+
+    return display_path(path)
+
+
+def _project(image, buffers, common, cube, channels, pass_channels) -> P.Project:
+    """A Project from ShaderToy's keyword arguments (every file checked)."""
+    if image is None:
+        raise InputError("ShaderToy needs an image shader (or a project)")
+    passes = {"image": P.Pass("image", _existing(image, "shader"))}
+    for key, path in (buffers or {}).items():
+        if key not in BUFFERS:
+            raise InputError(f"buffer {key!r}: buffers are a, b, c and d")
+        passes[key] = P.Pass(key, _existing(path, f"buffer {key}"))
+    if cube is not None:
+        passes["cube"] = P.Pass("cube", _existing(cube, "Cube A shader"))
+    shared = {}
+    for index, spec in channels.items():
+        if index not in range(4):
+            raise InputError(f"channel {index}: channels are 0 to 3")
+        shared[index] = P.channel(spec, f"--channel{index}")
+    for p in passes.values():
+        p.channels = dict(shared)
+    for name, chans in pass_channels.items():
+        key = P.pass_key(name, "pass_channels")
+        if key not in passes:
+            raise InputError(f"channels given for the {P.PASS_NAMES[key]} pass, which has no "
+                             "shader")
+        for index, spec in chans.items():
+            if index not in range(4):
+                raise InputError(f"{P.PASS_NAMES[key]} channel {index}: channels are 0 to 3")
+            passes[key].channels[index] = P.channel(spec, f"{P.PASS_NAMES[key]} channel "
+                                                          f"{index}")
+    return P.Project(passes, _existing(common, "common file") if common else None)
+
+
+def _check_channels(project: P.Project) -> None:
+    """Every buffer a channel reads has a pass; every image exists."""
+    for p in project.ordered():
+        for n, ch in p.channels.items():
+            if ch.kind == "buffer" and ch.source not in project.passes:
+                src = "cube-a" if ch.source == "cube" else f"buffer-{ch.source}"
+                flag = "--cube-a" if ch.source == "cube" else f"--buffer-{ch.source}"
+                raise InputError(f"{p.name} channel {n} reads {src}, but no {src} was given "
+                                 f"({flag} FILE)")
+            if ch.kind == "texture" and isinstance(ch.source, Path) and \
+                    not ch.source.is_file():
+                raise InputError(f"{ch.source}: no such texture file ({p.name} channel {n})")
 
 
 def _existing(path, what: str) -> Path:
