@@ -16,20 +16,27 @@ DEFAULT_SIZE = (640, 360)  # frames and the live window alike
 
 
 def add_parser(sub) -> None:
-    sh = sub.add_parser("shader", help="run a Shadertoy-style fragment shader (window or files)",
-                        description="Run FILE, a fragment shader defining mainImage(out vec4 "
-                        "fragColor, in vec2 fragCoord) with Shadertoy's inputs (iResolution, "
-                        "iTime, iTimeDelta, iFrame, iFrameRate, iMouse, iDate, iChannel0-3, "
-                        "iChannelResolution). Without -o it opens a window that reloads the "
-                        "file (and its includes) when saved.",
+    sh = sub.add_parser("shader", help="run a Shadertoy or glslViewer fragment shader (window "
+                        "or files)",
+                        description="Run FILE: a Shadertoy shader (mainImage(out vec4 "
+                        "fragColor, in vec2 fragCoord) with iResolution, iTime, iTimeDelta, "
+                        "iFrame, iFrameRate, iMouse, iDate, iChannel0-3, iChannelResolution), "
+                        "a glslViewer / Book of Shaders one (its own main() writing "
+                        "gl_FragColor, reading u_time, u_resolution, u_mouse), a Shadertoy "
+                        "JSON export (.json) or a project file (.toml). Without -o it opens a "
+                        "window that reloads the files (and their includes) when saved.",
                         formatter_class=argparse.RawDescriptionHelpFormatter,
                         epilog="examples (glsl/examples/ in a checkout):\n"
                         "  facet shader glsl/examples/waves.frag\n"
                         "  facet shader glsl/examples/waves.frag --time 1.5 -o frame.png\n"
                         "  facet shader glsl/examples/sdf.frag --time 0:4 --fps 30 -o sdf.mp4\n"
-                        "  facet shader image.frag --buffer-a a.frag --channel0 buffer-a\n"
+                        "  facet shader image.frag --buffer-a a.frag --channel a:0=buffer-a "
+                        "--channel image:0=buffer-a\n"
+                        "  facet shader export.json --media textures/ --time 2 -o f.png\n"
+                        "  facet shader book.frag --time 1 -o f.png   # void main(), u_time\n"
                         "  facet shader --list-uniforms glsl/examples/toon.frag")
-    sh.add_argument("shader", help="fragment shader file with mainImage")
+    sh.add_argument("shader", help="fragment shader (mainImage, or main() glslViewer-style), "
+                    "a Shadertoy JSON export, or a .toml project")
     sh.add_argument("-o", "--output", metavar="OUT",
                     help="a .png (one frame at --time), or .gif / .mp4 / frames/{:04d}.png "
                     "for a --time range")
@@ -43,10 +50,24 @@ def add_parser(sub) -> None:
                     metavar="X,Y[,CX,CY]", help="iMouse for headless frames (pixels)")
     for key in "abcd":
         sh.add_argument(f"--buffer-{key}", metavar="FILE", help=f"buffer {key.upper()} pass")
+    sh.add_argument("--cube-a", metavar="FILE",
+                    help="Cube A pass (mainCubemap), rendered to a cube map (cube-a)")
+    sh.add_argument("--cube-size", type=int, default=512, metavar="N",
+                    help="texels along a Cube A face (default 512)")
     sh.add_argument("--common", metavar="FILE", help="code prepended to every pass")
+    sh.add_argument("--channel", action="append", default=[], metavar="[PASS:]N=SRC[:OPT]",
+                    help="channel N of one pass (image, a-d, cube; default every pass): "
+                    "SRC is buffer-a..d, cube-a, keyboard, none, an image, or cube:DIR|IMAGE; "
+                    "OPT any of nearest, linear, mipmap, clamp, repeat, vflip, noflip; "
+                    "repeatable")
     for i in range(4):
-        sh.add_argument(f"--channel{i}", metavar="IMAGE|buffer-X",
-                        help=f"iChannel{i}: an image file or a buffer (buffer-a ... buffer-d)")
+        sh.add_argument(f"--channel{i}", metavar="SRC",
+                        help=f"iChannel{i} of every pass that sets no channel {i} of its own")
+    sh.add_argument("--media", metavar="DIR", help="where a JSON export's textures are "
+                    "(default: beside it)")
+    sh.add_argument("--date", metavar="YYYY-MM-DD[THH:MM[:SS]]|now",
+                    help="iDate / u_date (default: 2000-01-01 for frames, so they repeat; "
+                    "the wall clock in the window)")
     sh.add_argument("--uniform", action="append", default=[], metavar="NAME=V[,V...]",
                     help="set a user uniform; repeatable")
     sh.add_argument("--list-uniforms", action="store_true",
@@ -71,6 +92,26 @@ def parse_time(text: str) -> tuple[float, float | None]:
                          "(start < end, both >= 0)") from None
 
 
+def parse_date(text: str):
+    """``now`` -> None (the wall clock); ``2024-05-01`` or ``2024-05-01T12:30[:15]``."""
+    import datetime
+
+    if text == "now":
+        return None
+    try:
+        return datetime.datetime.fromisoformat(text)
+    except ValueError:
+        raise InputError(f"--date {text!r}: expected YYYY-MM-DD, YYYY-MM-DDTHH:MM[:SS] or "
+                         "now") from None
+
+
+def _existing_file(path) -> None:
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: no such file" if not p.exists() else
+                         f"{p}: is a directory, expected a file")
+
+
 def parse_uniform(text: str) -> tuple[str, list[float]]:
     name, _, values = text.partition("=")
     try:
@@ -83,14 +124,43 @@ def parse_uniform(text: str) -> tuple[str, list[float]]:
     return name, numbers
 
 
-def build(args, size, context=None):
-    from ..lab.shadertoy import ShaderToy
+def build(args, size, context=None, date="default"):
+    from ..lab import project as P
+    from ..lab.shadertoy import DEFAULT_DATE, ShaderToy
 
-    buffers = {k: getattr(args, f"buffer_{k}") for k in "abcd" if getattr(args, f"buffer_{k}")}
-    channels = {i: getattr(args, f"channel{i}") for i in range(4)
-                if getattr(args, f"channel{i}")}
-    toy = ShaderToy(args.shader, buffers=buffers, common=args.common, channels=channels,
-                    size=size, context=context)
+    date = parse_date(args.date) if args.date else DEFAULT_DATE if date == "default" else date
+    kind = Path(args.shader).suffix.lower()
+    loose = [f"--{f.replace('_', '-')}" for f in ("buffer_a", "buffer_b", "buffer_c",
+                                                   "buffer_d", "cube_a", "common")
+             if getattr(args, f)]
+    if kind in (".json", ".toml") and (loose or args.channel or any(
+            getattr(args, f"channel{i}") for i in range(4))):
+        raise InputError(f"{args.shader}: a {kind[1:].upper()} file brings its own passes "
+                         "and channels; leave out --buffer-X, --cube-a, --common and "
+                         "--channel")
+    if args.media and kind != ".json":
+        raise InputError("--media is where a Shadertoy JSON export's textures are; give it "
+                         "with a .json file")
+    if not 1 <= args.cube_size <= 4096:
+        raise InputError(f"--cube-size must be in [1, 4096], got {args.cube_size}")
+    common = dict(size=size, context=context, cube_size=args.cube_size, date=date)
+    if kind == ".json" or kind == ".toml":
+        _existing_file(args.shader)
+        project = P.load_shadertoy_json(args.shader, args.media) if kind == ".json" else \
+            P.load_project(args.shader)
+        toy = ShaderToy(project=project, **common)
+    else:
+        buffers = {k: getattr(args, f"buffer_{k}") for k in "abcd"
+                   if getattr(args, f"buffer_{k}")}
+        channels = {i: getattr(args, f"channel{i}") for i in range(4)
+                    if getattr(args, f"channel{i}")}
+        per_pass: dict = {}
+        for text in args.channel:
+            key, n, ch = P.parse_compact(text, "--channel")
+            for k in [key] if key else ["image", *buffers, *(["cube"] if args.cube_a else [])]:
+                per_pass.setdefault(k, {})[n] = ch
+        toy = ShaderToy(args.shader, buffers=buffers, common=args.common, channels=channels,
+                        cube=args.cube_a, pass_channels=per_pass, **common)
     try:
         for text in args.uniform:
             toy.set_uniform(*parse_uniform(text))
@@ -120,7 +190,8 @@ def run(args) -> list[Path]:
     if args.output is None:
         from ..window.shader import run_window
 
-        run_window(lambda size, ctx: build(args, size, context=ctx), args.shader,
+        # The window's iDate is the wall clock unless --date fixes it.
+        run_window(lambda size, ctx: build(args, size, context=ctx, date=None), args.shader,
                    args.size or DEFAULT_SIZE, args.fps)
         return []
     size = args.size or DEFAULT_SIZE
@@ -128,7 +199,7 @@ def run(args) -> list[Path]:
         path = check_image_path(args.output)
         with build(args, size) as toy:
             image = toy.render(start, fps=args.fps, mouse=mouse)
-        return [save_image(path, _to8(image))]
+        return [save_image(path, _to8(image, str(path)))]
     from ..image.sequence import BackgroundWriter, SequenceSink, check_sequence_path
     from .sequence import progress
 
@@ -141,7 +212,7 @@ def run(args) -> list[Path]:
             with progress(frames, args.quiet, "shader") as bar:
                 for i in range(frames):
                     sink.add(i, _to8(toy.render(start + i / args.fps, fps=args.fps,
-                                                mouse=mouse)))
+                                                mouse=mouse), f"frame {i}"))
                     bar.update(1)
             written = sink.finish()
             writer.close()
@@ -155,13 +226,18 @@ def run(args) -> list[Path]:
 
 
 def is_mesh_stage(path) -> bool:
-    """A complete stage (``#version`` first) is a mesh shader; Shadertoy code has none."""
+    """A mesh shader: a complete stage (``#version`` first) that is neither Shadertoy code
+    (mainImage) nor glslViewer code (gl_FragColor, u_resolution)."""
+    import re
+
     try:
-        lines = [ln.strip() for ln in Path(path).read_text(encoding="utf-8").splitlines()]
+        text = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError):
         return False
+    lines = [ln.strip() for ln in text.splitlines()]
     first = next((ln for ln in lines if ln and not ln.startswith("//")), "")
-    return first.startswith("#version")
+    return first.startswith("#version") and not re.search(
+        r"\bmainImage\b|\bgl_FragColor\b|\bu_resolution\b", text)
 
 
 def mesh_uniforms(path) -> dict[str, tuple[str, int, bool]]:
@@ -184,8 +260,20 @@ def mesh_uniforms(path) -> dict[str, tuple[str, int, bool]]:
         ctx.release()
 
 
-def _to8(image):
-    """Shader colour (floats) as 8-bit RGB; alpha is ignored, as on Shadertoy."""
+def _to8(image, where: str = "frame"):
+    """Shader colour (floats) as 8-bit RGB; alpha is ignored, as on Shadertoy. NaN and
+    infinite values are written black and counted in one warning line."""
+    import warnings
+
     import numpy as np
 
-    return np.rint(np.clip(image[..., :3], 0.0, 1.0) * 255.0).astype(np.uint8)
+    from ..errors import FacetWarning
+
+    rgb = image[..., :3]
+    bad = ~np.isfinite(rgb).all(axis=-1)
+    if bad.any():
+        warnings.warn(f"{where}: {int(bad.sum())} pixels are NaN or infinite (written black): "
+                      "look for divisions by zero, sqrt or log of negative numbers, or "
+                      "normalize(vec3(0))", FacetWarning, stacklevel=2)
+        rgb = np.where(bad[..., None], 0.0, rgb)
+    return np.rint(np.clip(rgb, 0.0, 1.0) * 255.0).astype(np.uint8)

@@ -23,11 +23,12 @@ errors, each line naming its pass, errors before warnings, mapped to the user's 
 from __future__ import annotations
 
 import datetime
+import re
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, ShaderError
 from ..gl.fullscreen import fullscreen_vertex
 from ..gl.glsl_source import glsl_root
 from ..gl.shaders import Program, compile_program
@@ -93,8 +94,6 @@ class ShaderToy:
         result = self.reload(force=True)  # not nested: see facet.gl.context
         if not result.success:
             self.close()
-            from ..errors import ShaderError
-
             raise ShaderError(result.errors, result.diagnostics)
 
     @property
@@ -197,8 +196,11 @@ class ShaderToy:
             defines["FACET_CUBE_PASS"] = None
         if prepared.frag_color:
             defines["FACET_FRAG_COLOR"] = None
-        prog = compile_program(self.ctx, fullscreen_vertex(), host_path, defines,
-                               fragment_text=stage, texts=texts)
+        try:
+            prog = compile_program(self.ctx, fullscreen_vertex(), host_path, defines,
+                                   fragment_text=stage, texts=texts)
+        except ShaderError as exc:
+            raise _blame_user(exc, name, prepared.text) from None
         self.dialects[p.key] = prepared.kind
         for uniform, values in self.uniforms.items():  # user uniforms survive a reload
             write_uniform(prog, uniform, values)
@@ -423,6 +425,25 @@ class ShaderToy:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def _blame_user(exc: ShaderError, name: str, text: str) -> ShaderError:
+    """An error the compiler reports inside facet's wrapper is caused by the user's file
+    (the wrapper compiles on its own): say so at the end of that file, with the likely
+    cause (an unclosed bracket), never pointing into facet's files."""
+    host = [d for d in exc.diagnostics if d[0].startswith("glsl/shadertoy/")]
+    if not host or any(d[3] == "error" and not d[0].startswith("glsl/shadertoy/")
+                       for d in exc.diagnostics):
+        return exc
+    code = re.sub(r"//[^\n]*|/\*.*?\*/", " ", text, flags=re.S)
+    unclosed = [f"{code.count(o) - code.count(c)} unclosed '{o}'"
+                for o, c in (("{", "}"), ("(", ")"), ("[", "]")) if code.count(o) > code.count(c)]
+    cause = ("; it ends early: " + ", ".join(unclosed)) if unclosed else \
+        " (a #define in it that renames something Shadertoy declares, like iTime?)"
+    last = max(len(text.splitlines()), 1)
+    message = host[0][4]
+    return ShaderError(f"{name}:{last}: error: {message} where facet's wrapper continues after "
+                       f"your file{cause}", [(name, last, 0, "error", message)])
 
 
 def _write(member, value) -> None:

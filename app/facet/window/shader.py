@@ -7,7 +7,9 @@ frame, the error goes to the window title and to stderr as ``path:line:col: erro
 message``; fixing the file brings the picture back. Uniforms and textures survive a reload
 and iTime keeps running. Mouse: Shadertoy's iMouse (xy while a button is held, origin
 bottom-left; z/w the click, negative once released). Keys: q / Esc quit, space pauses,
-r restarts time and buffers.
+r restarts time and buffers; when a pass reads the keyboard channel every key but Esc goes
+to the shader (Shadertoy's keyboard texture, JavaScript key codes). iDate is the wall clock
+unless --date fixes it.
 """
 
 from __future__ import annotations
@@ -18,6 +20,19 @@ import time
 from .base import POLL, Debounce, GLWindow
 
 HEADLESS_HINT = "render frames with -o, e.g. -o frame.png or --time 0:4 -o clip.mp4"
+# GLFW key -> the JavaScript key code Shadertoy's keyboard texture is indexed by (letters,
+# digits and space are the same numbers in both).
+JS_KEYS = {262: 39, 263: 37, 264: 40, 265: 38, 257: 13, 256: 27, 258: 9, 259: 8, 261: 46,
+           260: 45, 268: 36, 269: 35, 266: 33, 267: 34, 340: 16, 344: 16, 341: 17, 345: 17,
+           342: 18, 346: 18, 59: 186, 61: 187, 44: 188, 45: 189, 46: 190, 47: 191, 96: 192,
+           91: 219, 92: 220, 93: 221, 39: 222,
+           **{290 + i: 112 + i for i in range(12)}, **{320 + i: 96 + i for i in range(10)}}
+
+
+def js_key(key: int) -> int | None:
+    if 65 <= key <= 90 or 48 <= key <= 57 or key == 32:
+        return key
+    return JS_KEYS.get(key)
 
 
 class ShaderWindow:
@@ -32,6 +47,8 @@ class ShaderWindow:
             self.win.close()
             raise
         self.name = str(name)
+        self.keyboard = any(ch.kind == "keyboard" for p in self.toy.project.ordered()
+                            for ch in p.channels.values())
         self.error, self.paused, self.fps = "", False, fps
         self.start = self.last = time.perf_counter()
         self.mouse = [0.0, 0.0, 0.0, 0.0]
@@ -42,8 +59,17 @@ class ShaderWindow:
 
     def _on_key(self, _w, key, _s, action, _m):
         glfw = self.glfw
+        code = js_key(key)
+        if code is not None and action in (glfw.PRESS, glfw.RELEASE):
+            keys = self.toy.resources.keys  # rows: down, pressed this frame, toggled
+            keys[0, code] = 255 if action == glfw.PRESS else 0
+            if action == glfw.PRESS:
+                keys[1, code] = 255
+                keys[2, code] = 255 - keys[2, code]
         if action != glfw.PRESS:
             return
+        if self.keyboard and key != glfw.KEY_ESCAPE:
+            return  # the shader reads the keyboard: keys are its own
         if key in (glfw.KEY_ESCAPE, glfw.KEY_Q):
             self.win.quit()
         elif key == glfw.KEY_SPACE:
@@ -91,6 +117,7 @@ class ShaderWindow:
         if not self.paused:
             self.toy.step(now - self.start, now - self.last, tuple(self.mouse), fps=self.fps)
             self.mouse[3] = -abs(self.mouse[3])  # the click shows for one frame only
+            self.toy.resources.keys[1] = 0  # "pressed" lasts one frame
         self.last = now
         ctx = self.win.ctx
         with ctx:
