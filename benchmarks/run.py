@@ -149,6 +149,7 @@ def main() -> None:
     import antialias
     import gltf
     import raytrace
+    import shaderlab
     import shadows
     import transparency
     import turntable
@@ -160,6 +161,7 @@ def main() -> None:
     turntable.main()
     viewer.main()
     gltf.main()
+    shaderlab.main()
     raytrace.table(a.quick)
     raytrace.frame(a.quick)
 

@@ -151,3 +151,18 @@ def test_list_uniforms_of_a_mesh_shader(capsys):
     rows = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()}
     assert "user" in rows["u_steps"] and "float" in rows["u_steps"]
     assert "filled by facet" in rows["u_normal_matrix"] and "mat3" in rows["u_normal_matrix"]
+
+
+def test_the_readme_multipass_and_glslviewer_examples_run():
+    """glsl/examples/trail (a buffer with feedback, as a TOML project) and book.frag (The
+    Book of Shaders style): pictures that are not flat and that move."""
+    from facet.lab.project import load_project
+
+    with ShaderToy(project=load_project(EXAMPLES / "trail" / "trail.toml"),
+                   size=(96, 54)) as toy:
+        a, b = toy.render(1.0), toy.render(1.5)
+    assert a[..., 0].max() > 0.8 and np.abs(a - b).mean() > 0.002  # a trail that moves
+    with ShaderToy(EXAMPLES / "book.frag", size=(96, 54)) as toy:
+        a, b = toy.render(0.5, mouse=(48, 27, 0, 0)), toy.render(1.0)
+    assert a[..., :3].std() > 0.05 and np.abs(a - b).mean() > 0.005
+    assert np.allclose(a[27, 48, :3], 1.0)  # the circle under the mouse

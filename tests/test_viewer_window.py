@@ -637,3 +637,47 @@ def test_a_gltf_opens_framed_with_its_cameras_on_the_number_keys(display, tmp_pa
         assert ((img[..., 0] > 100) & (img[..., 1] < 60)).mean() > 0.05  # its red material
         v.use_camera(0)
         np.testing.assert_allclose(v.camera().eye, [0.5, 0.5, 9], atol=1e-6)
+
+
+def test_shader_window_reloads_when_a_missing_include_appears(display, tmp_path):
+    """Saving a shader that includes a file that does not exist yet shows the error; creating
+    that file brings the new picture without touching the shader. With a keyboard channel
+    the keys go to the shader (Shadertoy's keyboard texture)."""
+    shader = tmp_path / "live.frag"
+    shader.write_text("void mainImage(out vec4 c, in vec2 p) {\n"
+                      "  c = vec4(0.0, 0.0, texelFetch(iChannel0, ivec2(65, 0), 0).x, 1.0);\n}\n")
+    env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT / "app")}
+    proc = subprocess.Popen([sys.executable, "-m", "facet", "shader", str(shader), "--size",
+                             f"{W}x{H}", "--channel", "0=keyboard"], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def xdo(*args):
+        return subprocess.run(["xdotool", *args], env=env, capture_output=True, text=True,
+                              timeout=60, check=True).stdout
+
+    def screen():
+        time.sleep(0.8)
+        dump = subprocess.run(["xwd", "-root", "-silent"], env=env, capture_output=True,
+                              check=True).stdout
+        return read_xwd(dump)[:H, :W].astype(int)
+
+    try:
+        wid = xdo("search", "--sync", "--onlyvisible", "--name", "^facet shader").split()[0]
+        assert screen()[H // 2, W // 2, 2] < 20  # 'a' is not held
+        xdo("windowfocus", "--sync", wid)
+        xdo("keydown", "a")
+        assert screen()[H // 2, W // 2, 2] > 200  # held: the keyboard texture says so
+        xdo("keyup", "a")
+        shader.write_text('#include "later.glsl"\n'
+                          "void mainImage(out vec4 c, in vec2 p) { c = vec4(later(), 1.0); }\n")
+        screen()
+        assert 'cannot find include "later.glsl"' in xdo("getwindowname", wid)
+        (tmp_path / "later.glsl").write_text("vec3 later() { return vec3(1.0, 0.0, 0.0); }\n")
+        fixed = screen()
+        assert "error" not in xdo("getwindowname", wid)
+        assert fixed[H // 2, W // 2, 0] > 200 and fixed[H // 2, W // 2, 2] < 20
+        xdo("key", "Escape")
+        assert proc.wait(timeout=20) == 0
+    finally:
+        if proc.poll() is None:
+            proc.kill()
