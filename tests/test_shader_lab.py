@@ -359,3 +359,24 @@ def test_dates_are_fixed_headless_and_nan_pixels_are_reported(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "8 pixels are NaN or infinite" in err[0]
     assert (np.asarray(Image.open(out))[:, :2] == 0).all()
+
+
+def test_a_cube_map_texture_channel(tmp_path):
+    """A folder of six faces (px nx py ny pz nz, each one colour) as a cube channel: each
+    axis direction samples its face."""
+    colours = {"px": (255, 0, 0), "nx": (0, 255, 255), "py": (0, 255, 0),
+               "ny": (255, 0, 255), "pz": (0, 0, 255), "nz": (255, 255, 0)}
+    folder = tmp_path / "faces"
+    folder.mkdir()
+    for name, rgb in colours.items():
+        Image.fromarray(np.full((4, 4, 3), rgb, np.uint8)).save(folder / f"{name}.png")
+    image = write(tmp_path / "s.frag", """
+void mainImage(out vec4 c, in vec2 p) {
+    vec3 dirs[6] = vec3[6](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0),
+                           vec3(0, 0, 1), vec3(0, 0, -1));
+    c = texture(iChannel3, dirs[int(p.x)]);
+}""")
+    with ShaderToy(image, channels={3: f"cube:{folder}"}, size=(6, 1)) as toy:
+        out = toy.render(0.0)
+    expected = np.array(list(colours.values())) / 255.0
+    np.testing.assert_allclose(out[0, :, :3], expected, atol=1e-3)
