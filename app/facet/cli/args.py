@@ -150,6 +150,10 @@ def add_render_options(p, size_default: str) -> None:
                    help="depth of field: lens diameter in scene units (needs a focus)")
     g.add_argument("--focus", type=float, metavar="F",
                    help="depth of field: distance along the view that stays sharp")
+    g.add_argument("--cull", choices=("auto", "on", "off"),
+                   help="back-face culling: auto (default: closed opaque meshes seen from "
+                   "outside, where it cannot change the picture), on (every opaque object), "
+                   "off")
     g.add_argument("--up", metavar="x|y|z|X,Y,Z",
                    help="the world's up axis: the default camera frames the model and "
                    "turntables orbit around it (default y; CAD and scanner files are often "
@@ -183,4 +187,4 @@ def render_layer(args) -> dict:
             "shadows": args.shadows, "pcf": args.pcf, "srgb": args.srgb,
             "background": args.background, "camera": args.camera, "lights": args.lights,
             "wireframe": args.wireframe, "aperture": args.aperture, "focus": args.focus,
-            "environment": args.env, "up": args.up}
+            "environment": args.env, "up": args.up, "cull": args.cull}

@@ -21,6 +21,7 @@ from ..gl.shaders import Program, compile_program
 from ..gl.targets import aux_locations
 from ..lab.mesh_shaders import UserPrograms
 from ..scene.scene import MAX_LIGHTS, Scene
+from .culling import Culling
 from .ibl import ImageLighting
 from .materials import (
     IBL_UNITS,
@@ -111,6 +112,7 @@ class ForwardPass:
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights((), np.zeros(3))))
         self._lights_bytes = b""
         self.ibl = ImageLighting(ctx, cache)  # the pbr model's ambient and environment light
+        self.culling = Culling()
         self.samplers = SlotSamplers(ctx)
 
     def program(self, variant: Variant) -> Program:
@@ -189,8 +191,9 @@ class ForwardPass:
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 self._frame_uniforms(prog, state, view_projection, eye, user)
                 ready.add(id(prog))
-            # glTF's single-sided materials show no back faces.
-            self._cull(not getattr(m, "double_sided", True))
+            # Back faces nobody can see are not drawn (facet.render.culling).
+            self._cull(self.culling.cull(obj, state.cull, state.camera.view,
+                                         state.camera.near))
             if model == "pbr" and not user:
                 self._draw_pbr(prog, obj, pbr, state, view_projection, env, colour_pass)
                 continue
@@ -315,6 +318,7 @@ class ForwardPass:
         self.ctx.enable(self.ctx.DEPTH_TEST)
 
     def release(self) -> None:
+        self.culling.release()
         self.ibl.release()
         self.samplers.release()
         self.mirrors.release()

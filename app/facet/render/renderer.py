@@ -185,7 +185,7 @@ class Renderer:
             view.environment = opts.environment
         state = FrameState(camera, opts.width, opts.height, dest.flip_y, opts.shading,
                            opts.srgb, tuple(point_lights_for(view).lights), view.ambient,
-                           view.environment, time=opts.time)
+                           view.environment, time=opts.time, cull=opts.cull)
         return view, state
 
     def _colour(self, scene, state, opts, aa, dest, surf, together):

@@ -69,6 +69,7 @@ class FrameState:
     jitter: np.ndarray | None = None  # clip-space sub-pixel shift (facet.render.antialias)
     gloss_jitter: tuple[float, float] = (0.0, 0.0)
     clip_plane: tuple | None = None  # world (n, d) of the mirror whose reflection is drawn
+    cull: str = "auto"  # back-face culling: auto, on, off (facet.render.culling)
     lights_block: bytes = field(default=b"", compare=False)
 
     def __post_init__(self):

@@ -212,6 +212,21 @@ class Mesh:
         return np.stack([self.positions.min(axis=0),
                          self.positions.max(axis=0)]).astype(np.float64)
 
+    @property
+    def closed(self) -> bool:
+        """Whether the surface is closed and consistently wound: every edge is shared by
+        exactly two triangles that run along it in opposite directions (degenerate
+        triangles aside). Vertices at the same position count as one, so texture seams do
+        not open it. Then no back face can be seen from outside (facet.render.culling).
+        Computed once."""
+        if getattr(self, "_closed", None) is None:
+            faces = self.faces.astype(np.int64)
+            closed = _closed(faces, len(self.positions))
+            if not closed:  # perhaps only split at seams: weld positions and retry
+                closed = _closed(_weld_key(self.positions)[faces], len(self.positions))
+            self._closed = closed
+        return self._closed
+
     def flat_shaded(self) -> Mesh:
         """A copy with one vertex per face corner and the face's geometric normal on each."""
         tri = self.positions[self.faces].astype(np.float64)  # (F, 3, 3)
@@ -227,6 +242,39 @@ class Mesh:
 
     def __repr__(self) -> str:
         return f"Mesh({self.name!r}, vertices={self.vertex_count}, faces={self.face_count})"
+
+
+def _weld_key(positions: np.ndarray) -> np.ndarray:
+    """(N,) one index per position, positions within ~1e-6 of the extent counting as one
+    (a seam's copies may differ in the last bits: cos(2 pi) is not cos(0))."""
+    p = positions.astype(np.float64)
+    lo, extent = p.min(axis=0), max(float(np.ptp(p, axis=0).max()), 1e-30)
+    # 20 bits per axis; the cells start off-centre, so a symmetric shape's zeros (which
+    # land on a cell's middle, not its edge) stay together however they round.
+    q = np.floor((p - lo) / extent * ((1 << 20) - 2) + 0.37).astype(np.int64)
+    _, first, inverse = np.unique((q[:, 0] << 42) | (q[:, 1] << 21) | q[:, 2],
+                                  return_index=True, return_inverse=True)
+    return first[inverse.reshape(-1)]
+
+
+def _closed(faces: np.ndarray, n: int) -> bool:
+    """Every directed edge occurs once and its reverse occurs too (see Mesh.closed)."""
+    keep = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & \
+        (faces[:, 0] != faces[:, 2])
+    f = faces[keep]
+    if len(f) == 0:
+        return False
+    a = f.reshape(-1)
+    b = np.roll(f, -1, axis=1).reshape(-1)
+    # Each undirected edge must come exactly twice, once each way: sorted by the edge,
+    # pairs of equal keys whose directions are opposite.
+    key = np.sort(np.minimum(a, b) * n + np.maximum(a, b) << 1 | (a < b))
+    if len(key) % 2:
+        return False
+    edge, forward = key[0::2] >> 1, key[0::2] & 1
+    edge2, forward2 = key[1::2] >> 1, key[1::2] & 1
+    return bool(np.array_equal(edge, edge2) and not np.any(forward == forward2) and
+                not np.any(edge[1:] == edge[:-1]))
 
 
 def merge_parts(parts, label: str):

@@ -43,6 +43,7 @@ PCF_CHOICES = (0, 1, 2)  # shadow filter kernel radius: one tap, 3 x 3, 5 x 5
 # when the scene has lights.
 LIGHTS = ("auto", "scene", "camera")
 ENGINES = ("raster", "trace")  # the rasterizer, the ray tracer (facet.render.trace)
+CULL = ("auto", "on", "off")  # back-face culling (facet.render.culling)
 DEFAULT_MAX_DEPTH = 5  # reflection/refraction bounces of the ray tracer
 DEFAULT_AA = "msaa:4"
 # Files without normals: vertices split where faces meet at more than this many degrees
@@ -303,6 +304,7 @@ PARSERS = {
     "engine": _choice(ENGINES, "engine"),
     "max_depth": _integer(minimum=0, maximum=MAX_RAY_DEPTH),
     "up": _up,
+    "cull": _choice(CULL, "culling mode"),
 }
 
 
@@ -333,6 +335,7 @@ class RenderOptions:
                 reflection and one transmission ray; default DEFAULT_MAX_DEPTH)
     up : the world's up axis: default cameras frame the scene and turntables orbit
          around it (CAD and scanner files are often z-up)
+    cull : back-face culling: "auto" (where it cannot change the picture), "on", "off"
     """
 
     size: tuple[int, int] = (800, 600)
@@ -354,6 +357,7 @@ class RenderOptions:
     engine: str = "raster"
     max_depth: int = DEFAULT_MAX_DEPTH
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    cull: str = "auto"
 
     @property
     def shadows_on(self) -> bool:

@@ -32,7 +32,7 @@ from .validate import show as _show
 TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms", "environment")
 # The [render] table: render options (facet.scene.options parses each) and the background.
 RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb",
-          "shadows", "pcf", "lights", "wireframe", "engine", "max_depth", "up")
+          "shadows", "pcf", "lights", "wireframe", "engine", "max_depth", "up", "cull")
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
             "gloss", "mirror", "texture", "shader", "vertex_shader", "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "transform_end", "matrix",

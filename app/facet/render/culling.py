@@ -1,0 +1,80 @@
+"""Back-face culling where it cannot change the picture (the ``cull`` option, "auto").
+
+A back face can only be seen through a hole, from inside, or through what is not opaque.
+So an object is culled when its mesh is closed and consistently wound
+(``Mesh.closed``), its material is opaque and drawn by facet (not a user's shader, not a
+planar mirror), its object -> world matrix keeps handedness, and its world bounds lie
+wholly in front of the camera's near plane (so the camera is outside it and the near plane
+cuts nothing open). glTF's single-sided materials are culled in any case (their meaning);
+"on" culls every opaque object, "off" none.
+
+Culled and unculled pictures are the same pixel for pixel, with one exception: at a
+silhouette a front face seen exactly edge-on has no area and covers nothing, and the back
+face behind it may cover a pixel centre or an MSAA sample; unculled, that pixel shows a
+sliver of back face, culled it does not (a handful of silhouette pixels of a real mesh;
+tests/test_culling.py bounds them).
+
+Closedness costs a sort over the edges: small meshes are checked at once, large ones in a
+background thread when first drawn (drawn with both faces until the answer is in, which
+gives the same picture).
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+SYNC_FACES = 100_000  # meshes up to this size are checked when first drawn
+
+
+class Culling:
+    """Per renderer: which objects to cull this frame."""
+
+    def __init__(self):
+        self._pool: ThreadPoolExecutor | None = None
+        self._pending: dict[int, object] = {}  # id(mesh) -> future
+
+    def closed(self, mesh) -> bool:
+        """Whether ``mesh`` is known to be closed (False while it is being found out)."""
+        known = getattr(mesh, "_closed", None)
+        if known is not None:
+            return known
+        if mesh.face_count <= SYNC_FACES:
+            return mesh.closed
+        future = self._pending.get(id(mesh))
+        if future is None:
+            if self._pool is None:
+                self._pool = ThreadPoolExecutor(1, thread_name_prefix="facet-closed")
+            # The property caches its answer on the mesh; numpy's sort releases the GIL.
+            self._pending[id(mesh)] = self._pool.submit(lambda: mesh.closed)
+            return False
+        if future.done():
+            self._pending.pop(id(mesh), None)
+            return bool(future.result())
+        return False
+
+    def cull(self, obj, mode: str, view: np.ndarray, near: float) -> bool:
+        """Whether to draw only the front faces of ``obj`` (module docstring)."""
+        m = obj.material
+        if mode == "off":
+            return False
+        if not getattr(m, "double_sided", True):
+            return True  # a glTF single-sided material
+        if m.transparent or m.shader is not None or m.mirror:
+            return False
+        if mode == "on":
+            return True
+        if np.linalg.det(obj.transform[:3, :3]) <= 0:
+            return False
+        b = obj.world_bounds
+        corners = np.array([[x, y, z, 1.0] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
+        if np.any(corners @ view[2] > -near):  # view-space z: in front of the near plane?
+            return False
+        return self.closed(obj.mesh)
+
+    def release(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+        self._pending.clear()
