@@ -59,8 +59,9 @@ def look_at_mvp(eye, target, aspect, fov=40.0, near=0.1, far=100.0) -> np.ndarra
 
 
 class Floor:
-    def __init__(self, width: int, height: int, msaa: int = 0):
+    def __init__(self, width: int, height: int, msaa: int = 0, cull: bool = False):
         self.ctx = moderngl.create_context(standalone=True, backend="egl")
+        self.cull = cull  # back faces culled (the mesh is closed and seen from outside)
         self.size = (width, height)
         self.prog = self.ctx.program(vertex_shader=VERT, fragment_shader=FRAG)
         self.fbo = self.ctx.simple_framebuffer(self.size)
@@ -87,7 +88,8 @@ class Floor:
     def frame(self) -> np.ndarray:
         target = self.ms or self.fbo
         target.use()
-        self.ctx.enable(moderngl.DEPTH_TEST)
+        self.ctx.cull_face = "back"
+        self.ctx.enable(moderngl.DEPTH_TEST | (moderngl.CULL_FACE if self.cull else 0))
         target.clear(0, 0, 0, 1)
         self.vao.render()
         if self.ms:

@@ -208,9 +208,13 @@ class Mesh:
 
     @property
     def bounds(self) -> np.ndarray:
-        """Axis-aligned bounds of the vertices, (2, 3) float64: min, max."""
-        return np.stack([self.positions.min(axis=0),
-                         self.positions.max(axis=0)]).astype(np.float64)
+        """Axis-aligned bounds of the vertices, (2, 3) float64: min, max (computed once:
+        the arrays are read-only)."""
+        if getattr(self, "_bounds", None) is None:
+            b = np.stack([self.positions.min(axis=0), self.positions.max(axis=0)])
+            self._bounds = b.astype(np.float64)
+            self._bounds.setflags(write=False)
+        return self._bounds
 
     @property
     def closed(self) -> bool:
