@@ -21,7 +21,7 @@ gives the same picture).
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
+import threading
 
 import numpy as np
 
@@ -32,26 +32,23 @@ class Culling:
     """Per renderer: which objects to cull this frame."""
 
     def __init__(self):
-        self._pool: ThreadPoolExecutor | None = None
-        self._pending: dict[int, object] = {}  # id(mesh) -> future
+        self._pending: dict[int, threading.Thread] = {}  # id(mesh) -> its checker
 
     def closed(self, mesh) -> bool:
         """Whether ``mesh`` is known to be closed (False while it is being found out)."""
         known = getattr(mesh, "_closed", None)
         if known is not None:
+            self._pending.pop(id(mesh), None)
             return known
         if mesh.face_count <= SYNC_FACES:
             return mesh.closed
-        future = self._pending.get(id(mesh))
-        if future is None:
-            if self._pool is None:
-                self._pool = ThreadPoolExecutor(1, thread_name_prefix="facet-closed")
-            # The property caches its answer on the mesh; numpy's sort releases the GIL.
-            self._pending[id(mesh)] = self._pool.submit(lambda: mesh.closed)
-            return False
-        if future.done():
-            self._pending.pop(id(mesh), None)
-            return bool(future.result())
+        if id(mesh) not in self._pending:
+            # A daemon thread: the property caches its answer on the mesh (numpy's sort
+            # releases the GIL), and a process that is done does not wait for it.
+            worker = threading.Thread(target=lambda: mesh.closed, daemon=True,
+                                      name="facet-closed")
+            self._pending[id(mesh)] = worker
+            worker.start()
         return False
 
     def cull(self, obj, mode: str, view: np.ndarray, near: float) -> bool:
@@ -74,7 +71,4 @@ class Culling:
         return self.closed(obj.mesh)
 
     def release(self) -> None:
-        if self._pool is not None:
-            self._pool.shutdown(wait=True, cancel_futures=True)
-            self._pool = None
         self._pending.clear()

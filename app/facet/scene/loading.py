@@ -92,7 +92,7 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
         raise MeshError(f"{at}{bad} vertices are NaN or infinite; fix or remove them")
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise MeshError(f"{at}faces refer to vertices that do not exist; the file is corrupt")
-    _, area2 = face_normals(vertices, faces)
+    face_n, area2 = face_normals(vertices, faces)
     if not np.any(area2 > 0):
         raise MeshError(f"{at}all {len(faces)} triangles have zero area (degenerate); "
                         "nothing to render")
@@ -105,7 +105,7 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
         extra = [np.asarray(out[k], dtype=np.float64).reshape(len(vertices), -1)
                  for k in ("uvs", "uvs1", "colors", "tangents") if out.get(k) is not None]
         source, new_faces, out["normals"] = crease_normals(
-            vertices, faces, crease, np.hstack(extra) if extra else None)
+            vertices, faces, crease, np.hstack(extra) if extra else None, face_n)
         for key in PER_VERTEX:
             if key != "normals" and out.get(key) is not None:
                 out[key] = np.asarray(out[key])[source]

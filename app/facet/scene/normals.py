@@ -31,23 +31,37 @@ def face_normals(positions: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, 
 
 
 def corner_angles(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """(F, 3) interior angle of each face at each of its corners, radians."""
-    p = np.asarray(positions, dtype=np.float64)[faces]  # (F, 3, 3)
-    e1 = np.roll(p, -1, axis=1) - p
-    e2 = np.roll(p, 1, axis=1) - p
-    cos = (e1 * e2).sum(-1) / np.maximum(np.linalg.norm(e1, axis=-1) *
-                                         np.linalg.norm(e2, axis=-1), 1e-300)
-    return np.arccos(np.clip(cos, -1.0, 1.0))
+    """(F, 3) float32 interior angle of each face at each of its corners, radians (float32
+    is plenty for weights, and halves the work on large meshes)."""
+    p = np.asarray(positions, dtype=np.float32)
+    a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
+    ab, bc, ca = b - a, c - b, a - c
+    out = np.empty((len(faces), 3), np.float32)
+    for k, (u, v) in enumerate(((ab, -ca), (bc, -ab), (ca, -bc))):
+        dot = np.einsum("ij,ij->i", u, v)
+        lengths = np.sqrt(np.einsum("ij,ij->i", u, u) * np.einsum("ij,ij->i", v, v))
+        out[:, k] = np.arccos(np.clip(dot / np.maximum(lengths, 1e-30), -1.0, 1.0))
+    return out
 
 
 def weld(positions: np.ndarray) -> np.ndarray:
-    """(N,) index of the first vertex at each vertex's exact position."""
-    _, first, inverse = np.unique(np.asarray(positions), axis=0, return_index=True,
-                                  return_inverse=True)
-    return first[inverse.reshape(-1)]
+    """(N,) one representative vertex index per distinct row of ``positions`` (exact
+    equality; rows sorted with lexsort, numeric and fast, rather than np.unique on rows)."""
+    p = np.asarray(positions)
+    if p.ndim == 1:
+        p = p[:, None]
+    order = np.lexsort(p.T[::-1])
+    s = p[order]
+    new = np.ones(len(p), bool)
+    new[1:] = np.any(s[1:] != s[:-1], axis=1)
+    starts = np.maximum.accumulate(np.where(new, np.arange(len(p)), 0))
+    out = np.empty(len(p), np.int64)
+    out[order] = order[starts]
+    return out
 
 
-def crease_normals(positions, faces, crease: float = DEFAULT_CREASE, attributes=None):
+def crease_normals(positions, faces, crease: float = DEFAULT_CREASE, attributes=None,
+                   face_n: np.ndarray | None = None):
     """Split vertices at edges sharper than ``crease`` degrees (module docstring).
 
     ``attributes``: (N, K) the other per-vertex values (uvs, colours); vertices equal in
@@ -55,57 +69,79 @@ def crease_normals(positions, faces, crease: float = DEFAULT_CREASE, attributes=
     all, get shared ones), vertices that differ stay apart (a texture seam).
     Returns ``(source, faces, normals)``: (M,) the original vertex each new vertex copies
     (take every per-vertex array through it), (F, 3) the new faces, (M, 3) float32 unit
-    normals. ``crease`` >= 180 gives fully smooth normals (no splits).
+    normals. ``crease`` >= 180 gives fully smooth normals (no splits). ``face_n``: the
+    unit face normals when the caller has them. Corners are numbered 3 f + k; the
+    half-edge of corner c runs from it to the next corner of its face. Index arrays are
+    int32 where they fit (a 1.3M-triangle mesh stays within a few hundred MB).
     """
     faces = np.asarray(faces, dtype=np.int64)
-    p = np.asarray(positions, dtype=np.float64)
-    vertex_id = weld(p if attributes is None else
-                np.hstack([p, np.asarray(attributes, dtype=np.float64).reshape(len(p), -1)]))
-    n_faces = len(faces)
-    fn, _ = face_normals(positions, faces)
+    n_faces, n = len(faces), len(positions)
+    p = np.asarray(positions)
+    position_id = weld(p)
+    vertex_id = position_id if attributes is None else weld(
+        np.hstack([p, np.asarray(attributes, dtype=p.dtype).reshape(n, -1)]))
+    fn = face_normals(positions, faces)[0] if face_n is None else face_n
+    fn = fn.astype(np.float32)
     angles = corner_angles(positions, faces)
-    welded = weld(positions)[faces]  # (F, 3) position ids
-    corner = np.arange(3 * n_faces).reshape(n_faces, 3)
-    # Each corner starts in its own group; corners of neighbouring faces at the same
-    # position join when their faces meet at less than the crease angle (and neither face
-    # is degenerate).
-    label = np.arange(3 * n_faces)
+    shared = bool(np.array_equal(vertex_id, np.arange(n)))  # nothing to weld
+    index = np.int32 if 3 * n_faces < 2**31 else np.int64
+    corner_pos = position_id[faces].astype(index).reshape(-1)  # (3F,) position of a corner
     if crease < 180.0 and n_faces > 1:
-        edges = np.stack([welded, np.roll(welded, -1, axis=1)], axis=-1).reshape(-1, 2)
-        starts = np.stack([corner, np.roll(corner, -1, axis=1)], axis=-1).reshape(-1, 2)
-        key = np.sort(edges, axis=1)
-        order = np.lexsort((key[:, 1], key[:, 0]))
-        key, edges, starts = key[order], edges[order], starts[order]
-        same = np.all(key[1:] == key[:-1], axis=1)
-        i = np.nonzero(same)[0]  # consecutive half-edges on one edge: neighbours
-        fa, fb = starts[i, 0] // 3, starts[i + 1, 0] // 3
-        smooth = (fn[fa] * fn[fb]).sum(1) >= np.cos(np.radians(crease)) - 1e-9
+        nxt = np.arange(3 * n_faces, dtype=index).reshape(n_faces, 3)
+        nxt = np.roll(nxt, -1, axis=1).reshape(-1)  # the next corner of the same face
+        a_, b_ = corner_pos, corner_pos[nxt]
+        key = np.minimum(a_, b_).astype(np.int64) * n + np.maximum(a_, b_)
+        order = np.argsort(key, kind="stable").astype(index)
+        sorted_key = key[order]
+        del key
+        i = np.nonzero(sorted_key[1:] == sorted_key[:-1])[0]
+        del sorted_key
+        h1, h2 = order[i], order[i + 1]  # two half-edges on one edge: neighbours
+        del order, i
+        fa, fb = h1 // 3, h2 // 3
+        smooth = np.einsum("ij,ij->i", fn[fa], fn[fb]) >= np.cos(np.radians(crease)) - 1e-6
         smooth &= np.any(fn[fa] != 0, 1) & np.any(fn[fb] != 0, 1)
-        i = i[smooth]
-        # Match each endpoint of edge i to the corner of the other face at that position.
-        a0, a1 = starts[i, 0], starts[i, 1]
-        flipped = edges[i, 0] != edges[i + 1, 0]
-        b0 = np.where(flipped, starts[i + 1, 1], starts[i + 1, 0])
-        b1 = np.where(flipped, starts[i + 1, 0], starts[i + 1, 1])
-        pairs = np.concatenate([np.stack([a0, b0], 1), np.stack([a1, b1], 1)])
+        if shared and smooth.all() and 2 * len(h1) == 3 * n_faces:
+            # Every edge smooth and shared by two faces, every vertex already shared: one
+            # group per vertex, the mesh as it is (the common case, done directly).
+            return np.arange(n), faces.astype(np.uint32), _group_normals(
+                faces.reshape(-1), fn, angles, n)
+        h1, h2 = h1[smooth], h2[smooth]
+        # Join the corners at each end: h1's start with the corner of h2 at that position.
+        flipped = corner_pos[h1] != corner_pos[h2]
+        b0 = np.where(flipped, nxt[h2], h2)
+        b1 = np.where(flipped, h2, nxt[h2])
+        pairs = np.concatenate([np.stack([h1, b0], 1), np.stack([nxt[h1], b1], 1)])
+        del h1, h2, b0, b1, flipped, nxt
         label = _components(pairs, 3 * n_faces)
+        del pairs
+    elif crease < 180.0:
+        label = np.arange(3 * n_faces)
     else:
-        # No creases: one group per position.
-        label = _components(np.empty((0, 2), np.int64), 3 * n_faces) if crease < 180 \
-            else welded.reshape(-1)
-    label = label.reshape(n_faces, 3)
-    # One new vertex per (original vertex, group): texture seams stay apart.
-    keys = np.stack([vertex_id[faces].reshape(-1), label.reshape(-1)], axis=1)
-    uniq, inverse = np.unique(keys, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    # Normals per group (shared by all new vertices of the group), corner-angle weighted.
-    weights = (fn[:, None, :] * angles[:, :, None]).reshape(-1, 3)
-    sums = np.zeros((3 * n_faces, 3))
-    np.add.at(sums, label.reshape(-1), weights)
-    normals = sums[uniq[:, 1]]
-    length = np.linalg.norm(normals, axis=1, keepdims=True)
-    normals = np.where(length > 0, normals / np.where(length > 0, length, 1), (0.0, 0.0, 1.0))
-    return uniq[:, 0], inverse.reshape(n_faces, 3).astype(np.uint32), normals.astype(np.float32)
+        label = corner_pos.astype(np.int64)  # no creases: one group per position
+    # One new vertex per (original vertex, group): texture seams stay apart. Both are
+    # below 3F (or N), so one int64 key holds the pair.
+    groups = max(3 * n_faces, n)
+    keys = vertex_id[faces].reshape(-1).astype(np.int64) * groups + label
+    uniq, inverse = np.unique(keys, return_inverse=True)
+    del keys
+    normals = _group_normals(label, fn, angles, groups)[uniq % groups]
+    return uniq // groups, inverse.reshape(n_faces, 3).astype(np.uint32), normals
+
+
+def _group_normals(group: np.ndarray, fn: np.ndarray, angles: np.ndarray, count: int):
+    """(count, 3) float32 unit normals: per group, the corner-angle-weighted sum of the
+    corners' face normals (``group``: (3F,) each corner's group)."""
+    sums = np.stack([np.bincount(group, (fn[:, k, None] * angles).reshape(-1),
+                                 minlength=count) for k in range(3)], axis=1)
+    return _unit(sums)
+
+
+def _unit(normals: np.ndarray) -> np.ndarray:
+    """(N, 3) float32 unit vectors; zero ones become +z."""
+    length = np.sqrt((normals * normals).sum(axis=1, keepdims=True))
+    ok = length > 0
+    return np.where(ok, normals / np.where(ok, length, 1), (0.0, 0.0, 1.0)).astype(np.float32)
 
 
 def _components(pairs: np.ndarray, n: int) -> np.ndarray:
