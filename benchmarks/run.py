@@ -74,7 +74,7 @@ def _compare(pos, faces, scene, msaa: int, frames: int) -> list[tuple[float, flo
 
     with Renderer(SIZE, SIZE, msaa=msaa) as r:
         r.render(scene, camera)
-        scene.objects[0].mesh.closed  # known before timing (found in the background)
+        assert scene.objects[0].mesh.closed  # known before timing (else found in the background)
         times = time_interleaved([frame_of(floors[0]), frame_of(floors[1]),
                                   lambda: r.render(scene, camera, outputs=("color",)),
                                   lambda: r.render(scene, camera)], frames)
