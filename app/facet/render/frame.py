@@ -13,26 +13,63 @@ anti-aliasing, so values are exact and labels never blend. Outputs not asked for
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ..errors import InputError
 from ..geometry.camera import Camera
 
 
-@dataclass
-class Frame:
-    """One render's results (see the module docstring)."""
+CHANNELS = ("depth", "object_ids", "normals", "position", "uv")
 
-    color: np.ndarray | None
-    depth: np.ndarray | None
-    object_ids: np.ndarray | None
-    camera: Camera
-    normals: np.ndarray | None = None
-    position: np.ndarray | None = None
-    uv: np.ndarray | None = None
-    size: tuple[int, int] = (0, 0)  # (width, height)
+
+class Frame:
+    """One render's results (see the module docstring).
+
+    The exact channels are read back from the GPU when first used: a caller that only
+    looks at ``color`` (the common case) does not pay to move depth and ids into memory.
+    The renderer reads whatever is still unread, of a frame that is still referenced,
+    before its targets are drawn over again (``settle``), so a frame's arrays never change.
+    """
+
+    def __init__(self, color, depth, object_ids, camera: Camera, normals=None,
+                 position=None, uv=None, size: tuple[int, int] = (0, 0)):
+        self.color = color
+        self.camera = camera
+        self.size = size
+        # channel -> an array, None (not asked for), or a callable that reads it
+        self._channels = dict(zip(CHANNELS, (depth, object_ids, normals, position, uv),
+                                  strict=True))
+
+    def _get(self, name: str):
+        value = self._channels[name]
+        if callable(value):
+            value = self._channels[name] = value()
+        return value
+
+    depth = property(lambda self: self._get("depth"))
+    object_ids = property(lambda self: self._get("object_ids"))
+    normals = property(lambda self: self._get("normals"))
+    position = property(lambda self: self._get("position"))
+    uv = property(lambda self: self._get("uv"))
+
+    @property
+    def unread(self) -> bool:
+        return any(callable(v) for v in self._channels.values())
+
+    def settle(self) -> None:
+        """Read every channel not read yet (the renderer calls this before it draws over
+        the targets they are in)."""
+        for name in CHANNELS:
+            self._get(name)
+
+    def __getstate__(self) -> dict:
+        """Pickled (to a writer process) with every channel read."""
+        self.settle()
+        return self.__dict__
+
+    def __repr__(self) -> str:
+        shown = [n for n, v in self._channels.items() if v is not None]
+        return f"Frame({self.size[0]}x{self.size[1]}, color, {', '.join(shown)})"
 
     def camera_normals(self) -> np.ndarray:
         """Normals in camera space (OpenGL axes: x right, y up, z towards the viewer)."""

@@ -23,6 +23,8 @@ format, programs per variant, meshes per Mesh; options are never stored.
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from ..errors import InputError
@@ -81,6 +83,8 @@ class Renderer:
         self._parts: dict = {}  # shadow atlas, finishing pass, ray tracer: made on first use
         self._surfaces: Surfaces | None = None
         self._closed = False
+        self._unread = None  # the last Frame with channels still on the GPU (weakly)
+        self._inside = False  # the context is current (render, present): read directly
         with self.ctx:
             # What the MSAA policy needs to know (facet.scene.options.clamp_msaa).
             self._limits = (self.ctx.max_samples, self.ctx.info.get("GL_RENDERER", "this GL"))
@@ -121,8 +125,12 @@ class Renderer:
         self._check_open()
         opts = self.options(scene, options, **kwargs)
         with self.ctx:  # several renderers (contexts) may live in one thread
-            return self._sequence(scene, camera or self.camera(scene, opts), opts,
-                                  Destination())
+            self._inside = True
+            try:
+                return self._sequence(scene, camera or self.camera(scene, opts), opts,
+                                      Destination())
+            finally:
+                self._inside = False
 
     def present(self, scene: Scene, camera: Camera, framebuffer, options=None, *,
                 sample: int | None = None, **kwargs) -> int:
@@ -134,7 +142,11 @@ class Renderer:
         after the last the picture equals ``render``'s. Returns the samples shown."""
         self._check_open()
         opts = self.options(scene, options, **kwargs)
-        return self._sequence(scene, camera, opts, Destination(framebuffer, sample))
+        self._inside = True
+        try:
+            return self._sequence(scene, camera, opts, Destination(framebuffer, sample))
+        finally:
+            self._inside = False
 
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
         """How many supersamples the colour of this render sums (0: one picture)."""
@@ -144,6 +156,7 @@ class Renderer:
 
     # -- the pass sequence ---------------------------------------------------------------
     def _sequence(self, scene, camera, opts: RenderOptions, dest: Destination):
+        self._settle()
         scene, state = self._prepare(scene, camera, opts, dest)  # 1
         surf = self._surfaces_for(opts.size)
         trace = opts.engine == "trace"
@@ -164,13 +177,35 @@ class Renderer:
         color, shown = self._colour(scene, state, opts, aa, dest, surf, together) \
             if dest.wants_colour(opts) else (None, 0)  # 4, 5
         if together:
-            channels = {name: surf.targets.read_aux(name) for name in aux}
+            channels = {name: self._reader(surf, name) for name in aux}
         self.cache.sweep()
         if dest.window is not None:
             return shown
-        return Frame(color, channels.get("depth"), channels.get("ids"), state.camera,
-                     channels.get("normals"), channels.get("position"), channels.get("uv"),
-                     opts.size)
+        frame = Frame(color, channels.get("depth"), channels.get("ids"), state.camera,
+                      channels.get("normals"), channels.get("position"), channels.get("uv"),
+                      opts.size)
+        if frame.unread:
+            self._unread = weakref.ref(frame)
+        return frame
+
+    def _reader(self, surf, name: str):
+        """Read channel ``name`` when the frame's user first asks for it (facet.render.frame:
+        a caller that only wants colour moves nothing else), with this renderer's context
+        current."""
+        def read():
+            if self._inside:  # never enter a current context again (facet.gl.context)
+                return surf.targets.read_aux(name)
+            with self.ctx:
+                return surf.targets.read_aux(name)
+        return read
+
+    def _settle(self) -> None:
+        """Read what the last frame has not read yet, if someone still holds it, before
+        its targets are drawn over."""
+        frame = self._unread() if self._unread is not None else None
+        self._unread = None
+        if frame is not None:
+            frame.settle()
 
     def _prepare(self, scene, camera, opts: RenderOptions, dest: Destination):
         """The scene as this render sees it, and the frame's state (step 1)."""
@@ -205,18 +240,20 @@ class Renderer:
         return self._finish(source, None, finish, opts, dest, surf), samples.stop
 
     def _exact(self, scene, state: FrameState, aux, surf, trace: bool) -> dict:
-        """The exact channels at pixel centres, from the opaque objects (step 3)."""
+        """The exact channels at pixel centres, from the opaque objects (step 3); read
+        back when used (``_reader``)."""
         fbo = surf.targets.aux(aux)
         fbo.use()
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         if trace:
             self._part("tracer").draw_exact(scene, state, aux)
-            return {name: surf.targets.read_aux(name) for name in aux}
-        opaque, _ = split_transparent(scene)
-        self.forward.draw(opaque, state.with_(shading="unlit", shadows=None, environment=None),
-                          aux=aux, colour_pass=False)
-        return {name: surf.targets.read_aux(name) for name in aux}
+        else:
+            opaque, _ = split_transparent(scene)
+            self.forward.draw(opaque, state.with_(shading="unlit", shadows=None,
+                                                  environment=None), aux=aux,
+                              colour_pass=False)
+        return {name: self._reader(surf, name) for name in aux}
 
     def _picture(self, scene, state, opts, clear, surf, dtype, together, direct):
         """One picture (step 4): opaque objects (straight into the window ``direct`` when
@@ -345,6 +382,7 @@ class Renderer:
         twice."""
         if self._closed:
             return
+        self._settle()
         self._closed = True
         with self.ctx:
             if self._surfaces is not None:
