@@ -18,7 +18,6 @@ import numpy as np
 from ..errors import InputError
 from ..geometry.camera import Camera
 
-
 CHANNELS = ("depth", "object_ids", "normals", "position", "uv")
 
 
