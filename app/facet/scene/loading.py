@@ -104,8 +104,11 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
     if normals is None:
         extra = [np.asarray(out[k], dtype=np.float64).reshape(len(vertices), -1)
                  for k in ("uvs", "uvs1", "colors", "tangents") if out.get(k) is not None]
+        found: dict = {}
         source, new_faces, out["normals"] = crease_normals(
-            vertices, faces, crease, np.hstack(extra) if extra else None, face_n)
+            vertices, faces, crease, np.hstack(extra) if extra else None, face_n, found)
+        if "closed" in found and not np.any(area2 <= 0):
+            out["closed"] = found["closed"]  # learnt on the way: Mesh.closed need not sort
         for key in PER_VERTEX:
             if key != "normals" and out.get(key) is not None:
                 out[key] = np.asarray(out[key])[source]

@@ -58,12 +58,15 @@ class Mesh:
     uvs1 : (N, 2) optional second texture coordinate set (glTF TEXCOORD_1)
     tangents : (N, 4) optional tangent frames (computed from the uvs when a normal map
         needs them and they are absent; facet.scene.normals.tangents)
+    closed : whether the surface is closed and consistently wound, when the caller knows
+        (a loader that sorted the edges); else found out when first asked
     name : label used in messages
     material : the ``Material`` the file defined, if any (``Scene.add`` uses it by default)
     """
 
     def __init__(self, positions, faces, normals=None, uvs=None, *, name: str = "mesh",
-                 material=None, colors=None, uvs1=None, tangents=None):
+                 material=None, colors=None, uvs1=None, tangents=None,
+                 closed: bool | None = None):
         self.name = name
         pos = np.asarray(positions, dtype=np.float32)
         if pos.ndim != 2 or pos.shape[1] != 3:
@@ -119,6 +122,7 @@ class Mesh:
         self.uvs1 = None if uv1 is None else _readonly(uv1)
         self._tangents = None if tan is None else _readonly(tan)
         self.material = material
+        self._closed = closed  # None: found out when first asked (``closed``)
 
     @staticmethod
     def _per_vertex(values, width: int, key: str, name: str, n: int):
