@@ -100,7 +100,7 @@ def crease_normals(positions, faces, crease: float = DEFAULT_CREASE, attributes=
         nxt = np.roll(nxt, -1, axis=1).reshape(-1)  # the next corner of the same face
         a_, b_ = corner_pos, corner_pos[nxt]
         key = np.minimum(a_, b_).astype(np.int64) * n + np.maximum(a_, b_)
-        order = np.argsort(key, kind="stable").astype(index)
+        order = np.argsort(key).astype(index)  # the two half-edges of an edge, in any order
         sorted_key = key[order]
         del key
         i = np.nonzero(sorted_key[1:] == sorted_key[:-1])[0]
