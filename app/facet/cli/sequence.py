@@ -42,6 +42,7 @@ def render_turntable(renderer, scene, camera, opts, args, target,
                 if sink is not None:
                     sink.add(i, encode_color(frame.color, color_options)[1])
                 else:
+                    frame.settle()  # read back here: the writer process pickles it
                     writer.submit(_write_frame, frame, args.out_dir, opts.outputs,
                                   color_options, options, f"{i:04d}_")
                 bar.update(1)

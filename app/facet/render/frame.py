@@ -28,6 +28,8 @@ class Frame:
     looks at ``color`` (the common case) does not pay to move depth and ids into memory.
     The renderer reads whatever is still unread, of a frame that is still referenced,
     before its targets are drawn over again (``settle``), so a frame's arrays never change.
+    Reading happens in the thread that rendered (a GL context belongs to one thread):
+    ``settle()`` there before handing a frame to another thread or process.
     """
 
     def __init__(self, color, depth, object_ids, camera: Camera, normals=None,

@@ -23,6 +23,7 @@ format, programs per variant, meshes per Mesh; options are never stored.
 
 from __future__ import annotations
 
+import threading
 import weakref
 
 import numpy as np
@@ -192,7 +193,13 @@ class Renderer:
         """Read channel ``name`` when the frame's user first asks for it (facet.render.frame:
         a caller that only wants colour moves nothing else), with this renderer's context
         current."""
+        owner = threading.get_ident()
+
         def read():
+            if threading.get_ident() != owner:  # a GL context belongs to one thread
+                raise InputError(f"a frame's {name} is read back from the GPU in the thread "
+                                 "that rendered it: call frame.settle() there before "
+                                 "handing the frame to another thread or process")
             if self._inside:  # never enter a current context again (facet.gl.context)
                 return surf.targets.read_aux(name)
             with self.ctx:
