@@ -135,6 +135,12 @@ void main() {
 #ifdef OUT_NORMALS
     f_normal = vec4(N, 0.0);
 #endif
+#ifdef EXACT_ONLY
+    // The exact-channel pass (facet.render.renderer, step 3): no colour is kept, so none
+    // is computed (and the varyings only colour needs are dropped by the linker).
+    f_color = vec4(0.0);
+    return;
+#endif
     // What multiplies the material colour C at this point (1 for plain materials).
     vec3 albedo = vec3(1.0);
 #ifdef HAS_TEXTURE

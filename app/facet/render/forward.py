@@ -61,6 +61,7 @@ class Variant:
     uv1: bool = False  # the mesh has a second texture coordinate set
     tangents: bool = False  # normal mapping: the mesh's tangent frames
     alpha_mask: bool = False  # glTF alphaMode MASK: discard below the cutoff
+    exact_only: bool = False  # a pass for the exact channels alone: no colour computed
 
     @classmethod
     def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
@@ -91,7 +92,7 @@ class Variant:
         d.update({s: None for s in self.slots})
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
                  "HAS_UV1": self.uv1, "HAS_TANGENTS": self.tangents,
-                 "ALPHA_MASK": self.alpha_mask,
+                 "ALPHA_MASK": self.alpha_mask, "EXACT_ONLY": self.exact_only,
                  "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb,
                  "OIT": self.oit, "HAS_ENVIRONMENT": self.environment,
                  "HAS_MIRROR": self.mirror, "CLIP_PLANE": self.clip_plane}
@@ -186,7 +187,8 @@ class ForwardPass:
                 prog = self.program(replace(
                     base, shading=model, texture=m.texture is not None, mirror=mirror,
                     environment=reflects, vertex_colors=obj.mesh.colors is not None,
-                    alpha_mask=getattr(m, "alpha_mode", "") == "MASK"))
+                    alpha_mask=getattr(m, "alpha_mode", "") == "MASK",
+                    exact_only=bool(aux) and not colour_pass))
             strict = not user  # a user's shader need not declare every standard input
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 self._frame_uniforms(prog, state, view_projection, eye, user)
