@@ -77,7 +77,8 @@ class ProcessWriter:
         import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
 
-        self._pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
+        self._pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"),
+                                         initializer=_lower_priority)
         # Start the process and its imports now, while the first frames render.
         self._warm = self._pool.submit(_preload, warm_up)
         self._pending: list = []
@@ -99,6 +100,17 @@ class ProcessWriter:
             for future in self._pending:
                 future.cancel()
             self._pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _lower_priority() -> None:
+    """The writer yields the CPU to rendering: on a machine whose cores the renderer keeps
+    busy (a CPU rasteriser), files are written in the gaps instead of slowing frames."""
+    import os
+
+    try:
+        os.nice(10)
+    except (AttributeError, OSError):  # not on every platform; a nicety, not a need
+        pass
 
 
 def _preload(module: str) -> None:
