@@ -9,6 +9,7 @@ its matrices and material.
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -37,6 +38,7 @@ from .shading import SHADING_MODELS, check_shading
 from .state import UNITS, FrameState, pack_lights
 
 LIGHTS_BINDING = 0
+MAX_PROGRAMS = 24  # compiled mesh programs kept per renderer (least recently used go)
 
 
 @dataclass(frozen=True)
@@ -106,7 +108,9 @@ class ForwardPass:
     def __init__(self, ctx, cache: ResourceCache):
         self.ctx = ctx
         self.cache = cache
-        self.programs: dict[Variant, Program] = {}
+        # The most recently used programs (a long-lived renderer meets many light sets and
+        # materials; each program holds a few MB of compiled code): MAX_PROGRAMS at most.
+        self.programs: OrderedDict[Variant, Program] = OrderedDict()
         self.user = UserPrograms(ctx, cache.forget_program)
         self._sky = None  # the environment background program, made on first use
         self.mirrors = MirrorTargets(ctx)  # planar reflection textures, made on first use
@@ -117,8 +121,11 @@ class ForwardPass:
         self.samplers = SlotSamplers(ctx)
 
     def program(self, variant: Variant) -> Program:
-        """The compiled program for ``variant`` (compiled on first use, then reused)."""
-        if variant not in self.programs:
+        """The compiled program for ``variant`` (compiled on first use, then reused; the
+        least recently used beyond MAX_PROGRAMS is released)."""
+        if variant in self.programs:
+            self.programs.move_to_end(variant)
+        else:
             spec = SHADING_MODELS[check_shading(variant.shading)]
             root = glsl_root()
             prog = compile_program(self.ctx, root / spec.vertex, root / spec.fragment,
@@ -126,6 +133,10 @@ class ForwardPass:
             if "Lights" in prog.gl:
                 prog.gl["Lights"].binding = LIGHTS_BINDING
             self.programs[variant] = prog
+            while len(self.programs) > MAX_PROGRAMS:
+                _, old = self.programs.popitem(last=False)
+                self.cache.forget_program(old.gl)
+                old.release()
         return self.programs[variant]
 
     def draw(self, scene: Scene, state: FrameState, *, aux: tuple[str, ...] = (),

@@ -60,6 +60,9 @@ from .state import FrameState
 from .transparency import split_transparent
 
 
+LIGHT_ORDER = ("DirectionalLight", "PointLight", "SpotLight", "AreaLight")
+
+
 class Renderer:
     """Renders scenes headlessly (``render``) or into a window (``present``).
 
@@ -217,7 +220,11 @@ class Renderer:
     def _prepare(self, scene, camera, opts: RenderOptions, dest: Destination):
         """The scene as this render sees it, and the frame's state (step 1)."""
         camera = with_lens(camera, opts.aperture, opts.focus)
-        view = scene.view(lights=active_lights(scene.lights, camera.view, opts.lights))
+        # Lights in a canonical order (by kind; the sum does not care): programs are
+        # specialised on the kinds, so scenes that differ only in light order share one.
+        lights = sorted(active_lights(scene.lights, camera.view, opts.lights),
+                        key=lambda light: LIGHT_ORDER.index(type(light).__name__))
+        view = scene.view(lights=lights)
         background = np.array(opts.background if opts.background is not None
                               else scene.background, dtype=np.float64)
         if dest.window is not None:
