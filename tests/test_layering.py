@@ -13,8 +13,8 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "app" / "facet"
 EVERY_KEY = Path(__file__).resolve().parent / "data" / "every-key.toml"
 # Layers, lowest first (DESIGN.md): a module may import its own layer or lower ones.
-LAYERS = [{"errors", "paths", "srgb"}, {"geometry"}, {"scene"}, {"gl"}, {"render", "lab", "image"},
-          {"cli", "window", "batch"}, {"__init__", "__main__"}]
+LAYERS = [{"errors", "paths", "srgb", "guard"}, {"geometry"}, {"scene"}, {"gl"},
+          {"render", "lab", "image"}, {"cli", "window", "batch"}, {"__init__", "__main__"}]
 
 
 def _run(code: str) -> str:

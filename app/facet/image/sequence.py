@@ -18,6 +18,8 @@ import contextlib
 import importlib
 import os
 import queue
+import re
+import string
 import tempfile
 import threading
 from pathlib import Path
@@ -124,11 +126,17 @@ def check_sequence_path(path) -> str:
     if Path(text).suffix.lower() in VIDEO_FORMATS:
         return Path(text).suffix.lower()[1:]
     if "{" in text:
+        hint = f"{text}: a frame pattern takes one number, like frames/{{:04d}}.png"
         try:
-            names = {text.format(0), text.format(1)}
-        except (IndexError, KeyError, ValueError):
-            raise InputError(f"{text}: a frame pattern takes one number, like "
-                             "frames/{:04d}.png") from None
+            fields = [f for f in string.Formatter().parse(text) if f[1] is not None]
+        except ValueError:
+            raise InputError(hint) from None
+        # One plain field ({} or {0}) with a short numeric format: nothing else is read
+        # from the frame number (no attributes, items or huge widths).
+        if len(fields) != 1 or fields[0][1] not in ("", "0") or fields[0][3] or \
+                not re.fullmatch(r"0?\d{0,2}d?", fields[0][2] or ""):
+            raise InputError(hint + " (at most two digits of width, e.g. {:06d})")
+        names = {text.format(0), text.format(1)}
         if len(names) != 2 or Path(text.format(0)).suffix.lower() != ".png":
             raise InputError(f"{text}: a frame pattern must number PNG files, like "
                              "frames/{:04d}.png")

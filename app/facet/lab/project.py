@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import difflib
 import json
-import tomllib
 import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -164,11 +163,13 @@ def load_project(path) -> Project:
         shader = "image.glsl"
         channels = { 0 = "buffer-a", 1 = { source = "wood.png", filter = "nearest" } }
     """
-    path = Path(path)
+    from ..guard import parse_toml, regular_file
+
+    path = regular_file(path, "project file")
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{path.name}: invalid TOML: {exc}") from None
+        data = parse_toml(path.read_text(encoding="utf-8"), path.name)
+    except UnicodeDecodeError:
+        raise InputError(f"{path.name}: not a text file (TOML must be UTF-8)") from None
     base = path.parent
     _known(data, PROJECT_KEYS, path.name)
     if "image" not in data:
@@ -217,9 +218,13 @@ def load_shadertoy_json(path, media: Path | None = None) -> Project:
     its passes' code, inputs (channel, type, sampler) and outputs. Textures are looked up
     by file name in ``media`` (default: beside the export); a missing one is an error
     naming it; audio and video inputs are black, with one warning line."""
-    path = Path(path)
+    from ..guard import regular_file
+
+    path = regular_file(path, "Shadertoy export")
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
+    except RecursionError:
+        raise InputError(f"{path.name}: nested too deeply to read") from None
     except (json.JSONDecodeError, UnicodeDecodeError) as exc:
         raise InputError(f"{path.name}: not a Shadertoy JSON export ({exc})") from None
     if isinstance(data, list):

@@ -155,10 +155,9 @@ class ShaderToy:
     def _source(self, p: P.Pass) -> str:
         """The pass's current text (from its file, or from the export re-read)."""
         if p.code is None:
-            if not p.path.is_file():
-                raise InputError(f"{p.path}: no such shader file" if not p.path.exists()
-                                 else f"{p.path}: is a directory, expected a shader file")
-            return p.path.read_text(encoding="utf-8")
+            from ..guard import regular_file
+
+            return regular_file(p.path, "shader file").read_text(encoding="utf-8")
         origin = self.project.origin
         if origin is not None and origin.suffix.lower() == ".json" and origin.is_file():
             fresh = P.load_shadertoy_json(origin).passes.get(p.key)
@@ -509,11 +508,9 @@ def _check_channels(project: P.Project) -> None:
 
 
 def _existing(path, what: str) -> Path:
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such {what}" if not p.exists() else
-                         f"{p}: is a directory, expected a {what}")
-    return p
+    from ..guard import regular_file
+
+    return regular_file(path, what)
 
 
 def _size(size) -> tuple[int, int]:

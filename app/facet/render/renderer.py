@@ -59,7 +59,6 @@ from .shadow import ShadowMaps
 from .state import FrameState
 from .transparency import split_transparent
 
-
 LIGHT_ORDER = ("DirectionalLight", "PointLight", "SpotLight", "AreaLight")
 
 

@@ -58,9 +58,12 @@ class GltfData:
         return self._buffers[index]
 
     def _file(self, uri: str, what: str) -> bytes:
+        from ..guard import regular_file
+
         p = self.path.parent / unquote(uri)
-        if not p.is_file():
+        if not p.exists():
             self.fail(f"needs the {what} '{unquote(uri)}', which is not in {p.parent}")
+        regular_file(p, what, MeshError)  # not a FIFO or a device: they would hang or flood
         return p.read_bytes()
 
     def view(self, index: int) -> tuple[bytes, int, int, int | None]:
@@ -120,9 +123,10 @@ class GltfData:
         when its file is missing or unreadable: the material is drawn without it."""
         import warnings
 
-        from PIL import Image, UnidentifiedImageError
+        from PIL import UnidentifiedImageError
 
         from ..errors import FacetWarning
+        from ..guard import open_image, regular_file
         from .texture import Texture
 
         img = self.gltf.images[index]
@@ -135,13 +139,13 @@ class GltfData:
                 raw = _data_uri(img.uri)
             else:
                 p = self.path.parent / unquote(img.uri or "")
-                if not p.is_file():
+                if not p.exists():
                     warnings.warn(f"{self.path.name}: texture file '{unquote(img.uri or '')}'"
                                   f" not found in {p.parent}; drawn without it",
                                   FacetWarning, stacklevel=2)
                     return None
-                raw = p.read_bytes()
-            with Image.open(io.BytesIO(raw)) as pil:
+                raw = regular_file(p, "texture", MeshError).read_bytes()
+            with open_image(io.BytesIO(raw), f"{self.path.name}: {name}") as pil:
                 return Texture.from_pil(pil, str(name))
         except (UnidentifiedImageError, OSError, ValueError) as exc:
             warnings.warn(f"{self.path.name}: cannot read texture {name} ({exc}); drawn "

@@ -37,11 +37,9 @@ PER_VERTEX = ("positions", "normals", "uvs", "uvs1", "tangents", "colors")
 
 
 def _check_path(path) -> Path:
-    p = Path(path)
-    if not p.exists():
-        raise MeshError(f"{p}: no such file")
-    if p.is_dir():
-        raise MeshError(f"{p}: is a directory, expected a mesh file")
+    from ..guard import regular_file
+
+    p = regular_file(path, "mesh file", MeshError, missing="file")
     ext = p.suffix.lower().lstrip(".")
     if ext not in FORMATS:
         known = ", ".join(f".{e}" for e in FORMATS)
@@ -137,10 +135,14 @@ def _read(p: Path):
 def _warn_missing_obj_files(p: Path) -> None:
     """One warning line per material library or texture an OBJ names but that is missing
     (the model then loads without it)."""
+    from ..guard import regular_file
+
     pattern = re.compile(rb"^[ \t]*mtllib[ \t]+(.+?)[ \t]*$", re.M)
     for lib in pattern.findall(p.read_bytes()):
         name = lib.decode("utf-8", "replace")
         mtl = p.parent / name
+        if mtl.exists() or mtl.is_symlink():  # a FIFO would hang the reader: refuse it
+            regular_file(mtl, "material library", MeshError)
         if not mtl.is_file():
             warnings.warn(f"{p.name}: material library '{name}' not found in {p.parent}; "
                           "loaded without its materials", FacetWarning, stacklevel=4)
@@ -149,6 +151,8 @@ def _warn_missing_obj_files(p: Path) -> None:
                           rb"(.+?)[ \t]*$", mtl.read_bytes(), re.M)
         for image in dict.fromkeys(maps):
             image_name = image.decode("utf-8", "replace")
+            if (mtl.parent / image_name).exists():
+                regular_file(mtl.parent / image_name, "texture", MeshError)
             if not (mtl.parent / image_name).is_file():
                 warnings.warn(f"{mtl.name}: texture '{image_name}' not found in "
                               f"{mtl.parent}; loaded without it", FacetWarning, stacklevel=4)

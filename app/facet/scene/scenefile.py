@@ -11,7 +11,6 @@ keys are errors with a did-you-mean.
 from __future__ import annotations
 
 import difflib
-import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -44,16 +43,14 @@ TRANSFORM_OPS = ("translate", "scale", "rotate", "shear", "matrix")
 def load_scene(path, *, crease: float | None = None) -> Scene:
     """Read a TOML scene file into a ``Scene`` (with its cameras and render settings).
     ``crease``: the default crease angle of its mesh files (an object's ``crease`` wins)."""
-    path = Path(path)
-    if not path.is_file():
-        raise SceneError(f"{path}: no such scene file" if not path.exists() else
-                         f"{path}: is a directory, expected a scene file")
+    from ..guard import parse_toml, regular_file
+
+    path = regular_file(path, "scene file", SceneError)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path.name}: invalid TOML: {exc}") from None
+        text = path.read_text(encoding="utf-8")
     except UnicodeDecodeError:
         raise SceneError(f"{path.name}: not a text file (TOML must be UTF-8)") from None
+    data = parse_toml(text, path.name, SceneError)
     return _SceneBuilder(_Reader(path), path.parent, crease).build(data)
 
 

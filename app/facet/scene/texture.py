@@ -8,8 +8,6 @@ renderer's colour mode (see facet.render.colors).
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from ..errors import InputError
@@ -37,15 +35,15 @@ class Texture:
 
     @classmethod
     def load(cls, path) -> Texture:
-        """Read an image file through Pillow; ``InputError`` naming the file if it cannot."""
-        from PIL import Image, UnidentifiedImageError
+        """Read an image file through Pillow; ``InputError`` naming the file if it cannot
+        (also one beyond facet's pixel budget: facet.guard)."""
+        from PIL import UnidentifiedImageError
 
-        p = Path(path)
-        if not p.is_file():
-            raise InputError(f"{p}: no such texture file" if not p.exists() else
-                             f"{p}: is a directory, expected an image")
+        from ..guard import open_image, regular_file
+
+        p = regular_file(path, "texture file")
         try:
-            with Image.open(p) as img:
+            with open_image(p, str(p)) as img:
                 return cls.from_pil(img, p.name)
         except (UnidentifiedImageError, OSError, ValueError) as exc:
             raise InputError(f"{p}: cannot read the texture image ({exc})") from None

@@ -1,0 +1,74 @@
+"""One guard for what facet reads on a user's behalf (no numpy, no GL).
+
+``regular_file(path, what)`` is called before any user-named file is opened: a missing
+path, a directory, a FIFO, a device or a socket each get one clear error instead of a hang
+(a FIFO blocks an open) or a misleading message. ``open_image`` opens an image with an
+explicit pixel budget (a decompression bomb is an error, not a traceback) and no warnings
+reaching the terminal. ``parse_toml`` turns a nesting the parser cannot follow into one
+line.
+"""
+
+from __future__ import annotations
+
+import stat
+from pathlib import Path
+
+from .errors import InputError
+
+MAX_IMAGE_PIXELS = 1 << 28  # 268 megapixels (16384^2): textures, channels, environments
+
+
+def regular_file(path, what: str = "file", error=InputError, missing: str | None = None) -> Path:
+    """``path`` when it is a readable regular file; ``error`` naming it otherwise
+    (``missing``: the noun for a path that does not exist, default ``what``)."""
+    p = Path(path)
+    try:
+        mode = p.stat().st_mode
+    except FileNotFoundError:
+        raise error(f"{p}: no such {missing or what}") from None
+    except PermissionError:
+        raise error(f"{p}: permission denied") from None
+    except OSError as exc:  # a name too long, a loop of links...
+        raise error(f"{p}: cannot be read as a {what} ({exc.strerror or exc})") from None
+    if stat.S_ISDIR(mode):
+        raise error(f"{p}: is a directory, expected a {what}")
+    if not stat.S_ISREG(mode):
+        kind = ("a named pipe (FIFO)" if stat.S_ISFIFO(mode) else
+                "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
+                "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
+        raise error(f"{p}: is {kind}, expected a {what} (facet reads regular files only)")
+    return p
+
+
+def open_image(source, name: str):
+    """A Pillow image opened from ``source`` (a path or a file object), its size checked
+    against MAX_IMAGE_PIXELS before any pixel is decoded."""
+    import warnings
+
+    from PIL import Image, UnidentifiedImageError
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+        try:
+            img = Image.open(source)
+        except Image.DecompressionBombError:
+            img = None
+        except (UnidentifiedImageError, OSError, ValueError) as exc:
+            raise InputError(f"{name}: cannot read the image ({exc})") from None
+    if img is None or img.width * img.height > MAX_IMAGE_PIXELS:
+        size = f" ({img.width}x{img.height})" if img is not None else ""
+        raise InputError(f"{name}: the image{size} is larger than facet's budget of "
+                         f"{MAX_IMAGE_PIXELS // 2**20} megapixels; scale it down")
+    return img
+
+
+def parse_toml(text: str, name: str, error=InputError) -> dict:
+    import tomllib
+
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{name}: invalid TOML: {exc}") from None
+    except RecursionError:
+        raise error(f"{name}: nested too deeply to read (tables or arrays inside one "
+                    "another thousands of times)") from None

@@ -1,0 +1,96 @@
+"""Bad input from careless scripts: special files (FIFOs hang a reader; devices flood it),
+decompression bombs, TOML nested past the parser, and frame patterns that read attributes
+or ask for absurd widths. Each is one clear error (exit 2 from the command line), never a
+hang or a traceback (facet.guard)."""
+
+import os
+import struct
+import zlib
+
+import pytest
+
+import facet
+from facet.cli import main
+from facet.errors import FacetError, InputError, MeshError
+from facet.image.sequence import check_sequence_path
+from facet.scene.texture import Texture
+
+
+@pytest.fixture
+def fifo(tmp_path):
+    path = tmp_path / "pipe"
+    os.mkfifo(path)
+    return path
+
+
+def _png_header(width: int, height: int) -> bytes:
+    """A PNG that claims width x height pixels (RGB) and holds almost nothing."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(
+            ">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(b"")) + \
+        chunk(b"IEND", b"")
+
+
+def test_special_files_are_refused_not_read(tmp_path, fifo):
+    for call, what in ((lambda: facet.Mesh.load(fifo.with_suffix(".obj")), "mesh"),
+                       (lambda: Texture.load(fifo), "texture"),
+                       (lambda: facet.load_scene(fifo), "scene")):
+        named = fifo.with_suffix(".obj") if what == "mesh" else fifo
+        if what == "mesh":
+            os.mkfifo(named)
+        with pytest.raises(FacetError, match=r"is a named pipe \(FIFO\)"):
+            call()
+    with pytest.raises(InputError, match="is a device"):
+        Texture.load("/dev/zero")
+
+
+def test_side_files_that_are_pipes(tmp_path, fifo):
+    obj = tmp_path / "m.obj"
+    obj.write_text(f"mtllib {fifo.name}\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(MeshError, match="pipe.*named pipe"):
+        facet.Mesh.load(obj)
+    from gltf_files import GltfBuilder, quad
+
+    b = GltfBuilder()
+    quad(b)
+    b.node(mesh=0)
+    path = b.write_gltf(tmp_path / "p.gltf", "buffer.bin")
+    (tmp_path / "buffer.bin").unlink()
+    os.mkfifo(tmp_path / "buffer.bin")
+    with pytest.raises(MeshError, match="buffer.bin: is a named pipe"):
+        facet.open_scene(path)
+
+
+def test_a_decompression_bomb_is_an_error(tmp_path):
+    bomb = tmp_path / "bomb.png"
+    bomb.write_bytes(_png_header(100_000, 100_000))
+    with pytest.raises(InputError, match=r"100000x100000\)? is larger than facet's budget|"
+                                         r"larger than facet's budget"):
+        Texture.load(bomb)
+
+
+def test_deep_toml_and_bad_frame_patterns_are_one_line(tmp_path, capsys):
+    deep = tmp_path / "deep.toml"
+    deep.write_text("a = " + "[" * 20000 + "]" * 20000 + "\n")
+    assert main(["render", str(deep), "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "nested too deeply" in err[0]
+    for pattern in ("{.nope}.png", "{[0]}.png", "{:99999999999}.png", "{x}.png",
+                    "{}{}.png"):
+        with pytest.raises(InputError, match="a frame pattern takes one number"):
+            check_sequence_path(str(tmp_path / pattern))
+        assert main(["render", "--turntable", "2", "-o", str(tmp_path / pattern)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "frame pattern" in err[0]
+    assert check_sequence_path(str(tmp_path / "{:06d}.png")) == "pattern"
+
+
+def test_command_line_special_files(tmp_path, fifo, capsys):
+    for args in (["render", str(fifo), "-o", str(tmp_path / "x.png")],
+                 ["render", "--texture", str(fifo), "-o", str(tmp_path / "x.png")],
+                 ["shader", str(fifo), "-o", str(tmp_path / "x.png")]):
+        assert main(args) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and ("named pipe" in err[0] or "unknown mesh format" in err[0])
