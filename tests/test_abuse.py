@@ -94,3 +94,17 @@ def test_command_line_special_files(tmp_path, fifo, capsys):
         assert main(args) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and ("named pipe" in err[0] or "unknown mesh format" in err[0])
+
+
+def test_sequences_share_one_frame_cap(tmp_path, capsys):
+    from facet.render.turntable import MAX_FRAMES
+
+    shader = tmp_path / "s.frag"
+    shader.write_text("void mainImage(out vec4 c, in vec2 p) { c = vec4(1.0); }\n")
+    out = tmp_path / "t.gif"
+    assert main(["shader", str(shader), "--time", "0:1e9", "--fps", "240", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert f"at most {MAX_FRAMES:,}" in err and not out.exists()
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temp file
+    assert main(["render", "--turntable", str(MAX_FRAMES + 1), "-o", str(out)]) == 2
+    assert f"1..{MAX_FRAMES}" in capsys.readouterr().err

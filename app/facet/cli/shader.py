@@ -204,8 +204,13 @@ def run(args) -> list[Path]:
     from .sequence import progress
 
     check_sequence_path(args.output)
+    from ..render.turntable import MAX_FRAMES
+
+    frames = int(round((end - start) * args.fps))
+    if frames > MAX_FRAMES:  # the same cap as turntables, checked before any work
+        raise InputError(f"--time {args.time} at --fps {args.fps:g} is {frames:,} frames; "
+                         f"a sequence holds at most {MAX_FRAMES:,}")
     with build(args, size) as toy:
-        frames = int(round((end - start) * args.fps))
         writer = BackgroundWriter()
         sink = SequenceSink(args.output, args.fps, writer)
         try:
