@@ -108,3 +108,34 @@ def test_sequences_share_one_frame_cap(tmp_path, capsys):
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temp file
     assert main(["render", "--turntable", str(MAX_FRAMES + 1), "-o", str(out)]) == 2
     assert f"1..{MAX_FRAMES}" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("text,message", [
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2/1 3/2 0/3\n",
+     "m.obj:6: a face refers to vertex 0, but OBJ counts vertices from 1"),
+    ("v 0 0 0\nv 1e38 0 0\nv 0 1 0\nf 1 2 3\n", "1 vertices lie beyond 1e+18"),
+    ("v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n", "all 1 triangles have zero area"),
+])
+def test_meshes_that_would_draw_wrong_are_errors(tmp_path, capsys, text, message):
+    obj = tmp_path / "m.obj"
+    obj.write_text(text)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # and nothing from numpy on the way
+        with pytest.raises(MeshError, match=message.replace("+", r"\+")):
+            facet.Mesh.load(obj)
+    assert main(["render", str(obj), "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and not (tmp_path / "x.png").exists()
+
+
+def test_a_truncated_ply_is_an_error(tmp_path):
+    import trimesh
+
+    full = tmp_path / "full.ply"
+    trimesh.creation.icosphere(subdivisions=2).export(full)
+    data = full.read_bytes()
+    (tmp_path / "cut.ply").write_bytes(data[: len(data) * 2 // 3])
+    with pytest.raises(MeshError, match="cut.ply: cannot read the file .*truncated"):
+        facet.Mesh.load(tmp_path / "cut.ply")

@@ -90,6 +90,14 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
         raise MeshError(f"{at}{bad} vertices are NaN or infinite; fix or remove them")
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise MeshError(f"{at}faces refer to vertices that do not exist; the file is corrupt")
+    from .mesh import MAX_COORDINATE
+
+    huge = np.abs(vertices).max(axis=1) > MAX_COORDINATE
+    if huge.any():  # before any arithmetic on them: squares would overflow
+        raise MeshError(f"{at}{int(huge.sum())} vertices lie beyond {MAX_COORDINATE:g} "
+                        f"(the first is vertex {int(np.argmax(huge))}); GPU arithmetic is "
+                        "float32 and squares of such coordinates overflow: scale the model "
+                        "down")
     face_n, area2 = face_normals(vertices, faces)
     if not np.any(area2 > 0):
         raise MeshError(f"{at}all {len(faces)} triangles have zero area (degenerate); "
@@ -120,6 +128,7 @@ def _read(p: Path):
     import trimesh  # imported here: commands that load no mesh do not pay for it
 
     if p.suffix.lower() == ".obj":
+        _check_obj_indices(p)
         _warn_missing_obj_files(p)
     try:
         return trimesh.load(str(p), file_type=FORMATS[p.suffix.lower().lstrip(".")],
@@ -130,6 +139,21 @@ def _read(p: Path):
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise MeshError(f"{p}: cannot read the file as {p.suffix.lower()} ({detail}); "
                         "is it truncated or in another format?") from None
+
+
+# A face line with an index that is exactly 0 (OBJ counts from 1; negative counts back).
+_OBJ_ZERO_INDEX = re.compile(rb"^[ \t]*f[ \t][^\n]*?(?<![\w.+-])0+(?=[/ \t\r\n]|$)", re.M)
+
+
+def _check_obj_indices(p: Path) -> None:
+    """An OBJ face index 0 is invalid (indices count from 1); trimesh would read it as the
+    last vertex. One pass of a regular expression over the file's bytes."""
+    data = p.read_bytes()
+    m = _OBJ_ZERO_INDEX.search(data)
+    if m is not None:
+        line = data.count(b"\n", 0, m.start()) + 1
+        raise MeshError(f"{p}:{line}: a face refers to vertex 0, but OBJ counts vertices "
+                        "from 1 (or back from -1); fix the file's face indices")
 
 
 def _warn_missing_obj_files(p: Path) -> None:

@@ -18,6 +18,10 @@ from ..errors import FacetWarning, InputError
 from ..geometry import transforms as T
 
 
+# Coordinates beyond this overflow float32 when squared (distances, projections).
+MAX_COORDINATE = 1e18
+
+
 def _readonly(a: np.ndarray) -> np.ndarray:
     a = np.ascontiguousarray(a)
     a.setflags(write=False)
@@ -85,6 +89,12 @@ class Mesh:
         if bad.any():
             raise InputError(f"{name}: {int(bad.sum())} vertices are NaN or infinite "
                              f"(first at index {int(np.argmax(bad))})")
+        huge = np.abs(pos).max(axis=1) > MAX_COORDINATE
+        if huge.any():
+            raise InputError(f"{name}: {int(huge.sum())} vertices lie beyond "
+                             f"{MAX_COORDINATE:g} (first at index {int(np.argmax(huge))}); "
+                             "GPU arithmetic is float32 and squares of such coordinates "
+                             "overflow: scale the model down")
         fac = fac.astype(np.uint32)
         if normals is None:
             nrm = smooth_normals(pos, fac)

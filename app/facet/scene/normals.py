@@ -46,7 +46,7 @@ def corner_angles(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
     out = np.empty((len(faces), 3), np.float32)
     for k, (u, v) in enumerate(((ab, -ca), (bc, -ab), (ca, -bc))):
         dot = np.einsum("ij,ij->i", u, v)
-        lengths = np.sqrt(np.einsum("ij,ij->i", u, u) * np.einsum("ij,ij->i", v, v))
+        lengths = np.sqrt(np.einsum("ij,ij->i", u, u)) * np.sqrt(np.einsum("ij,ij->i", v, v))
         out[:, k] = np.arccos(np.clip(dot / np.maximum(lengths, 1e-30), -1.0, 1.0))
     return out
 
