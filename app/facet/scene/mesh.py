@@ -17,7 +17,6 @@ import numpy as np
 from ..errors import FacetWarning, InputError
 from ..geometry import transforms as T
 
-
 # Coordinates beyond this overflow float32 when squared (distances, projections).
 MAX_COORDINATE = 1e18
 
