@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import difflib
 import re
+import signal
 import sys
 from importlib import import_module
 
@@ -110,6 +111,7 @@ def main(argv: list[str] | None = None) -> int:
     from ..errors import FacetError
 
     _default_showwarning = warnings.showwarning
+    previous = _stop_on_sigterm()
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
@@ -124,9 +126,30 @@ def main(argv: list[str] | None = None) -> int:
         name = f"{exc.filename}: " if exc.filename else ""
         print(f"facet: error: {name}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        return 130
+    except KeyboardInterrupt:  # Ctrl-C, or SIGTERM (timeout, docker, systemd) made one
+        return 128 + _STOPPED_BY[0]
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
     return 0
+
+
+_STOPPED_BY = [signal.SIGINT]  # the signal that stopped the run: exit status 128 + it
+
+
+def _stop_on_sigterm():
+    """SIGTERM stops a run as Ctrl-C does (temporary files removed, writer processes shut
+    down, no traceback), exit status 128 + 15. Returns the previous handler (None when
+    this is not the main thread, where handlers cannot be set)."""
+    def stop(signum, _frame):
+        _STOPPED_BY[0] = signum
+        raise KeyboardInterrupt
+
+    _STOPPED_BY[0] = signal.SIGINT
+    try:
+        return signal.signal(signal.SIGTERM, stop)
+    except ValueError:
+        return None
 
 
 def _printable(path) -> str:

@@ -20,16 +20,17 @@ import os
 import queue
 import re
 import string
-import tempfile
 import threading
+import time
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
-from .writers import save_image
+from .writers import save_image, temp_beside
 
 QUEUE_FRAMES = 8
+PARENT_POLL = 0.25  # seconds between a writer process's checks that its parent lives
 VIDEO_FORMATS = (".gif", ".mp4")
 
 
@@ -80,7 +81,7 @@ class ProcessWriter:
         from concurrent.futures import ProcessPoolExecutor
 
         self._pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"),
-                                         initializer=_lower_priority)
+                                         initializer=_worker_start)
         # Start the process and its imports now, while the first frames render.
         self._warm = self._pool.submit(_preload, warm_up)
         self._pending: list = []
@@ -104,15 +105,28 @@ class ProcessWriter:
             self._pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _lower_priority() -> None:
-    """The writer yields the CPU to rendering: on a machine whose cores the renderer keeps
-    busy (a CPU rasteriser), files are written in the gaps instead of slowing frames."""
-    import os
+def _worker_start() -> None:
+    """The writer process's set-up: it yields the CPU to rendering (on a machine whose cores
+    a CPU rasteriser keeps busy, files are written in the gaps instead of slowing frames),
+    leaves Ctrl-C to its parent (which shuts it down: no second traceback), and exits when
+    its parent is gone, however the parent died (SIGKILL included), so no orphan keeps the
+    caller's pipes open."""
+    import signal
 
     try:
         os.nice(10)
     except (AttributeError, OSError):  # not on every platform; a nicety, not a need
         pass
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    parent = os.getppid()
+
+    def watch() -> None:
+        while True:
+            if os.getppid() != parent:  # re-parented: the parent is dead
+                os._exit(1)
+            time.sleep(PARENT_POLL)
+
+    threading.Thread(target=watch, name="facet-parent-watch", daemon=True).start()
 
 
 def _preload(module: str) -> None:
@@ -167,9 +181,7 @@ class SequenceSink:
 
             target = Path(self.path)
             target.parent.mkdir(parents=True, exist_ok=True)
-            fd, self._tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=target.suffix,
-                                             dir=target.parent)
-            os.close(fd)
+            self._tmp = temp_beside(target, target.suffix)
             if self.kind == "gif":
                 self._video = iio.get_writer(self._tmp, format="GIF", mode="I", loop=0,
                                              duration=1000.0 / self.fps)

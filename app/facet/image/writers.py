@@ -25,8 +25,7 @@ def write_atomic(path):
     if target.is_dir():
         raise InputError(f"{target}: is a directory; give a file name for the output")
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    os.close(fd)
+    tmp = temp_beside(target, ".tmp")
     try:
         yield Path(tmp)
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; outputs get the usual mode
@@ -35,6 +34,34 @@ def write_atomic(path):
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
         raise
+
+
+def temp_beside(target: Path, suffix: str) -> str:
+    """A new empty temporary file next to ``target`` whose name says whose it is:
+    ``.NAME.facet-PID-XXXX`` + suffix. Left-overs of runs that were killed outright (no
+    chance to clean up) are removed first: same target, a process that no longer exists."""
+    prefix = f".{target.name}.facet-"
+    with contextlib.suppress(OSError):
+        for entry in os.scandir(target.parent):
+            if entry.name.startswith(prefix):
+                pid = entry.name[len(prefix):].split("-", 1)[0]
+                if pid.isdigit() and not _alive(int(pid)):
+                    with contextlib.suppress(OSError):
+                        os.unlink(entry.path)
+    fd, tmp = tempfile.mkstemp(prefix=f"{prefix}{os.getpid()}-", suffix=suffix,
+                               dir=target.parent)
+    os.close(fd)
+    return tmp
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # someone else's process: not ours to clean up after
+        return True
+    return True
 
 
 def _umask() -> int:

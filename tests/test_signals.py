@@ -1,0 +1,114 @@
+"""Runs stopped from outside: SIGINT (Ctrl-C, to the whole process group), SIGTERM
+(timeout, docker, systemd) and SIGKILL. No process is left behind, the caller's pipes
+close, no temporary file stays (after SIGKILL the next run removes what the killed one
+left), files under final names are complete, and nothing prints a traceback."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+ENV = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
+
+
+def _children(pid: int) -> set[int]:
+    """Every descendant of ``pid`` (from /proc)."""
+    found, todo = set(), [pid]
+    while todo:
+        p = todo.pop()
+        for task in Path(f"/proc/{p}/task").glob("*"):
+            try:
+                kids = (task / "children").read_text().split()
+            except OSError:
+                continue
+            for k in map(int, kids):
+                if k not in found:
+                    found.add(k)
+                    todo.append(k)
+    return found
+
+
+def _gone(pids, timeout: float = 10.0) -> bool:
+    end = time.time() + timeout
+    while time.time() < end:
+        alive = []
+        for pid in pids:
+            try:
+                os.kill(pid, 0)
+                state = Path(f"/proc/{pid}/stat").read_text().split()[2]
+                if state != "Z":
+                    alive.append(pid)
+            except (ProcessLookupError, FileNotFoundError):
+                pass
+        if not alive:
+            return True
+        time.sleep(0.1)
+    return False
+
+
+def _run(args, sig, tmp_path, wait_for):
+    proc = subprocess.Popen([sys.executable, "-m", "facet", *args], env=ENV,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            start_new_session=True, cwd=tmp_path)
+    end = time.time() + 60
+    while not wait_for() and time.time() < end and proc.poll() is None:
+        time.sleep(0.1)
+    assert proc.poll() is None, proc.communicate()
+    kids = _children(proc.pid)
+    if sig == signal.SIGINT:
+        os.killpg(proc.pid, sig)  # as a terminal's Ctrl-C does
+    else:
+        os.kill(proc.pid, sig)
+    out, err = proc.communicate(timeout=30)  # returns only once every pipe holder is gone
+    assert _gone(kids), f"left behind: {kids}"
+    return proc.returncode, err.decode()
+
+
+def _temps(folder: Path) -> list[Path]:
+    return [p for p in folder.rglob(".*") if p.is_file()]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("sig,status", [(signal.SIGINT, 130), (signal.SIGTERM, 143),
+                                        (signal.SIGKILL, -9)])
+def test_a_dataset_turntable_stopped_from_outside(tmp_path, sig, status):
+    out = tmp_path / "out"
+    code, err = _run(["render", "--turntable", "400", "--size", "64x64", "--out-dir",
+                      str(out), "-q"], sig, tmp_path,
+                     lambda: len(list(out.glob("*_color.png"))) >= 3)
+    assert code == status and "Traceback" not in err
+    if sig != signal.SIGKILL:
+        assert not _temps(out)
+    for png in out.glob("*.png"):  # every file under a final name is whole
+        assert png.read_bytes().endswith(b"IEND\xaeB`\x82")
+    # The next run into the same folder cleans what a killed one could not.
+    subprocess.run([sys.executable, "-m", "facet", "render", "--turntable", "2", "--size",
+                    "32x32", "--out-dir", str(out), "-q"], env=ENV, check=True, cwd=tmp_path,
+                   timeout=120)
+    assert not _temps(out)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kind,sig", [("gif", signal.SIGTERM), ("pattern", signal.SIGINT)])
+def test_videos_and_shader_sequences_stopped_from_outside(tmp_path, kind, sig):
+    if kind == "gif":
+        target = tmp_path / "spin.gif"
+        args = ["render", "--turntable", "2000", "--size", "64x64", "-o", str(target)]
+        started = lambda: bool(_temps(tmp_path))  # noqa: E731 - the video is being written
+    else:
+        shader = tmp_path / "s.frag"
+        shader.write_text("void mainImage(out vec4 c, in vec2 p) { c = vec4(0.5); }\n")
+        target = tmp_path / "frames" / "{:05d}.png"
+        args = ["shader", str(shader), "--time", "0:400", "--fps", "30", "--size", "32x32",
+                "-o", str(target)]
+        started = lambda: len(list((tmp_path / "frames").glob("*.png"))) >= 3  # noqa: E731
+    code, err = _run(args, sig, tmp_path, started)
+    assert code == 128 + sig and "Traceback" not in err
+    assert not _temps(tmp_path)
+    if kind == "gif":
+        assert not target.exists()  # a video is whole or absent
