@@ -139,3 +139,19 @@ def test_a_truncated_ply_is_an_error(tmp_path):
     (tmp_path / "cut.ply").write_bytes(data[: len(data) * 2 // 3])
     with pytest.raises(MeshError, match="cut.ply: cannot read the file .*truncated"):
         facet.Mesh.load(tmp_path / "cut.ply")
+
+
+def test_messages_name_the_users_paths_and_escape_control_characters(tmp_path, capsys):
+    binary = tmp_path / "b.obj"
+    binary.write_bytes(b"\xff\xfe\x00\x00garbage")
+    assert main(["render", str(binary), "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert "not text in a known encoding" in err and "charset" not in err
+    assert main(["render", "--size", "16x16", "-o", "/proc/facet-test.png"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("facet: error: /proc/facet-test.png:") and ".tmp" not in err
+    odd = tmp_path / "a\tb\nc.png"
+    assert main(["render", "--size", "16x16", "-o", str(odd)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == str(odd).replace("\t", "\\t").replace("\n", "\\n")
+    assert odd.is_file()

@@ -123,7 +123,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"facet: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except OSError as exc:  # unwritable output folder, disk full, ...
-        name = f"{exc.filename}: " if exc.filename else ""
+        name = f"{_printable(exc.filename)}: " if exc.filename else ""
         print(f"facet: error: {name}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:  # Ctrl-C, or SIGTERM (timeout, docker, systemd) made one
@@ -153,6 +153,11 @@ def _stop_on_sigterm():
 
 
 def _printable(path) -> str:
-    """A written path on one line (a newline in a name would split it for scripts)."""
-    return str(path).encode("unicode_escape").decode("ascii") if "\n" in str(path) \
-        else str(path)
+    """A written path on one line, control characters escaped (a newline or a carriage
+    return in a name would break one-path-per-line scripts; a tab or an escape sequence
+    would garble a terminal)."""
+    text = str(path)
+    if any(ord(c) < 32 or ord(c) == 127 for c in text):
+        return "".join(c.encode("unicode_escape").decode("ascii")
+                       if ord(c) < 32 or ord(c) == 127 else c for c in text)
+    return text

@@ -24,12 +24,20 @@ def write_atomic(path):
     target = Path(path)
     if target.is_dir():
         raise InputError(f"{target}: is a directory; give a file name for the output")
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = temp_beside(target, ".tmp")
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        tmp = temp_beside(target, ".tmp")
+    except OSError as exc:  # name the user's path, not a temporary one
+        raise OSError(exc.errno, f"cannot write there ({exc.strerror})", str(target)) \
+            from None
     try:
         yield Path(tmp)
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; outputs get the usual mode
         os.replace(tmp, target)
+    except OSError as exc:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise OSError(exc.errno, exc.strerror, str(target)) from None
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)

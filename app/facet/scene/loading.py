@@ -136,7 +136,11 @@ def _read(p: Path):
     except FacetError:
         raise
     except Exception as exc:  # trimesh raises many types for bad files; report them as one
-        detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        if isinstance(exc, (UnicodeError, ImportError)):  # trimesh guessing at encodings
+            detail = "not text in a known encoding: a binary file, or UTF-16?"
+        else:
+            detail = str(exc).strip().splitlines()[0] if str(exc).strip() else \
+                type(exc).__name__
         raise MeshError(f"{p}: cannot read the file as {p.suffix.lower()} ({detail}); "
                         "is it truncated or in another format?") from None
 
