@@ -155,3 +155,45 @@ def test_messages_name_the_users_paths_and_escape_control_characters(tmp_path, c
     lines = capsys.readouterr().out.splitlines()
     assert lines[0] == str(odd).replace("\t", "\\t").replace("\n", "\\n")
     assert odd.is_file()
+
+
+def test_confinement_refuses_paths_outside_the_folder(tmp_path, capsys):
+    """--confine DIR (and facet.guard.confined in Python): a scene naming a mesh outside,
+    a symbolic link pointing out, a shader including /etc/passwd: refused, and nothing of a
+    non-GLSL file's content is quoted."""
+    inside = tmp_path / "inside"
+    inside.mkdir()
+    outside = tmp_path / "elsewhere.obj"
+    outside.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    scene = inside / "s.toml"
+    scene.write_text(f'[[objects]]\nmesh = "{outside}"\n')
+    (inside / "link.obj").symlink_to(outside)
+    linked = inside / "l.toml"
+    linked.write_text('[[objects]]\nmesh = "link.obj"\n')
+    for path in (scene, linked):
+        assert main(["render", str(path), "--confine", str(inside), "-o",
+                     str(inside / "x.png")]) == 2
+        err = capsys.readouterr().err
+        assert "outside the confinement folder" in err and len(err.splitlines()) == 1
+        assert main(["render", str(path), "-o", str(inside / "x.png"), "-q"]) == 0  # free
+    shader = inside / "s.frag"
+    shader.write_text('#include "/etc/passwd"\nvoid mainImage(out vec4 c, in vec2 p) '
+                      "{ c = vec4(1); }\n")
+    assert main(["shader", str(shader), "--confine", str(inside), "-o",
+                 str(inside / "y.png")]) == 2
+    err = capsys.readouterr().err
+    assert "outside the confinement folder" in err and "root:" not in err
+    assert main(["shader", str(shader), "-o", str(inside / "y.png")]) == 2  # not confined
+    err = capsys.readouterr().err
+    assert "passwd" in err and "root:" not in err  # named, never quoted
+
+
+def test_confine_in_python(tmp_path):
+    outside = tmp_path / "m.obj"
+    outside.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    inside = tmp_path / "in"
+    inside.mkdir()
+    (inside / "s.toml").write_text(f'[[objects]]\nmesh = "{outside}"\n')
+    with pytest.raises(FacetError, match="outside the confinement folder"):
+        facet.open_scene(inside / "s.toml", confine=inside)
+    assert len(facet.open_scene(inside / "s.toml").objects) == 1

@@ -10,7 +10,9 @@ line.
 
 from __future__ import annotations
 
+import contextlib
 import stat
+from contextvars import ContextVar
 from pathlib import Path
 
 from .errors import InputError
@@ -18,10 +20,42 @@ from .errors import InputError
 MAX_IMAGE_PIXELS = 1 << 28  # 268 megapixels (16384^2): textures, channels, environments
 
 
+# The folder every file read on a user's behalf must lie in (``confined``), or None.
+_CONFINE: ContextVar[Path | None] = ContextVar("facet_confine", default=None)
+
+
+@contextlib.contextmanager
+def confined(folder):
+    """Within this block, refuse any file outside ``folder`` (symbolic links resolved
+    first): for services that render uploaded scenes, whose files may name any path."""
+    root = Path(folder).resolve()
+    if not root.is_dir():
+        raise InputError(f"{folder}: the confinement folder does not exist or is not a "
+                         "folder")
+    token = _CONFINE.set(root)
+    try:
+        yield root
+    finally:
+        _CONFINE.reset(token)
+
+
+def check_confined(path, what: str = "file", error=InputError) -> None:
+    """``error`` when ``path`` resolves outside the confinement folder (if one is set)."""
+    root = _CONFINE.get()
+    if root is None:
+        return
+    resolved = Path(path).resolve()
+    if resolved != root and root not in resolved.parents:
+        raise error(f"{path}: outside the confinement folder {root} (the {what} is not "
+                    "read; --confine)")
+
+
 def regular_file(path, what: str = "file", error=InputError, missing: str | None = None) -> Path:
-    """``path`` when it is a readable regular file; ``error`` naming it otherwise
-    (``missing``: the noun for a path that does not exist, default ``what``)."""
+    """``path`` when it is a readable regular file (and inside the confinement folder, if
+    one is set); ``error`` naming it otherwise (``missing``: the noun for a path that does
+    not exist, default ``what``)."""
     p = Path(path)
+    check_confined(p, what, error)
     try:
         mode = p.stat().st_mode
     except FileNotFoundError:

@@ -115,7 +115,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning
-            result = import_module(f"facet.cli.{args.command}").run(args)
+            with _confinement(args):
+                result = import_module(f"facet.cli.{args.command}").run(args)
         if args.command in ("render", "shader") and not args.quiet:
             for path in result or ():
                 print(_printable(path))
@@ -150,6 +151,18 @@ def _stop_on_sigterm():
         return signal.signal(signal.SIGTERM, stop)
     except ValueError:
         return None
+
+
+def _confinement(args):
+    """``--confine DIR``: every file the command reads on the user's behalf must lie in DIR."""
+    import contextlib
+
+    folder = getattr(args, "confine", None)
+    if folder is None:
+        return contextlib.nullcontext()
+    from ..guard import confined
+
+    return confined(folder)
 
 
 def _printable(path) -> str:

@@ -85,6 +85,12 @@ def light(text: str):
         raise argparse.ArgumentTypeError(f"light {text!r}: {exc}") from None
 
 
+def add_confine_option(p) -> None:
+    p.add_argument("--confine", metavar="DIR",
+                   help="read files only inside DIR (symbolic links resolved): what a scene, "
+                   "glTF, OBJ or shader names elsewhere is refused")
+
+
 def add_shader_options(p) -> None:
     """--frag / --vert / --uniform: the model's own GLSL (docs in facet.scene.shader)."""
     p.add_argument("--frag", metavar="FILE", help="the model's own fragment shader "

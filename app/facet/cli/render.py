@@ -69,6 +69,7 @@ def add_parser(sub) -> None:
                    "'checker' generates a checkerboard")
     A.add_render_options(r, "the scene file's, or its intrinsics camera's, else 800x600")
     A.add_model_options(r)
+    A.add_confine_option(r)
     r.add_argument("--turntable", type=int, metavar="N",
                    help="render N frames orbiting the model; -o takes .gif, .mp4 or a "
                    "pattern like frames/{:04d}.png")

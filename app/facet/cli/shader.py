@@ -73,6 +73,7 @@ def add_parser(sub) -> None:
     sh.add_argument("--list-uniforms", action="store_true",
                     help="print the active uniforms with their types and exit")
     sh.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    A.add_confine_option(sh)
 
 
 def parse_time(text: str) -> tuple[float, float | None]:

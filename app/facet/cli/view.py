@@ -20,6 +20,7 @@ def add_parser(sub) -> None:
                    "bundled torus knot)")
     A.add_render_options(v, "the window opens at the scene file's size, else 1280x720")
     A.add_model_options(v)
+    A.add_confine_option(v)
     A.add_shader_options(v)
 
 

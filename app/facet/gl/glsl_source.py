@@ -126,6 +126,10 @@ def expand(path, defines: dict[str, object] | None = None,
             for base in (file.parent, *roots):
                 candidate = base / target
                 if candidate.is_file() or candidate.resolve() in texts:
+                    if base != glsl_root():  # facet's own library is always readable
+                        from ..guard import check_confined
+
+                        check_confined(candidate, "include", ShaderError)
                     include(candidate, [*chain, file], is_stage=False)
                     break
             else:

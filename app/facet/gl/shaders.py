@@ -60,13 +60,19 @@ def mesa_column(line_text: str, column: int) -> int:
     return i + 1
 
 
+GLSL_SUFFIXES = {".glsl", ".frag", ".vert", ".comp", ".geom", ".fs", ".vs", ".fsh", ".vsh",
+                 ".shader", ".inc", ".h"}
+
+
 def _context_lines(path: str, line: int, column: int, files: list[Path],
                    texts: dict | None = None) -> list[str]:
     """The error line, the two before it, and a caret under the column."""
     source = next((f for f in files if display_path(f) == path), None)
     if source is None:
         return []
-    body = (texts or {}).get(source.resolve())
+    body = (texts or {}).get(source.resolve())  # code given as text (a JSON export's pass)
+    if body is None and source.suffix.lower() not in GLSL_SUFFIXES:
+        return []  # never quote a file that is not shader source (an include of anything)
     if body is None:
         if not source.is_file():
             return []

@@ -90,7 +90,7 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
         raise MeshError(f"{at}{bad} vertices are NaN or infinite; fix or remove them")
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise MeshError(f"{at}faces refer to vertices that do not exist; the file is corrupt")
-    from .mesh import MAX_COORDINATE
+    from .normals import MAX_COORDINATE
 
     huge = np.abs(vertices).max(axis=1) > MAX_COORDINATE
     if huge.any():  # before any arithmetic on them: squares would overflow

@@ -16,9 +16,7 @@ import numpy as np
 
 from ..errors import FacetWarning, InputError
 from ..geometry import transforms as T
-
-# Coordinates beyond this overflow float32 when squared (distances, projections).
-MAX_COORDINATE = 1e18
+from .normals import MAX_COORDINATE  # beyond it float32 squares overflow
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:

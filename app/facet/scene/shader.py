@@ -22,8 +22,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError
-
 
 @dataclass(eq=False)
 class UserShader:
@@ -38,8 +36,6 @@ class UserShader:
             value = getattr(self, attr)
             if value is None:
                 continue
-            path = Path(value)
-            if not path.is_file():
-                raise InputError(f"{path}: no such shader file" if not path.exists() else
-                                 f"{path}: is a directory, expected a shader file")
-            setattr(self, attr, path)
+            from ..guard import regular_file
+
+            setattr(self, attr, regular_file(value, "shader file"))

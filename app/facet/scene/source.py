@@ -13,11 +13,17 @@ def is_scene_file(path) -> bool:
     return Path(path).suffix.lower() == ".toml"
 
 
-def open_scene(path, *, crease: float | None = None) -> Scene:
+def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
     """A scene file read with its settings, or a mesh file as a scene of its parts (each
     with its own material and node transform; a glTF's cameras become named cameras, the
     default view stays framed on the model). ``crease``: the angle at which vertices
-    without normals in the file are split (facet.scene.normals)."""
+    without normals in the file are split (facet.scene.normals). ``confine``: a folder
+    outside which no file is read (facet.guard.confined)."""
+    if confine is not None:
+        from ..guard import confined
+
+        with confined(confine):
+            return open_scene(path, crease=crease)
     if is_scene_file(path):
         from .scenefile import load_scene
 
@@ -32,6 +38,6 @@ def open_scene(path, *, crease: float | None = None) -> Scene:
     return scene
 
 
-def load(path, *, crease: float | None = None) -> Scene:
+def load(path, *, crease: float | None = None, confine=None) -> Scene:
     """``open_scene`` under the short name: ``facet.load("truck.glb")``."""
-    return open_scene(path, crease=crease)
+    return open_scene(path, crease=crease, confine=confine)
