@@ -85,21 +85,20 @@ def _unknown(parser, command: str, extras: list[str]) -> str:
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Every warning as one line, ``facet: warning: ...``: facet's own as they are, a
+    library's (numpy, Pillow, trimesh) with its kind, never with a source path and line
+    of code from inside a library."""
     from ..errors import FacetWarning
 
-    if issubclass(category, FacetWarning):
-        print(f"facet: warning: {message}", file=sys.stderr)
-    else:
-        _default_showwarning(message, category, filename, lineno, file, line)
-
-
-_default_showwarning = None
+    text = str(message).strip().splitlines()[0] if str(message).strip() else category.__name__
+    if not issubclass(category, FacetWarning):
+        text = f"{text} ({category.__name__})"
+    print(f"facet: warning: {text}", file=sys.stderr)
 
 
 def main(argv: list[str] | None = None) -> int:
     import warnings
 
-    global _default_showwarning
     parser = build_parser()
     argv = _join_negative_values(parser, list(sys.argv[1:] if argv is None else argv))
     args, extras = parser.parse_known_args(argv)
@@ -110,7 +109,6 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_USAGE
     from ..errors import FacetError
 
-    _default_showwarning = warnings.showwarning
     previous = _stop_on_sigterm()
     try:
         with warnings.catch_warnings():
