@@ -93,22 +93,32 @@ def test_a_dataset_turntable_stopped_from_outside(tmp_path, sig, status):
     assert not _temps(out)
 
 
+SIGNALS = [signal.SIGINT, signal.SIGTERM, signal.SIGKILL]
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("kind,sig", [("gif", signal.SIGTERM), ("pattern", signal.SIGINT)])
-def test_videos_and_shader_sequences_stopped_from_outside(tmp_path, kind, sig):
+@pytest.mark.parametrize("sig", SIGNALS)
+@pytest.mark.parametrize("kind", ["gif", "pattern", "shader"])
+def test_videos_patterns_and_shader_sequences_stopped_from_outside(tmp_path, kind, sig):
     if kind == "gif":
         target = tmp_path / "spin.gif"
         args = ["render", "--turntable", "2000", "--size", "64x64", "-o", str(target)]
         started = lambda: bool(_temps(tmp_path))  # noqa: E731 - the video is being written
     else:
-        shader = tmp_path / "s.frag"
-        shader.write_text("void mainImage(out vec4 c, in vec2 p) { c = vec4(0.5); }\n")
         target = tmp_path / "frames" / "{:05d}.png"
-        args = ["shader", str(shader), "--time", "0:400", "--fps", "30", "--size", "32x32",
-                "-o", str(target)]
+        if kind == "pattern":
+            args = ["render", "--turntable", "2000", "--size", "48x48", "-o", str(target)]
+        else:
+            shader = tmp_path / "s.frag"
+            shader.write_text("void mainImage(out vec4 c, in vec2 p) { c = vec4(0.5); }\n")
+            args = ["shader", str(shader), "--time", "0:400", "--fps", "30", "--size",
+                    "32x32", "-o", str(target)]
         started = lambda: len(list((tmp_path / "frames").glob("*.png"))) >= 3  # noqa: E731
     code, err = _run(args, sig, tmp_path, started)
-    assert code == 128 + sig and "Traceback" not in err
-    assert not _temps(tmp_path)
-    if kind == "gif":
-        assert not target.exists()  # a video is whole or absent
+    assert code == (-9 if sig == signal.SIGKILL else 128 + sig) and "Traceback" not in err
+    if sig != signal.SIGKILL:
+        assert not _temps(tmp_path)
+        if kind == "gif":
+            assert not target.exists()  # a video is whole or absent
+    for png in (tmp_path / "frames").glob("*.png"):
+        assert png.read_bytes().endswith(b"IEND\xaeB`\x82")  # whole, under final names
