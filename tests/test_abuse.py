@@ -197,3 +197,13 @@ def test_confine_in_python(tmp_path):
     with pytest.raises(FacetError, match="outside the confinement folder"):
         facet.open_scene(inside / "s.toml", confine=inside)
     assert len(facet.open_scene(inside / "s.toml").objects) == 1
+
+
+def test_an_ascii_ply_shorter_than_its_header(tmp_path):
+    ply = tmp_path / "short.ply"
+    ply.write_text("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                   "property float y\nproperty float z\nelement face 3\n"
+                   "property list uchar int vertex_indices\nend_header\n"
+                   "0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n")
+    with pytest.raises(MeshError, match="promises 3 face elements but the file holds 1"):
+        facet.Mesh.load(ply)

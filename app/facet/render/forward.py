@@ -38,7 +38,7 @@ from .shading import SHADING_MODELS, check_shading
 from .state import UNITS, FrameState, pack_lights
 
 LIGHTS_BINDING = 0
-MAX_PROGRAMS = 24  # compiled mesh programs kept per renderer (least recently used go)
+MAX_PROGRAMS = 16  # compiled mesh programs kept per renderer (least recently used go)
 
 
 @dataclass(frozen=True)

@@ -190,6 +190,8 @@ def _trimesh_parts(p: Path, finish) -> list:
     import trimesh
 
     loaded = _read(p)
+    if p.suffix.lower() == ".ply":
+        _check_ply_counts(p, loaded)
     if not isinstance(loaded, trimesh.Scene):
         return [(p.stem, _to_mesh(loaded, p, finish), np.eye(4))]
     if not loaded.geometry:
@@ -234,6 +236,23 @@ def _to_mesh(tm, p: Path, finish, where: str = "") -> dict:
     return finish({"positions": vertices, "faces": np.asarray(tm.faces), "normals": normals,
                    "uvs": uv, "name": p.name, "material": _material_from_trimesh(tm),
                    "colors": colors}, where)
+
+
+def _check_ply_counts(p: Path, tm) -> None:
+    """A PLY whose header promises more elements than the file holds is truncated (trimesh
+    reads what is there and says nothing)."""
+    raw = (getattr(tm, "metadata", None) or {}).get("_ply_raw") or {}
+    for name, element in raw.items():
+        data = element.get("data")
+        if isinstance(data, dict):
+            found = min((len(v) for v in data.values()), default=0)
+        elif hasattr(data, "__len__"):
+            found = len(data)
+        else:
+            continue
+        if found < element.get("length", 0):
+            raise MeshError(f"{p}: the header promises {element['length']:,} {name} "
+                            f"elements but the file holds {found:,}; is it truncated?")
 
 
 def _ply_strips(tm) -> np.ndarray | None:
