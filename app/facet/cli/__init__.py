@@ -18,7 +18,7 @@ import sys
 from importlib import import_module
 
 EXIT_USAGE = 2
-COMMANDS = ("render", "view", "shader", "info")
+COMMANDS = ("render", "view", "shader", "batch", "info")
 # A value that starts with a minus sign: -1,0,0  -0.5  -.5  -1e3 (argparse would take it
 # for an option unless written --opt=-1,0,0).
 _NEGATIVE = re.compile(r"-\.?\d[\d.,eE+\-]*")
@@ -115,6 +115,8 @@ def main(argv: list[str] | None = None) -> int:
             warnings.showwarning = _show_warning
             with _confinement(args):
                 result = import_module(f"facet.cli.{args.command}").run(args)
+        if args.command == "batch":
+            return result  # 1 when any job failed (the summary line says which)
         if args.command in ("render", "shader") and not args.quiet:
             for path in result or ():
                 print(_printable(path))

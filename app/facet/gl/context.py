@@ -21,10 +21,13 @@ INSTALL_HINT = ("install Mesa's EGL and software rasteriser: "
                 "sudo apt-get install libegl1 libgl1-mesa-dri")
 
 
-def create_headless(require: int = GL_REQUIRED) -> moderngl.Context:
-    """A standalone (no window) OpenGL context through EGL."""
+def create_headless(require: int = GL_REQUIRED, device: int | None = None) -> moderngl.Context:
+    """A standalone (no window) OpenGL context through EGL; ``device``: the EGL device
+    index (one GPU of several; None: the default)."""
+    kwargs = {} if device is None else {"device_index": int(device)}
     try:
-        ctx = moderngl.create_context(standalone=True, backend="egl", require=require)
+        ctx = moderngl.create_context(standalone=True, backend="egl", require=require,
+                                      **kwargs)
     except Exception as exc:  # glcontext raises bare Exceptions with terse EGL messages
         detail = " ".join(str(exc).split()) or type(exc).__name__
         raise ContextError(f"cannot create a headless OpenGL {require // 100}.{require % 100 // 10}"

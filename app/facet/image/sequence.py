@@ -111,12 +111,19 @@ def _worker_start() -> None:
     leaves Ctrl-C to its parent (which shuts it down: no second traceback), and exits when
     its parent is gone, however the parent died (SIGKILL included), so no orphan keeps the
     caller's pipes open."""
-    import signal
-
     try:
         os.nice(10)
     except (AttributeError, OSError):  # not on every platform; a nicety, not a need
         pass
+    watch_parent()
+
+
+def watch_parent() -> None:
+    """In a worker process: ignore Ctrl-C (the parent handles it and shuts workers down:
+    no second traceback) and exit as soon as the parent is gone, however it died (SIGKILL
+    included), so no orphan keeps the caller's pipes open."""
+    import signal
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     parent = os.getppid()
 

@@ -73,14 +73,16 @@ class Renderer:
     """
 
     def __init__(self, width: int | None = None, height: int | None = None,
-                 msaa: int | None = None, *, context=None, **options):
+                 msaa: int | None = None, *, context=None, device: int | None = None,
+                 **options):
         if (width is None) != (height is None):
             raise InputError("give both width and height (or neither: the scene's size)")
         layer = {"size": (width, height) if width is not None else None, "msaa": msaa,
                  **options}
         self.defaults = parse_layer(layer)  # this renderer's explicit options
         self._own_context = context is None
-        self.ctx = glcontext.create_headless() if context is None else context
+        # ``device``: the EGL device (GPU) index for the headless context (batch workers).
+        self.ctx = glcontext.create_headless(device=device) if context is None else context
         self.cache = ResourceCache(self.ctx)
         self.forward = ForwardPass(self.ctx, self.cache)
         self._parts: dict = {}  # shadow atlas, finishing pass, ray tracer: made on first use

@@ -1,0 +1,88 @@
+"""A dataset's files, laid out as the 3D-learning and reconstruction tools read them:
+
+    DATASET/index.jsonl               one line per job: job, model, views, files, seconds,
+                                      status (done / failed / skipped), error
+    DATASET/JOB/images/0000.png       colour (RGBA when the background is transparent)
+    DATASET/JOB/depth/0000.npy        float32 linear depth, 0 = nothing (and normals/,
+                                      position/, uv/ the same way when asked for)
+    DATASET/JOB/masks/0000.png        8-bit mask of the model (when ids are asked for),
+    DATASET/JOB/ids/0000.npy          and the int32 object ids
+    DATASET/JOB/transforms.json       nerfstudio / instant-ngp cameras (written last)
+
+transforms.json holds the intrinsics fl_x, fl_y, cx, cy, w, h and camera_angle_x, with the
+pixel-corner convention these tools use (a pixel's centre at (i + 0.5, j + 0.5); facet's
+OpenCV K puts it at (i, j)), and per frame the colour file_path, the depth_file_path and
+mask_path where written, and the camera-to-world transform_matrix in OpenGL axes (x right,
+y up, looking down -z). A job is finished exactly when its transforms.json exists with the
+job's digest: every other file is written before it, each one atomically.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ..image.writers import save_array, save_image, to_uint8, write_atomic
+
+CHANNEL_DIRS = {"depth": "depth", "normals": "normals", "position": "position", "uv": "uv"}
+
+
+def finished(folder: Path, digest: str) -> bool:
+    """Whether ``folder`` holds a finished job with this digest."""
+    try:
+        data = json.loads((folder / "transforms.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return data.get("facet", {}).get("digest") == digest
+
+
+def write_view(folder: Path, index: int, frame, outputs) -> dict:
+    """One view's files; returns its transforms.json frame entry (without the matrix)."""
+    name = f"{index:04d}"
+    entry = {"file_path": f"images/{name}.png"}
+    save_image(folder / entry["file_path"], to_uint8(frame.color))
+    for channel, sub in CHANNEL_DIRS.items():
+        if channel in outputs:
+            array = getattr(frame, channel)
+            save_array(folder / sub / f"{name}.npy", np.ascontiguousarray(array))
+    if "depth" in outputs:
+        entry["depth_file_path"] = f"depth/{name}.npy"
+    if "ids" in outputs:
+        ids = frame.object_ids
+        save_array(folder / "ids" / f"{name}.npy", ids)
+        mask = np.where(ids >= 0, 255, 0).astype(np.uint8)
+        save_image(folder / "masks" / f"{name}.png", np.repeat(mask[..., None], 3, axis=2))
+        entry["mask_path"] = f"masks/{name}.png"
+    return entry
+
+
+def write_transforms(folder: Path, job, cameras, entries: list[dict]) -> Path:
+    """transforms.json (module docstring), the job's last file."""
+    w, h = job.size
+    K = cameras[0].K(w, h)
+    fl_x, fl_y = float(K[0, 0]), float(K[1, 1])
+    data = {
+        "camera_model": "OPENCV", "w": w, "h": h, "fl_x": fl_x, "fl_y": fl_y,
+        "cx": float(K[0, 2]) + 0.5, "cy": float(K[1, 2]) + 0.5,  # pixel-corner convention
+        "k1": 0.0, "k2": 0.0, "p1": 0.0, "p2": 0.0,
+        "camera_angle_x": float(2 * np.arctan(w / (2 * fl_x))),
+        "camera_angle_y": float(2 * np.arctan(h / (2 * fl_y))),
+        "frames": [dict(entry, transform_matrix=np.linalg.inv(cam.view).tolist(),
+                        near=cam.near, far=cam.far)
+                   for entry, cam in zip(entries, cameras, strict=True)],
+        "facet": {"digest": job.digest(), "model": str(job.model), "views": len(cameras),
+                  "plan": job.views.kind},
+    }
+    path = folder / "transforms.json"
+    with write_atomic(path) as tmp:
+        Path(tmp).write_text(json.dumps(data, indent=1), encoding="utf-8")
+    return path
+
+
+def append_index(path: Path, record: dict) -> None:
+    """One JSON line in the dataset's index (appended and flushed at once)."""
+    with open(path, "a", encoding="utf-8") as f:
+        f.write(json.dumps(record) + "\n")
+        f.flush()

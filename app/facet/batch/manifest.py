@@ -1,0 +1,195 @@
+"""Dataset manifests: which models to render, from which views, into what (no GL).
+
+A manifest is a TOML file, a JSON Lines file, or a glob of model files::
+
+    # dataset.toml
+    [defaults]                       # every job's values unless the job gives its own
+    size = [256, 256]
+    outputs = ["color", "depth", "normals"]
+    views = { plan = "sphere", count = 8 }
+    seed = 0
+
+    [[jobs]]
+    model = "models/bunny.obj"       # a mesh file or a .toml scene, relative to the manifest
+    name = "bunny"                   # the job's folder (default: the model's name)
+    views = { plan = "turntable", count = 12, elevation = 20 }
+    shading = "blinn"                # any render option (facet.scene.options)
+
+In JSON Lines each line is one job (``{"model": ..., ...}``); a line ``{"defaults": {...}}``
+sets defaults for the lines after it. A glob (``"models/*.obj"``) makes one job per file.
+Views: facet.batch.views. The whole manifest is validated before anything renders; an
+error names the line (JSON Lines) or job and the key.
+"""
+
+from __future__ import annotations
+
+import glob as globbing
+import hashlib
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from .views import PLANS, ViewPlan
+
+JOB_KEYS = ("model", "name", "views", "size", "outputs", "seed", "up")
+VIEW_KEYS = ("plan", "count", "elevation", "elevations", "seed", "file")
+MAX_VIEWS = 100_000  # the frame cap every sequence shares (facet.render.turntable)
+DEFAULT_OUTPUTS = ("color", "depth", "normals")
+
+
+@dataclass(frozen=True)
+class Job:
+    """One model's renders: its folder ``name``, views, image size, outputs and render
+    options (facet.scene.options keys, parsed)."""
+
+    name: str
+    model: Path
+    views: ViewPlan
+    size: tuple[int, int] = (256, 256)
+    outputs: tuple[str, ...] = DEFAULT_OUTPUTS
+    options: dict = field(default_factory=dict)
+    up: tuple[float, float, float] = (0.0, 1.0, 0.0)
+
+    def digest(self) -> str:
+        """What the job's files depend on (a rerun skips a finished job with the same)."""
+        text = json.dumps([str(self.model), self.views.__dict__, self.size, self.outputs,
+                           {k: str(v) for k, v in sorted(self.options.items())}, self.up],
+                          sort_keys=True, default=str)
+        try:
+            stamp = self.model.stat()
+            text += f"{stamp.st_size}:{stamp.st_mtime_ns}"
+        except OSError:
+            pass
+        return hashlib.sha1(text.encode()).hexdigest()
+
+
+def load_manifest(source, defaults: dict | None = None) -> list[Job]:
+    """Jobs of a manifest file (.toml, .jsonl / .json) or a glob of model files;
+    ``defaults`` (from the command line) come before the manifest's own."""
+    text = str(source)
+    path = Path(text)
+    base_defaults = dict(defaults or {})
+    if path.suffix.lower() == ".toml" and path.is_file():
+        from ..guard import parse_toml, regular_file
+
+        data = parse_toml(regular_file(path, "manifest").read_text(encoding="utf-8"),
+                          path.name)
+        for key in data:
+            if key not in ("defaults", "jobs"):
+                raise InputError(f"{path.name}: unknown table {key!r}; a manifest has "
+                                 "[defaults] and [[jobs]]")
+        merged = {**base_defaults, **_table(data.get("defaults", {}), f"{path.name}: defaults")}
+        entries = [(f"{path.name}: jobs[{i}]", merged, j)
+                   for i, j in enumerate(data.get("jobs", []))]
+        base = path.parent
+    elif path.suffix.lower() in (".jsonl", ".json") and path.is_file():
+        from ..guard import regular_file
+
+        entries, merged = [], base_defaults
+        lines = regular_file(path, "manifest").read_text(encoding="utf-8").splitlines()
+        for number, line in enumerate(lines, start=1):
+            if not line.strip():
+                continue
+            where = f"{path.name}:{number}"
+            try:
+                obj = json.loads(line)
+            except json.JSONDecodeError as exc:
+                raise InputError(f"{where}: not JSON ({exc.msg})") from None
+            obj = _table(obj, where)
+            if "defaults" in obj:
+                merged = {**merged, **_table(obj["defaults"], f"{where}: defaults")}
+                continue
+            entries.append((where, merged, obj))
+        base = path.parent
+    else:
+        files = sorted(globbing.glob(text, recursive=True))
+        if not files:
+            raise InputError(f"{text}: no manifest file and no model files match it")
+        entries = [(f, base_defaults, {"model": f}) for f in files]
+        base = Path(".")
+    if not entries:
+        raise InputError(f"{text}: the manifest lists no jobs")
+    jobs = [_job(where, {**d, **j}, base) for where, d, j in entries]
+    names: dict[str, str] = {}
+    unique = []
+    for (where, _, _), job in zip(entries, jobs, strict=True):
+        name, k = job.name, 1
+        while name in names:  # two models of one name: number the later folders
+            k += 1
+            name = f"{job.name}-{k}"
+        names[name] = where
+        unique.append(job if name == job.name else Job(name, job.model, job.views, job.size,
+                                                         job.outputs, job.options, job.up))
+    return unique
+
+
+def _table(value, where: str) -> dict:
+    if not isinstance(value, dict):
+        raise InputError(f"{where}: expected a table / object, got {value!r}")
+    return value
+
+
+def _job(where: str, t: dict, base: Path) -> Job:
+    from ..scene.options import OUTPUTS, PARSERS, parse_option
+
+    for key in t:
+        if key not in JOB_KEYS and key not in PARSERS:
+            import difflib
+
+            close = difflib.get_close_matches(key, [*JOB_KEYS, *PARSERS], n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise InputError(f"{where}: unknown key {key!r}{hint}")
+    if "model" not in t:
+        raise InputError(f"{where}: needs model = \"FILE\"")
+    model = Path(str(t["model"]))
+    model = model if model.is_absolute() else base / model
+    if not model.is_file():  # the whole manifest is checked before any rendering
+        raise InputError(f"{where}.model: {model}: no such file")
+    name = str(t.get("name") or model.stem)
+    if not name or "/" in name or name.startswith("."):
+        raise InputError(f"{where}.name: {name!r} cannot be a folder name")
+    try:
+        options = {k: parse_option(k, v) for k, v in t.items() if k in PARSERS and
+                   k not in ("size", "outputs", "up")}
+        size = parse_option("size", t.get("size", (256, 256)))
+        outputs = tuple(parse_option("outputs", t.get("outputs", DEFAULT_OUTPUTS)))
+        up = parse_option("up", t.get("up", "y"))
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    if "color" not in outputs:
+        outputs = ("color", *outputs)  # transforms.json points at the colour images
+    assert set(outputs) <= set(OUTPUTS)
+    views = _views(t.get("views", {}), f"{where}.views", t.get("seed", 0))
+    if views.file is not None:  # relative to the manifest, checked now
+        file = Path(views.file) if Path(views.file).is_absolute() else base / views.file
+        if not file.is_file():
+            raise InputError(f"{where}.views.file: {file}: no such file")
+        views = ViewPlan(views.kind, views.count, views.elevation, views.elevations,
+                         views.seed, str(file))
+    return Job(name, model, views, size, outputs, options, up)
+
+
+def _views(v, where: str, seed) -> ViewPlan:
+    if isinstance(v, int):
+        v = {"count": v}
+    v = _table(v, where)
+    for key in v:
+        if key not in VIEW_KEYS:
+            raise InputError(f"{where}: unknown key {key!r}; expected {', '.join(VIEW_KEYS)}")
+    plan = v.get("plan", "sphere")
+    if plan not in PLANS:
+        raise InputError(f"{where}.plan: {plan!r}; choose one of {', '.join(PLANS)}")
+    count = v.get("count", 8)
+    if plan != "cameras" and not (isinstance(count, int) and 1 <= count <= MAX_VIEWS):
+        raise InputError(f"{where}.count: expected 1..{MAX_VIEWS} views, got {count!r}")
+    if plan == "cameras" and "file" not in v:
+        raise InputError(f"{where}: plan = \"cameras\" needs file = \"transforms.json\"")
+    lo_hi = v.get("elevations", (-10.0, 40.0))
+    try:
+        return ViewPlan(plan, int(count), float(v.get("elevation", 20.0)),
+                        (float(lo_hi[0]), float(lo_hi[1])), int(v.get("seed", seed)),
+                        v.get("file"))
+    except (TypeError, ValueError, IndexError):
+        raise InputError(f"{where}: elevation and seed are numbers, elevations two numbers"
+                         ) from None

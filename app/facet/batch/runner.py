@@ -1,0 +1,148 @@
+"""Rendering a dataset: jobs (facet.batch.manifest) streamed to worker processes, each with
+one long-lived Renderer (one GL context per worker, never per model), files laid out by
+facet.batch.layout.
+
+Workers: ``workers`` processes (default: one where the renderer is a CPU rasteriser, which
+already uses every core; one per GPU otherwise), each on the EGL device ``gpus[k]`` when
+given. Robustness: a finished job (its transforms.json with the job's digest) is skipped,
+so a rerun resumes; a job whose model is bad fails alone (its one-line error in the index)
+and the run goes on; every file is written atomically; Ctrl-C or SIGTERM stops the workers
+and leaves no partial file under a final name. Determinism: a job's files depend only on
+the job (random views are seeded per job), not on which worker rendered it.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+from ..errors import FacetError, InputError
+from .layout import append_index, finished, write_transforms, write_view
+
+_WORKER: dict = {}  # in a worker process: its renderer
+
+
+def render_job(job, out: Path, renderer) -> dict:
+    """Render one job's views into ``out / job.name``; the index record."""
+    from ..scene.source import open_scene
+
+    start = time.perf_counter()
+    folder = Path(out) / job.name
+    record = {"job": job.name, "model": str(job.model), "views": 0, "files": 0}
+    digest = job.digest()
+    if finished(folder, digest):
+        return {**record, "status": "skipped", "seconds": 0.0}
+    try:
+        scene = open_scene(job.model)
+        w, h = job.size
+        cameras = job.views.cameras(scene.bounds, job.up, w / h)
+        opts = renderer.options(scene, size=job.size, outputs=job.outputs, **job.options)
+        entries = []
+        for i, camera in enumerate(cameras):
+            frame = renderer.render(scene, camera, opts)
+            entries.append(write_view(folder, i, frame, job.outputs))
+        write_transforms(folder, job, cameras, entries)
+    except FacetError as exc:
+        return {**record, "status": "failed", "error": str(exc).splitlines()[0],
+                "seconds": round(time.perf_counter() - start, 3)}
+    files = sum(1 for p in folder.rglob("*") if p.is_file() and not p.name.startswith("."))
+    return {**record, "status": "done", "views": len(cameras), "files": files,
+            "seconds": round(time.perf_counter() - start, 3)}
+
+
+def _worker_init(devices, counter, threads, confine) -> None:
+    """A worker's set-up: its EGL device, llvmpipe's thread count, one renderer, and an
+    exit when the parent dies (facet.image.sequence.watch_parent)."""
+    from ..image.sequence import watch_parent
+
+    watch_parent()
+    with counter.get_lock():
+        k = counter.value
+        counter.value += 1
+    if threads:
+        os.environ["LP_NUM_THREADS"] = str(threads)
+    device = devices[k % len(devices)] if devices else None
+    from ..render.renderer import Renderer
+
+    _WORKER["renderer"] = Renderer(device=device)
+    _WORKER["confine"] = confine
+
+
+def _worker_job(job, out) -> dict:
+    if _WORKER.get("confine") is None:
+        return render_job(job, out, _WORKER["renderer"])
+    from ..guard import confined
+
+    with confined(_WORKER["confine"]):
+        return render_job(job, out, _WORKER["renderer"])
+
+
+def default_workers(gpus=None) -> int:
+    """One worker where the GL is a CPU rasteriser (llvmpipe uses every core already), else
+    one per GPU given (at least one)."""
+    from ..gl.context import create_headless
+
+    ctx = create_headless()
+    try:
+        software = "llvmpipe" in str(ctx.info.get("GL_RENDERER", "")).lower()
+    finally:
+        ctx.release()
+    return 1 if software or not gpus else len(gpus)
+
+
+def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
+                   quiet: bool = True, confine=None) -> dict:
+    """Render ``jobs`` into the folder ``out`` (module docstring); returns the counts
+    {"done", "failed", "skipped", "views", "seconds"}. ``confine``: a folder outside which
+    no worker reads a file (facet.guard.confined)."""
+    import multiprocessing
+
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out}: exists and is not a folder")
+    out.mkdir(parents=True, exist_ok=True)
+    workers = workers or default_workers(gpus)
+    if workers < 1:
+        raise InputError(f"--workers must be at least 1, got {workers}")
+    counts = {"done": 0, "failed": 0, "skipped": 0, "views": 0}
+    start = time.perf_counter()
+    bar = _progress(sum(j.views.count for j in jobs), quiet)
+    ctx = multiprocessing.get_context("spawn")
+    counter = ctx.Value("i", 0)
+    threads = max(1, (os.cpu_count() or 1) // workers) if workers > 1 else 0
+    pool = ctx.Pool(workers, initializer=_worker_init, initargs=(
+        list(gpus or []), counter, threads, None if confine is None else str(confine)))
+    try:
+        results = pool.imap_unordered(_job_call, [(job, out) for job in jobs])
+        for record in results:
+            append_index(out / "index.jsonl", record)
+            counts[record["status"]] += 1
+            counts["views"] += record["views"]
+            bar.update(record["views"] if record["status"] == "done" else 0)
+            if record["status"] == "failed" and not quiet:
+                import sys
+
+                print(f"facet: {record['job']}: {record['error']}", file=sys.stderr)
+        pool.close()
+    except BaseException:
+        pool.terminate()  # Ctrl-C / SIGTERM: stop now; files under final names are whole
+        raise
+    finally:
+        pool.join()
+        bar.close()
+    counts["seconds"] = round(time.perf_counter() - start, 3)
+    return counts
+
+
+def _job_call(args) -> dict:
+    return _worker_job(*args)
+
+
+def _progress(total: int, quiet: bool):
+    import sys
+
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc="batch", unit="view", file=sys.stderr, leave=False,
+                disable=quiet or not sys.stderr.isatty())

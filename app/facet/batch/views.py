@@ -1,0 +1,107 @@
+"""View plans: where a dataset job's cameras look from (numpy only).
+
+    turntable N [elevation E]   N views around the up axis at elevation E degrees (20)
+    sphere N                    N directions spread evenly over the sphere (Fibonacci)
+    band N [elevations A B]     N views, azimuths evenly spread, elevations evenly from A
+                                to B degrees (-10 to 40)
+    random N [seed S]           N directions uniformly at random on the sphere, seeded
+    cameras FILE                the cameras of a transforms.json (nerfstudio / instant-ngp)
+
+Every view but ``cameras`` looks at the centre of the model's bounds from the distance
+that fits them (facet.geometry.camera.Camera.frame) with a vertical field of view of FOV
+degrees; directions are in the frame whose up axis is the job's ``up``.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+PLANS = ("turntable", "sphere", "band", "random", "cameras")
+FOV = 40.0
+
+
+@dataclass(frozen=True)
+class ViewPlan:
+    kind: str = "sphere"
+    count: int = 8
+    elevation: float = 20.0
+    elevations: tuple[float, float] = (-10.0, 40.0)
+    seed: int = 0
+    file: str | None = None
+
+    def directions(self) -> np.ndarray:
+        """(N, 3) unit viewing directions (from the camera towards the model), y up."""
+        n = self.count
+        if self.kind == "turntable":
+            az = 2 * np.pi * np.arange(n) / n
+            el = np.full(n, np.radians(self.elevation))
+        elif self.kind == "band":
+            az = 2 * np.pi * np.arange(n) / n
+            lo, hi = np.radians(self.elevations)
+            el = np.linspace(lo, hi, n) if n > 1 else np.array([(lo + hi) / 2])
+        elif self.kind == "sphere":
+            k = np.arange(n) + 0.5
+            y = 1 - 2 * k / n  # Fibonacci lattice: even area per point
+            az = np.pi * (1 + 5 ** 0.5) * k
+            el = np.arcsin(y)
+        elif self.kind == "random":
+            rng = np.random.default_rng(self.seed)
+            y = rng.uniform(-1, 1, n)
+            az = rng.uniform(0, 2 * np.pi, n)
+            el = np.arcsin(y)
+        else:
+            raise InputError(f"view plan {self.kind!r} has no directions")
+        # The camera sits at (cos el sin az, sin el, cos el cos az) and looks back.
+        eye = np.stack([np.cos(el) * np.sin(az), np.sin(el), np.cos(el) * np.cos(az)], 1)
+        return -eye
+
+    def cameras(self, bounds, up=(0.0, 1.0, 0.0), aspect: float = 1.0, base: Path | None = None):
+        """The plan's facet Cameras for a model with world ``bounds`` (2, 3)."""
+        from ..geometry import transforms as T
+        from ..geometry.camera import Camera
+
+        if self.kind == "cameras":
+            return read_transforms(Path(base or ".") / self.file, bounds)
+        u = np.asarray(up, dtype=np.float64)
+        u /= np.linalg.norm(u)
+        y = np.array([0.0, 1.0, 0.0])
+        axis, c = np.cross(y, u), float(np.dot(y, u))
+        turn = np.eye(3)
+        if np.linalg.norm(axis) > 1e-12:
+            turn = T.rotate(axis, np.degrees(np.arctan2(np.linalg.norm(axis), c)))[:3, :3]
+        elif c < 0:
+            turn = np.diag([-1.0, -1.0, 1.0])
+        cams = []
+        for d in self.directions() @ turn.T:
+            # Straight up or down: any other up keeps look_at defined.
+            view_up = u if abs(np.dot(d, u)) < 0.999 else turn @ np.array([0.0, 0.0, -1.0])
+            cams.append(Camera.frame(bounds, d, view_up, fov_y=FOV, aspect=aspect))
+        return cams
+
+
+def read_transforms(path: Path, bounds=None):
+    """Cameras from a nerfstudio / instant-ngp transforms.json: per frame a camera-to-world
+    ``transform_matrix`` (OpenGL axes) and the file's (or the frame's) fl_y and h; near and
+    far fitted around ``bounds`` when given."""
+    from ..geometry.camera import Camera, depth_range
+
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+        h = int(data["h"])
+        cams = []
+        for frame in data["frames"]:
+            view = np.linalg.inv(np.asarray(frame["transform_matrix"], dtype=np.float64))
+            fl_y = float(frame.get("fl_y", data.get("fl_y")))
+            fov = float(np.degrees(2 * np.arctan(h / (2 * fl_y))))
+            near, far = depth_range(view, bounds) if bounds is not None else (0.01, 1000.0)
+            cams.append(Camera(view, fov_y=fov, near=near, far=far))
+        return cams
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise InputError(f"{path}: cannot read cameras from it as a transforms.json "
+                         f"({type(exc).__name__}: {exc})") from None
