@@ -1,0 +1,178 @@
+"""Datasets (facet.batch): manifests and their errors, view plans, the files and their
+transforms.json (a known point re-projects to where the renderer drew it, from the file
+alone), resuming, a bad model among good ones, identical files whatever the worker count,
+and a run stopped from outside."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+from PIL import Image
+
+from facet.batch import render_dataset
+from facet.batch.manifest import load_manifest
+from facet.batch.views import ViewPlan
+from facet.cli import main
+from facet.errors import InputError
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _models(folder: Path, n: int) -> list[Path]:
+    """n small closed meshes of different shapes and sizes (generated)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for i in range(n):
+        mesh = [trimesh.creation.icosphere(subdivisions=2, radius=0.5 + 0.05 * i),
+                trimesh.creation.box(extents=(1, 0.5 + 0.1 * i, 0.8)),
+                trimesh.creation.cylinder(radius=0.3, height=1.0 + 0.1 * i),
+                trimesh.creation.capsule(radius=0.3, height=0.5)][i % 4]
+        mesh.apply_translation((0.1 * i, 0, 0))
+        path = folder / f"m{i:02d}.ply"
+        mesh.export(path)
+        paths.append(path)
+    return paths
+
+
+def _manifest(folder: Path, jobs: list[dict], defaults: dict | None = None) -> Path:
+    lines = [json.dumps({"defaults": defaults})] if defaults else []
+    lines += [json.dumps(j) for j in jobs]
+    path = folder / "dataset.jsonl"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("plan", ["turntable", "sphere", "band", "random"])
+def test_view_plans(plan):
+    dirs = ViewPlan(plan, 12, seed=3).directions()
+    assert dirs.shape == (12, 3) and np.allclose(np.linalg.norm(dirs, axis=1), 1)
+    assert len({tuple(np.round(d, 6)) for d in dirs}) == 12  # 12 different views
+    if plan == "turntable":
+        assert np.allclose(dirs[:, 1], -np.sin(np.radians(20)))  # one elevation
+    if plan == "sphere":  # spread evenly: the mean direction is near zero
+        assert np.linalg.norm(dirs.mean(axis=0)) < 0.1
+    if plan == "random":
+        assert np.array_equal(dirs, ViewPlan(plan, 12, seed=3).directions())
+        assert not np.array_equal(dirs, ViewPlan(plan, 12, seed=4).directions())
+
+
+def test_twenty_models_with_every_plan_and_transforms_that_reproject(tmp_path):
+    models = _models(tmp_path / "models", 20)
+    plans = [{"plan": "turntable", "count": 3}, {"plan": "sphere", "count": 3},
+             {"plan": "band", "count": 3, "elevations": [0, 30]},
+             {"plan": "random", "count": 3, "seed": 5}]
+    jobs = [{"model": f"models/{m.name}", "views": plans[i % 4]} for i, m in enumerate(models)]
+    manifest = _manifest(tmp_path, jobs, {"size": [64, 48],
+                                          "outputs": ["color", "depth", "ids", "normals"]})
+    counts = render_dataset(manifest, tmp_path / "out")
+    assert counts["done"] == 20 and counts["failed"] == 0 and counts["views"] == 60
+    index = [json.loads(line) for line in (tmp_path / "out" / "index.jsonl").open()]
+    assert {r["job"] for r in index} == {m.stem for m in models}
+    # From the files alone: the model's centre projects to where the mask is.
+    job = tmp_path / "out" / "m03"
+    t = json.loads((job / "transforms.json").read_text())
+    assert (t["w"], t["h"]) == (64, 48) and len(t["frames"]) == 3
+    centre = trimesh.load(models[3]).bounds.mean(axis=0)
+    for frame in t["frames"]:
+        c2w = np.array(frame["transform_matrix"])
+        p = np.linalg.inv(c2w) @ np.append(centre, 1.0)  # OpenGL camera: looking down -z
+        u = t["cx"] + t["fl_x"] * p[0] / -p[2]
+        v = t["cy"] - t["fl_y"] * p[1] / -p[2]
+        mask = np.asarray(Image.open(job / frame["mask_path"]))[..., 0]
+        assert mask[int(v), int(u)] == 255
+        depth = np.load(job / frame["depth_file_path"])
+        assert depth.shape == (48, 64) and depth[int(v), int(u)] > 0
+        assert (job / frame["file_path"]).is_file()
+    # Back-projecting depth lands on the surface: m04 is a sphere of radius 0.7 about
+    # (0.4, 0, 0), so every depth pixel un-projects to about 0.7 from there.
+    sphere = tmp_path / "out" / "m04"
+    t = json.loads((sphere / "transforms.json").read_text())
+    for frame in t["frames"]:
+        depth = np.load(sphere / frame["depth_file_path"])
+        j, i = np.nonzero(depth > 0)
+        d = depth[j, i]
+        x = (i + 0.5 - t["cx"]) / t["fl_x"] * d
+        y = -(j + 0.5 - t["cy"]) / t["fl_y"] * d
+        cam = np.stack([x, y, -d, np.ones_like(d)])
+        world = (np.array(frame["transform_matrix"]) @ cam)[:3].T
+        r = np.linalg.norm(world - [0.4, 0.0, 0.0], axis=1)
+        assert len(r) > 50 and np.abs(r - 0.7).max() < 0.02
+
+
+def test_manifest_errors_name_the_line_and_key(tmp_path):
+    _models(tmp_path / "models", 1)
+    cases = [
+        ([{"model": "models/m00.ply", "views": {"plan": "spiral"}}], "dataset.jsonl:1.views"
+         ".plan: 'spiral'"),
+        ([{"model": "models/m00.ply"}, {"model": "models/none.ply"}],
+         "dataset.jsonl:2.model: .*none.ply: no such file"),
+        ([{"model": "models/m00.ply", "shadng": "flat"}], "dataset.jsonl:1: unknown key "
+         "'shadng' \\(did you mean 'shading'\\?\\)"),
+        ([{"model": "models/m00.ply", "views": {"count": 0}}], "1..100000 views"),
+        ([{"model": "models/m00.ply", "size": [0, 10]}], "dataset.jsonl:1: size"),
+    ]
+    for jobs, message in cases:
+        with pytest.raises(InputError, match=message):
+            load_manifest(_manifest(tmp_path, jobs))
+    toml = tmp_path / "d.toml"
+    toml.write_text('[defaults]\nsize = [32, 32]\n[[jobs]]\nmodel = "models/m00.ply"\n'
+                    'name = "a"\n[[jobs]]\nmodel = "models/m00.ply"\nname = "a"\n')
+    assert [j.name for j in load_manifest(toml)] == ["a", "a-2"]  # folders kept apart
+
+
+def test_resume_bad_models_and_identical_files_across_worker_counts(tmp_path, capsys):
+    models = _models(tmp_path / "models", 4)
+    (tmp_path / "models" / "bad.obj").write_text("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")
+    jobs = [{"model": f"models/{m.name}"} for m in models]
+    jobs.insert(2, {"model": "models/bad.obj"})
+    manifest = _manifest(tmp_path, jobs, {"size": [48, 48], "views": {"plan": "random",
+                                                                       "count": 2}})
+    code = main(["batch", str(manifest), "-o", str(tmp_path / "one"), "-q"])
+    assert code == 1  # a job failed: exit 1, the others done
+    assert "4 done, 1 failed" in capsys.readouterr().err
+    index = [json.loads(line) for line in (tmp_path / "one" / "index.jsonl").open()]
+    bad = next(r for r in index if r["job"] == "bad")
+    assert bad["status"] == "failed" and "NaN or infinite" in bad["error"]
+    # A rerun skips what is finished.
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "one"), "-q"]) == 1
+    assert "0 done, 1 failed, 4 skipped" in capsys.readouterr().err
+    # Two workers write byte-identical files.
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "two"), "--workers", "2",
+                 "-q"]) == 1
+    capsys.readouterr()
+    for m in models:
+        for a in sorted((tmp_path / "one" / m.stem).rglob("*.*")):
+            b = tmp_path / "two" / a.relative_to(tmp_path / "one")
+            assert a.read_bytes() == b.read_bytes(), a
+
+
+@pytest.mark.slow
+def test_a_run_stopped_from_outside_resumes(tmp_path):
+    models = _models(tmp_path / "models", 6)
+    manifest = _manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
+                         {"size": [128, 128], "views": {"plan": "sphere", "count": 30}})
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
+    proc = subprocess.Popen([sys.executable, "-m", "facet", "batch", str(manifest), "-o",
+                             str(out), "-q"], env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, start_new_session=True)
+    end = time.time() + 60
+    while time.time() < end and len(list(out.glob("*/images/*.png"))) < 10:
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130 and b"Traceback" not in err
+    for png in out.rglob("*.png"):
+        assert png.read_bytes().endswith(b"IEND\xaeB`\x82")  # whole under final names
+    finished = [d for d in out.iterdir() if (d / "transforms.json").is_file()]
+    assert len(finished) < 6
+    assert main(["batch", str(manifest), "-o", str(out), "-q"]) == 0  # resumes
+    assert all((out / m.stem / "transforms.json").is_file() for m in models)
+    assert not [p for p in out.rglob("*") if ".facet-" in p.name]
