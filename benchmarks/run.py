@@ -173,6 +173,7 @@ def main() -> None:
         models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
         cold_table(2 if a.quick else 5, models)
     import antialias
+    import batch
     import gltf
     import raytrace
     import shaderlab
@@ -190,6 +191,7 @@ def main() -> None:
     shaderlab.main()
     raytrace.table(a.quick)
     raytrace.frame(a.quick)
+    batch.table(20 if a.quick else 200)
 
 
 if __name__ == "__main__":

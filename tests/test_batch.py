@@ -176,3 +176,20 @@ def test_a_run_stopped_from_outside_resumes(tmp_path):
     assert main(["batch", str(manifest), "-o", str(out), "-q"]) == 0  # resumes
     assert all((out / m.stem / "transforms.json").is_file() for m in models)
     assert not [p for p in out.rglob("*") if ".facet-" in p.name]
+
+
+@pytest.mark.slow
+def test_a_local_ray_cluster_writes_the_same_files(tmp_path):
+    pytest.importorskip("ray", reason="the ray extra is not installed")
+    models = _models(tmp_path / "models", 5)
+    manifest = _manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
+                         {"size": [48, 48], "views": {"plan": "random", "count": 3,
+                                                     "seed": 11}})
+    local = render_dataset(manifest, tmp_path / "local")
+    on_ray = render_dataset(manifest, tmp_path / "ray", ray=True)
+    assert local["done"] == on_ray["done"] == 5 and on_ray["failed"] == 0
+    files = sorted(p.relative_to(tmp_path / "local")
+                   for p in (tmp_path / "local").rglob("*.*") if p.suffix in (".png", ".npy"))
+    assert len(files) == 5 * 3 * 3
+    for rel in files:
+        assert (tmp_path / "local" / rel).read_bytes() == (tmp_path / "ray" / rel).read_bytes()

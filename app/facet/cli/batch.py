@@ -36,6 +36,9 @@ def add_parser(sub) -> None:
                    help="worker processes (default: 1 on a CPU rasteriser, which uses "
                    "every core already; one per GPU with --gpus)")
     b.add_argument("--gpus", metavar="0,1,...", help="EGL device indices, one per worker")
+    b.add_argument("--ray", nargs="?", const=True, metavar="ADDRESS",
+                   help="run on a Ray cluster (its ADDRESS, or without one a local cluster; "
+                   "pip install 'facet[ray]'); the output folder must be one every node sees")
     b.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     A.add_confine_option(b)
 
@@ -69,7 +72,7 @@ def run(args) -> int:
             raise InputError(f"--gpus {args.gpus!r}: device numbers are >= 0")
     counts = render_dataset(args.manifest, args.output, defaults=defaults,
                             workers=args.workers, gpus=gpus, quiet=args.quiet,
-                            confine=args.confine or "manifest")
+                            confine=args.confine or "manifest", ray=args.ray)
     print(f"facet batch: {counts['done']} done, {counts['failed']} failed, "
           f"{counts['skipped']} skipped; {counts['views']} views in {counts['seconds']:.1f} s "
           f"(index: {args.output}/index.jsonl)", file=sys.stderr)

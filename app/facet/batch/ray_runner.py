@@ -1,0 +1,111 @@
+"""The same dataset jobs on a Ray cluster (``facet batch --ray [ADDRESS]``, the ``ray``
+extra): one actor per CPU slot (or per GPU with ``gpus``), each holding one renderer, the
+jobs spread over them as they free up, files written by the actors to ``out`` (a folder
+every node sees), the index written by the driver. A job whose actor is lost is retried
+on another (``RETRIES`` times) before it counts as failed. Files are the same as a local
+run's: jobs do not depend on where they ran.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from ..errors import InputError
+from .layout import append_index
+
+RETRIES = 2
+
+
+def render_dataset_ray(jobs, out, *, address: str | None = None, gpus: int = 0,
+                       actors: int | None = None, quiet: bool = True, confine=None) -> dict:
+    """Render ``jobs`` into ``out`` on Ray (module docstring); the counts, as the local
+    runner returns them. ``address``: a running cluster's (None: start a local one)."""
+    try:
+        import ray
+    except ImportError:
+        raise InputError("--ray needs the Ray package: pip install 'facet[ray]'") from None
+    out = Path(out).resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    started = not ray.is_initialized()
+    if started:
+        ray.init(address=address, include_dashboard=False, log_to_driver=False,
+                 configure_logging=False)
+    try:
+        return _run(ray, jobs, out, gpus, actors, quiet, confine)
+    finally:
+        if started:
+            ray.shutdown()
+
+
+def _run(ray, jobs, out: Path, gpus: int, actors, quiet: bool, confine) -> dict:
+    from .runner import _progress
+
+    resources = ray.cluster_resources()
+    count = actors or (int(resources.get("GPU", 0)) if gpus else
+                       max(1, int(resources.get("CPU", 1))))
+    cpus = max(1, int(resources.get("CPU", 1)) // count)
+    actor_class = ray.remote(num_cpus=cpus, num_gpus=1 if gpus else 0, max_restarts=1)(
+        _RenderActor)
+    pool = [actor_class.remote(cpus, None if confine is None else str(confine))
+            for _ in range(count)]
+    counts = {"done": 0, "failed": 0, "skipped": 0, "views": 0}
+    start = time.perf_counter()
+    bar = _progress(sum(j.views.count for j in jobs), quiet)
+    pending = {}  # object ref -> (job, attempts, actor index)
+    queue = [(job, 0) for job in jobs]
+    # two jobs in flight per actor: the next waits in the actor's queue, so an actor never
+    # idles for a driver round trip between jobs
+    free = list(range(count)) * 2
+    try:
+        while queue or pending:
+            while queue and free:
+                job, attempts = queue.pop(0)
+                k = free.pop()
+                pending[pool[k].render.remote(job, str(out))] = (job, attempts, k)
+            done, _ = ray.wait(list(pending), num_returns=1)
+            job, attempts, k = pending.pop(done[0])
+            free.append(k)
+            try:
+                record = ray.get(done[0])
+            except ray.exceptions.RayError as exc:  # the actor was lost: try elsewhere
+                if attempts < RETRIES:
+                    queue.insert(0, (job, attempts + 1))
+                    continue
+                record = {"job": job.name, "model": str(job.model), "views": 0, "files": 0,
+                          "status": "failed", "seconds": 0.0,
+                          "error": f"lost its Ray worker {RETRIES + 1} times "
+                                   f"({type(exc).__name__})"}
+            append_index(out / "index.jsonl", record)
+            counts[record["status"]] += 1
+            counts["views"] += record["views"]
+            bar.update(record["views"] if record["status"] == "done" else 0)
+    finally:
+        bar.close()
+        for actor in pool:
+            ray.kill(actor)
+    counts["seconds"] = round(time.perf_counter() - start, 3)
+    return counts
+
+
+class _RenderActor:
+    """One renderer per actor, for its whole life."""
+
+    def __init__(self, threads: int, confine):
+        import os
+
+        os.environ.setdefault("LP_NUM_THREADS", str(threads))
+        from ..render.renderer import Renderer
+
+        self.renderer = Renderer()
+        self.confine = confine
+
+    def render(self, job, out: str) -> dict:
+        from .runner import render_job
+
+        if self.confine is None:
+            return render_job(job, Path(out), self.renderer)
+        from ..guard import confined
+
+        with confined(self.confine):
+            return render_job(job, Path(out), self.renderer)
