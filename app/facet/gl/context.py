@@ -1,7 +1,12 @@
-"""OpenGL contexts: a headless one through EGL (Mesa llvmpipe when there is no GPU).
+"""OpenGL contexts: a headless one through EGL (Mesa llvmpipe when there is no GPU), or
+through OSMesa on machines without EGL.
 
 ``create_headless()`` either returns a core-profile context of at least GL 3.3 or raises one
-``ContextError`` that says what was tried and what to install.
+``ContextError`` that says what was tried and what to install. The backend comes from its
+``backend`` argument or the environment variable ``FACET_GL_BACKEND``: ``auto`` (the
+default: EGL, and OSMesa with a one-line warning when EGL cannot make a context), ``egl`` or
+``osmesa``. Which one was used is kept in ``ctx.extra["backend"]`` and printed by
+``facet info``. Both rasterise with llvmpipe on a CPU, so they draw the same pixels.
 
 ``with ctx:`` makes a context current for a block, and leaving the block releases it (no
 context is current afterwards, whatever was current before: glcontext's EGL backend does
@@ -12,33 +17,82 @@ context (``Renderer.render``, ``ShaderToy.render``) must not be called inside on
 
 from __future__ import annotations
 
+import os
+import warnings
+
 import moderngl
 
-from ..errors import ContextError
+from ..errors import ContextError, FacetWarning, InputError
 
 GL_REQUIRED = 330
+BACKENDS = ("auto", "egl", "osmesa")
 INSTALL_HINT = ("install Mesa's EGL and software rasteriser: "
                 "sudo apt-get install libegl1 libgl1-mesa-dri")
 
 
-def create_headless(require: int = GL_REQUIRED, device: int | None = None) -> moderngl.Context:
-    """A standalone (no window) OpenGL context through EGL; ``device``: the EGL device
-    index (one GPU of several; None: the default)."""
-    kwargs = {} if device is None else {"device_index": int(device)}
+def create_headless(require: int = GL_REQUIRED, device: int | None = None,
+                    backend: str | None = None) -> moderngl.Context:
+    """A standalone (no window) OpenGL context; ``device``: the EGL device index (one GPU of
+    several; None: the default); ``backend``: auto / egl / osmesa (None: $FACET_GL_BACKEND,
+    else auto)."""
+    backend = _backend_name(backend)
+    version = f"{require // 100}.{require % 100 // 10}"
+    if backend == "osmesa":
+        return _osmesa(require, version)
     try:
-        ctx = moderngl.create_context(standalone=True, backend="egl", require=require,
-                                      **kwargs)
+        ctx = _egl(require, device)
     except Exception as exc:  # glcontext raises bare Exceptions with terse EGL messages
         detail = " ".join(str(exc).split()) or type(exc).__name__
-        raise ContextError(f"cannot create a headless OpenGL {require // 100}.{require % 100 // 10}"
-                           f" context through EGL ({detail}); {INSTALL_HINT}") from None
+        from . import osmesa
+
+        if backend == "auto" and osmesa.library() is not None:
+            where = "" if device is None else f"; device {device} ignored"
+            warnings.warn(f"no EGL context ({detail}); rendering through OSMesa on the CPU"
+                          f"{where}", FacetWarning, stacklevel=2)
+            return _osmesa(require, version)
+        fallback = (f"; or, without EGL, {osmesa.INSTALL_HINT}" if backend == "auto" else "")
+        raise ContextError(f"cannot create a headless OpenGL {version} context through EGL "
+                           f"({detail}); {INSTALL_HINT}{fallback}") from None
+    ctx.extra = {"backend": "egl"}
+    return ctx
+
+
+def _backend_name(backend: str | None) -> str:
+    name = (backend or os.environ.get("FACET_GL_BACKEND") or "auto").strip().lower()
+    if name not in BACKENDS:
+        where = "backend" if backend else "FACET_GL_BACKEND"
+        raise InputError(f"{where}: unknown OpenGL backend {name!r}; use one of "
+                         f"{', '.join(BACKENDS)}")
+    return name
+
+
+def _egl(require: int, device: int | None) -> moderngl.Context:
+    kwargs = {} if device is None else {"device_index": int(device)}
+    return moderngl.create_context(standalone=True, backend="egl", require=require, **kwargs)
+
+
+def _osmesa(require: int, version: str) -> moderngl.Context:
+    from . import osmesa
+
+    if osmesa.library() is None:
+        raise ContextError(f"cannot create a headless OpenGL {version} context through OSMesa"
+                           f" (libOSMesa not found); {osmesa.INSTALL_HINT}")
+    try:
+        ctx = osmesa.create(require)
+    except Exception as exc:
+        detail = " ".join(str(exc).split()) or type(exc).__name__
+        raise ContextError(f"cannot create a headless OpenGL {version} context through OSMesa"
+                           f" ({detail}); {osmesa.INSTALL_HINT}") from None
+    ctx.extra = {"backend": "osmesa"}
     return ctx
 
 
 def describe(ctx: moderngl.Context) -> dict[str, object]:
     """Vendor, renderer, version and the limits that matter for facet."""
     info = ctx.info
+    made = ctx.extra if isinstance(ctx.extra, dict) else {}  # set by create_headless
     return {
+        "backend": made.get("backend", "external"),
         "vendor": info.get("GL_VENDOR"),
         "renderer": info.get("GL_RENDERER"),
         "version": info.get("GL_VERSION"),

@@ -68,21 +68,24 @@ class Renderer:
     ``Renderer(width, height, msaa, **options)``: the options this renderer gives every call
     (facet.scene.options; e.g. ``shading="blinn"``, ``srgb=True``, ``float_color=True``),
     above a scene's own and below each call's keywords. ``context``: a window's GL context
-    (used, not owned); otherwise a headless one is made. ``close()`` (or leaving a ``with``
+    (used, not owned); otherwise a headless one is made (``device``: the EGL device index;
+    ``backend``: auto / egl / osmesa, facet.gl.context). ``close()`` (or leaving a ``with``
     block) releases the context and every GL object.
     """
 
     def __init__(self, width: int | None = None, height: int | None = None,
                  msaa: int | None = None, *, context=None, device: int | None = None,
-                 **options):
+                 backend: str | None = None, **options):
         if (width is None) != (height is None):
             raise InputError("give both width and height (or neither: the scene's size)")
         layer = {"size": (width, height) if width is not None else None, "msaa": msaa,
                  **options}
         self.defaults = parse_layer(layer)  # this renderer's explicit options
         self._own_context = context is None
-        # ``device``: the EGL device (GPU) index for the headless context (batch workers).
-        self.ctx = glcontext.create_headless(device=device) if context is None else context
+        # ``device``: the EGL device (GPU) index for the headless context (batch workers);
+        # ``backend``: auto / egl / osmesa (facet.gl.context).
+        self.ctx = (glcontext.create_headless(device=device, backend=backend)
+                    if context is None else context)
         self.cache = ResourceCache(self.ctx)
         self.forward = ForwardPass(self.ctx, self.cache)
         self._parts: dict = {}  # shadow atlas, finishing pass, ray tracer: made on first use
