@@ -193,3 +193,72 @@ def test_a_local_ray_cluster_writes_the_same_files(tmp_path):
     assert len(files) == 5 * 3 * 3
     for rel in files:
         assert (tmp_path / "local" / rel).read_bytes() == (tmp_path / "ray" / rel).read_bytes()
+
+
+def test_exr_files_and_a_colmap_model_that_reprojects(tmp_path):
+    """float_files = ["npy", "exr"] writes both, bit for bit the same floats; colmap = true
+    writes sparse/0 whose cameras and poses project the model's surface points (and a
+    known point) to where the renderer drew them, read from the text files alone."""
+    openexr = pytest.importorskip("OpenEXR", reason="the exr extra is not installed")
+    models = _models(tmp_path / "models", 2)
+    manifest = _manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
+                         {"size": [64, 48], "views": {"plan": "sphere", "count": 4},
+                          "outputs": ["color", "depth", "normals", "ids"],
+                          "float_files": ["npy", "exr"], "colmap": True})
+    assert render_dataset(manifest, tmp_path / "out")["done"] == 2
+    job = tmp_path / "out" / "m00"
+    for npy in [*job.glob("depth/*.npy"), *job.glob("normals/*.npy")]:
+        exr = openexr.File(str(npy.with_suffix(".exr")), separate_channels=True).channels()
+        a = np.load(npy)
+        b = exr["Y"].pixels if a.ndim == 2 else np.dstack([exr[c].pixels for c in "RGB"])
+        assert b.dtype == np.float32 and np.array_equal(a, b), npy
+    # COLMAP text model: parse it as COLMAP's readers do.
+    sparse = job / "sparse" / "0"
+
+    def rows(name):
+        return [line.split() for line in (sparse / name).read_text().splitlines()
+                if line and not line.startswith("#")]
+
+    (cam,) = rows("cameras.txt")
+    assert cam[:4] == ["1", "PINHOLE", "64", "48"]
+    fx, fy, cx, cy = map(float, cam[4:])
+    images = rows("images.txt")
+    assert len(images) == 4 and [r[9] for r in images] == [f"{i:04d}.png" for i in range(4)]
+    points = np.array([[float(x) for x in r[1:7]] for r in rows("points3D.txt")])
+    assert len(points) > 500
+    r = np.linalg.norm(points[:, :3] - [0.0, 0.0, 0.0], axis=1)
+    assert np.abs(r - 0.5).max() < 0.02  # m00: an icosphere of radius 0.5 at the origin
+    centre = np.zeros(3)
+    for row in images:
+        w, x, y, z = map(float, row[1:5])
+        R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+        t = np.array([float(v) for v in row[5:8]])
+        mask = np.asarray(Image.open(job / "masks" / row[9]))[..., 0]
+        depth = np.load(job / "depth" / row[9].replace(".png", ".npy"))
+        p = R @ centre + t  # OpenCV camera: x right, y down, +z ahead
+        u, v = fx * p[0] / p[2] + cx, fy * p[1] / p[2] + cy
+        assert mask[int(v), int(u)] == 255
+        # The surface points project into the model's silhouette (the rim of the faceted
+        # sphere aside), and at least the quarter this view gave land at their own depth.
+        cam_points = points[:, :3] @ R.T + t
+        uv = cam_points[:, :2] / cam_points[:, 2:] * [fx, fy] + [cx, cy]
+        j, i = uv[:, 1].astype(int), uv[:, 0].astype(int)
+        seen = np.abs(depth[j, i] - cam_points[:, 2]) < 0.005
+        assert seen.sum() > 0.2 * len(points) and (mask[j, i] == 255).mean() > 0.9
+    # A bad value is one error naming the key.
+    bad = _manifest(tmp_path, [{"model": "models/m00.ply", "float_files": "tiff"}])
+    with pytest.raises(InputError, match=r"dataset.jsonl:1.float_files: 'tiff'; give"):
+        load_manifest(bad)
+
+
+def test_exr_without_openexr_is_one_error_before_rendering(tmp_path, monkeypatch):
+    import facet.image.writers as writers
+
+    _models(tmp_path / "models", 1)
+    manifest = _manifest(tmp_path, [{"model": "models/m00.ply", "float_files": ["exr"]}])
+    monkeypatch.setattr(writers, "exr_available", lambda: False)  # as if not installed
+    with pytest.raises(InputError, match=r"float_files: EXR files need pip install "
+                                         r"'facet\[exr\]'"):
+        load_manifest(manifest)

@@ -4,9 +4,13 @@
                                       status (done / failed / skipped), error
     DATASET/JOB/images/0000.png       colour (RGBA when the background is transparent)
     DATASET/JOB/depth/0000.npy        float32 linear depth, 0 = nothing (and normals/,
-                                      position/, uv/ the same way when asked for)
+                                      position/, uv/ the same way when asked for); with
+                                      float_files = ["exr"] (or both) 0000.exr, float32
+                                      exact: depth as the grey channel Y, the others R, G(, B)
     DATASET/JOB/masks/0000.png        8-bit mask of the model (when ids are asked for),
     DATASET/JOB/ids/0000.npy          and the int32 object ids
+    DATASET/JOB/sparse/0/*.txt        COLMAP text model, with colmap = true
+                                      (facet.batch.colmap)
     DATASET/JOB/transforms.json       nerfstudio / instant-ngp cameras (written last)
 
 transforms.json holds the intrinsics fl_x, fl_y, cx, cy, w, h and camera_angle_x, with the
@@ -24,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..image.writers import save_array, save_image, to_uint8, write_atomic
+from ..image.writers import save_array, save_exr, save_image, to_uint8, write_atomic
 
 CHANNEL_DIRS = {"depth": "depth", "normals": "normals", "position": "position", "uv": "uv"}
 
@@ -38,17 +42,21 @@ def finished(folder: Path, digest: str) -> bool:
     return data.get("facet", {}).get("digest") == digest
 
 
-def write_view(folder: Path, index: int, frame, outputs) -> dict:
-    """One view's files; returns its transforms.json frame entry (without the matrix)."""
+def write_view(folder: Path, index: int, frame, outputs, float_files=("npy",)) -> dict:
+    """One view's files; returns its transforms.json frame entry (without the matrix).
+    ``float_files``: the formats of the float channels, "npy" and / or "exr"."""
     name = f"{index:04d}"
     entry = {"file_path": f"images/{name}.png"}
     save_image(folder / entry["file_path"], to_uint8(frame.color))
     for channel, sub in CHANNEL_DIRS.items():
         if channel in outputs:
-            array = getattr(frame, channel)
-            save_array(folder / sub / f"{name}.npy", np.ascontiguousarray(array))
+            array = np.ascontiguousarray(getattr(frame, channel))
+            if "npy" in float_files:
+                save_array(folder / sub / f"{name}.npy", array)
+            if "exr" in float_files:
+                save_exr(folder / sub / f"{name}.exr", array)
     if "depth" in outputs:
-        entry["depth_file_path"] = f"depth/{name}.npy"
+        entry["depth_file_path"] = f"depth/{name}.{float_files[0]}"
     if "ids" in outputs:
         ids = frame.object_ids
         save_array(folder / "ids" / f"{name}.npy", ids)

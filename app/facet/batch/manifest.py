@@ -14,6 +14,8 @@ A manifest is a TOML file, a JSON Lines file, or a glob of model files::
     name = "bunny"                   # the job's folder (default: the model's name)
     views = { plan = "turntable", count = 12, elevation = 20 }
     shading = "blinn"                # any render option (facet.scene.options)
+    float_files = ["npy", "exr"]     # float channels as .npy (default) and / or OpenEXR
+    colmap = true                    # also a COLMAP text model in JOB/sparse/0/
 
 In JSON Lines each line is one job (``{"model": ..., ...}``); a line ``{"defaults": {...}}``
 sets defaults for the lines after it. A glob (``"models/*.obj"``) makes one job per file.
@@ -23,6 +25,7 @@ error names the line (JSON Lines) or job and the key.
 
 from __future__ import annotations
 
+import dataclasses
 import glob as globbing
 import hashlib
 import json
@@ -32,7 +35,8 @@ from pathlib import Path
 from ..errors import InputError
 from .views import PLANS, ViewPlan
 
-JOB_KEYS = ("model", "name", "views", "size", "outputs", "seed", "up")
+JOB_KEYS = ("model", "name", "views", "size", "outputs", "seed", "up", "float_files", "colmap")
+FLOAT_FILES = ("npy", "exr")
 VIEW_KEYS = ("plan", "count", "elevation", "elevations", "seed", "file")
 MAX_VIEWS = 100_000  # the frame cap every sequence shares (facet.render.turntable)
 DEFAULT_OUTPUTS = ("color", "depth", "normals")
@@ -41,7 +45,8 @@ DEFAULT_OUTPUTS = ("color", "depth", "normals")
 @dataclass(frozen=True)
 class Job:
     """One model's renders: its folder ``name``, views, image size, outputs and render
-    options (facet.scene.options keys, parsed)."""
+    options (facet.scene.options keys, parsed); the float channels' file formats and
+    whether a COLMAP model is written too (facet.batch.layout)."""
 
     name: str
     model: Path
@@ -50,11 +55,14 @@ class Job:
     outputs: tuple[str, ...] = DEFAULT_OUTPUTS
     options: dict = field(default_factory=dict)
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    float_files: tuple[str, ...] = ("npy",)
+    colmap: bool = False
 
     def digest(self) -> str:
         """What the job's files depend on (a rerun skips a finished job with the same)."""
         text = json.dumps([str(self.model), self.views.__dict__, self.size, self.outputs,
-                           {k: str(v) for k, v in sorted(self.options.items())}, self.up],
+                           {k: str(v) for k, v in sorted(self.options.items())}, self.up,
+                           self.float_files, self.colmap],
                           sort_keys=True, default=str)
         try:
             stamp = self.model.stat()
@@ -119,8 +127,7 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
             k += 1
             name = f"{job.name}-{k}"
         names[name] = where
-        unique.append(job if name == job.name else Job(name, job.model, job.views, job.size,
-                                                         job.outputs, job.options, job.up))
+        unique.append(job if name == job.name else dataclasses.replace(job, name=name))
     return unique
 
 
@@ -167,7 +174,30 @@ def _job(where: str, t: dict, base: Path) -> Job:
             raise InputError(f"{where}.views.file: {file}: no such file")
         views = ViewPlan(views.kind, views.count, views.elevation, views.elevations,
                          views.seed, str(file))
-    return Job(name, model, views, size, outputs, options, up)
+    return Job(name, model, views, size, outputs, options, up, _float_files(t, where),
+               _flag(t, "colmap", where))
+
+
+def _float_files(t: dict, where: str) -> tuple[str, ...]:
+    value = t.get("float_files", "npy")
+    formats = (value,) if isinstance(value, str) else value
+    if (not isinstance(formats, (list, tuple)) or not formats
+            or any(f not in FLOAT_FILES for f in formats)):
+        raise InputError(f"{where}.float_files: {value!r}; give \"npy\", \"exr\" or both "
+                         "as a list")
+    if "exr" in formats:
+        from ..image.writers import EXR_HINT, exr_available
+
+        if not exr_available():
+            raise InputError(f"{where}.float_files: EXR files need {EXR_HINT}")
+    return tuple(dict.fromkeys(formats))
+
+
+def _flag(t: dict, key: str, where: str) -> bool:
+    value = t.get(key, False)
+    if not isinstance(value, bool):
+        raise InputError(f"{where}.{key}: expected true or false, got {value!r}")
+    return value
 
 
 def _views(v, where: str, seed) -> ViewPlan:

@@ -17,7 +17,10 @@ import os
 import time
 from pathlib import Path
 
+import numpy as np
+
 from ..errors import FacetError, InputError
+from .colmap import surface_points, write_colmap
 from .layout import append_index, finished, write_transforms, write_view
 
 _WORKER: dict = {}  # in a worker process: its renderer
@@ -37,11 +40,20 @@ def render_job(job, out: Path, renderer) -> dict:
         scene = open_scene(job.model)
         w, h = job.size
         cameras = job.views.cameras(scene.bounds, job.up, w / h)
-        opts = renderer.options(scene, size=job.size, outputs=job.outputs, **job.options)
-        entries = []
+        # COLMAP's point cloud is read from depth and position, saved or not.
+        outputs = (*job.outputs, *(c for c in ("depth", "position") if job.colmap and
+                                   c not in job.outputs))
+        opts = renderer.options(scene, size=job.size, outputs=outputs, **job.options)
+        entries, points = [], []
+        rng = np.random.default_rng(job.views.seed)
         for i, camera in enumerate(cameras):
             frame = renderer.render(scene, camera, opts)
-            entries.append(write_view(folder, i, frame, job.outputs))
+            entries.append(write_view(folder, i, frame, job.outputs, job.float_files))
+            if job.colmap:
+                points.append(surface_points(frame, rng))
+        if job.colmap:
+            write_colmap(folder, job.size, cameras, [e["file_path"][len("images/"):]
+                                                     for e in entries], np.vstack(points))
         write_transforms(folder, job, cameras, entries)
     except FacetError as exc:
         return {**record, "status": "failed", "error": str(exc).splitlines()[0],

@@ -11,6 +11,7 @@ MANIFEST is a .toml or .jsonl manifest, or a glob of model files in quotes:
   facet batch dataset.toml -o dataset/
   facet batch "models/*.obj" -o thumbs/ --views 1 --size 512x512 --outputs color
   facet batch dataset.toml -o dataset/ --workers 4 --gpus 0,1,2,3
+  facet batch "scans/*.ply" -o splats/ --views sphere:64 --colmap --float-files npy,exr
 A rerun skips finished jobs; a bad model fails its own job (see DATASET/index.jsonl) and
 the run goes on; the exit status is 1 when any job failed.
 """
@@ -32,6 +33,11 @@ def add_parser(sub) -> None:
     b.add_argument("--outputs", metavar="LIST",
                    help="default channels: color,depth,normals (also ids, position, uv)")
     b.add_argument("--seed", type=int, help="default seed of random view plans")
+    b.add_argument("--float-files", metavar="npy|exr|npy,exr",
+                   help="file formats of the float channels (default npy; exr needs "
+                   "pip install 'facet[exr]')")
+    b.add_argument("--colmap", action="store_true",
+                   help="also write each job's cameras as a COLMAP text model (sparse/0/)")
     b.add_argument("--workers", type=int, metavar="N",
                    help="worker processes (default: 1 on a CPU rasteriser, which uses "
                    "every core already; one per GPU with --gpus)")
@@ -61,6 +67,10 @@ def run(args) -> int:
         defaults["outputs"] = args.outputs.split(",")
     if args.seed is not None:
         defaults["seed"] = args.seed
+    if args.float_files:
+        defaults["float_files"] = args.float_files.split(",")
+    if args.colmap:
+        defaults["colmap"] = True
     gpus = None
     if args.gpus:
         try:

@@ -149,3 +149,36 @@ def save_array(path, array: np.ndarray) -> Path:
     with write_atomic(p) as tmp, open(tmp, "wb") as fh:
         np.save(fh, array)
     return p
+
+
+EXR_HINT = "pip install 'facet[exr]' (the OpenEXR package)"
+
+
+def exr_available() -> bool:
+    try:
+        import OpenEXR  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def save_exr(path, array: np.ndarray) -> Path:
+    """Write a float channel exactly (float32, lossless ZIP) as OpenEXR: (H, W) as the
+    grey channel Y (read as a grey float image by OpenCV's IMREAD_ANYDEPTH, imageio and
+    viewers), (H, W, 2) as R, G and (H, W, 3) as R, G, B. Needs the optional OpenEXR."""
+    try:
+        import OpenEXR
+    except ImportError:
+        raise InputError(f"{path}: writing EXR needs {EXR_HINT}") from None
+    p = Path(path)
+    a = np.asarray(array, dtype=np.float32)
+    if a.ndim == 2:
+        channels = {"Y": np.ascontiguousarray(a)}
+    elif a.ndim == 3 and a.shape[2] in (2, 3):
+        channels = {n: np.ascontiguousarray(a[..., k]) for k, n in enumerate("RGB"[:a.shape[2]])}
+    else:
+        raise InputError(f"{p}: EXR holds (H, W), (H, W, 2) or (H, W, 3) floats, got {a.shape}")
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    with write_atomic(p) as tmp:
+        OpenEXR.File(header, channels).write(str(tmp))
+    return p
