@@ -262,3 +262,17 @@ def test_exr_without_openexr_is_one_error_before_rendering(tmp_path, monkeypatch
     with pytest.raises(InputError, match=r"float_files: EXR files need pip install "
                                          r"'facet\[exr\]'"):
         load_manifest(manifest)
+
+
+def test_a_gpu_that_does_not_exist_stops_the_run_with_one_error(tmp_path, capsys):
+    """--gpus 99: the workers cannot make their renderer; the run stops at once with the
+    EGL device's error (not a CPU in its place, not a pool restarting workers for ever)."""
+    _models(tmp_path / "models", 2)
+    manifest = _manifest(tmp_path, [{"model": "models/m00.ply"}, {"model": "models/m01.ply"}])
+    start = time.time()
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "--gpus", "99",
+                 "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "on EGL device 99" in err and "Traceback" not in err
+    assert time.time() - start < 30
+    assert not list((tmp_path / "out").rglob("*.png"))

@@ -44,3 +44,16 @@ class SceneError(InputError):
 class FacetWarning(UserWarning):
     """Something facet changed for the user and says so in one line (a sample count capped,
     MSAA clamped to what the GL offers); the CLI prints it as ``facet: warning: ...``."""
+
+
+def show_warning(message, category, filename, lineno, file=None, line=None):
+    """Every warning as one line, ``facet: warning: ...`` (for ``warnings.showwarning``:
+    the CLI and batch workers): facet's own as they are, a library's (numpy, Pillow,
+    trimesh) with its kind, never with a source path and line of code from inside a
+    library."""
+    import sys
+
+    text = str(message).strip().splitlines()[0] if str(message).strip() else category.__name__
+    if not issubclass(category, FacetWarning):
+        text = f"{text} ({category.__name__})"
+    print(f"facet: warning: {text}", file=sys.stderr)

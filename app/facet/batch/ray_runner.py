@@ -1,8 +1,10 @@
 """The same dataset jobs on a Ray cluster (``facet batch --ray [ADDRESS]``, the ``ray``
 extra): one actor per CPU slot (or per GPU with ``gpus``), each holding one renderer, the
-jobs spread over them as they free up, files written by the actors to ``out`` (a folder
-every node sees), the index written by the driver. A job whose actor is lost is retried
-on another (``RETRIES`` times) before it counts as failed. Files are the same as a local
+jobs spread over them in short runs as they free up (facet.batch.runner.chunks; an actor
+loads the next model while it renders one), files written by the actors to ``out`` (a
+folder every node sees), the index written by the driver. A run whose actor is lost is
+retried on another (``RETRIES`` times; its finished jobs are skipped then) before its
+jobs count as failed. Files are the same as a local
 run's: jobs do not depend on where they ran.
 """
 
@@ -39,7 +41,7 @@ def render_dataset_ray(jobs, out, *, address: str | None = None, gpus: int = 0,
 
 
 def _run(ray, jobs, out: Path, gpus: int, actors, quiet: bool, confine) -> dict:
-    from .runner import _progress
+    from .runner import _progress, chunks
 
     resources = ray.cluster_resources()
     count = actors or (int(resources.get("GPU", 0)) if gpus else
@@ -52,34 +54,35 @@ def _run(ray, jobs, out: Path, gpus: int, actors, quiet: bool, confine) -> dict:
     counts = {"done": 0, "failed": 0, "skipped": 0, "views": 0}
     start = time.perf_counter()
     bar = _progress(sum(j.views.count for j in jobs), quiet)
-    pending = {}  # object ref -> (job, attempts, actor index)
-    queue = [(job, 0) for job in jobs]
-    # two jobs in flight per actor: the next waits in the actor's queue, so an actor never
-    # idles for a driver round trip between jobs
+    pending = {}  # object ref -> (chunk of jobs, attempts, actor index)
+    queue = [(chunk, 0) for chunk in chunks(jobs, count)]
+    # two chunks in flight per actor: the next waits in the actor's queue, so an actor never
+    # idles for a driver round trip between them
     free = list(range(count)) * 2
     try:
         while queue or pending:
             while queue and free:
-                job, attempts = queue.pop(0)
+                chunk, attempts = queue.pop(0)
                 k = free.pop()
-                pending[pool[k].render.remote(job, str(out))] = (job, attempts, k)
+                pending[pool[k].render.remote(chunk, str(out))] = (chunk, attempts, k)
             done, _ = ray.wait(list(pending), num_returns=1)
-            job, attempts, k = pending.pop(done[0])
+            chunk, attempts, k = pending.pop(done[0])
             free.append(k)
             try:
-                record = ray.get(done[0])
+                records = ray.get(done[0])
             except ray.exceptions.RayError as exc:  # the actor was lost: try elsewhere
-                if attempts < RETRIES:
-                    queue.insert(0, (job, attempts + 1))
+                if attempts < RETRIES:  # (its finished jobs are skipped then)
+                    queue.insert(0, (chunk, attempts + 1))
                     continue
-                record = {"job": job.name, "model": str(job.model), "views": 0, "files": 0,
-                          "status": "failed", "seconds": 0.0,
-                          "error": f"lost its Ray worker {RETRIES + 1} times "
-                                   f"({type(exc).__name__})"}
-            append_index(out / "index.jsonl", record)
-            counts[record["status"]] += 1
-            counts["views"] += record["views"]
-            bar.update(record["views"] if record["status"] == "done" else 0)
+                records = [{"job": job.name, "model": str(job.model), "views": 0,
+                            "files": 0, "status": "failed", "seconds": 0.0,
+                            "error": f"lost its Ray worker {RETRIES + 1} times "
+                                     f"({type(exc).__name__})"} for job in chunk]
+            for record in records:
+                append_index(out / "index.jsonl", record)
+                counts[record["status"]] += 1
+                counts["views"] += record["views"]
+                bar.update(record["views"] if record["status"] == "done" else 0)
     finally:
         bar.close()
         for actor in pool:
@@ -100,12 +103,12 @@ class _RenderActor:
         self.renderer = Renderer()
         self.confine = confine
 
-    def render(self, job, out: str) -> dict:
-        from .runner import render_job
+    def render(self, jobs, out: str) -> list[dict]:
+        from .runner import render_jobs
 
         if self.confine is None:
-            return render_job(job, Path(out), self.renderer)
+            return list(render_jobs(jobs, Path(out), self.renderer))
         from ..guard import confined
 
         with confined(self.confine):
-            return render_job(job, Path(out), self.renderer)
+            return list(render_jobs(jobs, Path(out), self.renderer))

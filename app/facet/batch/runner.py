@@ -1,6 +1,7 @@
 """Rendering a dataset: jobs (facet.batch.manifest) streamed to worker processes, each with
 one long-lived Renderer (one GL context per worker, never per model), files laid out by
-facet.batch.layout.
+facet.batch.layout. A worker takes jobs in short runs (``chunks``) and loads the next
+model in a thread while it renders one (``render_jobs``).
 
 Workers: ``workers`` processes (default: one where the renderer is a CPU rasteriser, which
 already uses every core; one per GPU otherwise), each on the EGL device ``gpus[k]`` when
@@ -24,10 +25,12 @@ from .colmap import surface_points, write_colmap
 from .layout import append_index, finished, write_transforms, write_view
 
 _WORKER: dict = {}  # in a worker process: its renderer
+CHUNK = 8  # jobs handed to a worker at once (render_jobs loads one ahead within them)
 
 
-def render_job(job, out: Path, renderer) -> dict:
-    """Render one job's views into ``out / job.name``; the index record."""
+def render_job(job, out: Path, renderer, load=None) -> dict:
+    """Render one job's views into ``out / job.name``; the index record. ``load``: a
+    callable giving the job's scene (default: open its model now)."""
     from ..scene.source import open_scene
 
     start = time.perf_counter()
@@ -37,7 +40,7 @@ def render_job(job, out: Path, renderer) -> dict:
     if finished(folder, digest):
         return {**record, "status": "skipped", "seconds": 0.0}
     try:
-        scene = open_scene(job.model)
+        scene = load() if load is not None else open_scene(job.model)
         w, h = job.size
         cameras = job.views.cameras(scene.bounds, job.up, w / h)
         # COLMAP's point cloud is read from depth and position, saved or not.
@@ -63,11 +66,42 @@ def render_job(job, out: Path, renderer) -> dict:
             "seconds": round(time.perf_counter() - start, 3)}
 
 
+def render_jobs(jobs, out: Path, renderer):
+    """render_job for each of ``jobs`` in turn (a generator of index records), the next
+    model loading in a thread while this one renders: parsing a file and computing its
+    normals is CPU work that overlaps the GPU's (and on a GPU it is most of a model's
+    cost). The loader runs in a copy of this context (so under the same confinement)."""
+    import contextvars
+    from concurrent.futures import ThreadPoolExecutor
+
+    from ..scene.source import open_scene
+
+    out = Path(out)
+    with ThreadPoolExecutor(1, thread_name_prefix="facet-load") as loader:
+
+        def start(job):
+            if finished(out / job.name, job.digest()):
+                return None
+            return loader.submit(contextvars.copy_context().run, open_scene, job.model)
+
+        ahead = start(jobs[0]) if jobs else None
+        for k, job in enumerate(jobs):
+            current, ahead = ahead, start(jobs[k + 1]) if k + 1 < len(jobs) else None
+            yield render_job(job, out, renderer, None if current is None else current.result)
+            del current  # its scene goes once rendered
+
+
 def _worker_init(devices, counter, threads, confine) -> None:
     """A worker's set-up: its EGL device, llvmpipe's thread count, one renderer, and an
-    exit when the parent dies (facet.image.sequence.watch_parent)."""
+    exit when the parent dies (facet.image.sequence.watch_parent). A renderer that cannot
+    be made is reported by the worker's first run of jobs (an exception here would have
+    the pool start the worker again, for ever)."""
+    import warnings
+
+    from ..errors import show_warning
     from ..image.sequence import watch_parent
 
+    warnings.showwarning = show_warning
     watch_parent()
     with counter.get_lock():
         k = counter.value
@@ -77,17 +111,29 @@ def _worker_init(devices, counter, threads, confine) -> None:
     device = devices[k % len(devices)] if devices else None
     from ..render.renderer import Renderer
 
-    _WORKER["renderer"] = Renderer(device=device)
     _WORKER["confine"] = confine
+    try:
+        _WORKER["renderer"] = Renderer(device=device)
+    except FacetError as exc:
+        _WORKER["error"] = exc
 
 
-def _worker_job(job, out) -> dict:
+def _worker_jobs(jobs, out) -> list[dict]:
+    if "error" in _WORKER:
+        raise _WORKER["error"]  # the run stops with it (render_dataset)
     if _WORKER.get("confine") is None:
-        return render_job(job, out, _WORKER["renderer"])
+        return list(render_jobs(jobs, out, _WORKER["renderer"]))
     from ..guard import confined
 
     with confined(_WORKER["confine"]):
-        return render_job(job, out, _WORKER["renderer"])
+        return list(render_jobs(jobs, out, _WORKER["renderer"]))
+
+
+def chunks(jobs: list, workers: int) -> list[list]:
+    """Jobs in runs of up to CHUNK for one worker each (the next one loads while one
+    renders), short enough that every worker gets several (the run ends together)."""
+    size = max(1, min(CHUNK, len(jobs) // (4 * workers)))
+    return [jobs[i:i + size] for i in range(0, len(jobs), size)]
 
 
 def default_workers(gpus=None) -> int:
@@ -126,8 +172,8 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
     pool = ctx.Pool(workers, initializer=_worker_init, initargs=(
         list(gpus or []), counter, threads, None if confine is None else str(confine)))
     try:
-        results = pool.imap_unordered(_job_call, [(job, out) for job in jobs])
-        for record in results:
+        results = pool.imap_unordered(_jobs_call, [(c, out) for c in chunks(jobs, workers)])
+        for record in (r for chunk in results for r in chunk):
             append_index(out / "index.jsonl", record)
             counts[record["status"]] += 1
             counts["views"] += record["views"]
@@ -147,8 +193,8 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
     return counts
 
 
-def _job_call(args) -> dict:
-    return _worker_job(*args)
+def _jobs_call(args) -> list[dict]:
+    return _worker_jobs(*args)
 
 
 def _progress(total: int, quiet: bool):

@@ -84,18 +84,6 @@ def _unknown(parser, command: str, extras: list[str]) -> str:
     return f"unknown option {first}{hint}"
 
 
-def _show_warning(message, category, filename, lineno, file=None, line=None):
-    """Every warning as one line, ``facet: warning: ...``: facet's own as they are, a
-    library's (numpy, Pillow, trimesh) with its kind, never with a source path and line
-    of code from inside a library."""
-    from ..errors import FacetWarning
-
-    text = str(message).strip().splitlines()[0] if str(message).strip() else category.__name__
-    if not issubclass(category, FacetWarning):
-        text = f"{text} ({category.__name__})"
-    print(f"facet: warning: {text}", file=sys.stderr)
-
-
 def main(argv: list[str] | None = None) -> int:
     import warnings
 
@@ -107,12 +95,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{prog}: error: {_unknown(parser, args.command, extras)} (see {prog} --help)",
               file=sys.stderr)
         return EXIT_USAGE
-    from ..errors import FacetError
+    from ..errors import FacetError, show_warning
 
     previous = _stop_on_sigterm()
     try:
         with warnings.catch_warnings():
-            warnings.showwarning = _show_warning
+            warnings.showwarning = show_warning
             with _confinement(args):
                 result = import_module(f"facet.cli.{args.command}").run(args)
         if args.command == "batch":

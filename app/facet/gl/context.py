@@ -5,8 +5,9 @@ through OSMesa on machines without EGL.
 ``ContextError`` that says what was tried and what to install. The backend comes from its
 ``backend`` argument or the environment variable ``FACET_GL_BACKEND``: ``auto`` (the
 default: EGL, and OSMesa with a one-line warning when EGL cannot make a context), ``egl`` or
-``osmesa``. Which one was used is kept in ``ctx.extra["backend"]`` and printed by
-``facet info``. Both rasterise with llvmpipe on a CPU, so they draw the same pixels.
+``osmesa``; an EGL device asked for by number never falls back to the CPU. Which one was
+used is kept in ``ctx.extra["backend"]`` and printed by ``facet info``. On a machine
+without a GPU both rasterise with llvmpipe, so they draw the same pixels.
 
 ``with ctx:`` makes a context current for a block, and leaving the block releases it (no
 context is current afterwards, whatever was current before: glcontext's EGL backend does
@@ -45,10 +46,13 @@ def create_headless(require: int = GL_REQUIRED, device: int | None = None,
         detail = " ".join(str(exc).split()) or type(exc).__name__
         from . import osmesa
 
+        if device is not None:  # a GPU asked for by number: never a CPU in its place
+            raise ContextError(f"cannot create an OpenGL {version} context on EGL device "
+                               f"{device} ({detail}); list the devices with nvidia-smi or "
+                               "leave the device out") from None
         if backend == "auto" and osmesa.library() is not None:
-            where = "" if device is None else f"; device {device} ignored"
-            warnings.warn(f"no EGL context ({detail}); rendering through OSMesa on the CPU"
-                          f"{where}", FacetWarning, stacklevel=2)
+            warnings.warn(f"no EGL context ({detail}); rendering through OSMesa on the CPU",
+                          FacetWarning, stacklevel=2)
             return _osmesa(require, version)
         fallback = (f"; or, without EGL, {osmesa.INSTALL_HINT}" if backend == "auto" else "")
         raise ContextError(f"cannot create a headless OpenGL {version} context through EGL "
