@@ -276,3 +276,41 @@ def test_a_gpu_that_does_not_exist_stops_the_run_with_one_error(tmp_path, capsys
     assert err.count("\n") == 1 and "on EGL device 99" in err and "Traceback" not in err
     assert time.time() - start < 30
     assert not list((tmp_path / "out").rglob("*.png"))
+
+
+def _children(pid: int) -> list[int]:
+    kids = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            kids.append(int(stat.parent.name))
+    return kids
+
+
+@pytest.mark.slow
+def test_a_worker_killed_mid_run_does_not_stop_or_hang_the_run(tmp_path):
+    """A worker process dies (as one killed for memory by a huge model would): the jobs it
+    had are tried again, alone, and the run finishes with every job done."""
+    models = _models(tmp_path / "models", 6)
+    manifest = _manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
+                         {"size": [96, 96], "views": {"plan": "sphere", "count": 40}})
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
+    proc = subprocess.Popen([sys.executable, "-m", "facet", "batch", str(manifest), "-o",
+                             str(out), "--workers", "2", "-q"], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    end = time.time() + 60
+    while time.time() < end and len(list(out.glob("*/images/*.png"))) < 5:
+        time.sleep(0.05)
+    workers = [k for k in _children(proc.pid)
+               if b"spawn_main" in Path(f"/proc/{k}/cmdline").read_bytes()]
+    assert workers, "no worker processes found"
+    os.kill(workers[0], signal.SIGKILL)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 0, err.decode()
+    index = [json.loads(line) for line in (out / "index.jsonl").open()]
+    assert {r["job"] for r in index if r["status"] == "done"} == {m.stem for m in models}
+    assert all((out / m.stem / "transforms.json").is_file() for m in models)

@@ -58,8 +58,10 @@ def render_job(job, out: Path, renderer, load=None) -> dict:
             write_colmap(folder, job.size, cameras, [e["file_path"][len("images/"):]
                                                      for e in entries], np.vstack(points))
         write_transforms(folder, job, cameras, entries)
-    except FacetError as exc:
-        return {**record, "status": "failed", "error": str(exc).splitlines()[0],
+    except (FacetError, MemoryError) as exc:
+        error = (str(exc).splitlines()[0] if isinstance(exc, FacetError) else
+                 "out of memory: the model is too large for this machine")
+        return {**record, "status": "failed", "error": error,
                 "seconds": round(time.perf_counter() - start, 3)}
     files = sum(1 for p in folder.rglob("*") if p.is_file() and not p.name.startswith("."))
     return {**record, "status": "done", "views": len(cameras), "files": files,
@@ -169,32 +171,89 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
     ctx = multiprocessing.get_context("spawn")
     counter = ctx.Value("i", 0)
     threads = max(1, (os.cpu_count() or 1) // workers) if workers > 1 else 0
-    pool = ctx.Pool(workers, initializer=_worker_init, initargs=(
-        list(gpus or []), counter, threads, None if confine is None else str(confine)))
-    try:
-        results = pool.imap_unordered(_jobs_call, [(c, out) for c in chunks(jobs, workers)])
-        for record in (r for chunk in results for r in chunk):
-            append_index(out / "index.jsonl", record)
-            counts[record["status"]] += 1
-            counts["views"] += record["views"]
-            bar.update(record["views"] if record["status"] == "done" else 0)
-            if record["status"] == "failed" and not quiet:
-                import sys
+    setup = (list(gpus or []), counter, threads, None if confine is None else str(confine))
 
-                print(f"facet: {record['job']}: {record['error']}", file=sys.stderr)
-        pool.close()
-    except BaseException:
-        pool.terminate()  # Ctrl-C / SIGTERM: stop now; files under final names are whole
-        raise
+    def note(record: dict) -> None:
+        append_index(out / "index.jsonl", record)
+        counts[record["status"]] += 1
+        counts["views"] += record["views"]
+        bar.update(record["views"] if record["status"] == "done" else 0)
+        if record["status"] == "failed" and not quiet:
+            import sys
+
+            print(f"facet: {record['job']}: {record['error']}", file=sys.stderr)
+
+    try:
+        _run_pool(ctx, workers, setup, chunks(jobs, workers), out, note)
     finally:
-        pool.join()
         bar.close()
     counts["seconds"] = round(time.perf_counter() - start, 3)
     return counts
 
 
-def _jobs_call(args) -> list[dict]:
-    return _worker_jobs(*args)
+def _run_pool(ctx, workers: int, setup, runs: list[list], out: Path, note) -> None:
+    """Runs of jobs on ``workers`` processes, two runs in flight per worker. A worker that
+    dies (killed for memory by a huge model, a crash in a driver) breaks the pool: the jobs
+    that were in flight are then tried again one at a time, alone, in a new pool, so the
+    one that kills its worker is found and fails alone; the others go on."""
+    from collections import deque
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from concurrent.futures.process import BrokenProcessPool
+
+    queue, suspects = deque(runs), deque()
+    while queue or suspects:
+        pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_worker_init,
+                                   initargs=setup)
+        flight: dict = {}
+        try:
+            while queue or suspects or flight:
+                if suspects:  # alone: nothing else in flight
+                    if not flight:
+                        run = [suspects.popleft()]
+                        flight[pool.submit(_worker_jobs, run, out)] = run
+                else:
+                    while queue and len(flight) < 2 * workers:
+                        run = queue.popleft()
+                        flight[pool.submit(_worker_jobs, run, out)] = run
+                done, _ = wait(flight, return_when=FIRST_COMPLETED)
+                broken = [f for f in done if isinstance(f.exception(), BrokenProcessPool)]
+                for future in done:
+                    if future not in broken:
+                        flight.pop(future)
+                        for record in future.result():  # a worker's error: raised here
+                            note(record)
+                if broken:
+                    runs_lost = list(flight.values())
+                    flight.clear()
+                    if len(runs_lost) == 1 and len(runs_lost[0]) == 1:  # it ran alone
+                        note(_died(runs_lost[0][0]))
+                    else:
+                        suspects.extend(job for run in runs_lost for job in run)
+                    raise BrokenProcessPool
+        except BrokenProcessPool:
+            _stop(pool)
+            continue
+        except BaseException:
+            _stop(pool)  # Ctrl-C / SIGTERM: stop now; files under final names are whole
+            raise
+        pool.shutdown()
+
+
+def _died(job) -> dict:
+    return {"job": job.name, "model": str(job.model), "views": 0, "files": 0,
+            "status": "failed", "seconds": 0.0,
+            "error": "its worker process died rendering it (out of memory? a crash in the "
+                     "GL driver?); the rest of the run went on"}
+
+
+def _stop(pool) -> None:
+    """Shut ``pool`` down now, its workers killed (what Pool.terminate does)."""
+    processes = list(getattr(pool, "_processes", {}).values())  # before shutdown clears it
+    for process in processes:
+        process.terminate()
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        process.join(5)
 
 
 def _progress(total: int, quiet: bool):
