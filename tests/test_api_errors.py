@@ -96,9 +96,10 @@ def test_too_many_lights():
 
 
 def test_no_context_error_says_what_to_install(tmp_path):
-    """With EGL pointed at no vendor library, context creation fails with one clear line."""
+    """With EGL pointed at no vendor library, context creation fails with one clear line
+    (EGL alone: the OSMesa fallback has its own tests, tests/test_osmesa.py)."""
     env = {**os.environ, "__EGL_VENDOR_LIBRARY_FILENAMES": str(tmp_path / "none.json"),
-           "PYTHONPATH": str(ROOT / "app")}
+           "PYTHONPATH": str(ROOT / "app"), "FACET_GL_BACKEND": "egl"}
     res = subprocess.run([sys.executable, "-m", "facet", "info"], capture_output=True,
                          text=True, env=env)
     assert res.returncode == 2

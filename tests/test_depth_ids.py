@@ -119,3 +119,24 @@ def test_transparent_background(renderer):
     assert np.all(frame.color[bg][:, 3] == 0)
     assert np.all(np.abs(frame.color[bg][:, :3].astype(int) - [51, 102, 153]) <= 1)
     assert np.all(frame.color[~bg][:, 3] == 255)
+
+
+@pytest.mark.parametrize("msaa", [0, 4])
+def test_sky_and_wireframe_leave_the_exact_channels_alone(renderer, msaa):
+    """The environment background and the wireframe overlay draw colour only: depth, ids
+    and normals are those of the plain scene, byte for byte (GL leaves an attachment a
+    shader does not write undefined; they are masked)."""
+    from facet.scene.environment import Environment
+
+    scene = _scene((sphere_mesh(4), T.translate((-0.6, 0, 0))),
+                   (sphere_mesh(4), T.translate((0.8, 0.2, -1))))
+    camera = Camera.look_at((0, 0, 4), (0, 0, 0), fov_y=50)
+    outputs = ("color", "depth", "ids", "normals")
+    r = renderer(SIZE, SIZE, msaa)
+    plain = r.render(scene, camera, outputs=outputs)
+    scene.environment = Environment.sky(size=32)
+    for _ in range(3):  # undefined values would show on some frame, not always the first
+        dressed = r.render(scene, camera, outputs=outputs, wireframe=True)
+        assert np.abs(dressed.color.astype(int) - plain.color).max() > 50  # sky and lines
+        for name in ("depth", "object_ids", "normals"):
+            assert np.array_equal(getattr(dressed, name), getattr(plain, name)), name

@@ -65,11 +65,9 @@ const float OIT_MAX_OPACITY = 0.999;
 #else
 layout(location = 0) out vec4 f_color;
 #endif
-#ifdef OUT_DEPTH
-layout(location = OUT_DEPTH) out float f_depth;
-#endif
-#ifdef OUT_IDS
-layout(location = OUT_IDS) out int f_object_id;
+#ifdef OUT_DEPTH_IDS
+// (the bits of the linear depth along the camera axis, object id + 1): one attachment
+layout(location = OUT_DEPTH_IDS) out uvec2 f_depth_ids;
 #endif
 #ifdef OUT_NORMALS
 layout(location = OUT_NORMALS) out vec4 f_normal;
@@ -111,11 +109,8 @@ void main() {
 #if defined(ALPHA_MASK)
     if (base.a < u_alpha_cutoff) discard;
 #endif
-#ifdef OUT_DEPTH
-    f_depth = v_depth_view;
-#endif
-#ifdef OUT_IDS
-    f_object_id = u_object_id;
+#ifdef OUT_DEPTH_IDS
+    f_depth_ids = uvec2(floatBitsToUint(v_depth_view), uint(u_object_id));
 #endif
 #ifdef OUT_POSITION
     f_position = vec4(v_pos_world, 1.0);

@@ -73,11 +73,9 @@ const float OIT_MAX_OPACITY = 0.999;  // log(1 - a) stays finite
 #endif
 // Auxiliary outputs exist only when asked for (OUT_<NAME> = its location, see
 // facet.gl.targets): writing outputs nobody reads still costs a software rasteriser time.
-#ifdef OUT_DEPTH
-layout(location = OUT_DEPTH) out float f_depth;  // linear depth along the camera axis
-#endif
-#ifdef OUT_IDS
-layout(location = OUT_IDS) out int f_object_id;  // object id + 1
+#ifdef OUT_DEPTH_IDS
+// (the bits of the linear depth along the camera axis, object id + 1): one attachment
+layout(location = OUT_DEPTH_IDS) out uvec2 f_depth_ids;
 #endif
 #ifdef OUT_NORMALS
 layout(location = OUT_NORMALS) out vec4 f_normal;  // world space, facing the viewer
@@ -106,11 +104,8 @@ void main() {
 #endif
     if (alpha < u_alpha_cutoff) discard;
 #endif
-#ifdef OUT_DEPTH
-    f_depth = v_depth_view;
-#endif
-#ifdef OUT_IDS
-    f_object_id = u_object_id;
+#ifdef OUT_DEPTH_IDS
+    f_depth_ids = uvec2(floatBitsToUint(v_depth_view), uint(u_object_id));
 #endif
 #ifdef OUT_POSITION
     f_position = vec4(v_pos_world, 1.0);

@@ -11,11 +11,9 @@ uniform vec3 u_eye_world;
 uniform vec3 u_forward;  // the camera's viewing direction (unit)
 
 layout(location = 0) out vec4 f_color;
-#ifdef OUT_DEPTH
-layout(location = OUT_DEPTH) out float f_depth;
-#endif
-#ifdef OUT_IDS
-layout(location = OUT_IDS) out int f_object_id;
+#ifdef OUT_DEPTH_IDS
+// (the bits of the linear depth along the camera axis, object id + 1): one attachment
+layout(location = OUT_DEPTH_IDS) out uvec2 f_depth_ids;
 #endif
 #ifdef OUT_NORMALS
 layout(location = OUT_NORMALS) out vec4 f_normal;
@@ -37,16 +35,14 @@ void main() {
     Hit h = trace_scene(o, d, length(span), true);
     if (h.inst < 0) discard;  // the targets were cleared to 0
     f_color = vec4(0.0);
-#if defined(OUT_NORMALS) || defined(OUT_POSITION) || defined(OUT_UV) || defined(OUT_DEPTH)
+#if defined(OUT_NORMALS) || defined(OUT_POSITION) || defined(OUT_UV) || defined(OUT_DEPTH_IDS)
     Surface s = surface_at(h, o, d);
 #endif
-#ifdef OUT_DEPTH
+#ifdef OUT_DEPTH_IDS
     // Linear depth along the camera axis: (p - eye) . forward; a parallel projection's
     // "eye" is any point on its axis plane, the same formula holds.
-    f_depth = dot(s.p - u_eye_world, u_forward);
-#endif
-#ifdef OUT_IDS
-    f_object_id = int(fetch(u_instances, h.inst * INSTANCE_TEXELS + 6).z) + 1;
+    f_depth_ids = uvec2(floatBitsToUint(dot(s.p - u_eye_world, u_forward)),
+                        uint(int(fetch(u_instances, h.inst * INSTANCE_TEXELS + 6).z) + 1));
 #endif
 #ifdef OUT_NORMALS
     f_normal = vec4(s.n, 0.0);

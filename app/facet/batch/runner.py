@@ -7,8 +7,9 @@ Workers: ``workers`` processes (default: one where the renderer is a CPU rasteri
 already uses every core; one per GPU otherwise), each on the EGL device ``gpus[k]`` when
 given. Robustness: a finished job (its transforms.json with the job's digest) is skipped,
 so a rerun resumes; a job whose model is bad fails alone (its one-line error in the index)
-and the run goes on, even when it kills its worker (``_run_pool``); every file is written atomically; Ctrl-C or SIGTERM stops the workers
-and leaves no partial file under a final name. Determinism: a job's files depend only on
+and the run goes on, even when it kills its worker (``_run_pool``); every file is written
+atomically; Ctrl-C or SIGTERM stops the workers and leaves no partial file under a final
+name. Determinism: a job's files depend only on
 the job (random views are seeded per job), not on which worker rendered it.
 """
 

@@ -8,18 +8,22 @@ A ``Targets`` makes what a render asks for on first use and keeps it for the nex
 * ``multisample(samples, dtype)``: multisampled colour and depth, resolved into
   ``color(dtype)``; one sample count at a time (a new count releases the old buffers).
 * ``output(dtype)``: where the colour-finishing pass writes (facet.render.finish).
-* the exact auxiliary channels, never blended, at locations 1, 2, ... after colour in the
-  order of ``AUX_CHANNELS`` (the fragment shader gets the same locations as defines,
-  ``OUT_DEPTH`` etc.; see ``aux_locations``):
+* the exact auxiliary channels, never blended, in attachments at locations 1, 2, ... after
+  colour in the order of ``AUX_ATTACHMENTS`` (the fragment shader gets the same locations
+  as defines, ``OUT_DEPTH_IDS`` etc.; see ``aux_locations``):
 
-  depth     R32F     linear depth along the camera axis, 0 = nothing hit
-  ids       R32I     object id + 1, 0 = nothing
+  depth_ids RG32UI   the bits of the float32 linear depth along the camera axis (0 =
+                     nothing hit) and the object id + 1 (0 = nothing): the channels
+                     ``depth`` and ``ids``, the default outputs, in one attachment
   normals   RGBA32F  world-space unit normal (xyz), 0 = nothing
   position  RGBA32F  world-space position (xyz), 0 = nothing
   uv        RG32F    texture coordinates, 0 = nothing
 
-Ids are stored shifted by one because moderngl clears integer attachments through the float
-path: the bit pattern of 0.0 is integer 0, so "clear to 0" is the only exact integer clear.
+Depth and ids share an attachment because every attachment costs a software rasteriser
+per fragment (llvmpipe, 1024x1024, 20k faces: one RG32UI adds 0.9 ms to a 6-7 ms frame,
+R32F + R32I 2.3 ms); the pair is read back once and split. Ids are stored shifted by one
+because moderngl clears integer attachments through the float path: the bit pattern of
+0.0 is integer 0, so "clear to 0" is the only exact integer clear.
 
 Offscreen targets are drawn upside down (``FLIP_Y``: clip-space y negated, front faces
 clockwise), so that GL's bottom-up rows read back as an image with row 0 at the top, straight
@@ -28,6 +32,8 @@ into the numpy array with no flipping copy.
 
 from __future__ import annotations
 
+import contextlib
+
 import moderngl
 import numpy as np
 
@@ -35,14 +41,16 @@ from ..errors import InputError
 from ..scene.options import MSAA_CHOICES, OUTPUTS
 from .context import max_image_size
 
-# Auxiliary channel -> (components, GL dtype, numpy dtype); order fixes attachment locations.
-AUX_CHANNELS = {
-    "depth": (1, "f4", np.float32),
-    "ids": (1, "i4", np.int32),
+# Auxiliary attachment -> (components, GL dtype, numpy dtype); order fixes the locations.
+AUX_ATTACHMENTS = {
+    "depth_ids": (2, "u4", np.uint32),
     "normals": (4, "f4", np.float32),
     "position": (4, "f4", np.float32),
     "uv": (2, "f4", np.float32),
 }
+# Auxiliary channel -> the attachment it is read from.
+AUX_CHANNELS = {"depth": "depth_ids", "ids": "depth_ids", "normals": "normals",
+                "position": "position", "uv": "uv"}
 assert set(AUX_CHANNELS) == set(OUTPUTS) - {"color"}
 
 # Colour target formats and their readback dtypes.
@@ -52,9 +60,25 @@ FLIP_Y = np.diag([1.0, -1.0, 1.0, 1.0])
 
 
 def aux_locations(channels) -> dict[str, int]:
-    """Fragment output location of each requested auxiliary channel (1, 2, ... in order)."""
-    wanted = [c for c in AUX_CHANNELS if c in channels]
-    return {c: i + 1 for i, c in enumerate(wanted)}
+    """Fragment output location of each attachment the requested auxiliary channels need
+    (1, 2, ... in order); ``channels`` may name attachments too."""
+    needed = {AUX_CHANNELS.get(c, c) for c in channels}
+    wanted = [a for a in AUX_ATTACHMENTS if a in needed]  # anything else: no attachment
+    return {a: i + 1 for i, a in enumerate(wanted)}
+
+
+@contextlib.contextmanager
+def colour_only(fbo: moderngl.Framebuffer):
+    """Within this block, draws into ``fbo`` write its colour (the first attachment) only:
+    GL leaves a draw buffer that a shader does not write undefined, and the exact channels'
+    attachments must keep what they hold (the sky, the wireframe overlay)."""
+    mask = fbo.color_mask
+    if len(mask) > 1:
+        fbo.color_mask = (mask[0], *((False,) * 4 for _ in mask[1:]))
+    try:
+        yield
+    finally:
+        fbo.color_mask = mask
 
 
 class Targets:
@@ -68,8 +92,9 @@ class Targets:
         self._color: dict[str, tuple] = {}  # dtype -> (texture, framebuffer)
         self._output: dict[str, tuple] = {}  # dtype -> (texture, framebuffer)
         self._multisample: dict[tuple[int, str], tuple] = {}  # (samples, dtype) -> buffers
-        self._aux: dict[str, tuple] = {}  # channel -> (renderbuffer, framebuffer to clear it)
+        self._aux: dict[str, tuple] = {}  # attachment -> (renderbuffer, framebuffer to clear it)
         self._aux_targets: dict[tuple, moderngl.Framebuffer] = {}
+        self._aux_read: dict[str, np.ndarray] = {}  # attachment -> read since its last draw
 
     def color(self, dtype: str = "f1") -> moderngl.Framebuffer:
         """The single-sample colour target with depth; ``color_texture`` is its colour."""
@@ -119,7 +144,7 @@ class Targets:
 
     def _channel(self, name: str) -> tuple:
         if name not in self._aux:
-            components, dtype, _ = AUX_CHANNELS[name]
+            components, dtype, _ = AUX_ATTACHMENTS[name]
             rb = self.ctx.renderbuffer(self.size, components, dtype=dtype)
             self._aux[name] = (rb, self.ctx.framebuffer([rb]))
         return self._aux[name]
@@ -128,6 +153,7 @@ class Targets:
         """Colour plus the requested auxiliary channels (cleared to 0) at the locations of
         ``aux_locations``, with the shared depth buffer."""
         names = tuple(aux_locations(channels))
+        self._aux_read.clear()  # drawn over now
         for name in names:
             self._channel(name)[1].clear(0.0, 0.0, 0.0, 0.0)
         key = (names, dtype)
@@ -144,10 +170,17 @@ class Targets:
     def read_aux(self, name: str) -> np.ndarray:
         """(H, W) or (H, W, k) array of an auxiliary channel drawn by the last ``aux``
         target (ids shifted back: -1 = background; normals and position without w)."""
-        components, dtype, np_dtype = AUX_CHANNELS[name]
-        out = self._read(self._channel(name)[1], components, dtype, np_dtype)
-        if name == "ids":
-            out -= 1
+        attachment = AUX_CHANNELS[name]
+        components, dtype, np_dtype = AUX_ATTACHMENTS[attachment]
+        if attachment == "depth_ids":  # read once for both channels
+            if attachment not in self._aux_read:
+                self._aux_read[attachment] = self._read(
+                    self._channel(attachment)[1], components, dtype, np_dtype)
+            pair = self._aux_read[attachment]
+            if name == "depth":
+                return np.ascontiguousarray(pair[..., 0]).view(np.float32)
+            return pair[..., 1].view(np.int32) - 1
+        out = self._read(self._channel(attachment)[1], components, dtype, np_dtype)
         if components == 4:
             out = np.ascontiguousarray(out[..., :3])
         return out
@@ -174,7 +207,7 @@ class Targets:
             tex.release()
         self.zbuffer.release()
         for table in (self._aux_targets, self._aux, self._multisample, self._color,
-                      self._output):
+                      self._output, self._aux_read):
             table.clear()
 
 

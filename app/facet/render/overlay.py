@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from ..gl.targets import colour_only
 from ..scene.material import Material
 
 EDGE_COLOR = (0.05, 0.05, 0.05)
@@ -19,8 +20,9 @@ def wireframe_overlay(forward, scene, state) -> None:
     ctx.depth_func = "<="
     ctx.wireframe = True
     try:
-        forward.draw(edges, state.with_(shading="unlit", lights=(), shadows=None,
-                                        environment=None), colour_pass=False)
+        with colour_only(ctx.fbo):  # the lines leave the exact channels as they are
+            forward.draw(edges, state.with_(shading="unlit", lights=(), shadows=None,
+                                            environment=None), colour_pass=False)
     finally:
         ctx.wireframe = False
         ctx.depth_func = "<"
