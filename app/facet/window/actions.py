@@ -47,8 +47,10 @@ class ViewerActions:
         else:
             opts = self.options(size=(w * scale, h * scale), outputs=("color",))
             image = self.renderer.render(self.shown_scene(), camera, opts).color
-        save_image(path, image)
+        # The camera first: once the PNG appears (what a watching script waits for), its
+        # JSON is already there.
         write_camera_json(path.with_suffix(".json"), camera.describe(w * scale, h * scale))
+        save_image(path, image)
         print(path)
         return path
 
