@@ -314,3 +314,18 @@ def test_a_worker_killed_mid_run_does_not_stop_or_hang_the_run(tmp_path):
     index = [json.loads(line) for line in (out / "index.jsonl").open()]
     assert {r["job"] for r in index if r["status"] == "done"} == {m.stem for m in models}
     assert all((out / m.stem / "transforms.json").is_file() for m in models)
+
+
+@pytest.mark.slow
+def test_ray_actors_that_cannot_render_stop_the_run_with_their_error(tmp_path, monkeypatch):
+    """An actor whose renderer cannot be made (here: a wrong backend name, as a bad GPU or
+    a node without GL would) stops the run with that error, not retries and a vague
+    "lost its worker"; more GPU actors than the cluster has GPUs is one error up front."""
+    pytest.importorskip("ray", reason="the ray extra is not installed")
+    _models(tmp_path / "models", 2)
+    manifest = _manifest(tmp_path, [{"model": "models/m00.ply"}, {"model": "models/m01.ply"}])
+    with pytest.raises(InputError, match=r"the Ray cluster has \d+ GPU"):
+        render_dataset(manifest, tmp_path / "gpu", ray=True, gpus=[0], workers=64)
+    monkeypatch.setenv("FACET_GL_BACKEND", "vulkan")  # the actors inherit it
+    with pytest.raises(InputError, match="unknown OpenGL backend 'vulkan'"):
+        render_dataset(manifest, tmp_path / "out", ray=True)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import FacetError, InputError
 from .layout import append_index
 
 RETRIES = 2
@@ -31,8 +31,13 @@ def render_dataset_ray(jobs, out, *, address: str | None = None, gpus: int = 0,
     out.mkdir(parents=True, exist_ok=True)
     started = not ray.is_initialized()
     if started:
-        ray.init(address=address, include_dashboard=False, log_to_driver=False,
-                 configure_logging=False)
+        try:
+            ray.init(address=address, include_dashboard=False, log_to_driver=False,
+                     configure_logging=False)
+        except (ConnectionError, RuntimeError, ValueError) as exc:
+            detail = " ".join(str(exc).split())[:200] or type(exc).__name__
+            where = f"the Ray cluster at {address}" if address else "a local Ray cluster"
+            raise InputError(f"--ray: cannot start or reach {where} ({detail})") from None
     try:
         return _run(ray, jobs, out, gpus, actors, quiet, confine)
     finally:
@@ -44,9 +49,12 @@ def _run(ray, jobs, out: Path, gpus: int, actors, quiet: bool, confine) -> dict:
     from .runner import _progress, chunks
 
     resources = ray.cluster_resources()
-    count = actors or (int(resources.get("GPU", 0)) if gpus else
-                       max(1, int(resources.get("CPU", 1))))
-    cpus = max(1, int(resources.get("CPU", 1)) // count)
+    have_gpus, have_cpus = int(resources.get("GPU", 0)), int(resources.get("CPU", 1))
+    if gpus and have_gpus < max(1, actors or 0):  # actors that would wait for ever
+        raise InputError(f"--gpus with --ray: the Ray cluster has {have_gpus} GPU(s) and "
+                         f"{have_cpus} CPUs; leave --gpus out to render on CPU slots")
+    count = actors or (have_gpus if gpus else max(1, have_cpus))
+    cpus = max(1, have_cpus // count)
     actor_class = ray.remote(num_cpus=cpus, num_gpus=1 if gpus else 0, max_restarts=1)(
         _RenderActor)
     pool = [actor_class.remote(cpus, None if confine is None else str(confine))
@@ -70,6 +78,10 @@ def _run(ray, jobs, out: Path, gpus: int, actors, quiet: bool, confine) -> dict:
             free.append(k)
             try:
                 records = ray.get(done[0])
+            except ray.exceptions.RayTaskError as exc:
+                if isinstance(exc.cause, FacetError):  # its renderer could not be made
+                    raise exc.cause from None
+                raise
             except ray.exceptions.RayError as exc:  # the actor was lost: try elsewhere
                 if attempts < RETRIES:  # (its finished jobs are skipped then)
                     queue.insert(0, (chunk, attempts + 1))
@@ -98,13 +110,20 @@ class _RenderActor:
         import os
 
         os.environ.setdefault("LP_NUM_THREADS", str(threads))
+        from ..errors import FacetError
         from ..render.renderer import Renderer
 
-        self.renderer = Renderer()
         self.confine = confine
+        try:
+            self.renderer, self.error = Renderer(), None
+        except FacetError as exc:  # reported by the first call (a bad GPU, no GL at all)
+            self.renderer, self.error = None, exc
 
     def render(self, jobs, out: str) -> list[dict]:
         from .runner import render_jobs
+
+        if self.error is not None:
+            raise self.error
 
         if self.confine is None:
             return list(render_jobs(jobs, Path(out), self.renderer))
