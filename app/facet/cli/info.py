@@ -4,8 +4,10 @@ from __future__ import annotations
 
 
 def add_parser(sub) -> None:
-    sub.add_parser("info", help="print the OpenGL vendor, renderer, version and limits",
-                   description="Create a headless context and print what it offers.")
+    sub.add_parser("info", help="print the OpenGL backend, vendor, renderer, version and limits",
+                   description="Create a headless context and print what it offers: the "
+                   "backend (EGL, or OSMesa where EGL cannot make a context; "
+                   "FACET_GL_BACKEND=egl|osmesa chooses), vendor, renderer and limits.")
 
 
 def run(args) -> None:
