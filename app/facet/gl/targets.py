@@ -81,6 +81,19 @@ def colour_only(fbo: moderngl.Framebuffer):
         fbo.color_mask = mask
 
 
+@contextlib.contextmanager
+def exact_only(fbo: moderngl.Framebuffer):
+    """Within this block, draws and clears of ``fbo`` leave its colour (the first
+    attachment) alone: the exact-channel pass computes no colour and writes none, and
+    a clear then clears the depth buffer only (glClear honours the mask)."""
+    mask = fbo.color_mask
+    fbo.color_mask = ((False,) * 4, *mask[1:])
+    try:
+        yield
+    finally:
+        fbo.color_mask = mask
+
+
 class Targets:
     """The framebuffers of one image size (see the module docstring)."""
 

@@ -34,6 +34,7 @@ from ..geometry.lens import with_lens
 from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
+from ..gl.targets import exact_only
 from ..scene.light import active_lights
 from ..scene.options import (
     RenderOptions,
@@ -260,17 +261,18 @@ class Renderer:
     def _exact(self, scene, state: FrameState, aux, surf, trace: bool) -> dict:
         """The exact channels at pixel centres, from the opaque objects (step 3); read
         back when used (``_reader``)."""
-        fbo = surf.targets.aux(aux)
+        fbo = surf.targets.aux(aux)  # its exact attachments cleared to "nothing"
         fbo.use()
-        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        if trace:
-            self._part("tracer").draw_exact(scene, state, aux)
-        else:
-            opaque, _ = split_transparent(scene)
-            self.forward.draw(opaque, state.with_(shading="unlit", shadows=None,
-                                                  environment=None), aux=aux,
-                              colour_pass=False)
+        with exact_only(fbo):  # no colour written (nor cleared): a write per fragment less
+            fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+            self.ctx.enable_only(self.ctx.DEPTH_TEST)
+            if trace:
+                self._part("tracer").draw_exact(scene, state, aux)
+            else:
+                opaque, _ = split_transparent(scene)
+                self.forward.draw(opaque, state.with_(shading="unlit", shadows=None,
+                                                      environment=None), aux=aux,
+                                  colour_pass=False)
         return {name: self._reader(surf, name) for name in aux}
 
     def _picture(self, scene, state, opts, clear, surf, dtype, together, direct):
