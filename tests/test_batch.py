@@ -329,3 +329,32 @@ def test_ray_actors_that_cannot_render_stop_the_run_with_their_error(tmp_path, m
     monkeypatch.setenv("FACET_GL_BACKEND", "vulkan")  # the actors inherit it
     with pytest.raises(InputError, match="unknown OpenGL backend 'vulkan'"):
         render_dataset(manifest, tmp_path / "out", ray=True)
+
+
+def test_confinement_reads_what_the_manifest_names_and_nothing_it_does_not(tmp_path):
+    """By default a job reads inside the manifest's folder, or, for a model the manifest
+    lists elsewhere, inside that model's folder: listed models anywhere render; a scene
+    that reaches outside its folder for a mesh fails its job (one line); --confine DIR
+    holds every job to DIR."""
+    here, there, elsewhere = (tmp_path / n for n in ("here", "there", "elsewhere"))
+    _models(there, 1)
+    _models(elsewhere, 1)
+    here.mkdir()
+    (here / "reach.toml").write_text(f'[[objects]]\nmesh = "{elsewhere / "m00.ply"}"\n')
+    (there / "reach.toml").write_text('[[objects]]\nmesh = "../elsewhere/m00.ply"\n')
+    (there / "inside.toml").write_text('[[objects]]\nmesh = "m00.ply"\n')
+    jobs = [{"model": str(there / "m00.ply"), "name": "listed"},
+            {"model": "reach.toml", "name": "reach-here"},
+            {"model": str(there / "reach.toml"), "name": "reach-there"},
+            {"model": str(there / "inside.toml"), "name": "inside-there"}]
+    manifest = _manifest(here, jobs, {"size": [32, 32], "views": 1})
+    render_dataset(manifest, tmp_path / "out")
+    status = {r["job"]: r for r in map(json.loads, (tmp_path / "out" / "index.jsonl").open())}
+    assert status["listed"]["status"] == status["inside-there"]["status"] == "done"
+    for name in ("reach-here", "reach-there"):
+        assert status[name]["status"] == "failed"
+        assert "outside the confinement folder" in status[name]["error"]
+    render_dataset(manifest, tmp_path / "strict", confine=here)
+    status = {r["job"]: r for r in map(json.loads, (tmp_path / "strict" / "index.jsonl").open())}
+    assert status["listed"]["status"] == "failed"  # DIR alone, for every job
+    assert render_dataset(manifest, tmp_path / "open", confine=None)["done"] == 4

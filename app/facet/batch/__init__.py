@@ -10,9 +10,11 @@ def render_dataset(manifest, out, *, defaults=None, workers=None, gpus=None, qui
                    confine="manifest", ray=None):
     """Render every job of ``manifest`` (a manifest file, a glob of model files, or a list
     of facet.batch.manifest.Job) into the folder ``out``; returns the counts (done,
-    failed, skipped, views, seconds). ``confine``: the folder outside which no file is
-    read; by default a manifest file's own folder (a manifest names files, and one from
-    elsewhere should not reach the rest of the machine), None for no confinement. ``ray``:
+    failed, skipped, views, seconds). ``confine``: where jobs may read files. By default
+    ("manifest") a manifest file's own folder, and for a model it lists elsewhere that
+    model's folder (the manifest named it; what the model refers to must lie beside or
+    under it), so a manifest or model from elsewhere cannot pull in the rest of the
+    machine; a folder: that folder alone, for every job; None: no confinement. ``ray``:
     run on Ray (facet.batch.ray_runner): True for a local cluster, or a cluster's address."""
     from pathlib import Path
 
@@ -22,7 +24,10 @@ def render_dataset(manifest, out, *, defaults=None, workers=None, gpus=None, qui
     jobs = manifest if isinstance(manifest, list) else load_manifest(manifest, defaults)
     if confine == "manifest":
         path = Path(str(manifest)) if not isinstance(manifest, list) else None
-        confine = path.resolve().parent if path is not None and path.is_file() else None
+        confine = ((path.resolve().parent, True) if path is not None and path.is_file()
+                   else None)
+    elif confine is not None:
+        confine = (Path(confine).resolve(), False)
     if ray:
         from .ray_runner import render_dataset_ray
 

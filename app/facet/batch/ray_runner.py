@@ -57,7 +57,8 @@ def _run(ray, jobs, out: Path, gpus: int, actors, quiet: bool, confine) -> dict:
     cpus = max(1, have_cpus // count)
     actor_class = ray.remote(num_cpus=cpus, num_gpus=1 if gpus else 0, max_restarts=1)(
         _RenderActor)
-    pool = [actor_class.remote(cpus, None if confine is None else str(confine))
+    pool = [actor_class.remote(cpus, None if confine is None else
+                               (str(confine[0]), bool(confine[1])))
             for _ in range(count)]
     counts = {"done": 0, "failed": 0, "skipped": 0, "views": 0}
     start = time.perf_counter()
@@ -125,9 +126,4 @@ class _RenderActor:
         if self.error is not None:
             raise self.error
 
-        if self.confine is None:
-            return list(render_jobs(jobs, Path(out), self.renderer))
-        from ..guard import confined
-
-        with confined(self.confine):
-            return list(render_jobs(jobs, Path(out), self.renderer))
+        return list(render_jobs(jobs, Path(out), self.renderer, self.confine))

@@ -69,15 +69,13 @@ def render_job(job, out: Path, renderer, load=None) -> dict:
             "seconds": round(time.perf_counter() - start, 3)}
 
 
-def render_jobs(jobs, out: Path, renderer):
+def render_jobs(jobs, out: Path, renderer, confine=None):
     """render_job for each of ``jobs`` in turn (a generator of index records), the next
     model loading in a thread while this one renders: parsing a file and computing its
     normals is CPU work that overlaps the GPU's (and on a GPU it is most of a model's
-    cost). The loader runs in a copy of this context (so under the same confinement)."""
-    import contextvars
+    cost). ``confine``: None, or (folder, widen) (``job_root``), the folder outside which
+    a job reads no file, in the loader and the renderer alike."""
     from concurrent.futures import ThreadPoolExecutor
-
-    from ..scene.source import open_scene
 
     out = Path(out)
     with ThreadPoolExecutor(1, thread_name_prefix="facet-load") as loader:
@@ -85,13 +83,45 @@ def render_jobs(jobs, out: Path, renderer):
         def start(job):
             if finished(out / job.name, job.digest()):
                 return None
-            return loader.submit(contextvars.copy_context().run, open_scene, job.model)
+            return loader.submit(_load, job.model, job_root(confine, job.model))
 
         ahead = start(jobs[0]) if jobs else None
         for k, job in enumerate(jobs):
             current, ahead = ahead, start(jobs[k + 1]) if k + 1 < len(jobs) else None
-            yield render_job(job, out, renderer, None if current is None else current.result)
+            with _confined(job_root(confine, job.model)):
+                yield render_job(job, out, renderer,
+                                 None if current is None else current.result)
             del current  # its scene goes once rendered
+
+
+def job_root(confine, model) -> Path | None:
+    """The folder outside which a job reads no file: ``confine = (folder, widen)``; with
+    ``widen`` (the default, a manifest's own folder) a model the manifest lists outside
+    that folder gets its own folder instead: the manifest named it, so it is read, and
+    what it refers to (textures, material libraries, a scene's meshes) must lie beside
+    or under it."""
+    if confine is None:
+        return None
+    root, widen = Path(confine[0]), confine[1]
+    model = Path(model).resolve()
+    return model.parent if widen and root not in model.parents else root
+
+
+def _confined(root):
+    import contextlib
+
+    if root is None:
+        return contextlib.nullcontext()
+    from ..guard import confined
+
+    return confined(root)
+
+
+def _load(model, root):
+    from ..scene.source import open_scene
+
+    with _confined(root):
+        return open_scene(model)
 
 
 def _worker_init(devices, counter, threads, confine) -> None:
@@ -124,12 +154,7 @@ def _worker_init(devices, counter, threads, confine) -> None:
 def _worker_jobs(jobs, out) -> list[dict]:
     if "error" in _WORKER:
         raise _WORKER["error"]  # the run stops with it (render_dataset)
-    if _WORKER.get("confine") is None:
-        return list(render_jobs(jobs, out, _WORKER["renderer"]))
-    from ..guard import confined
-
-    with confined(_WORKER["confine"]):
-        return list(render_jobs(jobs, out, _WORKER["renderer"]))
+    return list(render_jobs(jobs, out, _WORKER["renderer"], _WORKER.get("confine")))
 
 
 def chunks(jobs: list, workers: int) -> list[list]:
@@ -155,8 +180,8 @@ def default_workers(gpus=None) -> int:
 def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
                    quiet: bool = True, confine=None) -> dict:
     """Render ``jobs`` into the folder ``out`` (module docstring); returns the counts
-    {"done", "failed", "skipped", "views", "seconds"}. ``confine``: a folder outside which
-    no worker reads a file (facet.guard.confined)."""
+    {"done", "failed", "skipped", "views", "seconds"}. ``confine``: None or (folder,
+    widen), where a job may read files (``job_root``; facet.guard.confined)."""
     import multiprocessing
 
     out = Path(out)
@@ -172,7 +197,8 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
     ctx = multiprocessing.get_context("spawn")
     counter = ctx.Value("i", 0)
     threads = max(1, (os.cpu_count() or 1) // workers) if workers > 1 else 0
-    setup = (list(gpus or []), counter, threads, None if confine is None else str(confine))
+    setup = (list(gpus or []), counter, threads,
+             None if confine is None else (str(confine[0]), bool(confine[1])))
 
     def note(record: dict) -> None:
         append_index(out / "index.jsonl", record)
