@@ -124,7 +124,9 @@ def _facet_times(r, scene, camera):
                         aa="none")
 
     run(("ids",))  # upload, compile
-    primary = _best(lambda: run(("ids",)))
+    # The ids read back: a frame's exact channels are read lazily, and the GL does the
+    # work only when something waits for it.
+    primary = _best(lambda: run(("ids",)).object_ids)
     hits = int((run(("ids",)).object_ids >= 0).sum())
     return (primary, hits, _best(lambda: run(("color",))),
             _best(lambda: run(("color",), True)))
