@@ -19,7 +19,7 @@ def render_dataset(manifest, out, *, defaults=None, workers=None, gpus=None, qui
     from pathlib import Path
 
     from .manifest import load_manifest
-    from .runner import render_dataset as run
+    from .pool import render_dataset as run
 
     jobs = manifest if isinstance(manifest, list) else load_manifest(manifest, defaults)
     if confine == "manifest":
