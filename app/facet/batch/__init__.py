@@ -1,7 +1,8 @@
 """Batch rendering of datasets: manifests of many models (facet.batch.manifest), view
-plans (facet.batch.views), worker processes each holding one renderer
-(facet.batch.runner), and the files the learning and reconstruction tools read
-(facet.batch.layout). ``facet batch`` is its command line."""
+plans (facet.batch.views), jobs rendered by one long-lived renderer (facet.batch.runner)
+in local worker processes (facet.batch.pool) or on Ray (facet.batch.ray_runner), and the
+files the learning and reconstruction tools read (facet.batch.layout, colmap).
+``facet batch`` is its command line."""
 
 from __future__ import annotations
 
