@@ -125,6 +125,19 @@ def test_manifest_errors_name_the_line_and_key(tmp_path):
     toml.write_text('[defaults]\nsize = [32, 32]\n[[jobs]]\nmodel = "models/m00.ply"\n'
                     'name = "a"\n[[jobs]]\nmodel = "models/m00.ply"\nname = "a"\n')
     assert [j.name for j in load_manifest(toml)] == ["a", "a-2"]  # folders kept apart
+    # A .json manifest may be one (pretty-printed) document: {"defaults", "jobs"} or a list.
+    doc = tmp_path / "d.json"
+    doc.write_text(json.dumps({"defaults": {"size": [40, 30]},
+                               "jobs": [{"model": "models/m00.ply", "views": 3}]}, indent=2))
+    (job,) = load_manifest(doc)
+    assert job.size == (40, 30) and job.views.count == 3
+    doc.write_text(json.dumps([{"model": "models/m00.ply"}, {"model": "models/m00.ply"}],
+                              indent=2))
+    assert len(load_manifest(doc)) == 2
+    doc.write_text(json.dumps({"defaults": {}, "jobs": [{"model": "models/m00.ply",
+                                                         "sise": 3}]}, indent=2))
+    with pytest.raises(InputError, match=r"d.json: jobs\[0\]: unknown key 'sise'"):
+        load_manifest(doc)
 
 
 def test_resume_bad_models_and_identical_files_across_worker_counts(tmp_path, capsys):

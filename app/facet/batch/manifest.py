@@ -18,7 +18,8 @@ A manifest is a TOML file, a JSON Lines file, or a glob of model files::
     colmap = true                    # also a COLMAP text model in JOB/sparse/0/
 
 In JSON Lines each line is one job (``{"model": ..., ...}``); a line ``{"defaults": {...}}``
-sets defaults for the lines after it. A glob (``"models/*.obj"``) makes one job per file.
+sets defaults for the lines after it. A .json file may also be one document: a list of
+jobs, or ``{"defaults": {...}, "jobs": [...]}``. A glob (``"models/*.obj"``) makes one job per file.
 Views: facet.batch.views. The whole manifest is validated before anything renders; an
 error names the line (JSON Lines) or job and the key.
 """
@@ -95,7 +96,23 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
         from ..guard import regular_file
 
         entries, merged = [], base_defaults
-        lines = regular_file(path, "manifest").read_text(encoding="utf-8").splitlines()
+        text_ = regular_file(path, "manifest").read_text(encoding="utf-8")
+        document = _json_document(text_) if path.suffix.lower() == ".json" else None
+        if document is not None:  # one JSON value: [jobs] or {"defaults", "jobs"}
+            if isinstance(document, list):
+                document = {"jobs": document}
+            document = _table(document, path.name)
+            for key in document:
+                if key not in ("defaults", "jobs"):
+                    raise InputError(f"{path.name}: unknown key {key!r}; a manifest has "
+                                     "\"defaults\" and \"jobs\"")
+            merged = {**merged, **_table(document.get("defaults", {}), f"{path.name}: defaults")}
+            jobs_ = document.get("jobs", [])
+            if not isinstance(jobs_, list):
+                raise InputError(f"{path.name}: jobs: expected a list of jobs")
+            entries = [(f"{path.name}: jobs[{i}]", merged, _table(j, f"{path.name}: jobs[{i}]"))
+                       for i, j in enumerate(jobs_)]
+        lines = [] if document is not None else text_.splitlines()
         for number, line in enumerate(lines, start=1):
             if not line.strip():
                 continue
@@ -129,6 +146,17 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
         names[name] = where
         unique.append(job if name == job.name else dataclasses.replace(job, name=name))
     return unique
+
+
+def _json_document(text: str):
+    """The value of a .json manifest written as one JSON document, or None when it is JSON
+    Lines (one job per line) instead."""
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError:
+        return None
+    return value if isinstance(value, list) or (isinstance(value, dict) and (
+        "jobs" in value or set(value) <= {"defaults"})) else None
 
 
 def _table(value, where: str) -> dict:
