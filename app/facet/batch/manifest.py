@@ -128,7 +128,8 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
             entries.append((where, merged, obj))
         base = path.parent
     else:
-        files = sorted(globbing.glob(text, recursive=True))
+        # Files only: a folder the pattern also matches is no model.
+        files = sorted(f for f in globbing.glob(text, recursive=True) if Path(f).is_file())
         if not files:
             raise InputError(f"{text}: no manifest file and no model files match it")
         entries = [(f, base_defaults, {"model": f}) for f in files]
