@@ -371,3 +371,35 @@ def test_confinement_reads_what_the_manifest_names_and_nothing_it_does_not(tmp_p
     status = {r["job"]: r for r in map(json.loads, (tmp_path / "strict" / "index.jsonl").open())}
     assert status["listed"]["status"] == "failed"  # DIR alone, for every job
     assert render_dataset(manifest, tmp_path / "open", confine=None)["done"] == 4
+
+
+@pytest.mark.slow
+def test_a_job_that_kills_its_worker_every_time_fails_alone(tmp_path):
+    """A job whose worker dies each time it runs it (as a model too large for memory
+    would; here the test kills the worker whenever the job writes a view) is found by
+    running the suspects alone, fails with its one line, and the others are done."""
+    models = _models(tmp_path / "models", 5)
+    manifest = _manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
+                         {"size": [96, 96], "views": {"plan": "sphere", "count": 30}})
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
+    proc = subprocess.Popen([sys.executable, "-m", "facet", "batch", str(manifest), "-o",
+                             str(out), "--workers", "1", "-q"], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    killed, last = 0, 0.0
+    end = time.time() + 120
+    while proc.poll() is None and time.time() < end:
+        view = out / "m02" / "images" / "0000.png"
+        stamp = view.stat().st_mtime if view.exists() else 0.0
+        if stamp > last:  # m02 is being rendered (again): its worker dies
+            for k in _children(proc.pid):
+                if b"spawn_main" in Path(f"/proc/{k}/cmdline").read_bytes():
+                    os.kill(k, signal.SIGKILL)
+            killed, last = killed + 1, stamp
+        time.sleep(0.01)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 1 and b"Traceback" not in err, err.decode()
+    assert killed >= 2  # in company first, then alone
+    index = {r["job"]: r for r in map(json.loads, (out / "index.jsonl").open())}
+    assert index["m02"]["status"] == "failed" and "worker process died" in index["m02"]["error"]
+    assert all(index[m.stem]["status"] == "done" for m in models if m.stem != "m02")

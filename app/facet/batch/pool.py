@@ -52,28 +52,42 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
     ctx = multiprocessing.get_context("spawn")
     counter = ctx.Value("i", 0)
     threads = max(1, (os.cpu_count() or 1) // workers) if workers > 1 else 0
+    news = ctx.Queue()  # from the workers: each view written, each job's record
     setup = (list(gpus or []), counter, threads,
-             None if confine is None else (str(confine[0]), bool(confine[1])))
+             None if confine is None else (str(confine[0]), bool(confine[1])), news)
+    planned = {_key(j): j.views.count for j in jobs}
+    shown = dict.fromkeys(planned, 0)
 
     def note(record: dict) -> None:
         append_index(out / "index.jsonl", record)
         counts[record["status"]] += 1
         counts["views"] += record["views"]
-        bar.update(record["views"] if record["status"] == "done" else 0)
+        key = (record["job"], record["model"])
+        bar.update(max(0, planned.get(key, 0) - shown.get(key, 0)))  # the rest: skipped...
+        shown[key] = planned.get(key, 0)
         if record["status"] == "failed" and not quiet:
             import sys
 
             print(f"facet: {record['job']}: {record['error']}", file=sys.stderr)
 
+    def view(key) -> None:
+        if shown.get(key, 0) < planned.get(key, 0):
+            shown[key] += 1
+            bar.update(1)
+
     try:
-        run_pool(ctx, workers, setup, chunks(jobs, workers), out, note)
+        run_pool(ctx, workers, setup, chunks(jobs, workers), out, note, news, view)
     finally:
         bar.close()
     counts["seconds"] = round(time.perf_counter() - start, 3)
     return counts
 
 
-def _worker_init(devices, counter, threads, confine) -> None:
+def _key(job) -> tuple[str, str]:
+    return (job.name, str(job.model))
+
+
+def _worker_init(devices, counter, threads, confine, news) -> None:
     """A worker's set-up: its EGL device, llvmpipe's thread count, one renderer, and an
     exit when the parent dies (facet.image.sequence.watch_parent). A renderer that cannot
     be made is reported by the worker's first run of jobs (an exception here would have
@@ -94,6 +108,7 @@ def _worker_init(devices, counter, threads, confine) -> None:
     from ..render.renderer import Renderer
 
     _WORKER["confine"] = confine
+    _WORKER["news"] = news
     try:
         _WORKER["renderer"] = Renderer(device=device)
     except FacetError as exc:
@@ -103,17 +118,43 @@ def _worker_init(devices, counter, threads, confine) -> None:
 def _worker_jobs(jobs, out) -> list[dict]:
     if "error" in _WORKER:
         raise _WORKER["error"]  # the run stops with it (render_dataset)
-    return list(render_jobs(jobs, out, _WORKER["renderer"], _WORKER.get("confine")))
+    news = _WORKER["news"]
+    records = []
+    for record in render_jobs(jobs, out, _WORKER["renderer"], _WORKER.get("confine"),
+                              on_view=lambda job: news.put(("view", _key(job)))):
+        news.put(("job", record))  # noted at once: a worker that dies later loses nothing
+        records.append(record)
+    return records
 
 
-def run_pool(ctx, workers: int, setup, runs: list[list], out: Path, note) -> None:
-    """Runs of jobs on ``workers`` processes, two runs in flight per worker. A worker that
-    dies (killed for memory by a huge model, a crash in a driver) breaks the pool: the jobs
-    that were in flight are then tried again one at a time, alone, in a new pool, so the
+def run_pool(ctx, workers: int, setup, runs: list[list], out: Path, note, news,
+             view) -> None:
+    """Runs of jobs on ``workers`` processes, two runs in flight per worker; ``note`` gets
+    each job's record once, as soon as the worker sends it on ``news`` (or, at the latest,
+    with its run's result), ``view`` each view written. A worker that dies (killed for
+    memory by a huge model, a crash in a driver) breaks the pool: the jobs in flight that
+    have no record yet are then tried again one at a time, alone, in a new pool, so the
     one that kills its worker is found and fails alone; the others go on."""
+    import queue as queues
     from collections import deque
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
     from concurrent.futures.process import BrokenProcessPool
+
+    noted: set = set()
+
+    def once(record: dict) -> None:
+        key = (record["job"], record["model"])
+        if key not in noted:
+            noted.add(key)
+            note(record)
+
+    def drain() -> None:
+        while True:
+            try:
+                kind, item = news.get_nowait()
+            except queues.Empty:
+                return
+            (once if kind == "job" else view)(item)
 
     queue, suspects = deque(runs), deque()
     while queue or suspects:
@@ -130,20 +171,23 @@ def run_pool(ctx, workers: int, setup, runs: list[list], out: Path, note) -> Non
                     while queue and len(flight) < 2 * workers:
                         run = queue.popleft()
                         flight[pool.submit(_worker_jobs, run, out)] = run
-                done, _ = wait(flight, return_when=FIRST_COMPLETED)
+                done, _ = wait(flight, timeout=0.2, return_when=FIRST_COMPLETED)
+                drain()
                 broken = [f for f in done if isinstance(f.exception(), BrokenProcessPool)]
                 for future in done:
                     if future not in broken:
                         flight.pop(future)
                         for record in future.result():  # a worker's error: raised here
-                            note(record)
+                            once(record)
                 if broken:
-                    runs_lost = list(flight.values())
+                    drain()
+                    alone = [job for run in flight.values() for job in run]
+                    lost = [j for j in alone if (j.name, str(j.model)) not in noted]
                     flight.clear()
-                    if len(runs_lost) == 1 and len(runs_lost[0]) == 1:  # it ran alone
-                        note(_died(runs_lost[0][0]))
-                    else:
-                        suspects.extend(job for run in runs_lost for job in run)
+                    if len(alone) == 1 and lost:  # it ran alone: the culprit
+                        once(_died(lost[0]))
+                    else:  # the ones without a record, each alone next
+                        suspects.extend(lost)
                     raise BrokenProcessPool
         except BrokenProcessPool:
             _stop(pool)

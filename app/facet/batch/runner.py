@@ -24,9 +24,10 @@ from .layout import finished, write_transforms, write_view
 CHUNK = 8  # jobs handed to a worker at once (render_jobs loads one ahead within them)
 
 
-def render_job(job, out: Path, renderer, load=None) -> dict:
+def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
     """Render one job's views into ``out / job.name``; the index record. ``load``: a
-    callable giving the job's scene (default: open its model now)."""
+    callable giving the job's scene (default: open its model now); ``on_view(job)``:
+    called as each view's files are written (progress)."""
     from ..scene.source import open_scene
 
     start = time.perf_counter()
@@ -48,6 +49,8 @@ def render_job(job, out: Path, renderer, load=None) -> dict:
         for i, camera in enumerate(cameras):
             frame = renderer.render(scene, camera, opts)
             entries.append(write_view(folder, i, frame, job.outputs, job.float_files))
+            if on_view is not None:
+                on_view(job)
             if job.colmap:
                 points.append(surface_points(frame, rng))
         if job.colmap:
@@ -64,12 +67,13 @@ def render_job(job, out: Path, renderer, load=None) -> dict:
             "seconds": round(time.perf_counter() - start, 3)}
 
 
-def render_jobs(jobs, out: Path, renderer, confine=None):
+def render_jobs(jobs, out: Path, renderer, confine=None, on_view=None):
     """render_job for each of ``jobs`` in turn (a generator of index records), the next
     model loading in a thread while this one renders: parsing a file and computing its
     normals is CPU work that overlaps the GPU's (and on a GPU it is most of a model's
     cost). ``confine``: None, or (folder, widen) (``job_root``), the folder outside which
-    a job reads no file, in the loader and the renderer alike."""
+    a job reads no file, in the loader and the renderer alike; ``on_view``: as for
+    ``render_job``."""
     from concurrent.futures import ThreadPoolExecutor
 
     out = Path(out)
@@ -85,7 +89,7 @@ def render_jobs(jobs, out: Path, renderer, confine=None):
             current, ahead = ahead, start(jobs[k + 1]) if k + 1 < len(jobs) else None
             with _confined(job_root(confine, job.model)):
                 yield render_job(job, out, renderer,
-                                 None if current is None else current.result)
+                                 None if current is None else current.result, on_view)
             del current  # its scene goes once rendered
 
 
