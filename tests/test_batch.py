@@ -403,3 +403,45 @@ def test_a_job_that_kills_its_worker_every_time_fails_alone(tmp_path):
     index = {r["job"]: r for r in map(json.loads, (out / "index.jsonl").open())}
     assert index["m02"]["status"] == "failed" and "worker process died" in index["m02"]["error"]
     assert all(index[m.stem]["status"] == "done" for m in models if m.stem != "m02")
+
+
+def test_cameras_plan_reproduces_the_views_of_a_transforms_json(tmp_path):
+    """plan = "cameras" renders from a transforms.json's poses (here one facet wrote): as
+    many views as it has frames, the same pictures; a file that is no transforms.json is
+    an error naming the line and key before anything renders."""
+    _models(tmp_path / "models", 3)
+    first = _manifest(tmp_path, [{"model": "models/m02.ply", "views": {
+        "plan": "random", "count": 5, "seed": 4}}], {"size": [64, 48],
+                                                   "outputs": ["color", "depth", "ids"]})
+    render_dataset(first, tmp_path / "a")
+    poses = tmp_path / "a" / "m02" / "transforms.json"
+    again = tmp_path / "again.jsonl"
+    again.write_text(json.dumps({"model": "models/m02.ply", "size": [64, 48],
+                                 "outputs": ["color", "depth", "ids"],
+                                 "views": {"plan": "cameras", "file": str(poses)}}) + "\n")
+    (job,) = load_manifest(again)
+    assert job.views.count == 5
+    assert render_dataset(again, tmp_path / "b")["views"] == 5
+    for i in range(5):
+        a = np.asarray(Image.open(tmp_path / "a" / "m02" / "images" / f"{i:04d}.png"))
+        b = np.asarray(Image.open(tmp_path / "b" / "m02" / "images" / f"{i:04d}.png"))
+        assert np.abs(a.astype(int) - b).max() <= 2  # near / far refitted: same picture
+        for channel in ("depth", "ids"):
+            x = np.load(tmp_path / "a" / "m02" / channel / f"{i:04d}.npy")
+            y = np.load(tmp_path / "b" / "m02" / channel / f"{i:04d}.npy")
+            if channel == "ids":
+                assert np.array_equal(x, y)
+            else:
+                assert np.allclose(x, y, atol=1e-4)
+    (tmp_path / "bad.json").write_text('{"frames": 3}')
+    again.write_text(json.dumps({"model": "models/m02.ply", "views": {
+        "plan": "cameras", "file": "bad.json"}}) + "\n")
+    with pytest.raises(InputError, match=r"again.jsonl:1.views.file: .*bad.json: cannot read"):
+        load_manifest(again)
+
+
+def test_zero_workers_is_an_error(tmp_path, capsys):
+    _models(tmp_path / "models", 1)
+    manifest = _manifest(tmp_path, [{"model": "models/m00.ply"}])
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "--workers", "0"]) == 2
+    assert "--workers must be at least 1, got 0" in capsys.readouterr().err

@@ -27,6 +27,7 @@ error names the line (JSON Lines) or job and the key.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import glob as globbing
 import hashlib
 import json
@@ -201,7 +202,11 @@ def _job(where: str, t: dict, base: Path) -> Job:
         file = Path(views.file) if Path(views.file).is_absolute() else base / views.file
         if not file.is_file():
             raise InputError(f"{where}.views.file: {file}: no such file")
-        views = ViewPlan(views.kind, views.count, views.elevation, views.elevations,
+        try:  # read now: a file that is no transforms.json is found before any rendering
+            count = _camera_count(str(file.resolve()))
+        except InputError as exc:
+            raise InputError(f"{where}.views.file: {exc}") from None
+        views = ViewPlan(views.kind, count, views.elevation, views.elevations,
                          views.seed, str(file))
     return Job(name, model, views, size, outputs, options, up, _float_files(t, where),
                _flag(t, "colmap", where))
@@ -227,6 +232,16 @@ def _flag(t: dict, key: str, where: str) -> bool:
     if not isinstance(value, bool):
         raise InputError(f"{where}.{key}: expected true or false, got {value!r}")
     return value
+
+
+@functools.lru_cache(maxsize=64)  # jobs of a manifest often share one cameras file
+def _camera_count(path: str) -> int:
+    from .views import read_transforms
+
+    count = len(read_transforms(Path(path)))
+    if not 1 <= count <= MAX_VIEWS:
+        raise InputError(f"{path}: {count} frames; expected 1..{MAX_VIEWS}")
+    return count
 
 
 def _views(v, where: str, seed) -> ViewPlan:

@@ -43,7 +43,7 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)
-    workers = workers or default_workers(gpus)
+    workers = default_workers(gpus) if workers is None else workers
     if workers < 1:
         raise InputError(f"--workers must be at least 1, got {workers}")
     counts = {"done": 0, "failed": 0, "skipped": 0, "views": 0}
