@@ -22,6 +22,10 @@ def render_dataset(manifest, out, *, defaults=None, workers=None, gpus=None, qui
     from .manifest import load_manifest
     from .pool import render_dataset as run
 
+    if workers is not None and workers < 1:
+        from ..errors import InputError
+
+        raise InputError(f"--workers must be at least 1, got {workers}")
     jobs = manifest if isinstance(manifest, list) else load_manifest(manifest, defaults)
     if confine == "manifest":
         path = Path(str(manifest)) if not isinstance(manifest, list) else None
