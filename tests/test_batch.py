@@ -153,9 +153,13 @@ def test_resume_bad_models_and_identical_files_across_worker_counts(tmp_path, ca
     index = [json.loads(line) for line in (tmp_path / "one" / "index.jsonl").open()]
     bad = next(r for r in index if r["job"] == "bad")
     assert bad["status"] == "failed" and "NaN or infinite" in bad["error"]
-    # A rerun skips what is finished.
+    # A rerun skips what is finished; the index keeps one line per job, the skipped ones
+    # with the record of the run that rendered them.
     assert main(["batch", str(manifest), "-o", str(tmp_path / "one"), "-q"]) == 1
     assert "0 done, 1 failed, 4 skipped" in capsys.readouterr().err
+    again = [json.loads(line) for line in (tmp_path / "one" / "index.jsonl").open()]
+    assert sorted(r["job"] for r in again) == sorted(r["job"] for r in index)
+    assert {r["job"]: r["status"] for r in again} == {r["job"]: r["status"] for r in index}
     # Two workers write byte-identical files.
     assert main(["batch", str(manifest), "-o", str(tmp_path / "two"), "--workers", "2",
                  "-q"]) == 1

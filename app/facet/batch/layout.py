@@ -1,7 +1,9 @@
 """A dataset's files, laid out as the 3D-learning and reconstruction tools read them:
 
     DATASET/index.jsonl               one line per job: job, model, views, files, seconds,
-                                      status (done / failed / skipped), error
+                                      status (done / failed / skipped), error; appended as
+                                      jobs finish, then one line per job (its latest
+                                      outcome; a rerun's "skipped" keeps the "done" line)
     DATASET/JOB/images/0000.png       colour (RGBA when the background is transparent)
     DATASET/JOB/depth/0000.npy        float32 linear depth, 0 = nothing (and normals/,
                                       position/, uv/ the same way when asked for); with
@@ -94,3 +96,25 @@ def append_index(path: Path, record: dict) -> None:
     with open(path, "a", encoding="utf-8") as f:
         f.write(json.dumps(record) + "\n")
         f.flush()
+
+
+def compact_index(path: Path) -> None:
+    """Rewrite the index with one line per job (first-seen order): its latest record, where
+    a rerun's "skipped" keeps the record of the run that rendered it. Lines cut short by a
+    crash are dropped."""
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except OSError:
+        return
+    latest: dict = {}
+    for line in lines:
+        try:
+            record = json.loads(line)
+            key = (record["job"], record.get("model"))
+        except (ValueError, KeyError, TypeError):
+            continue
+        if record.get("status") != "skipped" or key not in latest:
+            latest[key] = record
+    with write_atomic(path) as tmp:
+        Path(tmp).write_text("".join(json.dumps(r) + "\n" for r in latest.values()),
+                             encoding="utf-8")

@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 from ..errors import FacetError, InputError
-from .layout import append_index
+from .layout import append_index, compact_index
 from .runner import _progress, chunks, render_jobs
 
 _WORKER: dict = {}  # in a worker process: its renderer, confinement, or setup error
@@ -79,6 +79,7 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
         run_pool(ctx, workers, setup, chunks(jobs, workers), out, note, news, view)
     finally:
         bar.close()
+        compact_index(out / "index.jsonl")
     counts["seconds"] = round(time.perf_counter() - start, 3)
     return counts
 

@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 from ..errors import FacetError, InputError
-from .layout import append_index
+from .layout import append_index, compact_index
 
 RETRIES = 2
 
@@ -98,6 +98,7 @@ def _run(ray, jobs, out: Path, gpus: int, actors, quiet: bool, confine) -> dict:
                 bar.update(record["views"] if record["status"] == "done" else 0)
     finally:
         bar.close()
+        compact_index(out / "index.jsonl")
         for actor in pool:
             ray.kill(actor)
     counts["seconds"] = round(time.perf_counter() - start, 3)
