@@ -252,6 +252,10 @@ def run(args) -> list[Path]:
     if args.turntable and not args.out_dir and color_options.bits == (16,):
         raise InputError("16-bit colour cannot go into a GIF, MP4 or 8-bit PNG sequence; "
                          "use --out-dir for 16-bit frames")
+    if args.turntable and args.out_dir:  # its files go to a writer process: start it now,
+        from ..image.sequence import prestart_writer  # while the scene loads
+
+        prestart_writer()
     scene = _scene(args)
     layer = A.render_layer(args)
     # What this command writes: --out-dir the chosen channels, -o colour (+ --depth, --ids).

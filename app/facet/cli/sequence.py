@@ -51,7 +51,7 @@ def render_turntable(renderer, scene, camera, opts, args, target,
         writer.close()
     except BaseException:
         try:
-            writer.close()
+            writer.abort() if isinstance(writer, ProcessWriter) else writer.close()
         except Exception:
             pass
         if sink is not None:

@@ -74,16 +74,15 @@ class ProcessWriter:
     and threads of this one are not copied). Used for per-frame dataset files: rendering
     holds the GIL while the driver works, so encoding in a thread of the same process would
     mostly wait for it. Results come back in submission order through ``results``; at most
-    ``max_pending`` jobs are in flight, so a slow disk slows rendering instead of memory."""
+    ``max_pending`` jobs are in flight, so a slow disk slows rendering instead of memory.
+
+    The process is shared by every writer of this process and kept between sequences
+    (``writer_process``): starting one costs about a third of a CPU-second (Python, numpy,
+    Pillow), which a second turntable need not pay again, and ``prestart_writer`` lets a
+    command start it while it is still loading the scene."""
 
     def __init__(self, max_pending: int = 2 * QUEUE_FRAMES, warm_up: str = "facet.image.outputs"):
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-
-        self._pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"),
-                                         initializer=_worker_start)
-        # Start the process and its imports now, while the first frames render.
-        self._warm = self._pool.submit(_preload, warm_up)
+        self._pool = writer_process(warm_up)
         self._pending: list = []
         self._max = max_pending
         self.results: list = []
@@ -94,15 +93,58 @@ class ProcessWriter:
             self.results.append(self._pending.pop(0).result())
 
     def close(self) -> None:
-        """Wait for every job; raise the first error one of them hit."""
+        """Wait for every job; raise the first error one of them hit (the jobs after it are
+        cancelled where they have not started)."""
         try:
-            self._warm.result()
             while self._pending:
                 self.results.append(self._pending.pop(0).result())
         finally:
-            for future in self._pending:
-                future.cancel()
-            self._pool.shutdown(wait=True, cancel_futures=True)
+            self.abort()
+
+    def abort(self) -> None:
+        """Cancel the jobs not started (a run stopped by Ctrl-C or an error); the one being
+        written finishes, so no file is left half-written under its final name."""
+        for future in self._pending:
+            future.cancel()
+        for future in self._pending:
+            if not future.cancelled():
+                with contextlib.suppress(BaseException):
+                    future.result()
+        self._pending.clear()
+
+
+_WRITER: dict = {}  # "pool": the shared writer process (a ProcessPoolExecutor of one)
+_WRITER_LOCK = threading.Lock()
+
+
+def writer_process(warm_up: str = "facet.image.outputs"):
+    """The shared writer process, started (and ``warm_up`` imported there) on first use or
+    again after it broke; shut down when this process exits."""
+    import atexit
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    with _WRITER_LOCK:
+        pool = _WRITER.get("pool")
+        if pool is None or getattr(pool, "_broken", False):
+            pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"),
+                                       initializer=_worker_start)
+            pool.submit(_preload, warm_up)  # imports now, while this process goes on
+            if "pool" not in _WRITER:
+                atexit.register(_stop_writer)
+            _WRITER["pool"] = pool
+        return pool
+
+
+def prestart_writer() -> None:
+    """Start the writer process now (its start-up then overlaps loading a scene)."""
+    writer_process()
+
+
+def _stop_writer() -> None:
+    pool = _WRITER.pop("pool", None)
+    if pool is not None:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _worker_start() -> None:
