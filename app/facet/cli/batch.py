@@ -7,13 +7,15 @@ import argparse
 from . import args as A
 
 EPILOG = """\
-MANIFEST is a .toml or .jsonl manifest, or a glob of model files in quotes:
+MANIFEST is a .toml, .jsonl or .json manifest, or a glob of model files in quotes:
   facet batch dataset.toml -o dataset/
   facet batch "models/*.obj" -o thumbs/ --views 1 --size 512x512 --outputs color
   facet batch dataset.toml -o dataset/ --workers 4 --gpus 0,1,2,3
   facet batch "scans/*.ply" -o splats/ --views sphere:64 --colmap --float-files npy,exr
 A rerun skips finished jobs; a bad model fails its own job (see DATASET/index.jsonl) and
-the run goes on; the exit status is 1 when any job failed.
+the run goes on; the exit status is 1 when any job failed. Without --confine a job reads
+files inside the manifest's folder, or inside its model's folder when the manifest lists
+a model elsewhere.
 """
 
 
@@ -23,7 +25,8 @@ def add_parser(sub) -> None:
                        "folder of views (images/, depth/, normals/, masks/ ...) and a "
                        "nerfstudio transforms.json, and DATASET/index.jsonl.", epilog=EPILOG,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
-    b.add_argument("manifest", help="a .toml / .jsonl manifest, or a glob of model files")
+    b.add_argument("manifest", help="a .toml / .jsonl / .json manifest, or a glob of model "
+                   "files")
     b.add_argument("-o", "--output", required=True, metavar="DATASET",
                    help="the dataset folder (made if missing)")
     b.add_argument("--views", metavar="N|PLAN:N",
