@@ -118,9 +118,9 @@ def test_exr_files_and_a_colmap_model_that_reprojects(tmp_path):
     openexr = pytest.importorskip("OpenEXR", reason="the exr extra is not installed")
     models = make_models(tmp_path / "models", 2)
     manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
-                         {"size": [64, 48], "views": {"plan": "sphere", "count": 4},
-                          "outputs": ["color", "depth", "normals", "ids"],
-                          "float_files": ["npy", "exr"], "colmap": True})
+                              {"size": [64, 48], "views": {"plan": "sphere", "count": 4},
+                               "outputs": ["color", "depth", "normals", "ids"],
+                               "float_files": ["npy", "exr"], "colmap": True})
     assert render_dataset(manifest, tmp_path / "out")["done"] == 2
     job = tmp_path / "out" / "m00"
     for npy in [*job.glob("depth/*.npy"), *job.glob("normals/*.npy")]:

@@ -54,7 +54,7 @@ def test_resume_bad_models_and_identical_files_across_worker_counts(tmp_path, ca
 def test_a_run_stopped_from_outside_resumes(tmp_path):
     models = make_models(tmp_path / "models", 6)
     manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
-                         {"size": [128, 128], "views": {"plan": "sphere", "count": 30}})
+                              {"size": [128, 128], "views": {"plan": "sphere", "count": 30}})
     out = tmp_path / "out"
     env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
     proc = subprocess.Popen([sys.executable, "-m", "facet", "batch", str(manifest), "-o",
@@ -80,8 +80,8 @@ def test_a_local_ray_cluster_writes_the_same_files(tmp_path):
     pytest.importorskip("ray", reason="the ray extra is not installed")
     models = make_models(tmp_path / "models", 5)
     manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
-                         {"size": [48, 48], "views": {"plan": "random", "count": 3,
-                                                     "seed": 11}})
+                              {"size": [48, 48], "views": {"plan": "random", "count": 3,
+                                                          "seed": 11}})
     local = render_dataset(manifest, tmp_path / "local")
     on_ray = render_dataset(manifest, tmp_path / "ray", ray=True)
     assert local["done"] == on_ray["done"] == 5 and on_ray["failed"] == 0
@@ -110,19 +110,11 @@ def test_a_gpu_that_does_not_exist_stops_the_run_with_one_error(tmp_path, capsys
 def test_a_worker_killed_mid_run_does_not_stop_or_hang_the_run(tmp_path):
     """A worker process dies (as one killed for memory by a huge model would): the jobs it
     had are tried again, alone, and the run finishes with every job done."""
-    models = make_models(tmp_path / "models", 6)
-    manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
-                         {"size": [96, 96], "views": {"plan": "sphere", "count": 40}})
-    out = tmp_path / "out"
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
-    proc = subprocess.Popen([sys.executable, "-m", "facet", "batch", str(manifest), "-o",
-                             str(out), "--workers", "2", "-q"], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    models, out, proc = _start_batch(tmp_path, 6, views=40, workers=2)
     end = time.time() + 60
     while time.time() < end and len(list(out.glob("*/images/*.png"))) < 5:
         time.sleep(0.05)
-    workers = [k for k in child_pids(proc.pid)
-               if b"spawn_main" in Path(f"/proc/{k}/cmdline").read_bytes()]
+    workers = _workers(proc)
     assert workers, "no worker processes found"
     os.kill(workers[0], signal.SIGKILL)
     _, err = proc.communicate(timeout=120)
@@ -152,23 +144,15 @@ def test_a_job_that_kills_its_worker_every_time_fails_alone(tmp_path):
     """A job whose worker dies each time it runs it (as a model too large for memory
     would; here the test kills the worker whenever the job writes a view) is found by
     running the suspects alone, fails with its one line, and the others are done."""
-    models = make_models(tmp_path / "models", 5)
-    manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
-                         {"size": [96, 96], "views": {"plan": "sphere", "count": 30}})
-    out = tmp_path / "out"
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
-    proc = subprocess.Popen([sys.executable, "-m", "facet", "batch", str(manifest), "-o",
-                             str(out), "--workers", "1", "-q"], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    models, out, proc = _start_batch(tmp_path, 5, views=30, workers=1)
     killed, last = 0, 0.0
     end = time.time() + 120
     while proc.poll() is None and time.time() < end:
         view = out / "m02" / "images" / "0000.png"
         stamp = view.stat().st_mtime if view.exists() else 0.0
         if stamp > last:  # m02 is being rendered (again): its worker dies
-            for k in child_pids(proc.pid):
-                if b"spawn_main" in Path(f"/proc/{k}/cmdline").read_bytes():
-                    os.kill(k, signal.SIGKILL)
+            for k in _workers(proc):
+                os.kill(k, signal.SIGKILL)
             killed, last = killed + 1, stamp
         time.sleep(0.01)
     _, err = proc.communicate(timeout=60)
@@ -184,3 +168,23 @@ def test_zero_workers_is_an_error(tmp_path, capsys):
     manifest = write_manifest(tmp_path, [{"model": "models/m00.ply"}])
     assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "--workers", "0"]) == 2
     assert "--workers must be at least 1, got 0" in capsys.readouterr().err
+
+
+def _start_batch(tmp_path, n: int, views: int, workers: int):
+    """(models, output folder, process) of `facet batch` started on ``n`` generated models
+    with ``views`` views each at 96x96 and ``workers`` worker processes."""
+    models = make_models(tmp_path / "models", n)
+    manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
+                              {"size": [96, 96], "views": {"plan": "sphere", "count": views}})
+    out = tmp_path / "out"
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
+    proc = subprocess.Popen([sys.executable, "-m", "facet", "batch", str(manifest), "-o",
+                             str(out), "--workers", str(workers), "-q"], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    return models, out, proc
+
+
+def _workers(proc) -> list[int]:
+    """The worker processes (spawned Pythons) of a running `facet batch`."""
+    return [k for k in child_pids(proc.pid)
+            if b"spawn_main" in Path(f"/proc/{k}/cmdline").read_bytes()]

@@ -284,6 +284,22 @@ def test_python_viewer_api(display, tmp_path):
     assert json.loads(path.with_suffix(".json").read_text())["fov_y"] == pytest.approx(30)
 
 
+def _shader_window_tools(env):
+    """xdotool, and a screen grab after 0.8 s (hot reload polls), for a `facet shader`
+    window on the display of ``env``."""
+    def xdo(*args):
+        return subprocess.run(["xdotool", *args], env=env, capture_output=True, text=True,
+                              timeout=60, check=True).stdout
+
+    def screen():
+        time.sleep(0.8)
+        dump = subprocess.run(["xwd", "-root", "-silent"], env=env, capture_output=True,
+                              check=True).stdout
+        return read_xwd(dump)[:H, :W].astype(int)
+
+    return xdo, screen
+
+
 def test_shader_window_survives_a_broken_save(display, tmp_path):
     """`facet shader FILE` in a window: a broken save keeps the last picture inside a red
     frame with the error in the title; the fix brings the clean picture back."""
@@ -296,15 +312,7 @@ def test_shader_window_survives_a_broken_save(display, tmp_path):
                              f"{W}x{H}"], env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
 
-    def xdo(*args):
-        return subprocess.run(["xdotool", *args], env=env, capture_output=True, text=True,
-                              timeout=60, check=True).stdout
-
-    def screen():
-        time.sleep(0.8)
-        dump = subprocess.run(["xwd", "-root", "-silent"], env=env, capture_output=True,
-                              check=True).stdout
-        return read_xwd(dump)[:H, :W].astype(int)
+    xdo, screen = _shader_window_tools(env)
 
     try:
         wid = xdo("search", "--sync", "--onlyvisible", "--name", "^facet shader").split()[0]
@@ -651,15 +659,7 @@ def test_shader_window_reloads_when_a_missing_include_appears(display, tmp_path)
                              f"{W}x{H}", "--channel", "0=keyboard"], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
-    def xdo(*args):
-        return subprocess.run(["xdotool", *args], env=env, capture_output=True, text=True,
-                              timeout=60, check=True).stdout
-
-    def screen():
-        time.sleep(0.8)
-        dump = subprocess.run(["xwd", "-root", "-silent"], env=env, capture_output=True,
-                              check=True).stdout
-        return read_xwd(dump)[:H, :W].astype(int)
+    xdo, screen = _shader_window_tools(env)
 
     try:
         wid = xdo("search", "--sync", "--onlyvisible", "--name", "^facet shader").split()[0]

@@ -68,26 +68,17 @@ def aux_locations(channels) -> dict[str, int]:
 
 
 @contextlib.contextmanager
-def colour_only(fbo: moderngl.Framebuffer):
-    """Within this block, draws into ``fbo`` write its colour (the first attachment) only:
-    GL leaves a draw buffer that a shader does not write undefined, and the exact channels'
-    attachments must keep what they hold (the sky, the wireframe overlay)."""
+def writing(fbo: moderngl.Framebuffer, *, colour: bool = True, exact: bool = True):
+    """Within this block, draws and clears of ``fbo`` write its colour (the first
+    attachment) only if ``colour``, and its exact channels' attachments only if ``exact``.
+    GL leaves a draw buffer a shader does not write undefined, so colour-only passes (the
+    sky, the wireframe overlay) mask the exact channels; the exact-channel pass computes no
+    colour and masks it, so its clear clears the depth buffer alone (glClear honours the
+    mask)."""
     mask = fbo.color_mask
-    if len(mask) > 1:
-        fbo.color_mask = (mask[0], *((False,) * 4 for _ in mask[1:]))
-    try:
-        yield
-    finally:
-        fbo.color_mask = mask
-
-
-@contextlib.contextmanager
-def exact_only(fbo: moderngl.Framebuffer):
-    """Within this block, draws and clears of ``fbo`` leave its colour (the first
-    attachment) alone: the exact-channel pass computes no colour and writes none, and
-    a clear then clears the depth buffer only (glClear honours the mask)."""
-    mask = fbo.color_mask
-    fbo.color_mask = ((False,) * 4, *mask[1:])
+    off = (False,) * 4
+    fbo.color_mask = (mask[0] if colour else off,
+                      *(m if exact else off for m in mask[1:]))
     try:
         yield
     finally:

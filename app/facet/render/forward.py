@@ -19,7 +19,7 @@ from ..gl.fullscreen import FullScreenPass
 from ..gl.glsl_source import glsl_root
 from ..gl.resources import ResourceCache
 from ..gl.shaders import Program, compile_program
-from ..gl.targets import aux_locations, colour_only
+from ..gl.targets import aux_locations, writing
 from ..lab.mesh_shaders import UserPrograms
 from ..scene.scene import MAX_LIGHTS, Scene
 from .culling import Culling
@@ -325,7 +325,7 @@ class ForwardPass:
         if self._sky is None:
             self._sky = FullScreenPass(self.ctx, "post/sky.frag")
         self.ctx.disable(self.ctx.DEPTH_TEST)
-        with colour_only(self.ctx.fbo):  # the exact channels keep their "nothing"
+        with writing(self.ctx.fbo, exact=False):  # the exact channels keep their "nothing"
             self._sky.draw({"u_environment": (self.cache.cube(env), UNITS["environment"])},
                            u_inv_view_projection=np.linalg.inv(view_projection),
                            u_viewport=(float(width), float(height)))

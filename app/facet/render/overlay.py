@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from ..gl.targets import colour_only
+from ..gl.targets import writing
 from ..scene.material import Material
 
 EDGE_COLOR = (0.05, 0.05, 0.05)
@@ -20,7 +20,7 @@ def wireframe_overlay(forward, scene, state) -> None:
     ctx.depth_func = "<="
     ctx.wireframe = True
     try:
-        with colour_only(ctx.fbo):  # the lines leave the exact channels as they are
+        with writing(ctx.fbo, exact=False):  # the lines leave the exact channels as they are
             forward.draw(edges, state.with_(shading="unlit", lights=(), shadows=None,
                                             environment=None), colour_pass=False)
     finally:

@@ -34,7 +34,7 @@ from ..geometry.lens import with_lens
 from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
-from ..gl.targets import exact_only
+from ..gl.targets import writing
 from ..scene.light import active_lights
 from ..scene.options import (
     RenderOptions,
@@ -263,7 +263,7 @@ class Renderer:
         back when used (``_reader``)."""
         fbo = surf.targets.aux(aux)  # its exact attachments cleared to "nothing"
         fbo.use()
-        with exact_only(fbo):  # no colour written (nor cleared): a write per fragment less
+        with writing(fbo, colour=False):  # no colour written (nor cleared) per fragment
             fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
             self.ctx.enable_only(self.ctx.DEPTH_TEST)
             if trace:
