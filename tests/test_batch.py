@@ -242,3 +242,17 @@ def test_cameras_plan_reproduces_the_views_of_a_transforms_json(tmp_path):
         "plan": "cameras", "file": "bad.json"}}) + "\n")
     with pytest.raises(InputError, match=r"again.jsonl:1.views.file: .*bad.json: cannot read"):
         load_manifest(again)
+
+
+def test_command_line_defaults_replace_the_manifests_and_jobs_win(tmp_path):
+    """Precedence: manifest [defaults] < command-line defaults (--size, --outputs ...) < a
+    job's own values."""
+    make_models(tmp_path / "models", 2)
+    manifest = write_manifest(tmp_path, [{"model": "models/m00.ply"},
+                                         {"model": "models/m01.ply", "size": [20, 10]}],
+                              {"size": [64, 48], "outputs": ["color", "depth"]})
+    plain, sized = load_manifest(manifest)
+    assert plain.size == (64, 48) and plain.outputs == ("color", "depth")
+    plain, sized = load_manifest(manifest, {"size": [32, 32], "outputs": ["color"]})
+    assert plain.size == (32, 32) and plain.outputs == ("color",)
+    assert sized.size == (20, 10) and sized.outputs == ("color",)

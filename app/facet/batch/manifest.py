@@ -76,7 +76,8 @@ class Job:
 
 def load_manifest(source, defaults: dict | None = None) -> list[Job]:
     """Jobs of a manifest file (.toml, .jsonl / .json) or a glob of model files;
-    ``defaults`` (from the command line) come before the manifest's own."""
+    ``defaults`` (the command line's --size, --outputs, --views ...) override the
+    manifest's defaults; a job's own values override both."""
     text = str(source)
     path = Path(text)
     base_defaults = dict(defaults or {})
@@ -89,7 +90,7 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
             if key not in ("defaults", "jobs"):
                 raise InputError(f"{path.name}: unknown table {key!r}; a manifest has "
                                  "[defaults] and [[jobs]]")
-        merged = {**base_defaults, **_table(data.get("defaults", {}), f"{path.name}: defaults")}
+        merged = {**_table(data.get("defaults", {}), f"{path.name}: defaults"), **base_defaults}
         entries = [(f"{path.name}: jobs[{i}]", merged, j)
                    for i, j in enumerate(data.get("jobs", []))]
         base = path.parent
@@ -107,7 +108,8 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
                 if key not in ("defaults", "jobs"):
                     raise InputError(f"{path.name}: unknown key {key!r}; a manifest has "
                                      "\"defaults\" and \"jobs\"")
-            merged = {**merged, **_table(document.get("defaults", {}), f"{path.name}: defaults")}
+            merged = {**_table(document.get("defaults", {}), f"{path.name}: defaults"),
+                      **base_defaults}
             jobs_ = document.get("jobs", [])
             if not isinstance(jobs_, list):
                 raise InputError(f"{path.name}: jobs: expected a list of jobs")
@@ -124,7 +126,8 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
                 raise InputError(f"{where}: not JSON ({exc.msg})") from None
             obj = _table(obj, where)
             if "defaults" in obj:
-                merged = {**merged, **_table(obj["defaults"], f"{where}: defaults")}
+                merged = {**merged, **_table(obj["defaults"], f"{where}: defaults"),
+                          **base_defaults}
                 continue
             entries.append((where, merged, obj))
         base = path.parent

@@ -15,7 +15,8 @@ MANIFEST is a .toml, .jsonl or .json manifest, or a glob of model files in quote
 A rerun skips finished jobs; a bad model fails its own job (see DATASET/index.jsonl) and
 the run goes on; the exit status is 1 when any job failed. Without --confine a job reads
 files inside the manifest's folder, or inside its model's folder when the manifest lists
-a model elsewhere.
+a model elsewhere. --views, --size, --outputs, --seed, --float-files and --colmap replace
+the manifest's [defaults]; a job's own values win over both.
 """
 
 
