@@ -188,3 +188,22 @@ def _workers(proc) -> list[int]:
     """The worker processes (spawned Pythons) of a running `facet batch`."""
     return [k for k in child_pids(proc.pid)
             if b"spawn_main" in Path(f"/proc/{k}/cmdline").read_bytes()]
+
+
+@pytest.mark.slow
+def test_a_script_without_a_main_guard_gets_one_clear_error(tmp_path):
+    """Workers are spawned, so they import the calling script again: one without
+    `if __name__ == "__main__":` cannot start them. The run stops at once saying so
+    (not a pool breaking and retrying every job alone)."""
+    make_models(tmp_path / "models", 3)
+    manifest = write_manifest(tmp_path, [{"model": f"models/m0{i}.ply"} for i in range(3)])
+    script = tmp_path / "make_dataset.py"
+    script.write_text("from facet.batch import render_dataset\n"
+                      f"render_dataset({str(manifest)!r}, {str(tmp_path / 'out')!r})\n")
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
+    start = time.time()
+    run = subprocess.run([sys.executable, str(script)], env=env, capture_output=True,
+                         text=True, timeout=120)
+    assert run.returncode != 0 and time.time() - start < 60
+    assert 'if __name__ == "__main__":' in run.stderr.splitlines()[-1]
+    assert not list((tmp_path / "out").rglob("*.png"))

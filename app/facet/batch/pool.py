@@ -17,6 +17,9 @@ from .layout import append_index, compact_index
 from .runner import _progress, chunks, render_jobs
 
 _WORKER: dict = {}  # in a worker process: its renderer, confinement, or setup error
+NO_START = ("the worker processes could not start (they are spawned: a Python script that "
+            "renders a dataset needs its code under `if __name__ == \"__main__\":`, and "
+            "cannot be run from standard input)")
 
 
 def default_workers(gpus=None) -> int:
@@ -114,6 +117,7 @@ def _worker_init(devices, counter, threads, confine, news) -> None:
         _WORKER["renderer"] = Renderer(device=device)
     except FacetError as exc:
         _WORKER["error"] = exc
+    news.put(("ready", None))  # this worker started: a later death is a job's doing
 
 
 def _worker_jobs(jobs, out) -> list[dict]:
@@ -149,18 +153,24 @@ def run_pool(ctx, workers: int, setup, runs: list[list], out: Path, note, news,
             noted.add(key)
             note(record)
 
+    started = [False]  # a worker of the current pool has started
+
     def drain() -> None:
         while True:
             try:
                 kind, item = news.get_nowait()
             except queues.Empty:
                 return
-            (once if kind == "job" else view)(item)
+            if kind == "ready":
+                started[0] = True
+            else:
+                (once if kind == "job" else view)(item)
 
     queue, suspects = deque(runs), deque()
     while queue or suspects:
         pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_worker_init,
                                    initargs=setup)
+        started[0] = False
         flight: dict = {}
         try:
             while queue or suspects or flight:
@@ -182,6 +192,8 @@ def run_pool(ctx, workers: int, setup, runs: list[list], out: Path, note, news,
                             once(record)
                 if broken:
                     drain()
+                    if not started[0]:  # no worker got as far as its set-up
+                        raise InputError(NO_START)
                     alone = [job for run in flight.values() for job in run]
                     lost = [j for j in alone if (j.name, str(j.model)) not in noted]
                     flight.clear()
