@@ -2,8 +2,11 @@
 
 Loads a mesh with trimesh, computes smooth normals with numpy, draws it once per frame with
 a one-light per-fragment Phong shader into an offscreen framebuffer (optionally 4x MSAA,
-resolved), and reads the colour back. Used by benchmarks/run.py for frame times, and run as a
-whole process for the cold start:
+resolved), and reads the colour back. With ``exact=True`` it also makes and reads what
+facet's default outputs add, linear depth and an id per pixel centre, the least way bare GL
+allows: in the same pass (a second render target) without MSAA, in a second single-sample
+pass with it (no MSAA sample lies at the pixel centre). Used by benchmarks/run.py for
+frame times, and run as a whole process for the cold start:
 
     python benchmarks/floor.py MODEL OUT.png [--size 1024x1024] [--msaa 4]
 """
@@ -28,8 +31,30 @@ void main() {
     float s = d > 0.0 ? pow(max(dot(reflect(-L, N), V), 0.0), 32.0) : 0.0;
     vec3 C = vec3(0.8);
     f_color = vec4(clamp(0.1 * C + 0.8 * C * d + 0.3 * s, 0.0, 1.0), 1.0);
+#ifdef EXACT
+    f_exact = uvec2(floatBitsToUint(v_w), 1u);
+#endif
 }
 """
+# The exact pair (depth bits, id) alone: the second pass under MSAA.
+EXACT_VERT = """#version 330 core
+in vec3 in_position; uniform mat4 u_mvp; out float v_w;
+void main() { gl_Position = u_mvp * vec4(in_position, 1.0); v_w = gl_Position.w; }
+"""
+EXACT_FRAG = """#version 330 core
+in float v_w; layout(location = 1) out uvec2 f_exact;
+void main() { f_exact = uvec2(floatBitsToUint(v_w), 1u); }
+"""
+
+
+def _with_exact(source: str, vertex: bool) -> str:
+    """The colour shaders with the exact pair as a second output (clip w = linear depth)."""
+    if vertex:
+        return source.replace("out vec3 v_p;", "out vec3 v_p; out float v_w;").replace(
+            "v_p = in_position; }", "v_p = in_position; v_w = gl_Position.w; }")
+    return source.replace("out vec4 f_color;", "out vec4 f_color; in float v_w;\n"
+                          "layout(location = 1) out uvec2 f_exact;").replace(
+        "#version 330 core", "#version 330 core\n#define EXACT")
 
 
 def normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -59,14 +84,27 @@ def look_at_mvp(eye, target, aspect, fov=40.0, near=0.1, far=100.0) -> np.ndarra
 
 
 class Floor:
-    def __init__(self, width: int, height: int, msaa: int = 0, cull: bool = False):
-        self.ctx = moderngl.create_context(standalone=True, backend="egl")
+    def __init__(self, width: int, height: int, msaa: int = 0, cull: bool = False,
+                 exact: bool = False):
+        ctx = self.ctx = moderngl.create_context(standalone=True, backend="egl")
         self.cull = cull  # back faces culled (the mesh is closed and seen from outside)
         self.size = (width, height)
-        self.prog = self.ctx.program(vertex_shader=VERT, fragment_shader=FRAG)
-        self.fbo = self.ctx.simple_framebuffer(self.size)
-        self.ms = self.ctx.simple_framebuffer(self.size, samples=msaa) if msaa else None
-        self.vao = None
+        together = exact and not msaa  # the exact pair from the colour pass
+        self.prog = ctx.program(vertex_shader=_with_exact(VERT, True) if together else VERT,
+                                fragment_shader=_with_exact(FRAG, False) if together
+                                else FRAG)
+        self.fbo = ctx.simple_framebuffer(self.size)
+        self.ms = ctx.simple_framebuffer(self.size, samples=msaa) if msaa else None
+        self.vao = self.exact_vao = None
+        self.exact = self.exact_prog = None
+        if exact:
+            pair = ctx.renderbuffer(self.size, 2, dtype="u4")
+            self.exact = ctx.framebuffer([self.fbo.color_attachments[0], pair],
+                                         self.fbo.depth_attachment)
+            self.exact_read = ctx.framebuffer([pair])
+            if msaa:
+                self.exact_prog = ctx.program(vertex_shader=EXACT_VERT,
+                                              fragment_shader=EXACT_FRAG)
 
     def upload(self, positions, normals_, faces):
         ctx = self.ctx
@@ -74,6 +112,9 @@ class Floor:
         ibo = ctx.buffer(faces.astype("u4"))
         self.vao = ctx.vertex_array(self.prog, [(vbo, "3f 3f", "in_position", "in_normal")],
                                     index_buffer=ibo, index_element_size=4)
+        if self.exact_prog is not None:
+            self.exact_vao = ctx.vertex_array(self.exact_prog, [(vbo, "3f 12x", "in_position")],
+                                              index_buffer=ibo, index_element_size=4)
         lo, hi = positions.min(0), positions.max(0)
         centre, radius = (lo + hi) / 2, np.linalg.norm(hi - lo) / 2
         eye = centre + np.array([0.5, 0.4, 1.0]) / np.linalg.norm([0.5, 0.4, 1.0]) * radius * 3
@@ -82,19 +123,31 @@ class Floor:
         mvp = look_at_mvp(eye, centre, self.size[0] / self.size[1], near=radius,
                           far=radius * 5)
         self.prog["u_mvp"].write(mvp.T.astype("f4").tobytes())
+        if self.exact_prog is not None:
+            self.exact_prog["u_mvp"].write(mvp.T.astype("f4").tobytes())
         self.prog["u_eye"].value = tuple(eye)
         self.prog["u_light"].value = (-0.5, -0.6, -0.6)
 
     def frame(self) -> np.ndarray:
-        target = self.ms or self.fbo
+        """Colour, read back (row 0 at the top); with ``exact``, the exact pair too."""
+        target = self.ms or self.exact or self.fbo
         target.use()
         self.ctx.cull_face = "back"
         self.ctx.enable(moderngl.DEPTH_TEST | (moderngl.CULL_FACE if self.cull else 0))
         target.clear(0, 0, 0, 1)
+        if self.exact is not None:
+            self.exact_read.clear()
         self.vao.render()
         if self.ms:
             self.ctx.copy_framebuffer(self.fbo, self.ms)
         data = self.fbo.read(components=4)
+        if self.exact_vao is not None:  # MSAA: the second, single-sample pass
+            self.exact.use()
+            self.exact.color_mask = ((False,) * 4, (True,) * 4)
+            self.exact.clear(depth=1.0)
+            self.exact_vao.render()
+        if self.exact is not None:
+            self.exact_read.read(components=2, dtype="u4")
         return np.frombuffer(data, np.uint8).reshape(self.size[1], self.size[0], 4)[::-1]
 
 

@@ -55,11 +55,13 @@ def time_interleaved(fns, frames: int) -> list[tuple[float, float]]:
 
 
 def _compare(pos, faces, scene, msaa: int, frames: int) -> list[tuple[float, float]]:
-    """(median, best) seconds per frame: the floor with and without back-face culling,
-    facet colour only, facet's default outputs (colour, depth, ids)."""
+    """(median, best) seconds per frame of: the floor with and without back-face culling,
+    facet colour only, facet's default call with only its colour used, the floor making
+    and reading the default outputs (colour, depth, ids), facet's default call with every
+    output read."""
     floors = []
-    for cull in (True, False):
-        floor = Floor(SIZE, SIZE, msaa, cull=cull)
+    for cull, exact in ((True, False), (False, False), (True, True)):
+        floor = Floor(SIZE, SIZE, msaa, cull=cull, exact=exact)
         with floor.ctx:  # moderngl makes its objects in the context that is current
             floor.upload(pos, pos, faces)
         floors.append(floor)
@@ -73,11 +75,16 @@ def _compare(pos, faces, scene, msaa: int, frames: int) -> list[tuple[float, flo
         return frame
 
     with Renderer(SIZE, SIZE, msaa=msaa) as r:
+        def every_output():
+            frame = r.render(scene, camera)
+            return frame.color, frame.depth, frame.object_ids
+
         r.render(scene, camera)
         scene.objects[0].mesh.closed  # noqa: B018 - known before timing (else found later)
         times = time_interleaved([frame_of(floors[0]), frame_of(floors[1]),
                                   lambda: r.render(scene, camera, outputs=("color",)),
-                                  lambda: r.render(scene, camera)], frames)
+                                  lambda: r.render(scene, camera).color,
+                                  frame_of(floors[2]), every_output], frames)
     for floor in floors:
         floor.ctx.release()
     return times
@@ -86,8 +93,12 @@ def _compare(pos, faces, scene, msaa: int, frames: int) -> list[tuple[float, flo
 def frame_table(frames: int, subdivisions) -> None:
     print(f"\nFrame time, {SIZE}x{SIZE}, a closed icosphere, render + colour readback (median "
           f"of {frames}; fps)")
+    print("  default: facet's render(scene, camera) (colour, depth, ids), colour used; "
+          "all read: depth and ids read too;\n  floor all: the bare floor making and "
+          "reading colour, depth and ids (one pass, or two under MSAA)")
     print(f"{'faces':>8} {'AA':>5} | {'floor cull':>10} {'no cull':>8} | {'facet colour':>12} "
-          f"{'/cull':>6} | {'facet default':>13} {'/colour':>7}")
+          f"{'/cull':>6} | {'default':>7} {'/colour':>7} | {'floor all':>9} {'/cull':>6} | "
+          f"{'all read':>8} {'/colour':>7} {'/floor':>7}")
     for sub in subdivisions:
         pos, faces = icosphere(sub)
         mesh = facet.Mesh(pos, faces, pos)  # unit sphere: normals = positions
@@ -95,11 +106,13 @@ def frame_table(frames: int, subdivisions) -> None:
         scene.add(mesh)
         scene.add_light(facet.DirectionalLight((-0.5, -0.6, -0.6)))
         for msaa in (0, 4):
-            (cull, _), (nocull, _), (colour, _), (default, _) = _compare(
-                pos, faces, scene, msaa, frames)
+            (cull, _), (nocull, _), (colour, _), (default, _), (floor_all, _), (every, _) = \
+                _compare(pos, faces, scene, msaa, frames)
             print(f"{len(faces):>8} {('4x' if msaa else 'none'):>5} | {1 / cull:10.1f} "
                   f"{1 / nocull:8.1f} | {1 / colour:12.1f} {colour / cull:6.2f} | "
-                  f"{1 / default:13.1f} {default / colour:7.2f}")
+                  f"{1 / default:7.1f} {default / colour:7.2f} | {1 / floor_all:9.1f} "
+                  f"{floor_all / cull:6.2f} | {1 / every:8.1f} {every / colour:7.2f} "
+                  f"{every / floor_all:7.2f}")
     # An open mesh (one triangle of the sphere removed): facet draws both faces, so its
     # floor is the one without culling.
     sub = subdivisions[len(subdivisions) // 2]
@@ -113,7 +126,7 @@ def frame_table(frames: int, subdivisions) -> None:
     print(f"{'faces':>8} {'AA':>5} | {'floor no cull':>13} | {'facet colour':>12} "
           f"{'/no cull':>8}")
     for msaa in (0, 4):
-        _, (nocull, _), (colour, _), _ = _compare(pos, faces, scene, msaa, frames)
+        _, (nocull, _), (colour, _), *_ = _compare(pos, faces, scene, msaa, frames)
         print(f"{len(faces):>8} {('4x' if msaa else 'none'):>5} | {1 / nocull:13.1f} | "
               f"{1 / colour:12.1f} {colour / nocull:8.2f}")
 

@@ -28,6 +28,13 @@ import numpy as np
 SYNC_FACES = 100_000  # meshes up to this size are checked when first drawn
 
 
+def det3(m) -> float:
+    """The determinant of the upper 3x3 of ``m`` (negative: the transform mirrors), in
+    plain floats: this runs per object per frame."""
+    (a, b, c), (d, e, f), (g, h, i) = (row[:3] for row in np.asarray(m)[:3].tolist())
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+
+
 class Culling:
     """Per renderer: which objects to cull this frame."""
 
@@ -62,11 +69,16 @@ class Culling:
             return False
         if mode == "on":
             return True
-        if np.linalg.det(obj.transform[:3, :3]) <= 0:
+        m = obj.transform
+        if det3(m) <= 0:
             return False
-        b = obj.world_bounds
-        corners = np.array([[x, y, z, 1.0] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
-        if np.any(corners @ view[2] > -near):  # view-space z: in front of the near plane?
+        # The largest view-space z over the corners of the object's box (object space):
+        # z(p) = r.p + r_w with r the view's z row carried into object space, so its
+        # maximum over the box is r.centre + r_w + |r|.half-extent.
+        r = view[2] @ m
+        b = obj.mesh.bounds
+        z_max = r[:3] @ (b[0] + b[1]) * 0.5 + r[3] + np.abs(r[:3]) @ (b[1] - b[0]) * 0.5
+        if z_max > -near:  # some of it is not wholly in front of the near plane
             return False
         return self.closed(obj.mesh)
 

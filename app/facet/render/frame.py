@@ -9,6 +9,15 @@
 
 Only colour is anti-aliased: every other channel comes from pixel centres whatever the
 anti-aliasing, so values are exact and labels never blend. Outputs not asked for are None.
+
+How they are made exact. Without MSAA or supersampling, one pass draws colour and every
+channel together (multiple render targets, one sample per pixel, at its centre). Under MSAA
+no sample sits at the pixel centre, and a triangle can cover a centre while covering none
+of the samples (common on meshes with sub-pixel triangles), so no resolve of the samples
+can give the centre's values: the channels get a single-sample pass of their own (culled
+like the colour pass, computing no colour). That pass is drawn when a channel is first
+read, from a snapshot of the scene taken at ``render``; a caller that uses colour only
+never pays for it.
 """
 
 from __future__ import annotations
@@ -24,8 +33,9 @@ CHANNELS = ("depth", "object_ids", "normals", "position", "uv")
 class Frame:
     """One render's results (see the module docstring).
 
-    The exact channels are read back from the GPU when first used: a caller that only
-    looks at ``color`` (the common case) does not pay to move depth and ids into memory.
+    The exact channels are read back from the GPU (and, under MSAA, drawn) when first
+    used: a caller that only looks at ``color`` (the common case) does not pay for depth
+    and ids.
     The renderer reads whatever is still unread, of a frame that is still referenced,
     before its targets are drawn over again (``settle``), so a frame's arrays never change.
     Reading happens in the thread that rendered (a GL context belongs to one thread):

@@ -10,7 +10,9 @@ window's framebuffer) are two destinations of the same sequence, ``_sequence``:
    lens, the lights that shine (the default rig when the scene has none), background and
    environment; the frame's shared state (facet.render.state);
 2. shadow maps (facet.render.shadow), once per frame, or per sample for area lights;
-3. the exact channels (depth, ids, normals, position, uv) at pixel centres;
+3. the exact channels (depth, ids, normals, position, uv) at pixel centres: with the
+   colour in one pass, or (MSAA, supersampling) in a pass of their own, drawn when
+   first read (facet.render.frame says why);
 4. colour: one picture (MSAA when asked: opaque objects with their mirrors and environment,
    the wireframe overlay, then transparent ones by OIT over the resolved colour), or the
    sum of supersamples carrying the distributed effects (facet.render.antialias): all of
@@ -23,8 +25,10 @@ format, programs per variant, meshes per Mesh; options are never stored.
 
 from __future__ import annotations
 
+import copy
 import threading
 import weakref
+from dataclasses import replace
 
 import numpy as np
 
@@ -61,6 +65,14 @@ from .state import FrameState
 from .transparency import split_transparent
 
 LIGHT_ORDER = ("DirectionalLight", "PointLight", "SpotLight", "AreaLight")
+
+
+def frozen(scene: Scene) -> Scene:
+    """A view of ``scene`` whose objects are copies with their own transforms and materials
+    (what a deferred pass draws, whatever the caller changes afterwards)."""
+    return scene.view(objects=[
+        replace(o, transform=np.array(o.transform, dtype=np.float64),
+                material=copy.copy(o.material)) for o in scene.objects])
 
 
 class Renderer:
@@ -197,10 +209,10 @@ class Renderer:
             self._unread = weakref.ref(frame)
         return frame
 
-    def _reader(self, surf, name: str):
+    def _reader(self, surf, name: str, draw=None):
         """Read channel ``name`` when the frame's user first asks for it (facet.render.frame:
         a caller that only wants colour moves nothing else), with this renderer's context
-        current."""
+        current; ``draw``: the deferred pass that fills it (``_exact``), run first."""
         owner = threading.get_ident()
 
         def read():
@@ -208,11 +220,20 @@ class Renderer:
                 raise InputError(f"a frame's {name} is read back from the GPU in the thread "
                                  "that rendered it: call frame.settle() there before "
                                  "handing the frame to another thread or process")
+            if self._closed:  # close() settles every frame still held; this one was not
+                raise InputError(f"this frame's {name} was never read and its Renderer is "
+                                 "closed")
             if self._inside:  # never enter a current context again (facet.gl.context)
-                return surf.targets.read_aux(name)
+                return self._read_aux(surf, name, draw)
             with self.ctx:
-                return surf.targets.read_aux(name)
+                return self._read_aux(surf, name, draw)
         return read
+
+    @staticmethod
+    def _read_aux(surf, name: str, draw):
+        if draw is not None:
+            draw()
+        return surf.targets.read_aux(name)
 
     def _settle(self) -> None:
         """Read what the last frame has not read yet, if someone still holds it, before
@@ -259,8 +280,29 @@ class Renderer:
         return self._finish(source, None, finish, opts, dest, surf), samples.stop
 
     def _exact(self, scene, state: FrameState, aux, surf, trace: bool) -> dict:
-        """The exact channels at pixel centres, from the opaque objects (step 3); read
-        back when used (``_reader``)."""
+        """The exact channels at pixel centres, from the opaque objects (step 3), in a
+        single-sample pass of their own; read back when used (``_reader``).
+
+        The rasterizer's pass is drawn when a channel is first read, not now: most callers
+        of the default outputs look at colour only, and under MSAA this pass costs a second
+        trip through every triangle. It draws a snapshot of the objects taken now (their
+        transforms and materials copied), so a scene changed after ``render`` returns
+        changes nothing; the renderer draws it before its targets are used again
+        (``_settle``). The ray tracer's pass is drawn now (its geometry is this frame's)."""
+        if trace:
+            self._draw_exact(scene, state, aux, surf, trace)
+            return {name: self._reader(surf, name) for name in aux}
+        opaque = frozen(split_transparent(scene)[0])
+        state = state.with_(shading="unlit", shadows=None, environment=None)
+        drawn = []
+
+        def draw():
+            if not drawn:
+                drawn.append(True)
+                self._draw_exact(opaque, state, aux, surf, trace)
+        return {name: self._reader(surf, name, draw) for name in aux}
+
+    def _draw_exact(self, scene, state: FrameState, aux, surf, trace: bool) -> None:
         fbo = surf.targets.aux(aux)  # its exact attachments cleared to "nothing"
         fbo.use()
         with writing(fbo, colour=False):  # no colour written (nor cleared) per fragment
@@ -269,11 +311,8 @@ class Renderer:
             if trace:
                 self._part("tracer").draw_exact(scene, state, aux)
             else:
-                opaque, _ = split_transparent(scene)
-                self.forward.draw(opaque, state.with_(shading="unlit", shadows=None,
-                                                      environment=None), aux=aux,
+                self.forward.draw(split_transparent(scene)[0], state, aux=aux,
                                   colour_pass=False)
-        return {name: self._reader(surf, name) for name in aux}
 
     def _picture(self, scene, state, opts, clear, surf, dtype, together, direct):
         """One picture (step 4): opaque objects (straight into the window ``direct`` when
