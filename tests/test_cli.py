@@ -190,16 +190,16 @@ def test_out_dir_writes_every_channel(tmp_path, sphere_file, capsys):
     assert names == {"color.png", "depth.npy", "depth.png", "depth_mm.png", "ids.npy",
                      "ids.png", "normals.npy", "normals.png", "position.npy", "uv.npy",
                      "uv.png", "camera.json"}
-    from facet.image.png16 import decode_png16
+    from facet.image.png import decode_png
 
     depth, ids = np.load(out / "depth.npy"), np.load(out / "ids.npy")
     hit = ids == 0
-    mm = decode_png16((out / "depth_mm.png").read_bytes())
+    mm = decode_png((out / "depth_mm.png").read_bytes())
     assert np.array_equal(mm[hit], np.rint(depth[hit] * 1000).astype(np.uint16))
     assert np.all(mm[~hit] == 0)
     n = np.load(out / "normals.npy")
     assert n.shape == (40, 48, 3) and n[20, 24, 2] > 0.99  # camera space: facing us
-    n16 = decode_png16((out / "normals.png").read_bytes())
+    n16 = decode_png((out / "normals.png").read_bytes())
     assert n16.dtype == np.uint16 and abs(int(n16[20, 24, 2]) - 65535) < 400
     preview = np.asarray(Image.open(out / "depth.png").convert("RGB"))
     assert preview.shape == (40, 48, 3) and np.all(preview[~hit] == 0)
@@ -214,11 +214,11 @@ def test_bits_and_dithering_from_the_cli(tmp_path, sphere_file):
     """Each quantisation flag gives what facet.image.quantize computes from the same render
     at 16 bits (the float colour), and keeps several levels (not a blank image)."""
     from facet.image import quantize
-    from facet.image.png16 import decode_png16
+    from facet.image.png import decode_png
 
     base = ["render", str(sphere_file), "--size", "32x32", "-q", "--msaa", "0"]
     assert main([*base, "-o", str(tmp_path / "f.png"), "--bits", "16"]) == 0
-    exact = decode_png16((tmp_path / "f.png").read_bytes())
+    exact = decode_png((tmp_path / "f.png").read_bytes())
     assert exact.dtype == np.uint16 and exact.shape == (32, 32, 3)
     rgb = exact / 65535.0
     for extra, expected in (

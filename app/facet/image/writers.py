@@ -44,18 +44,27 @@ def write_atomic(path):
         raise
 
 
+_SWEPT: set[str] = set()  # folders this process has cleared of dead runs' left-overs
+
+
 def temp_beside(target: Path, suffix: str) -> str:
     """A new empty temporary file next to ``target`` whose name says whose it is:
     ``.NAME.facet-PID-XXXX`` + suffix. Left-overs of runs that were killed outright (no
-    chance to clean up) are removed first: same target, a process that no longer exists."""
+    chance to clean up: a process that no longer exists) are removed from a folder the
+    first time this process writes there (once, not per file: a dataset folder holds
+    many thousands of files)."""
     prefix = f".{target.name}.facet-"
-    with contextlib.suppress(OSError):
-        for entry in os.scandir(target.parent):
-            if entry.name.startswith(prefix):
-                pid = entry.name[len(prefix):].split("-", 1)[0]
-                if pid.isdigit() and not _alive(int(pid)):
-                    with contextlib.suppress(OSError):
-                        os.unlink(entry.path)
+    folder = os.path.abspath(target.parent)
+    if folder not in _SWEPT:
+        _SWEPT.add(folder)
+        with contextlib.suppress(OSError):
+            for entry in os.scandir(folder):
+                name = entry.name
+                if name.startswith(".") and ".facet-" in name:
+                    pid = name.rsplit(".facet-", 1)[1].split("-", 1)[0]
+                    if pid.isdigit() and not _alive(int(pid)):
+                        with contextlib.suppress(OSError):
+                            os.unlink(entry.path)
     fd, tmp = tempfile.mkstemp(prefix=f"{prefix}{os.getpid()}-", suffix=suffix,
                                dir=target.parent)
     os.close(fd)
@@ -90,12 +99,13 @@ def check_image_path(path) -> Path:
 # on rendered images (measured on facet's own renders) and encode several times faster,
 # which keeps dataset writing off the critical path of a turntable.
 PNG_COMPRESS_LEVEL = 1
+PNG16_COMPRESS_LEVEL = 6  # 16-bit files (an option for exact values, not the default path)
 
 
 def save_image(path, rgba: np.ndarray) -> Path:
-    """Write (H, W) grey or (H, W, 3|4) uint8 to a PNG. An all-opaque RGBA image is stored
-    as RGB."""
-    from PIL import Image  # Pillow is imported only by commands that write images
+    """Write (H, W) grey or (H, W, 3|4) uint8 to a PNG (facet.image.png). An all-opaque
+    RGBA image is stored as RGB."""
+    from .png import encode_png
 
     p = check_image_path(path)
     a = np.asarray(rgba)
@@ -104,9 +114,9 @@ def save_image(path, rgba: np.ndarray) -> Path:
                          f"{a.dtype}")
     if a.ndim == 3 and a.shape[2] == 4 and np.all(a[..., 3] == 255):
         a = a[..., :3]
+    data = encode_png(a, PNG_COMPRESS_LEVEL)
     with write_atomic(p) as tmp:
-        Image.fromarray(np.ascontiguousarray(a)).save(tmp, format=IMAGE_FORMATS[p.suffix.lower()],
-                                                      compress_level=PNG_COMPRESS_LEVEL)
+        tmp.write_bytes(data)
     return p
 
 
@@ -132,10 +142,10 @@ def to_uint8(color: np.ndarray) -> np.ndarray:
 
 def save_png16(path, image: np.ndarray) -> Path:
     """Write a (H, W) or (H, W, 3) uint16 image as a 16-bit PNG."""
-    from .png16 import encode_png16
+    from .png import encode_png
 
     p = check_image_path(path)
-    data = encode_png16(image)
+    data = encode_png(image, PNG16_COMPRESS_LEVEL)
     with write_atomic(p) as tmp:
         tmp.write_bytes(data)
     return p
