@@ -99,6 +99,7 @@ class Targets:
         self._aux: dict[str, tuple] = {}  # attachment -> (renderbuffer, framebuffer to clear it)
         self._aux_targets: dict[tuple, moderngl.Framebuffer] = {}
         self._aux_read: dict[str, np.ndarray] = {}  # attachment -> read since its last draw
+        self._pair: np.ndarray | None = None  # where depth_ids is read to (kept)
 
     def color(self, dtype: str = "f1") -> moderngl.Framebuffer:
         """The single-sample colour target with depth; ``color_texture`` is its colour."""
@@ -178,8 +179,13 @@ class Targets:
         components, dtype, np_dtype = AUX_ATTACHMENTS[attachment]
         if attachment == "depth_ids":  # read once for both channels
             if attachment not in self._aux_read:
-                self._aux_read[attachment] = self._read(
-                    self._channel(attachment)[1], components, dtype, np_dtype)
+                # Into a buffer kept for the next frame: only the two channels made from
+                # it are new memory (fresh pages cost a virtual machine ~1 ms per 4 MB).
+                if self._pair is None:
+                    self._pair = np.empty((self.height, self.width, 2), np.uint32)
+                self._channel(attachment)[1].read_into(self._pair, components=components,
+                                                       attachment=0, dtype=dtype)
+                self._aux_read[attachment] = self._pair
             pair = self._aux_read[attachment]
             if name == "depth":
                 return np.ascontiguousarray(pair[..., 0]).view(np.float32)
