@@ -220,9 +220,6 @@ class Renderer:
                 raise InputError(f"a frame's {name} is read back from the GPU in the thread "
                                  "that rendered it: call frame.settle() there before "
                                  "handing the frame to another thread or process")
-            if self._closed:  # close() settles every frame still held; this one was not
-                raise InputError(f"this frame's {name} was never read and its Renderer is "
-                                 "closed")
             if self._inside:  # never enter a current context again (facet.gl.context)
                 return self._read_aux(surf, name, draw)
             with self.ctx:
