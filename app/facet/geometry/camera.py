@@ -82,7 +82,13 @@ class Camera:
     @property
     def eye(self) -> np.ndarray:
         """Camera position in world space, (3,)."""
-        return np.linalg.inv(self.view)[:3, 3]
+        # Asked for on every draw: the inverse is kept until the view changes (compared by
+        # value: ``view`` is a public array that may be changed in place).
+        key = self.view.tobytes()
+        cached = self.__dict__.get("_eye")
+        if cached is None or cached[0] != key:
+            cached = self._eye = (key, np.linalg.inv(self.view)[:3, 3])
+        return cached[1].copy()
 
     @property
     def forward(self) -> np.ndarray:

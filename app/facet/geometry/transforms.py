@@ -177,10 +177,16 @@ def normal_matrix(m) -> np.ndarray:
     A tangent t transforms as M t; a normal n must keep n·t = 0, so n' = G n with
     G^T M = I, i.e. G = (M^-1)^T (the notes' argument). Raises ValueError for a singular M.
     """
-    a = np.asarray(m, dtype=np.float64)[:3, :3]
-    if abs(np.linalg.det(a)) < 1e-12:
+    # (M^-1)^T = cof(M) / det(M): the cofactors in plain floats (this runs per object per
+    # frame, where numpy's inverse of a 3x3 costs more than the arithmetic).
+    (a, b, c), (d, e, f), (g, h, i) = np.asarray(m, dtype=np.float64)[:3, :3].tolist()
+    cof = ((e * i - f * h, f * g - d * i, d * h - e * g),
+           (c * h - b * i, a * i - c * g, b * g - a * h),
+           (b * f - c * e, c * d - a * f, a * e - b * d))
+    det = a * cof[0][0] + b * cof[0][1] + c * cof[0][2]
+    if abs(det) < 1e-12:
         raise InputError("normal_matrix: the transform is singular (zero scale?)")
-    return np.linalg.inv(a).T
+    return np.array([[x / det for x in row] for row in cof])
 
 
 def transform_points(m, points) -> np.ndarray:

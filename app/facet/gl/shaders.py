@@ -174,11 +174,11 @@ class Program:
                 self.set(name, None)  # raises for an undeclared name
             return
         member = self.gl[name]
-        width = member.dimension
-        data = np.zeros((member.array_length, width), dtype=np.float32)
-        rows = np.asarray(values, dtype=np.float32).reshape(-1, width)[: member.array_length]
-        data[: len(rows)] = rows
-        member.write(data.tobytes())
+        width, length = member.dimension, member.array_length
+        rows = np.asarray(values, dtype=np.float32).reshape(-1, width)[:length]
+        if len(rows) < length:
+            rows = np.concatenate([rows, np.zeros((length - len(rows), width), np.float32)])
+        member.write(rows.tobytes())
 
     def uniform_types(self) -> dict[str, tuple[str, int]]:
         """Active uniforms of the linked program: name -> (GLSL type, array length)."""

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..geometry.sampling import pattern
 from ..gl.fullscreen import FullScreenPass
+from ..scene.light import AreaLight
 from ..scene.options import DISTRIBUTED_AA, AntiAliasing, parse_aa
 from .state import UNITS
 
@@ -80,8 +81,6 @@ def gloss_jitter(k: int, n: int) -> tuple[float, float]:
 
 
 def has_area_lights(scene) -> bool:
-    from ..scene.light import AreaLight
-
     return any(isinstance(light, AreaLight) for light in scene.lights)
 
 
@@ -124,8 +123,6 @@ def needs_accumulation(scene, camera, shadows: bool) -> bool:
 def point_lights_for(scene, k: int | None = None, n: int = 1):
     """The scene with each area light replaced by a point light: at sample ``k`` of a
     jittered pattern over its rectangle, or at its centre (``k`` None)."""
-    from ..scene.light import AreaLight
-
     if not has_area_lights(scene):
         return scene
     uv = pattern("jittered", n, AREA_SEED)[k] if k is not None else (0.0, 0.0)

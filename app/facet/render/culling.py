@@ -75,9 +75,11 @@ class Culling:
         # The largest view-space z over the corners of the object's box (object space):
         # z(p) = r.p + r_w with r the view's z row carried into object space, so its
         # maximum over the box is r.centre + r_w + |r|.half-extent.
-        r = view[2] @ m
-        b = obj.mesh.bounds
-        z_max = r[:3] @ (b[0] + b[1]) * 0.5 + r[3] + np.abs(r[:3]) @ (b[1] - b[0]) * 0.5
+        # (In plain floats: this runs per object per frame.)
+        rx, ry, rz, rw = (view[2] @ m).tolist()
+        (x0, y0, z0), (x1, y1, z1) = obj.mesh.bounds.tolist()
+        z_max = ((rx * (x0 + x1) + ry * (y0 + y1) + rz * (z0 + z1)) * 0.5 + rw
+                 + (abs(rx) * (x1 - x0) + abs(ry) * (y1 - y0) + abs(rz) * (z1 - z0)) * 0.5)
         if z_max > -near:  # some of it is not wholly in front of the near plane
             return False
         return self.closed(obj.mesh)

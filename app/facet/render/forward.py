@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -67,15 +68,12 @@ class Variant:
 
     @classmethod
     def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
+        """The frame's base variant (each object's is made from it)."""
         s = state.shadows
-        # "auto" picks a model per material (facet.render.materials.model_for); the base
-        # variant, which users' shaders see, is phong's.
-        shading = "phong" if state.shading == "auto" else state.shading
-        return cls(shading, state.light_kinds, tuple(aux_locations(aux)),
-                   state.camera.is_orthographic, srgb=state.srgb,
-                   shadow_slots=s.slots if s else None, shadow_tiles=s.tiles if s else 0,
-                   shadow_pcf=s.pcf if s else 1, oit=oit,
-                   clip_plane=state.clip_plane is not None)
+        return _base_variant(state.shading, state.light_kinds, tuple(aux),
+                             state.camera.is_orthographic, state.srgb,
+                             s.slots if s else None, s.tiles if s else 0, s.pcf if s else 1,
+                             oit, state.clip_plane is not None)
 
     def defines(self) -> dict:
         spec = SHADING_MODELS[check_shading(self.shading)]
@@ -102,6 +100,16 @@ class Variant:
         return d
 
 
+@lru_cache(maxsize=64)  # asked for on every draw; a handful of distinct ones in a run
+def _base_variant(shading, light_kinds, aux, orthographic, srgb, slots, tiles, pcf, oit,
+                  clip_plane) -> Variant:
+    # "auto" picks a model per material (facet.render.materials.model_for); the base
+    # variant, which users' shaders see, is phong's.
+    return Variant("phong" if shading == "auto" else shading, light_kinds,
+                   tuple(aux_locations(aux)), orthographic, srgb=srgb, shadow_slots=slots,
+                   shadow_tiles=tiles, shadow_pcf=pcf, oit=oit, clip_plane=clip_plane)
+
+
 class ForwardPass:
     """Draws a scene with one of the shading models; owns its programs and light buffer."""
 
@@ -118,6 +126,7 @@ class ForwardPass:
         self._lights_bytes = b""
         self.ibl = ImageLighting(ctx, cache)  # the pbr model's ambient and environment light
         self.culling = Culling()
+        self._variants: dict[tuple, Variant] = {}  # (base, flags) -> Variant (_phong_variant)
         self.samplers = SlotSamplers(ctx)
 
     def program(self, variant: Variant) -> Program:
@@ -159,8 +168,7 @@ class ForwardPass:
         self.ctx.front_face = "cw" if state.flip_y != (state.clip_plane is not None) else "ccw"
         camera = state.camera
         # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
-        eye = tuple(float(v) for v in (-camera.forward if camera.is_orthographic
-                                       else camera.eye))
+        eye = tuple((-camera.forward if camera.is_orthographic else camera.eye).tolist())
         env = state.environment
         if env is not None and shows_effects:
             self._draw_sky(env, view_projection, state.width, state.height)
@@ -195,11 +203,10 @@ class ForwardPass:
                     alpha_mask=pbr.alpha_mode == "MASK",
                     environment=env is not None and colour_pass))
             else:  # a mirror reflects the sky in its reflection
-                prog = self.program(replace(
-                    base, shading=model, texture=m.texture is not None, mirror=mirror,
-                    environment=reflects, vertex_colors=obj.mesh.colors is not None,
-                    alpha_mask=getattr(m, "alpha_mode", "") == "MASK",
-                    exact_only=bool(aux) and not colour_pass))
+                prog = self.program(self._phong_variant(
+                    base, model, m.texture is not None, mirror, reflects,
+                    obj.mesh.colors is not None, getattr(m, "alpha_mode", "") == "MASK",
+                    bool(aux) and not colour_pass))
             strict = not user  # a user's shader need not declare every standard input
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 self._frame_uniforms(prog, state, view_projection, eye, user)
@@ -214,10 +221,10 @@ class ForwardPass:
             prog.set("u_model", obj.transform, strict)
             prog.set("u_mvp", view_projection @ obj.transform, strict)
             prog.set("u_normal_matrix", T.normal_matrix(obj.transform), strict)
-            prog.set("u_color", tuple(float(c) for c in color), strict)
+            prog.set("u_color", tuple(color.tolist()), strict)
             # The material's products with each light (see glsl/lib/lights.glsl), computed
             # once per draw instead of once per fragment.
-            prog.set("u_ambient_term", tuple(float(c) for c in ambient * m.ka * color), strict)
+            prog.set("u_ambient_term", tuple((ambient * m.ka * color).tolist()), strict)
             prog.set_array("u_light_diffuse", intensities * (m.kd * color), strict)
             prog.set_array("u_light_specular", intensities * m.ks, strict)
             prog.set("u_shininess", m.shininess, strict)
@@ -246,6 +253,20 @@ class ForwardPass:
                 prog.set("u_alpha_cutoff", m.alpha_cutoff, strict=False)
             self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
         self._cull(False)
+
+    def _phong_variant(self, base: Variant, *flags) -> Variant:
+        """``base`` for one object drawn by a Phong model (``flags``: shading, texture,
+        mirror, environment, vertex_colors, alpha_mask, exact_only), kept: it is asked for
+        per object per frame, and building a Variant costs more than finding one."""
+        key = (base, *flags)
+        found = self._variants.get(key)
+        if found is None:
+            if len(self._variants) >= 4 * MAX_PROGRAMS:
+                self._variants.clear()
+            names = ("shading", "texture", "mirror", "environment", "vertex_colors",
+                     "alpha_mask", "exact_only")
+            found = self._variants[key] = replace(base, **dict(zip(names, flags, strict=True)))
+        return found
 
     def _cull(self, on: bool) -> None:
         if on:

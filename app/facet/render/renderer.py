@@ -41,6 +41,7 @@ from ..gl.resources import ResourceCache
 from ..gl.targets import writing
 from ..scene.light import active_lights
 from ..scene.options import (
+    ParsedLayer,
     RenderOptions,
     clamp_msaa,
     options_for,
@@ -131,7 +132,8 @@ class Renderer:
             opts = options.merged(kwargs)
         else:
             opts = options_for(scene, self.defaults, options, kwargs)
-        return opts.merged({"aa": clamp_msaa(opts.aa, *self._limits)})
+        aa = clamp_msaa(opts.aa, *self._limits)
+        return opts if aa is opts.aa else replace(opts, aa=aa)
 
     def camera(self, scene: Scene, opts: RenderOptions) -> Camera:
         """The scene's camera the options name (else its first), else one framing it."""
@@ -426,8 +428,7 @@ class Renderer:
 
     def resize(self, width: int, height: int) -> None:
         """A new default size for later calls (a window was resized)."""
-        self.defaults = {**self.defaults, "size": parse_layer({"size": (width, height)})[
-            "size"]}
+        self.defaults = ParsedLayer({**self.defaults, **parse_layer({"size": (width, height)})})
 
     def _check_open(self) -> None:
         if self._closed:

@@ -24,6 +24,7 @@ import numbers
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
+from functools import lru_cache
 
 from ..errors import FacetWarning, InputError
 
@@ -123,6 +124,13 @@ def spp_mode(samples) -> AntiAliasing:
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
         raise InputError(f"spp must be an integer >= 1 (samples per pixel), got {samples!r}")
     return parse_aa(f"ssaa:jittered:{samples}")
+
+
+@lru_cache(maxsize=1)
+def _default_aa() -> AntiAliasing:
+    """DEFAULT_AA parsed, once (frozen: shared by every RenderOptions; parsed on first use,
+    which keeps numpy out of ``facet --help``)."""
+    return parse_aa(DEFAULT_AA)
 
 
 def clamp_msaa(aa: AntiAliasing, max_samples: int, renderer: str = "this GL") -> AntiAliasing:
@@ -341,7 +349,7 @@ class RenderOptions:
     size: tuple[int, int] = (800, 600)
     background: tuple[float, float, float, float] | None = None
     shading: str = "auto"
-    aa: AntiAliasing = field(default_factory=lambda: parse_aa(DEFAULT_AA))
+    aa: AntiAliasing = field(default_factory=lambda: _default_aa())
     shadows: bool | None = None  # None: the engine's default (rasterizer off, tracer on)
     pcf: int = 1
     srgb: bool = False
@@ -393,12 +401,19 @@ class RenderOptions:
         return self.size[1]
 
 
-def parse_layer(layer) -> dict:
+class ParsedLayer(dict):
+    """A layer already parsed ({field: typed value}): used as it is, not parsed again (a
+    renderer's own options are resolved on every call)."""
+
+
+def parse_layer(layer) -> ParsedLayer:
     """A layer's given values, parsed: {field: typed value}."""
     if layer is None:
-        return {}
+        return ParsedLayer()
+    if isinstance(layer, ParsedLayer):
+        return layer
     if isinstance(layer, RenderOptions):
-        return layer.as_layer()
+        return ParsedLayer(layer.as_layer())
     if not isinstance(layer, Mapping):
         raise InputError(f"render options must be a mapping or RenderOptions, got "
                          f"{type(layer).__name__}")
@@ -407,8 +422,8 @@ def parse_layer(layer) -> dict:
     if len(sugar) > 1:
         raise InputError(f"give one of aa, msaa and spp, not {' and '.join(sugar)} (msaa=N "
                          "means aa='msaa:N', spp=N means aa='ssaa:jittered:N')")
-    return {("aa" if key in ("msaa", "spp") else key): parse_option(key, value)
-            for key, value in given.items()}
+    return ParsedLayer({("aa" if key in ("msaa", "spp") else key): parse_option(key, value)
+                        for key, value in given.items()})
 
 
 def options_for(scene, *explicit) -> RenderOptions:
