@@ -2,12 +2,14 @@
 array written."""
 
 import io
+import zlib
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from facet.image.png import decode_png, encode_png
+from facet.image.png import FAST_LEVELS, decode_png, deflate, encode_png
+from facet.image.writers import save_indexed
 
 
 @pytest.mark.parametrize("shape", [(1, 1), (5, 7), (6, 9, 3), (4, 1, 3), (8, 5, 4), (33, 17, 4)])
@@ -43,6 +45,44 @@ def test_a_rendered_image_compresses_like_pillows():
     buf = io.BytesIO()
     Image.fromarray(a).save(buf, format="PNG", compress_level=1)
     assert len(encode_png(a, 1)) < 1.15 * buf.tell()
+
+
+@pytest.mark.parametrize("entries", [1, 17, 256])
+@pytest.mark.parametrize("level", [0, 1, 6])
+def test_indexed_images_decode_to_their_indices_and_palette(entries, level):
+    rng = np.random.default_rng(entries)
+    index = rng.integers(0, entries, (13, 21), dtype=np.uint8)
+    palette = rng.integers(0, 256, (entries, 3), dtype=np.uint8)
+    data = encode_png(index, level, palette=palette)
+    with Image.open(io.BytesIO(data)) as img:
+        assert img.mode == "P"
+        np.testing.assert_array_equal(np.asarray(img), index)
+        got = np.asarray(img.getpalette()[:3 * entries], np.uint8).reshape(-1, 3)
+    np.testing.assert_array_equal(got, palette)
+    np.testing.assert_array_equal(decode_png(data), index)
+
+
+def test_save_indexed_covers_indices_past_the_palette(tmp_path):
+    """Indices the palette does not reach are black, never an unreadable file."""
+    index = np.array([[0, 1], [5, 200]], np.uint8)
+    path = save_indexed(tmp_path / "p.png", index, np.array([[255, 0, 0], [0, 255, 0]]))
+    with Image.open(path) as img:
+        np.testing.assert_array_equal(np.asarray(img.convert("RGB")),
+                                      [[[255, 0, 0], [0, 255, 0]], [[0, 0, 0], [0, 0, 0]]])
+
+
+@pytest.mark.parametrize("level", [0, *FAST_LEVELS, 6, 9])
+def test_every_level_deflates_to_a_zlib_stream(level):
+    """ISA-L (the fast levels) and zlib (the others) both write what zlib inflates."""
+    data = np.random.default_rng(level).integers(0, 4, 100_000, dtype=np.uint8).tobytes()
+    assert zlib.decompress(deflate(data, level)) == data
+
+
+def test_a_bad_palette_is_one_error():
+    with pytest.raises(ValueError, match="palette"):
+        encode_png(np.zeros((2, 2), np.uint8), palette=np.zeros((2, 4), np.uint8))
+    with pytest.raises(ValueError, match="encode_png expects"):
+        encode_png(np.zeros((2, 2, 3), np.uint8), palette=np.zeros((2, 3), np.uint8))
 
 
 @pytest.mark.parametrize("bad", [np.zeros((4, 4, 2), np.uint8), np.zeros((4, 4, 4), np.uint16),

@@ -42,18 +42,20 @@ class MeshBuffers:
         """The vertex array binding this mesh to ``program``'s active attributes; attributes
         the mesh lacks keep GL's default value (0, 0, 0, 1)."""
         key = program.glo
+        found = self.vaos.get(key)
+        if found is not None:  # (asked for on every draw)
+            return found
         if "in_tangent" in program and "in_tangent" not in self.extra:
             mesh = self.mesh()
             if mesh is not None and mesh.tangents is not None:
                 self.extra["in_tangent"] = (ctx.buffer(mesh.tangents), "4f")
-        if key not in self.vaos:
-            names = [n for n in ("in_position", "in_normal") if n in program]
-            fmt = "3f 3f" if names == ["in_position", "in_normal"] else "3f 3x4"
-            content = [(self.vbo, fmt, *names)]
-            content += [(buf, f, name) for name, (buf, f) in self.extra.items()
-                        if name in program]
-            self.vaos[key] = ctx.vertex_array(program, content, index_buffer=self.ibo,
-                                              index_element_size=4)
+        names = [n for n in ("in_position", "in_normal") if n in program]
+        fmt = "3f 3f" if names == ["in_position", "in_normal"] else "3f 3x4"
+        content = [(self.vbo, fmt, *names)]
+        content += [(buf, f, name) for name, (buf, f) in self.extra.items()
+                    if name in program]
+        self.vaos[key] = ctx.vertex_array(program, content, index_buffer=self.ibo,
+                                          index_element_size=4)
         return self.vaos[key]
 
     def release(self) -> None:

@@ -122,13 +122,16 @@ def save_image(path, rgba: np.ndarray) -> Path:
 
 def save_indexed(path, index: np.ndarray, palette: np.ndarray) -> Path:
     """Write (H, W) uint8 palette indices with a (<= 256, 3) uint8 palette as an indexed PNG."""
-    from PIL import Image
+    from .png import encode_png
 
     p = check_image_path(path)
-    img = Image.fromarray(np.ascontiguousarray(index, dtype=np.uint8), "P")
-    img.putpalette(np.asarray(palette, np.uint8).reshape(-1).tolist())
+    index = np.asarray(index, dtype=np.uint8)
+    palette = np.asarray(palette, np.uint8).reshape(-1, 3)
+    if index.size and int(index.max()) >= len(palette):  # black for indices past its end
+        palette = np.concatenate([palette, np.zeros((256 - len(palette), 3), np.uint8)])
+    data = encode_png(index, PNG_COMPRESS_LEVEL, palette=palette)
     with write_atomic(p) as tmp:
-        img.save(tmp, format="PNG", compress_level=PNG_COMPRESS_LEVEL)
+        tmp.write_bytes(data)
     return p
 
 
