@@ -153,11 +153,10 @@ def _worker_start() -> None:
     leaves Ctrl-C to its parent (which shuts it down: no second traceback), and exits when
     its parent is gone, however the parent died (SIGKILL included), so no orphan keeps the
     caller's pipes open."""
-    try:  # Linux: run only on a core nothing else wants (the queue bounds the wait)
-        os.sched_setscheduler(0, os.SCHED_IDLE, os.sched_param(0))
-    except (AttributeError, OSError):  # elsewhere: the lowest share a nice value gives
-        with contextlib.suppress(AttributeError, OSError):
-            os.nice(19)
+    try:
+        os.nice(10)
+    except (AttributeError, OSError):  # not on every platform; a nicety, not a need
+        pass
     watch_parent()
 
 
