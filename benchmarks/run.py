@@ -18,6 +18,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -40,27 +41,46 @@ def icosphere(subdivisions: int):
     return np.asarray(ico.vertices, "f4"), np.asarray(ico.faces, "u4")
 
 
-def time_interleaved(fns, frames: int, block: int = 4) -> list[tuple[float, float]]:
-    """(median, best) seconds per call of each function. The functions take turns in
-    blocks of ``block`` calls, so that drift in machine load (2 shared cores) hits every
-    contender alike; the first call of each block is not counted, so that no contender is
-    timed in the wake of another's memory traffic (reading 8 MB back leaves the caches
-    cold for whoever comes next)."""
+@dataclass
+class Timing:
+    """Seconds per call of one contender: the median and best of all its calls, and the
+    median of each round's block (``rounds``, for ratios: ``ratio``)."""
+
+    median: float
+    best: float
+    rounds: list[float]
+
+
+def ratio(a: Timing, b: Timing) -> float:
+    """a's time over b's: the median of the ratios of their blocks round by round (each
+    pair ran seconds apart, so drift in machine load cancels out of each ratio)."""
+    return statistics.median(x / y for x, y in zip(a.rounds, b.rounds, strict=True))
+
+
+def time_interleaved(fns, frames: int, block: int = 4) -> list[Timing]:
+    """Timings of each function. The functions take turns in blocks of ``block`` calls, so
+    that drift in machine load (2 shared cores) hits every contender alike; the first call
+    of each block is not counted, so that no contender is timed in the wake of another's
+    memory traffic (reading 8 MB back leaves the caches cold for whoever comes next)."""
     for fn in fns:
         fn()  # warm-up: first-use compilation, uploads
     samples = [[] for _ in fns]
+    rounds = [[] for _ in fns]
     for _ in range(max(1, -(-frames // (block - 1)))):
-        for fn, out in zip(fns, samples, strict=True):
+        for fn, out, per_round in zip(fns, samples, rounds, strict=True):
+            here = []
             for k in range(block):
                 t = time.perf_counter()
                 fn()
                 if k:
-                    out.append(time.perf_counter() - t)
-    return [(statistics.median(s), min(s)) for s in samples]
+                    here.append(time.perf_counter() - t)
+            out += here
+            per_round.append(statistics.median(here))
+    return [Timing(statistics.median(s), min(s), r) for s, r in zip(samples, rounds, strict=True)]
 
 
-def _compare(pos, faces, scene, msaa: int, frames: int) -> list[tuple[float, float]]:
-    """(median, best) seconds per frame of: the floor with and without back-face culling,
+def _compare(pos, faces, scene, msaa: int, frames: int) -> list[Timing]:
+    """Timings per frame of: the floor with and without back-face culling,
     facet colour only, facet's default call with only its colour used, the floor making
     and reading the default outputs (colour, depth, ids), facet's default call with every
     output read."""
@@ -97,7 +117,7 @@ def _compare(pos, faces, scene, msaa: int, frames: int) -> list[tuple[float, flo
 
 def frame_table(frames: int, subdivisions) -> None:
     print(f"\nFrame time, {SIZE}x{SIZE}, a closed icosphere, render + colour readback (median "
-          f"of {frames}; fps)")
+          f"of {frames}; fps; ratios: the median of round-by-round ratios)")
     print("  default: facet's render(scene, camera) (colour, depth, ids), colour used; "
           "all read: depth and ids read too;\n  floor all: the bare floor making and "
           "reading colour, depth and ids (one pass, or two under MSAA)")
@@ -111,13 +131,15 @@ def frame_table(frames: int, subdivisions) -> None:
         scene.add(mesh)
         scene.add_light(facet.DirectionalLight((-0.5, -0.6, -0.6)))
         for msaa in (0, 4):
-            (cull, _), (nocull, _), (colour, _), (default, _), (floor_all, _), (every, _) = \
+            cull, nocull, colour, default, floor_all, every = \
                 _compare(pos, faces, scene, msaa, frames)
-            print(f"{len(faces):>8} {('4x' if msaa else 'none'):>5} | {1 / cull:10.1f} "
-                  f"{1 / nocull:8.1f} | {1 / colour:12.1f} {colour / cull:6.2f} | "
-                  f"{1 / default:7.1f} {default / colour:7.2f} | {1 / floor_all:9.1f} "
-                  f"{floor_all / cull:6.2f} | {1 / every:8.1f} {every / colour:7.2f} "
-                  f"{every / floor_all:7.2f}")
+            print(f"{len(faces):>8} {('4x' if msaa else 'none'):>5} | "
+                  f"{1 / cull.median:10.1f} {1 / nocull.median:8.1f} | "
+                  f"{1 / colour.median:12.1f} {ratio(colour, cull):6.2f} | "
+                  f"{1 / default.median:7.1f} {ratio(default, colour):7.2f} | "
+                  f"{1 / floor_all.median:9.1f} {ratio(floor_all, cull):6.2f} | "
+                  f"{1 / every.median:8.1f} {ratio(every, colour):7.2f} "
+                  f"{ratio(every, floor_all):7.2f}")
     # An open mesh (one triangle of the sphere removed): facet draws both faces, so its
     # floor is the one without culling.
     sub = subdivisions[len(subdivisions) // 2]
@@ -131,9 +153,9 @@ def frame_table(frames: int, subdivisions) -> None:
     print(f"{'faces':>8} {'AA':>5} | {'floor no cull':>13} | {'facet colour':>12} "
           f"{'/no cull':>8}")
     for msaa in (0, 4):
-        _, (nocull, _), (colour, _), *_ = _compare(pos, faces, scene, msaa, frames)
-        print(f"{len(faces):>8} {('4x' if msaa else 'none'):>5} | {1 / nocull:13.1f} | "
-              f"{1 / colour:12.1f} {colour / nocull:8.2f}")
+        _, nocull, colour, *_ = _compare(pos, faces, scene, msaa, frames)
+        print(f"{len(faces):>8} {('4x' if msaa else 'none'):>5} | {1 / nocull.median:13.1f} | "
+              f"{1 / colour.median:12.1f} {ratio(colour, nocull):8.2f}")
 
 
 def run_process(cmd) -> tuple[float, float]:

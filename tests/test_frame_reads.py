@@ -114,3 +114,23 @@ def test_reading_in_another_thread_is_one_clear_error():
         worker.start()
         worker.join()
         assert len(errors) == 1 and (frame.object_ids == 0).any()
+
+
+@pytest.mark.parametrize("aa", AA, ids=["none", "msaa4", "ssaa4"])
+def test_what_an_earlier_frame_drew_is_nothing_in_the_next(aa):
+    """The exact channels are cleared on every frame (on the framebuffer the frame draws:
+    facet.gl.targets.clear_frame): where the previous frame saw an object and this one
+    sees nothing they read "nothing", as from a fresh renderer."""
+    moved = Scene()
+    moved.add(sphere_mesh(), Material(), transform=T.translate((1.8, 0, 0)))
+    moved.add_light(DirectionalLight((-0.3, -0.4, -1)))
+    with Renderer(SIZE, SIZE) as fresh:
+        want = _arrays(fresh.render(moved, CAMERAS[0], outputs=CHANNELS, **aa))
+    with Renderer(SIZE, SIZE) as r:
+        first = _arrays(r.render(_scene(), CAMERAS[0], outputs=CHANNELS, **aa))
+        got = _arrays(r.render(moved, CAMERAS[0], outputs=CHANNELS, **aa))
+    empty = (first["ids"] >= 0) & (got["ids"] < 0)
+    assert empty.sum() > SIZE * SIZE // 4  # most of the first frame is empty now
+    for name in want:
+        np.testing.assert_array_equal(got[name], want[name], err_msg=name)
+    assert (got["depth"][empty] == 0).all() and (got["normals"][empty] == 0).all()

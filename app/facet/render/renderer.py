@@ -38,7 +38,7 @@ from ..geometry.lens import with_lens
 from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
-from ..gl.targets import writing
+from ..gl.targets import clear_frame, writing
 from ..scene.light import active_lights
 from ..scene.options import (
     ParsedLayer,
@@ -302,10 +302,10 @@ class Renderer:
         return {name: self._reader(surf, name, draw) for name in aux}
 
     def _draw_exact(self, scene, state: FrameState, aux, surf, trace: bool) -> None:
-        fbo = surf.targets.aux(aux)  # its exact attachments cleared to "nothing"
+        fbo = surf.targets.aux(aux)
         fbo.use()
         with writing(fbo, colour=False):  # no colour written (nor cleared) per fragment
-            fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+            fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)  # the exact channels: "nothing"
             self.ctx.enable_only(self.ctx.DEPTH_TEST)
             if trace:
                 self._part("tracer").draw_exact(scene, state, aux)
@@ -326,9 +326,10 @@ class Renderer:
             target.viewport = (0, 0, *opts.size)
         else:
             target = t.color(dtype)
-        target.clear(*clear, depth=1.0)  # the exact channels are cleared to 0 by t.aux
-        target = t.aux(together, dtype) if together else target
+        if together:  # the same colour texture, with the exact channels' attachments
+            target = t.aux(together, dtype)
         target.use()
+        clear_frame(target, clear, exact=bool(together))
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
         self.forward.draw(opaque, state, aux=together)
         if opts.wireframe:
