@@ -134,9 +134,18 @@ class Floor:
         target.use()
         self.ctx.cull_face = "back"
         self.ctx.enable(moderngl.DEPTH_TEST | (moderngl.CULL_FACE if self.cull else 0))
-        target.clear(0, 0, 0, 1)
-        if self.exact is not None:
-            self.exact_read.clear()
+        if target is self.exact:  # one pass: clear the pair and colour on the framebuffer
+            # that draws them (llvmpipe folds that into the pass; another framebuffer's
+            # clear would be a pass over memory of its own)
+            target.color_mask = ((False,) * 4, (True,) * 4)
+            target.clear(0, 0, 0, 0, depth=1.0)
+            target.color_mask = ((True,) * 4, (False,) * 4)
+            target.depth_mask = False
+            target.clear(0, 0, 0, 1)
+            target.depth_mask = True
+            target.color_mask = ((True,) * 4, (True,) * 4)
+        else:
+            target.clear(0, 0, 0, 1)
         self.vao.render()
         if self.ms:
             self.ctx.copy_framebuffer(self.fbo, self.ms)
@@ -144,7 +153,7 @@ class Floor:
         if self.exact_vao is not None:  # MSAA: the second, single-sample pass
             self.exact.use()
             self.exact.color_mask = ((False,) * 4, (True,) * 4)
-            self.exact.clear(depth=1.0)
+            self.exact.clear(depth=1.0)  # the pair (colour masked) and depth
             self.exact_vao.render()
         if self.exact is not None:
             self.exact_read.read(components=2, dtype="u4")
