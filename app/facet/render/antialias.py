@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.lens import check_lens, concentric_disk, interpolate_transform, lens_camera
 from ..geometry.sampling import pattern
 from ..gl.fullscreen import FullScreenPass
 from ..scene.light import AreaLight
@@ -110,8 +111,6 @@ def colour_sampling(opts, scene, camera, preview: bool = False) -> AntiAliasing 
 def needs_accumulation(scene, camera, shadows: bool) -> bool:
     """Depth of field, motion blur, area-light penumbrae and glossy environment reflection
     are sums over samples: a render with any of them supersamples (headless and viewer)."""
-    from ..geometry.lens import check_lens
-
     return bool(check_lens(camera)
                 or any(o.transform_end is not None for o in scene.objects)
                 or (shadows and has_area_lights(scene))
@@ -134,8 +133,6 @@ def distributed_sample(camera, scene, k: int, mode: AntiAliasing):
     """Sample ``k``'s camera (a lens point, for depth of field) and scene (objects at a
     shutter time, for motion blur), from patterns decorrelated from the pixel jitter; the
     inputs themselves when neither effect is on."""
-    from ..geometry.lens import concentric_disk, interpolate_transform, lens_camera
-
     n = mode.samples
     scene = point_lights_for(scene, k, n)
     if camera.aperture > 0:

@@ -24,7 +24,7 @@ from ..gl.targets import aux_locations, writing
 from ..lab.mesh_shaders import UserPrograms
 from ..scene.scene import MAX_LIGHTS, Scene
 from .culling import Culling
-from .ibl import ImageLighting
+from .ibl import PREFILTER_LEVELS, ImageLighting
 from .materials import (
     IBL_UNITS,
     SlotSamplers,
@@ -288,8 +288,6 @@ class ForwardPass:
             self.ibl.lut().use(location=IBL_UNITS["lut"])
             prog.set("u_ibl_lut", IBL_UNITS["lut"], strict=False)
         if env is not None and colour_pass:
-            from .ibl import PREFILTER_LEVELS
-
             irradiance, prefiltered = self.ibl.maps(env)
             irradiance.use(location=IBL_UNITS["irradiance"])
             prefiltered.use(location=IBL_UNITS["prefiltered"])

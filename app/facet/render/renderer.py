@@ -264,8 +264,9 @@ class Renderer:
 
     def _colour(self, scene, state, opts, aa, dest, surf, together):
         """Steps 4 and 5: (colour read back or None, samples shown)."""
-        bg = np.append(state.to_linear(scene.background[:3]), scene.background[3])
-        clear = (*(bg[:3] * bg[3]), bg[3])  # drawn premultiplied; finishing unpremultiplies
+        alpha = float(scene.background[3])
+        bg = np.array([*state.to_linear(scene.background[:3]).tolist(), alpha])
+        clear = (*(bg[:3] * alpha).tolist(), alpha)  # premultiplied (finishing undoes it)
         if aa is None:
             finish = finish_for(bg, opts.srgb)
             dtype = "f4" if finish.needed or opts.float_color else "f1"

@@ -414,7 +414,7 @@ def parse_layer(layer) -> ParsedLayer:
         return layer
     if isinstance(layer, RenderOptions):
         return ParsedLayer(layer.as_layer())
-    if not isinstance(layer, Mapping):
+    if not isinstance(layer, dict | Mapping):  # (dict first: the ABC check is slow)
         raise InputError(f"render options must be a mapping or RenderOptions, got "
                          f"{type(layer).__name__}")
     given = {k: v for k, v in layer.items() if v is not None}
@@ -432,7 +432,7 @@ def options_for(scene, *explicit) -> RenderOptions:
     layer in order. The one place where the layers meet."""
     opts = RenderOptions.build(scene.options, *explicit)
     sized = any(isinstance(layer, RenderOptions) or
-                (isinstance(layer, Mapping) and layer.get("size") is not None)
+                (isinstance(layer, dict | Mapping) and layer.get("size") is not None)
                 for layer in explicit)
     camera = scene.camera(opts.camera) if scene.cameras and not sized else None
     if camera is not None and camera.intrinsics is not None:
