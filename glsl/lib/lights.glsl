@@ -50,9 +50,17 @@ uniform vec3 u_ambient_term;                     // I_a k_a C
 uniform vec3 u_light_diffuse[LIGHT_ARRAY_SIZE];  // I_i k_d C
 uniform vec3 u_light_specular[LIGHT_ARRAY_SIZE]; // I_i k_s
 uniform float u_shininess;                       // n
+#ifdef GREY_TERMS
+// Every term is grey (facet checks per draw): one channel is read and spread, so the
+// compiler computes one colour channel where it would compute three; the same picture.
+#define AMBIENT_TERM vec3(u_ambient_term.x)
+#define LIGHT_DIFFUSE(i) vec3(u_light_diffuse[i].x)
+#define LIGHT_SPECULAR(i) vec3(u_light_specular[i].x)
+#else
 #define AMBIENT_TERM u_ambient_term
 #define LIGHT_DIFFUSE(i) u_light_diffuse[i]
 #define LIGHT_SPECULAR(i) u_light_specular[i]
+#endif
 #define SHININESS u_shininess
 #endif
 
