@@ -90,3 +90,14 @@ def test_a_bad_palette_is_one_error():
 def test_what_it_cannot_write_is_one_error(bad):
     with pytest.raises(ValueError, match="encode_png expects"):
         encode_png(bad)
+
+
+def test_without_isal_zlib_writes_every_level(monkeypatch):
+    """ISA-L is a speed-up, not a need: without it the fast levels go through zlib."""
+    import facet.image.png as png
+
+    monkeypatch.setattr(png, "isal_zlib", None)
+    a = np.random.default_rng(7).integers(0, 256, (9, 13, 3), dtype=np.uint8)
+    for level in (0, *FAST_LEVELS, 6):
+        with Image.open(io.BytesIO(encode_png(a, level))) as img:
+            np.testing.assert_array_equal(np.asarray(img), a)
