@@ -108,7 +108,7 @@ LIT = ("phong", "blinn", "flat", "gouraud")  # the models that evaluate shade_sc
 def phong_terms(m, state: FrameState, ambient, intensities) -> tuple:
     """C and the material's products with each light (glsl/lib/lights.glsl: I_a k_a C,
     I_i k_d C, I_i k_s), computed once per draw instead of once per fragment."""
-    color = phong_color(m, state)
+    color = np.asarray(phong_color(m, state), dtype=np.float64)
     return color, ambient * m.ka * color, intensities * (m.kd * color), intensities * m.ks
 
 
