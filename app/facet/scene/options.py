@@ -349,7 +349,7 @@ class RenderOptions:
     size: tuple[int, int] = (800, 600)
     background: tuple[float, float, float, float] | None = None
     shading: str = "auto"
-    aa: AntiAliasing = field(default_factory=lambda: _default_aa())
+    aa: AntiAliasing = field(default_factory=_default_aa)
     shadows: bool | None = None  # None: the engine's default (rasterizer off, tracer on)
     pcf: int = 1
     srgb: bool = False
