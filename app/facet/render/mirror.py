@@ -18,8 +18,6 @@ import numpy as np
 from ..errors import InputError
 from ..geometry.transforms import fit_plane
 
-MIRROR_UNIT = 3  # texture unit (0: material texture, 1: shadow atlas, 2: environment)
-
 
 def mirror_plane(obj, eye) -> np.ndarray:
     """World-space plane (n, d) of a mirror object with n towards ``eye`` (the side it

@@ -9,8 +9,6 @@ per-sample jitter of supersampling. ``UNITS`` is the one table of texture units.
 
 from __future__ import annotations
 
-import math
-import struct
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -32,36 +30,23 @@ LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in li
 
 
 def pack_lights(lights, ambient, to_linear=np.asarray) -> bytes:
-    """The std140 ``Lights`` block of glsl/lib/lights.glsl: ambient, count, 4 vec4 per light
-    (packed with ``struct`` in plain floats: this runs once per frame)."""
-    parts = [_HEAD.pack(*np.asarray(to_linear(ambient), dtype=np.float64)[:3].tolist(), 0.0,
-                        len(lights), 0, 0, 0)]
-    none = (0.0, 0.0, 0.0)
-    for light in lights:
-        placed = hasattr(light, "position")
-        aimed = hasattr(light, "direction")
-        inner = outer = 0.0
+    """The std140 ``Lights`` block of glsl/lib/lights.glsl: ambient, count, 4 vec4 per light."""
+    block = np.zeros(2 * 4 + MAX_LIGHTS * 16, dtype=np.float32)
+    block[0:3] = to_linear(ambient)
+    block[4:8] = np.array([len(lights), 0, 0, 0], dtype=np.int32).view(np.float32)
+    for i, light in enumerate(lights):
+        pos, direction, color, falloff = block[8 + 16 * i: 24 + 16 * i].reshape(4, 4)
+        pos[3] = LIGHT_KIND[type(light)]
+        color[:3] = to_linear(light.color) * light.intensity
+        if hasattr(light, "position"):
+            pos[:3] = light.position
+            falloff[:3] = light.attenuation
+        if hasattr(light, "direction"):
+            direction[:3] = light.direction
         if isinstance(light, SpotLight):
-            inner = math.cos(math.radians(light.inner_angle))
-            outer = math.cos(math.radians(light.outer_angle))
-        colour = (np.asarray(to_linear(light.color), dtype=np.float64)[:3]
-                  * light.intensity).tolist()
-        parts.append(_LIGHT.pack(
-            *(_floats(light.position) if placed else none), LIGHT_KIND[type(light)],
-            *(_floats(light.direction) if aimed else none), inner,
-            *colour, outer,
-            *(_floats(light.attenuation) if placed else none), 0.0))
-    parts.append(bytes(_LIGHT.size * (MAX_LIGHTS - len(lights))))
-    return b"".join(parts)
-
-
-_HEAD = struct.Struct("<4f4i")  # u_ambient, u_light_count
-_LIGHT = struct.Struct("<16f")  # position + kind, direction + cos inner, colour + cos outer,
-#                                 falloff
-
-
-def _floats(v) -> list[float]:
-    return np.asarray(v, dtype=np.float64)[:3].tolist()
+            direction[3] = np.cos(np.radians(light.inner_angle))
+            color[3] = np.cos(np.radians(light.outer_angle))
+    return block.tobytes()
 
 
 @dataclass(frozen=True)
