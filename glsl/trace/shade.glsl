@@ -51,7 +51,8 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     } else {
         n_obj = ng_obj = h.n_obj;
         uv = h.uv;
-        p_obj = apply_rows(base, o + h.t * d, 1.0);
+        p_obj = onto_shape(int(info.x), fetch(u_instances, base + 7),
+                           apply_rows(base, o + h.t * d, 1.0), h.n_obj);
     }
     Surface s;
     s.p = apply_rows(base + 3, p_obj, 1.0);

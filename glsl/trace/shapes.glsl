@@ -16,12 +16,21 @@ vec2 around(vec3 p) {  // u from +x towards -z, as the tessellations
 }
 
 // The roots s0 <= s1 of a s^2 + 2 b s + c = 0 (the notes' quadratic in s); false without.
+// In the cancellation-free form: q = -(b + sign(b) sqrt(b^2 - a c)), roots q / a and c / q.
+// The textbook (-b -+ sqrt) / a loses the small root to cancellation where |a c| << b^2
+// (a ray leaving a surface, or grazing a cone's side), and a lost root is a false hit:
+// shadow acne.
 bool roots(float a, float b, float c, out float s0, out float s1) {
     float disc = b * b - a * c;
-    if (disc < 0.0 || a == 0.0) return false;
-    float r = sqrt(disc);
-    s0 = (-b - r) / a;
-    s1 = (-b + r) / a;
+    if (disc < 0.0) return false;
+    float q = -(b + (b < 0.0 ? -sqrt(disc) : sqrt(disc)));
+    if (q == 0.0) {  // b = 0 and a c = 0
+        if (a == 0.0) return false;
+        s0 = s1 = 0.0;
+        return true;
+    }
+    s0 = a != 0.0 ? q / a : c / q;  // a = 0: one root (a line along a cone's generator)
+    s1 = c / q;
     if (s0 > s1) { float tmp = s0; s0 = s1; s1 = tmp; }
     return true;
 }
@@ -113,4 +122,28 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
         }
     }
     return hit;
+}
+
+// Point p, near the surface of a shape whose outward normal there is n (what hit_shape
+// gave), moved onto that surface. A hit point o + t d carries the error of its root, and
+// where a ray passes near a cone's apex (its two nappes give nearly equal roots) that
+// error is far more than the offset a spawned ray starts with: the ray would start inside
+// and shadow its own surface. On the surface, a point's error is a few ulps (offset_ray's).
+vec3 onto_shape(int kind, vec4 q, vec3 p, vec3 n) {
+    if (kind == SHAPE_SPHERE) return p * (q.x / max(length(p), 1e-30));
+    if (kind == SHAPE_PLANE || kind == SHAPE_DISK) return vec3(p.x, 0.0, p.z);
+    if (kind == SHAPE_BOX) {  // the face the normal names
+        vec3 half_size = 0.5 * q.xyz;
+        return mix(p, sign(n) * half_size, abs(n));
+    }
+    float r = q.x, h = q.y;
+    if (abs(n.y) == 1.0) return vec3(p.x, 0.5 * h * n.y, p.z);  // a cap
+    float rho = length(p.xz);
+    if (rho == 0.0) return p;
+    if (kind == SHAPE_CYLINDER) return vec3(p.x * r / rho, p.y, p.z * r / rho);
+    // The cone's side in the (rho, y) half-plane: the line rho = r (h/2 - y) / h, through
+    // (r/2, 0) with direction (-r, h) / |(-r, h)|; p goes to its nearest point on it.
+    vec2 u = vec2(-r, h) / length(vec2(r, h));
+    vec2 on = vec2(0.5 * r, 0.0) + dot(vec2(rho - 0.5 * r, p.y), u) * u;
+    return vec3(p.x * on.x / rho, on.y, p.z * on.x / rho);
 }
