@@ -5,15 +5,17 @@
 
 const int STACK_SIZE = 48;  // deeper than any hierarchy facet builds (about 30 levels)
 
-// Möller-Trumbore: the triangle's (u, v) and distance when o + s d hits it in (0, t).
-bool hit_triangle(int tri, vec3 o, vec3 d, inout float t, out vec2 bary) {
+// Möller-Trumbore: the triangle's (u, v) and distance when o + s d hits it in (0, t);
+// ``front_only``: not when the ray meets its back (det < 0: the ray runs along the normal
+// cross(e1, e2), which object space keeps whatever the transform's determinant).
+bool hit_triangle(int tri, vec3 o, vec3 d, inout float t, out vec2 bary, bool front_only) {
     vec3 v0 = fetch(u_tris, 3 * tri).xyz;
     vec3 e1 = fetch(u_tris, 3 * tri + 1).xyz;
     vec3 e2 = fetch(u_tris, 3 * tri + 2).xyz;
     vec3 p = cross(d, e2);
     float det = dot(e1, p);
     bary = vec2(0.0);
-    if (abs(det) < 1e-30) return false;
+    if (abs(det) < 1e-30 || (front_only && det < 0.0)) return false;
     float inv = 1.0 / det;
     vec3 s = o - v0;
     float u = dot(s, p) * inv;
@@ -27,13 +29,14 @@ bool hit_triangle(int tri, vec3 o, vec3 d, inout float t, out vec2 bary) {
 }
 
 // The mesh hierarchy at node ``root``: its nearest triangle hit in (0, t) (t, tri, bary
-// updated), or with ``any_hit`` the first one found. True when something was hit.
+// updated), or with ``any_hit`` the first one found; ``front_only``: front faces only (a
+// single-sided material). True when something was hit.
 // One flat loop with one triangle test: a leaf's triangles are tested as soon as its box
 // is hit, the nearer of two inner children is opened next and the farther one waits on
 // the stack (one call site of hit_triangle keeps the program small, which on llvmpipe is
 // speed; the flat loop also keeps SIMD lanes together).
 bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout vec2 bary,
-                bool any_hit) {
+                bool any_hit, bool front_only) {
     vec3 inv = safe_inverse(d);
     int stack[STACK_SIZE];
     int sp = 0;
@@ -44,7 +47,7 @@ bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout ve
     for (;;) {
         if (k < end) {
             vec2 b;
-            if (hit_triangle(k, o, d, t, b)) {
+            if (hit_triangle(k, o, d, t, b, front_only)) {
                 tri = k;
                 bary = b;
                 found = true;

@@ -1,7 +1,7 @@
 // Placed objects (instances) and the top level over them; hits and the surfaces they give.
 // An instance is INSTANCE_TEXELS texels (facet.render.trace.pack):
 //   0-2  world -> object rows          3-5  object -> world rows
-//   6    (kind, mesh root node, object id, 1 if the mesh has vertex colours)
+//   6    (kind, mesh root node, object id, flags: FLAG_COLORS | FLAG_ONE_SIDED)
 //   7    shape parameters              8    material (C rgb, k_a)
 //   9    (k_d, k_s, shininess, opacity)  10 (reflectivity, ior, gloss, texture layer or -1)
 #include "trace/bvh.glsl"
@@ -9,6 +9,8 @@
 
 const int INSTANCE_TEXELS = 11;
 const int KIND_MESH = 0;
+const int FLAG_COLORS = 1;     // the mesh has vertex colours
+const int FLAG_ONE_SIDED = 2;  // a single-sided material: its back faces are not there
 
 struct Hit {
     float t;     // along the world ray
@@ -38,13 +40,18 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
     vec3 od = vec3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
     vec4 info = fetch(u_instances, base + 6);
     int kind = int(info.x);
+    bool one_sided = (int(info.w) & FLAG_ONE_SIDED) != 0;
     if (kind == KIND_MESH) {
-        if (!trace_mesh(int(info.y), oo, od, h.t, h.tri, h.bary, any_hit)) return false;
+        if (!trace_mesh(int(info.y), oo, od, h.t, h.tri, h.bary, any_hit, one_sided))
+            return false;
     } else {
         // out parameters are written back even on a miss: take them only on a hit.
         vec3 n;
         vec2 uv;
-        if (!hit_shape(kind, fetch(u_instances, base + 7), oo, od, h.t, n, uv)) return false;
+        float t = h.t;
+        if (!hit_shape(kind, fetch(u_instances, base + 7), oo, od, t, n, uv)) return false;
+        if (one_sided && dot(n, od) > 0.0) return false;  // its back: not there
+        h.t = t;
         h.tri = -1;
         h.n_obj = n;
         h.uv = uv;

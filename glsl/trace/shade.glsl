@@ -41,7 +41,7 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
         vec4 a2 = fetch(u_vertices, 2 * vi.z), b2 = fetch(u_vertices, 2 * vi.z + 1);
         n_obj = a0.xyz * w.x + a1.xyz * w.y + a2.xyz * w.z;
         uv = vec2(a0.w, b0.x) * w.x + vec2(a1.w, b1.x) * w.y + vec2(a2.w, b2.x) * w.z;
-        if (info.w > 0.0) {
+        if ((int(info.w) & FLAG_COLORS) != 0) {
             vec3 c = b0.yzw * w.x + b1.yzw * w.y + b2.yzw * w.z;
 #ifdef COLOR_SRGB
             c = srgb_to_linear(c);

@@ -3,9 +3,10 @@
 A back face can only be seen through a hole, from inside, or through what is not opaque.
 So an object is culled when its mesh is closed and consistently wound
 (``Mesh.closed``), its material is opaque and drawn by facet (not a user's shader, not a
-planar mirror), its object -> world matrix keeps handedness, and its world bounds lie
-wholly in front of the camera's near plane (so the camera is outside it and the near plane
-cuts nothing open). glTF's single-sided materials are culled in any case (their meaning);
+planar mirror), its object -> world matrix is not singular (one that mirrors flips the
+winding that faces front, which the pass sets per draw), and its world bounds lie wholly in
+front of the camera's near plane (so the camera is outside it and the near plane cuts
+nothing open). glTF's single-sided materials are culled in any case (their meaning);
 "on" culls every opaque object, "off" none.
 
 Culled and unculled pictures are the same pixel for pixel, with one exception: at a
@@ -58,8 +59,11 @@ class Culling:
             worker.start()
         return False
 
-    def cull(self, obj, mode: str, view: np.ndarray, near: float) -> bool:
-        """Whether to draw only the front faces of ``obj`` (module docstring)."""
+    def cull(self, obj, mode: str, view: np.ndarray, near: float,
+             det: float | None = None) -> bool:
+        """Whether to draw only the front faces of ``obj`` (module docstring); ``det``:
+        its transform's ``det3`` when the caller has it (the pass sets the front winding
+        by its sign)."""
         m = obj.material
         if mode == "off":
             return False
@@ -70,7 +74,7 @@ class Culling:
         if mode == "on":
             return True
         m = obj.transform
-        if det3(m) <= 0:
+        if (det3(m) if det is None else det) == 0:  # flattened: no side faces front
             return False
         # The largest view-space z over the corners of the object's box (object space):
         # z(p) = r.p + r_w with r the view's z row carried into object space, so its

@@ -23,7 +23,7 @@ from ..gl.shaders import Program, compile_program
 from ..gl.targets import aux_locations, writing
 from ..lab.mesh_shaders import UserPrograms
 from ..scene.scene import MAX_LIGHTS, Scene
-from .culling import Culling
+from .culling import Culling, det3
 from .ibl import PREFILTER_LEVELS, ImageLighting
 from .materials import (
     IBL_UNITS,
@@ -147,6 +147,7 @@ class ForwardPass:
         self._lights_bytes = b""
         self.ibl = ImageLighting(ctx, cache)  # the pbr model's ambient and environment light
         self.culling = Culling()
+        self._front_face = None  # the winding set last (_front)
         self._variants: dict[tuple, Variant] = {}  # (base, flags) -> Variant (_phong_variant)
         self.samplers = SlotSamplers(ctx)
 
@@ -185,8 +186,10 @@ class ForwardPass:
         self.lights_ubo.bind_to_uniform_block(LIGHTS_BINDING)
         view_projection = state.view_projection()
         # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise; so
-        # does looking through a mirror.
-        self.ctx.front_face = "cw" if state.flip_y != (state.clip_plane is not None) else "ccw"
+        # does looking through a mirror, and so does an object whose transform mirrors
+        # (det < 0): the winding that faces front is set per draw (_front), which culling
+        # and the shaders' gl_FrontFacing (two-sided lighting) both follow.
+        mirrored_view = state.flip_y != (state.clip_plane is not None)
         camera = state.camera
         # Perspective: V = normalize(eye - p). Parallel projection: V is the same everywhere.
         eye = tuple((-camera.forward if camera.is_orthographic else camera.eye).tolist())
@@ -234,9 +237,11 @@ class ForwardPass:
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 self._frame_uniforms(prog, state, view_projection, eye, user)
                 ready.add(id(prog))
+            det = det3(obj.transform)
+            self._front(mirrored_view != (det < 0))
             # Back faces nobody can see are not drawn (facet.render.culling).
             self._cull(self.culling.cull(obj, state.cull, state.camera.view,
-                                         state.camera.near))
+                                         state.camera.near, det))
             if model == "pbr" and not user:
                 self._draw_pbr(prog, obj, pbr, state, view_projection, env, colour_pass)
                 continue
@@ -276,6 +281,7 @@ class ForwardPass:
                 prog.set("u_alpha_cutoff", m.alpha_cutoff, strict=False)
             self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
         self._cull(False)
+        self._front(False)
 
     def _phong_variant(self, base: Variant, *flags) -> Variant:
         """``base`` for one object drawn by a Phong model (``flags``: shading, texture,
@@ -292,6 +298,12 @@ class ForwardPass:
             found = self._variants[key] = replace(base, **dict(zip(names, flags, strict=True)))
         return found
 
+    def _front(self, clockwise: bool) -> None:
+        face = "cw" if clockwise else "ccw"
+        if self._front_face != face:
+            self.ctx.front_face = face
+            self._front_face = face
+
     def _cull(self, on: bool) -> None:
         if on:
             self.ctx.enable(self.ctx.CULL_FACE)
@@ -304,8 +316,7 @@ class ForwardPass:
         prog.set("u_model", obj.transform)
         prog.set("u_mvp", view_projection @ obj.transform)
         prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
-        prog.set("u_handedness", -1.0 if np.linalg.det(obj.transform[:3, :3]) < 0 else 1.0,
-                 strict=False)
+        prog.set("u_handedness", -1.0 if det3(obj.transform) < 0 else 1.0, strict=False)
         prog.set("u_object_id", obj.id + 1)
         bound = set_pbr_material(prog, m, self.cache, self.samplers)
         if colour_pass:

@@ -25,6 +25,7 @@ TEX_WIDTH = 1 << TEX_SHIFT  # texels per texture row (glsl/trace/data.glsl)
 NODE_TEXELS = 4
 INSTANCE_TEXELS = 11
 KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
+FLAG_COLORS, FLAG_ONE_SIDED = 1, 2  # an instance's flags (glsl/trace/scene.glsl)
 MAX_REFERENCE = 1 << 24  # node and triangle indices are exact in float32 up to here
 EMPTY_CHILD = ((1e30, 1e30, 1e30, -1.0), (-1e30, -1e30, -1e30, 0.0))  # lo > hi: never hit
 
@@ -144,7 +145,9 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
         row[7, :len(params)] = np.where(np.isinf(params), 1e30, params)
     else:
         kind, root = KINDS["mesh"], mesh_root[id(obj.mesh)]
-    row[6] = (kind, root, obj.id, obj.mesh.colors is not None and obj.shape is None)
+    flags = (FLAG_COLORS if obj.mesh.colors is not None and obj.shape is None else 0) | \
+        (0 if getattr(mat, "double_sided", True) else FLAG_ONE_SIDED)
+    row[6] = (kind, root, obj.id, flags)
     row[8] = (*material_color(mat), mat.ka)
     row[9] = (mat.kd, mat.ks, mat.shininess, mat.opacity)
     layer = layers.get(id(mat.texture), -1) if mat.texture is not None else -1
