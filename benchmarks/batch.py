@@ -47,7 +47,7 @@ def overhead(manifest: Path, models: int = 12, reps: int = 3) -> tuple[float, fl
     interleaved ``reps`` times, medians."""
     from facet.batch.layout import write_transforms, write_view
     from facet.batch.manifest import load_manifest
-    from facet.batch.runner import render_jobs
+    from facet.batch.runner import job_options, render_jobs
     from facet.render.renderer import Renderer
     from facet.scene.source import open_scene
 
@@ -62,16 +62,16 @@ def overhead(manifest: Path, models: int = 12, reps: int = 3) -> tuple[float, fl
             ready = []
             for job in jobs[1:]:
                 scene = open_scene(job.model)
-                cams = job.views.cameras(scene.bounds, job.up)
-                opts = r.options(scene, size=job.size, outputs=job.outputs)
+                opts = job_options(job, scene, r)
+                cams = job.views.cameras(scene.bounds, opts.up)
                 r.render(scene, cams[0], opts).settle()  # uploaded
                 ready.append((job, scene, cams, opts))
             t = time.perf_counter()
             for k, (job, scene, cams, opts) in enumerate(ready):
                 folder = Path(tmp) / f"b{rep}-{k}"
-                entries = [write_view(folder, i, r.render(scene, cam, opts), job.outputs)
+                entries = [write_view(folder, i, r.render(scene, cam, opts), opts.outputs)
                            for i, cam in enumerate(cams)]
-                write_transforms(folder, job, cams, entries)
+                write_transforms(folder, job, opts.size, cams, entries)
             views.append((time.perf_counter() - t) / models)
             del ready
     w, v = statistics.median(whole), statistics.median(views)

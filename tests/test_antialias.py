@@ -148,7 +148,7 @@ def test_cli_aa(tmp_path, capsys):
     assert len(np.unique(smooth.reshape(-1, 3), axis=0)) > len(np.unique(sharp.reshape(-1, 3),
                                                                         axis=0))
     for args, message in ((["--aa", "ssaa:grid:7"], "square number"),
-                          (["--aa", "none", "--msaa", "4"], "one of --aa, --msaa and --spp"),
+                          (["--aa", "none", "--msaa", "4"], "give one of aa, msaa and spp"),
                           (["--aa", "supersample"], "expected none, msaa:N")):
         assert main(["render", *args, "-o", str(tmp_path / "x.png")]) == 2
         assert message in capsys.readouterr().err

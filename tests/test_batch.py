@@ -101,7 +101,7 @@ def test_manifest_errors_name_the_line_and_key(tmp_path):
     doc.write_text(json.dumps({"defaults": {"size": [40, 30]},
                                "jobs": [{"model": "models/m00.ply", "views": 3}]}, indent=2))
     (job,) = load_manifest(doc)
-    assert job.size == (40, 30) and job.views.count == 3
+    assert job.options["size"] == (40, 30) and job.views.count == 3
     doc.write_text(json.dumps([{"model": "models/m00.ply"}, {"model": "models/m00.ply"}],
                               indent=2))
     assert len(load_manifest(doc)) == 2
@@ -252,7 +252,7 @@ def test_command_line_defaults_replace_the_manifests_and_jobs_win(tmp_path):
                                          {"model": "models/m01.ply", "size": [20, 10]}],
                               {"size": [64, 48], "outputs": ["color", "depth"]})
     plain, sized = load_manifest(manifest)
-    assert plain.size == (64, 48) and plain.outputs == ("color", "depth")
-    plain, sized = load_manifest(manifest, {"size": [32, 32], "outputs": ["color"]})
-    assert plain.size == (32, 32) and plain.outputs == ("color",)
-    assert sized.size == (20, 10) and sized.outputs == ("color",)
+    assert plain.options["size"] == (64, 48) and plain.options["outputs"] == ("color", "depth")
+    plain, sized = load_manifest(manifest, {"size": "32x32", "outputs": "color"})
+    assert plain.options["size"] == (32, 32) and plain.options["outputs"] == ("color",)
+    assert sized.options["size"] == (20, 10) and sized.options["outputs"] == ("color",)

@@ -204,10 +204,10 @@ def test_the_ray_tracer_from_flags_scene_files_and_turntables(tmp_path):
 
 
 @pytest.mark.parametrize("args,message", [
-    (["--engine", "path"], "invalid choice: 'path'"),
+    (["--engine", "photon"], "unknown engine 'photon'"),
     (["--engine", "trace", "--max-depth", "-1"], "max_depth: expected an integer in [0, 16]"),
     (["--engine", "trace", "--spp", "0"], "spp must be an integer >= 1"),
-    (["--spp", "4", "--aa", "grid:4"], "give one of --aa, --msaa and --spp"),
+    (["--spp", "4", "--aa", "grid:4"], "give one of aa, msaa and spp"),
 ])
 def test_bad_tracer_flags(tmp_path, capsys, args, message):
     try:

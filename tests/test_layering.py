@@ -57,8 +57,8 @@ def test_the_every_key_file_covers_every_key():
 
     data = tomllib.loads(EVERY_KEY.read_text())
     assert set(data) == set(sf.TOP)
-    # msaa is sugar for aa and may not share a table with it (tests/test_options.py)
-    assert set(data["render"]) | {"msaa"} == set(sf.RENDER)
+    # msaa and spp are sugar for aa and may not share a table with it (test_options.py)
+    assert set(data["render"]) | {"msaa", "spp"} == set(sf.RENDER)
     materials = set().union(*(m for m in data["materials"].values()))
     assert materials == set(sf.MATERIAL)
     objects = set().union(*data["objects"])

@@ -68,9 +68,10 @@ def write_view(folder: Path, index: int, frame, outputs, float_files=("npy",)) -
     return entry
 
 
-def write_transforms(folder: Path, job, cameras, entries: list[dict]) -> Path:
-    """transforms.json (module docstring), the job's last file."""
-    w, h = job.size
+def write_transforms(folder: Path, job, size, cameras, entries: list[dict]) -> Path:
+    """transforms.json (module docstring) of images of ``size`` (w, h), the job's last
+    file."""
+    w, h = size
     K = cameras[0].K(w, h)
     fl_x, fl_y = float(K[0, 0]), float(K[1, 1])
     data = {

@@ -4,8 +4,8 @@ A manifest is a TOML file, a JSON Lines file, or a glob of model files::
 
     # dataset.toml
     [defaults]                       # every job's values unless the job gives its own
-    size = [256, 256]
-    outputs = ["color", "depth", "normals"]
+    size = [256, 256]                # (a dataset's default size and channels, below a
+    outputs = ["color", "depth", "normals"]  # scene file's [render]: FRONT_DEFAULTS)
     views = { plan = "sphere", count = 8 }
     seed = 0
 
@@ -20,8 +20,11 @@ A manifest is a TOML file, a JSON Lines file, or a glob of model files::
 In JSON Lines each line is one job (``{"model": ..., ...}``); a line ``{"defaults": {...}}``
 sets defaults for the lines after it. A .json file may also be one document: a list of
 jobs, or ``{"defaults": {...}, "jobs": [...]}``. A glob (``"models/*.obj"``) makes one job per file.
-Views: facet.batch.views. The whole manifest is validated before anything renders; an
-error names the line (JSON Lines) or job and the key.
+Views: facet.batch.views. Render options are handed raw to the one options parser
+(facet.scene.options), file names relative to the manifest's folder; a job renders with
+facet's defaults < a dataset's (FRONT_DEFAULTS["batch"]) < its scene file's [render] <
+the manifest's defaults < the command line's < its own. The whole manifest is validated
+before anything renders; an error names the line (JSON Lines) or job and the key.
 """
 
 from __future__ import annotations
@@ -35,37 +38,42 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
+from ..scene.options import (
+    MAX_FRAMES,
+    PARSERS,
+    PATH_KEYS,
+    ParsedLayer,
+    merge_raw,
+    parse_layer,
+)
 from .views import PLANS, ViewPlan
 
-JOB_KEYS = ("model", "name", "views", "size", "outputs", "seed", "up", "float_files", "colmap")
+JOB_KEYS = ("model", "name", "views", "seed", "float_files", "colmap")  # and render options
 FLOAT_FILES = ("npy", "exr")
 VIEW_KEYS = ("plan", "count", "elevation", "elevations", "seed", "file")
-MAX_VIEWS = 100_000  # the frame cap every sequence shares (facet.render.turntable)
-DEFAULT_OUTPUTS = ("color", "depth", "normals")
+FRONT = "batch"  # a dataset's defaults (facet.scene.options.FRONT_DEFAULTS)
 
 
 @dataclass(frozen=True)
 class Job:
-    """One model's renders: its folder ``name``, views, image size, outputs and render
-    options (facet.scene.options keys, parsed); the float channels' file formats and
-    whether a COLMAP model is written too (facet.batch.layout)."""
+    """One model's renders: its folder ``name``, views, the render options it gives
+    (parsed once: facet.scene.options; size, outputs, up, ... all among them), the float
+    channels' file formats and whether a COLMAP model is written too (facet.batch.layout).
+    ``given``: the options as the manifest wrote them (file names made absolute), what the
+    digest reads."""
 
     name: str
     model: Path
     views: ViewPlan
-    size: tuple[int, int] = (256, 256)
-    outputs: tuple[str, ...] = DEFAULT_OUTPUTS
-    options: dict = field(default_factory=dict)
-    up: tuple[float, float, float] = (0.0, 1.0, 0.0)
+    options: ParsedLayer = field(default_factory=ParsedLayer)
+    given: dict = field(default_factory=dict)
     float_files: tuple[str, ...] = ("npy",)
     colmap: bool = False
 
     def digest(self) -> str:
         """What the job's files depend on (a rerun skips a finished job with the same)."""
-        text = json.dumps([str(self.model), self.views.__dict__, self.size, self.outputs,
-                           {k: str(v) for k, v in sorted(self.options.items())}, self.up,
-                           self.float_files, self.colmap],
-                          sort_keys=True, default=str)
+        text = json.dumps([str(self.model), self.views.__dict__, self.given,
+                           self.float_files, self.colmap], sort_keys=True)
         try:
             stamp = self.model.stat()
             text += f"{stamp.st_size}:{stamp.st_mtime_ns}"
@@ -90,7 +98,8 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
             if key not in ("defaults", "jobs"):
                 raise InputError(f"{path.name}: unknown table {key!r}; a manifest has "
                                  "[defaults] and [[jobs]]")
-        merged = {**_table(data.get("defaults", {}), f"{path.name}: defaults"), **base_defaults}
+        merged = merge_raw(_table(data.get("defaults", {}), f"{path.name}: defaults"),
+                           base_defaults)
         entries = [(f"{path.name}: jobs[{i}]", merged, j)
                    for i, j in enumerate(data.get("jobs", []))]
         base = path.parent
@@ -108,8 +117,8 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
                 if key not in ("defaults", "jobs"):
                     raise InputError(f"{path.name}: unknown key {key!r}; a manifest has "
                                      "\"defaults\" and \"jobs\"")
-            merged = {**_table(document.get("defaults", {}), f"{path.name}: defaults"),
-                      **base_defaults}
+            merged = merge_raw(_table(document.get("defaults", {}), f"{path.name}: defaults"),
+                               base_defaults)
             jobs_ = document.get("jobs", [])
             if not isinstance(jobs_, list):
                 raise InputError(f"{path.name}: jobs: expected a list of jobs")
@@ -126,8 +135,8 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
                 raise InputError(f"{where}: not JSON ({exc.msg})") from None
             obj = _table(obj, where)
             if "defaults" in obj:
-                merged = {**merged, **_table(obj["defaults"], f"{where}: defaults"),
-                          **base_defaults}
+                merged = merge_raw(merged, _table(obj["defaults"], f"{where}: defaults"),
+                                   base_defaults)
                 continue
             entries.append((where, merged, obj))
         base = path.parent
@@ -140,7 +149,7 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
         base = Path(".")
     if not entries:
         raise InputError(f"{text}: the manifest lists no jobs")
-    jobs = [_job(where, {**d, **j}, base) for where, d, j in entries]
+    jobs = [_job(where, merge_raw(d, j), base) for where, d, j in entries]
     names: dict[str, str] = {}
     unique = []
     for (where, _, _), job in zip(entries, jobs, strict=True):
@@ -171,8 +180,6 @@ def _table(value, where: str) -> dict:
 
 
 def _job(where: str, t: dict, base: Path) -> Job:
-    from ..scene.options import OUTPUTS, PARSERS, parse_option
-
     for key in t:
         if key not in JOB_KEYS and key not in PARSERS:
             import difflib
@@ -189,17 +196,18 @@ def _job(where: str, t: dict, base: Path) -> Job:
     name = str(t.get("name") or model.stem)
     if not name or "/" in name or name.startswith("."):
         raise InputError(f"{where}.name: {name!r} cannot be a folder name")
+    given = {k: v for k, v in t.items() if k in PARSERS and v is not None}
+    for key in PATH_KEYS:  # file names from the manifest's folder (and so in the digest)
+        if isinstance(given.get(key), str) and given[key] != "sky":
+            given[key] = str((base / given[key]).resolve())
     try:
-        options = {k: parse_option(k, v) for k, v in t.items() if k in PARSERS and
-                   k not in ("size", "outputs", "up")}
-        size = parse_option("size", t.get("size", (256, 256)))
-        outputs = tuple(parse_option("outputs", t.get("outputs", DEFAULT_OUTPUTS)))
-        up = parse_option("up", t.get("up", "y"))
+        options = parse_layer(given, base)
+        json.dumps(given)  # what the digest reads: a manifest's values always are JSON
     except InputError as exc:
         raise InputError(f"{where}: {exc}") from None
-    if "color" not in outputs:
-        outputs = ("color", *outputs)  # transforms.json points at the colour images
-    assert set(outputs) <= set(OUTPUTS)
+    except TypeError:
+        raise InputError(f"{where}: render options must be plain values (numbers, text, "
+                         "lists)") from None
     views = _views(t.get("views", {}), f"{where}.views", t.get("seed", 0))
     if views.file is not None:  # relative to the manifest, checked now
         file = Path(views.file) if Path(views.file).is_absolute() else base / views.file
@@ -211,7 +219,7 @@ def _job(where: str, t: dict, base: Path) -> Job:
             raise InputError(f"{where}.views.file: {exc}") from None
         views = ViewPlan(views.kind, count, views.elevation, views.elevations,
                          views.seed, str(file))
-    return Job(name, model, views, size, outputs, options, up, _float_files(t, where),
+    return Job(name, model, views, options, given, _float_files(t, where),
                _flag(t, "colmap", where))
 
 
@@ -242,8 +250,8 @@ def _camera_count(path: str) -> int:
     from .views import read_transforms
 
     count = len(read_transforms(Path(path)))
-    if not 1 <= count <= MAX_VIEWS:
-        raise InputError(f"{path}: {count} frames; expected 1..{MAX_VIEWS}")
+    if not 1 <= count <= MAX_FRAMES:
+        raise InputError(f"{path}: {count} frames; expected 1..{MAX_FRAMES}")
     return count
 
 
@@ -258,8 +266,8 @@ def _views(v, where: str, seed) -> ViewPlan:
     if plan not in PLANS:
         raise InputError(f"{where}.plan: {plan!r}; choose one of {', '.join(PLANS)}")
     count = v.get("count", 8)
-    if plan != "cameras" and not (isinstance(count, int) and 1 <= count <= MAX_VIEWS):
-        raise InputError(f"{where}.count: expected 1..{MAX_VIEWS} views, got {count!r}")
+    if plan != "cameras" and not (isinstance(count, int) and 1 <= count <= MAX_FRAMES):
+        raise InputError(f"{where}.count: expected 1..{MAX_FRAMES} views, got {count!r}")
     if plan == "cameras" and "file" not in v:
         raise InputError(f"{where}: plan = \"cameras\" needs file = \"transforms.json\"")
     lo_hi = v.get("elevations", (-10.0, 40.0))

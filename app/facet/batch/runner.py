@@ -13,6 +13,7 @@ on the job (random views are seeded per job), not on which worker rendered it.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,7 @@ import numpy as np
 from ..errors import FacetError
 from .colmap import surface_points, write_colmap
 from .layout import finished, write_transforms, write_view
+from .manifest import FRONT
 
 CHUNK = 8  # jobs handed to a worker at once (render_jobs loads one ahead within them)
 
@@ -38,25 +40,26 @@ def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
         return {**record, "status": "skipped", "seconds": 0.0}
     try:
         scene = load() if load is not None else open_scene(job.model)
-        w, h = job.size
-        cameras = job.views.cameras(scene.bounds, job.up, w / h)
-        # COLMAP's point cloud is read from depth and position, saved or not.
-        outputs = (*job.outputs, *(c for c in ("depth", "position") if job.colmap and
-                                   c not in job.outputs))
-        opts = renderer.options(scene, size=job.size, outputs=outputs, **job.options)
+        opts = job_options(job, scene, renderer)
+        # transforms.json points at the colour images; COLMAP's point cloud is read from
+        # depth and position, saved or not.
+        saved = tuple(dict.fromkeys(("color", *opts.outputs)))
+        extra = ("depth", "position") if job.colmap else ()
+        opts = replace(opts, outputs=tuple(dict.fromkeys((*saved, *extra))))
+        cameras = job.views.cameras(scene.bounds, opts.up, opts.width / opts.height)
         entries, points = [], []
         rng = np.random.default_rng(job.views.seed)
         for i, camera in enumerate(cameras):
             frame = renderer.render(scene, camera, opts)
-            entries.append(write_view(folder, i, frame, job.outputs, job.float_files))
+            entries.append(write_view(folder, i, frame, saved, job.float_files))
             if on_view is not None:
                 on_view(job)
             if job.colmap:
                 points.append(surface_points(frame, rng))
         if job.colmap:
-            write_colmap(folder, job.size, cameras, [e["file_path"][len("images/"):]
-                                                     for e in entries], np.vstack(points))
-        write_transforms(folder, job, cameras, entries)
+            write_colmap(folder, opts.size, cameras, [e["file_path"][len("images/"):]
+                                                      for e in entries], np.vstack(points))
+        write_transforms(folder, job, opts.size, cameras, entries)
     except (FacetError, MemoryError) as exc:
         error = (str(exc).splitlines()[0] if isinstance(exc, FacetError) else
                  "out of memory: the model is too large for this machine")
@@ -65,6 +68,12 @@ def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
     files = sum(1 for p in folder.rglob("*") if p.is_file() and not p.name.startswith("."))
     return {**record, "status": "done", "views": len(cameras), "files": files,
             "seconds": round(time.perf_counter() - start, 3)}
+
+
+def job_options(job, scene, renderer):
+    """The options of ``job``'s renders of ``scene`` (facet.scene.options.options_for: a
+    dataset's defaults < the scene file's [render] < the job's)."""
+    return renderer.options(scene, job.options, front=FRONT)
 
 
 def render_jobs(jobs, out: Path, renderer, confine=None, on_view=None):

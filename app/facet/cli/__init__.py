@@ -12,16 +12,12 @@ from __future__ import annotations
 
 import argparse
 import difflib
-import re
 import signal
 import sys
 from importlib import import_module
 
 EXIT_USAGE = 2
 COMMANDS = ("render", "view", "shader", "batch", "info")
-# A value that starts with a minus sign: -1,0,0  -0.5  -.5  -1e3 (argparse would take it
-# for an option unless written --opt=-1,0,0).
-_NEGATIVE = re.compile(r"-\.?\d[\d.,eE+\-]*")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -54,17 +50,22 @@ def _subparser(parser, command: str | None):
 
 
 def _join_negative_values(parser, argv: list[str]) -> list[str]:
-    """``--target -1,0,0`` -> ``--target=-1,0,0`` for options that take one value."""
+    """``--target -1,0,0`` -> ``--target=-1,0,0``, ``--up -z`` -> ``--up=-z``: a value that
+    starts with a minus sign and is none of the subcommand's options goes with the option
+    before it, when that one takes a value (argparse would take it for an option)."""
     command = next((a for a in argv if a in COMMANDS), None)
     sub = _subparser(parser, command)
     if sub is None:
         return argv
+    options = {opt for action in sub._actions for opt in action.option_strings}
     takes_value = {opt for action in sub._actions if action.nargs is None and
                    action.option_strings for opt in action.option_strings}
     out, i = [], 0
     while i < len(argv):
-        if argv[i] in takes_value and i + 1 < len(argv) and _NEGATIVE.fullmatch(argv[i + 1]):
-            out.append(f"{argv[i]}={argv[i + 1]}")
+        value = argv[i + 1] if i + 1 < len(argv) else ""
+        if argv[i] in takes_value and value.startswith("-") and len(value) > 1 and \
+                value.split("=", 1)[0] not in options:
+            out.append(f"{argv[i]}={value}")
             i += 2
         else:
             out.append(argv[i])
@@ -84,15 +85,22 @@ def _unknown(parser, command: str, extras: list[str]) -> str:
     return f"unknown option {first}{hint}"
 
 
+def parse_args(argv: list[str]):
+    """(arguments, one line about what the subcommand does not know or None): argparse
+    with negative values joined to their options (argparse's own usage errors exit 2)."""
+    parser = build_parser()
+    args, extras = parser.parse_known_args(_join_negative_values(parser, list(argv)))
+    problem = _unknown(parser, args.command, extras) if extras else None
+    return args, problem
+
+
 def main(argv: list[str] | None = None) -> int:
     import warnings
 
-    parser = build_parser()
-    argv = _join_negative_values(parser, list(sys.argv[1:] if argv is None else argv))
-    args, extras = parser.parse_known_args(argv)
-    if extras:
+    args, problem = parse_args(sys.argv[1:] if argv is None else argv)
+    if problem:
         prog = f"facet {args.command}"
-        print(f"{prog}: error: {_unknown(parser, args.command, extras)} (see {prog} --help)",
+        print(f"{prog}: error: {problem} (see {prog} --help)",
               file=sys.stderr)
         return EXIT_USAGE
     from ..errors import FacetError, show_warning

@@ -1,7 +1,8 @@
 """Argument types and the option groups the subcommands share (no numpy, no GL: ``--help``
-stays instant). The render options (``add_render_options``) become one explicit layer of
-facet.scene.options through ``render_layer``, so a flag and a scene file's key are parsed by
-the same function."""
+stays instant). The render options (``add_render_options``) are taken as the text given,
+unchecked, and become one explicit layer of facet.scene.options through ``render_layer``:
+a flag and a scene file's key are parsed by the same function and refused with the same
+sentence."""
 
 from __future__ import annotations
 
@@ -36,23 +37,15 @@ def color(text: str) -> list[float]:
     return values
 
 
-def background(text: str) -> list[float]:
-    values = floats(text, (3, 4), "background")
-    if min(values) < 0 or max(values) > 1:
-        raise argparse.ArgumentTypeError(f"background {text!r}: each channel must be in [0, 1]")
-    return values
-
-
 def size(text: str) -> tuple[int, int]:
-    parts = text.lower().split("x")
+    """WIDTHxHEIGHT, checked by the render options' own parser (the same sentence)."""
+    from ..errors import InputError
+    from ..scene.option_values import parse_option
+
     try:
-        w, h = (int(p) for p in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"size: expected WIDTHxHEIGHT like 800x600, "
-                                         f"got {text!r}") from None
-    if w < 1 or h < 1:
-        raise argparse.ArgumentTypeError(f"size {text!r}: width and height must be >= 1")
-    return w, h
+        return parse_option("size", text)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def light(text: str):
@@ -104,6 +97,7 @@ def add_render_options(p, size_default: str) -> None:
     """The render options of ``facet render`` and ``facet view``. Each one left out takes
     the scene file's [render] value, else facet's default."""
     from ..scene.options import (
+        CULL,
         DEFAULT_MAX_DEPTH,
         ENGINES,
         LIGHTS,
@@ -114,52 +108,55 @@ def add_render_options(p, size_default: str) -> None:
 
     g = p.add_argument_group("render options (a flag overrides the scene file's [render] "
                              "value, which overrides the default)")
-    g.add_argument("--size", type=size, metavar="WxH",
+    g.add_argument("--size", metavar="WxH",
                    help=f"{SIZE_HELP} (default: {size_default})")
-    g.add_argument("--shading", choices=SHADING, metavar="MODEL",
+    g.add_argument("--shading", metavar="MODEL",
                    help=f"shading model: {', '.join(SHADING)} (default auto: pbr for "
                    "glTF's metallic-roughness materials, phong for the others)")
-    g.add_argument("--msaa", type=int, choices=MSAA_CHOICES, metavar="N",
+    g.add_argument("--msaa", metavar="N",
                    help=f"multisample anti-aliasing for colour: "
                    f"{', '.join(map(str, MSAA_CHOICES))} (default 4; {MSAA_POLICY})")
     g.add_argument("--aa", metavar="MODE",
                    help="anti-aliasing: none, msaa:N, or supersampling ssaa:PATTERN:N (also "
                    "PATTERN:N) with PATTERN grid, random, poisson or jittered, e.g. "
                    "--aa jittered:16 (colour only; depth and ids stay exact)")
-    g.add_argument("--engine", choices=ENGINES,
-                   help="raster: the rasterizer (default); trace: the GPU ray tracer "
-                   "(shadow rays, reflection and refraction rays, exact shapes)")
-    g.add_argument("--max-depth", type=int, metavar="N",
+    g.add_argument("--engine", metavar="ENGINE",
+                   help=f"{' or '.join(ENGINES)}. raster: the rasterizer (default); trace: "
+                   "the GPU ray tracer (shadow rays, reflection and refraction rays, exact "
+                   "shapes)")
+    g.add_argument("--max-depth", metavar="N",
                    help="the ray tracer's reflection/refraction bounces (default "
                    f"{DEFAULT_MAX_DEPTH}; 1 is one reflection and one transmission ray)")
-    g.add_argument("--spp", type=int, metavar="N",
+    g.add_argument("--spp", metavar="N",
                    help="samples per pixel, jittered (the same as --aa jittered:N)")
     g.add_argument("--shadows", action=argparse.BooleanOptionalAction,
                    help="shadows from every light: shadow maps when rasterizing (default "
                    "off), shadow rays when tracing (default on)")
-    g.add_argument("--pcf", type=int, choices=PCF_CHOICES, metavar="R",
-                   help="shadow filter kernel radius in texels: 0 (one tap), 1 (3x3, "
-                   "default), 2 (5x5)")
+    g.add_argument("--pcf", metavar="R",
+                   help="shadow filter kernel radius in texels: "
+                   f"{', '.join(map(str, PCF_CHOICES))}: 0 (one tap), 1 (3x3, default), 2 "
+                   "(5x5)")
     g.add_argument("--srgb", action=argparse.BooleanOptionalAction,
                    help="colour management: treat input colours and textures as sRGB, light "
                    "in linear space, write sRGB (default: the shading value as is)")
-    g.add_argument("--background", type=background, metavar="R,G,B[,A]",
+    g.add_argument("--background", metavar="R,G,B[,A]",
                    help="background colour; A=0 for transparent (default: the scene's, "
                    "else 0,0,0)")
     g.add_argument("--camera", metavar="NAME", help="which of the scene file's cameras to use")
-    g.add_argument("--lights", choices=LIGHTS,
-                   help="auto: the scene's lights, or a key + fill rig following the camera "
-                   "when it has none (default); scene: only its own; camera: the rig always")
+    g.add_argument("--lights", metavar="MODE",
+                   help=f"{', '.join(LIGHTS)}. auto: the scene's lights, or a key + fill rig "
+                   "following the camera when it has none (default); scene: only its own; "
+                   "camera: the rig always")
     g.add_argument("--wireframe", action=argparse.BooleanOptionalAction,
                    help="draw the triangle edges over the picture")
-    g.add_argument("--aperture", type=float, metavar="A",
+    g.add_argument("--aperture", metavar="A",
                    help="depth of field: lens diameter in scene units (needs a focus)")
-    g.add_argument("--focus", type=float, metavar="F",
+    g.add_argument("--focus", metavar="F",
                    help="depth of field: distance along the view that stays sharp")
-    g.add_argument("--cull", choices=("auto", "on", "off"),
-                   help="back-face culling: auto (default: closed opaque meshes seen from "
-                   "outside, where it cannot change the picture), on (every opaque object), "
-                   "off")
+    g.add_argument("--cull", metavar="MODE",
+                   help=f"back-face culling, {', '.join(CULL)}: auto (default: closed opaque "
+                   "meshes seen from outside, where it cannot change the picture), on (every "
+                   "opaque object), off")
     g.add_argument("--up", metavar="x|y|z|X,Y,Z",
                    help="the world's up axis: the default camera frames the model and "
                    "turntables orbit around it (default y; CAD and scanner files are often "
@@ -180,17 +177,13 @@ def add_model_options(p) -> None:
 
 
 def render_layer(args) -> dict:
-    """The render options the command line gives (None: not given)."""
-    given = [flag for flag, v in (("--aa", args.aa), ("--msaa", args.msaa),
-                                  ("--spp", args.spp)) if v is not None]
-    if len(given) > 1:
-        from ..errors import InputError
+    """The render options the command line gives, raw (None: not given): parsed with
+    every other layer by facet.scene.options."""
+    from ..scene.options import text_layer
 
-        raise InputError(f"give one of --aa, --msaa and --spp, not {' and '.join(given)} "
-                         "(--msaa N means --aa msaa:N, --spp N means --aa jittered:N)")
-    return {"size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
+    return text_layer({"size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
             "spp": args.spp, "engine": args.engine, "max_depth": args.max_depth,
             "shadows": args.shadows, "pcf": args.pcf, "srgb": args.srgb,
             "background": args.background, "camera": args.camera, "lights": args.lights,
             "wireframe": args.wireframe, "aperture": args.aperture, "focus": args.focus,
-            "environment": args.env, "up": args.up, "cull": args.cull}
+            "environment": args.env, "up": args.up, "cull": args.cull})

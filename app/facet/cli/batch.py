@@ -33,7 +33,7 @@ def add_parser(sub) -> None:
     b.add_argument("--views", metavar="N|PLAN:N",
                    help="default view plan: N (N views on a sphere), or turntable:N, "
                    "sphere:N, band:N, random:N")
-    b.add_argument("--size", type=A.size, metavar="WxH", help="default image size (256x256)")
+    b.add_argument("--size", metavar="WxH", help="default image size (256x256)")
     b.add_argument("--outputs", metavar="LIST",
                    help="default channels: color,depth,normals (also ids, position, uv)")
     b.add_argument("--seed", type=int, help="default seed of random view plans")
@@ -66,9 +66,9 @@ def run(args) -> int:
             raise InputError(f"--views {args.views!r}: expected N or PLAN:N, like sphere:8")
         defaults["views"] = {"plan": plan or "sphere", "count": int(count)}
     if args.size:
-        defaults["size"] = list(args.size)
+        defaults["size"] = args.size
     if args.outputs:
-        defaults["outputs"] = args.outputs.split(",")
+        defaults["outputs"] = args.outputs
     if args.seed is not None:
         defaults["seed"] = args.seed
     if args.float_files:

@@ -236,12 +236,12 @@ def run(args) -> list[Path]:
     """Render as the arguments say; returns the paths written."""
     from ..image.outputs import ColorOptions
     from ..image.quantize import parse_bits
-    from ..scene.options import options_for
+    from ..scene.options import MAX_FRAMES
 
     if not 1 <= args.fov < 180:
         raise InputError(f"--fov must be in [1, 180) degrees, got {args.fov:g}")
-    if args.turntable is not None and not 1 <= args.turntable <= 100_000:
-        raise InputError(f"--turntable needs 1..100000 frames, got {args.turntable}")
+    if args.turntable is not None and not 1 <= args.turntable <= MAX_FRAMES:
+        raise InputError(f"--turntable needs 1..{MAX_FRAMES} frames, got {args.turntable}")
     if not 0 < args.fps <= 240:
         raise InputError(f"--fps must be in (0, 240], got {args.fps:g}")
     target, depth_path, ids_path = _targets(args)
@@ -256,14 +256,7 @@ def run(args) -> list[Path]:
         from ..image.sequence import prestart_writer  # while the scene loads
 
         prestart_writer()
-    scene = _scene(args)
-    layer = A.render_layer(args)
-    # What this command writes: --out-dir the chosen channels, -o colour (+ --depth, --ids).
-    layer["outputs"] = args.outputs if args.out_dir else \
-        ("color", *(["depth"] if depth_path else []), *(["ids"] if ids_path else []))
-    layer["float_color"] = color_options.needs_float
-    opts = options_for(scene, layer)
-    camera = _camera(args, scene, opts)
+    scene, opts, camera = resolve(args, color_options.needs_float)
 
     from ..render.renderer import Renderer  # GL is loaded only once the inputs are good
 
@@ -276,6 +269,21 @@ def run(args) -> list[Path]:
         frame = renderer.render(scene, camera, opts)
     return _write_single(frame, args, opts.outputs, target, depth_path, ids_path,
                          color_options)
+
+
+def resolve(args, float_color: bool = False):
+    """(scene, render options, camera) of these arguments, before any GL: the flags are
+    one raw layer over the scene's own (facet.scene.options.options_for)."""
+    from ..scene.options import options_for
+
+    scene = _scene(args)
+    layer = A.render_layer(args)
+    # What this command writes: --out-dir the chosen channels, -o colour (+ --depth, --ids).
+    layer["outputs"] = args.outputs if args.out_dir else \
+        ("color", *(["depth"] if args.depth else []), *(["ids"] if args.ids else []))
+    layer["float_color"] = float_color
+    opts = options_for(scene, layer)
+    return scene, opts, _camera(args, scene, opts)
 
 
 def _write_single(frame, args, channels, image_path, depth_path, ids_path, color_options):

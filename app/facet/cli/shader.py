@@ -205,7 +205,7 @@ def run(args) -> list[Path]:
     from .sequence import progress
 
     check_sequence_path(args.output)
-    from ..render.turntable import MAX_FRAMES
+    from ..scene.options import MAX_FRAMES
 
     frames = int(round((end - start) * args.fps))
     if frames > MAX_FRAMES:  # the same cap as turntables, checked before any work

@@ -124,14 +124,16 @@ class Renderer:
     def info(self) -> dict[str, object]:
         return glcontext.describe(self.ctx)
 
-    def options(self, scene: Scene, options=None, **kwargs) -> RenderOptions:
+    def options(self, scene: Scene, options=None, *, front: str | None = None,
+                **kwargs) -> RenderOptions:
         """The options a call with these arguments renders with: a ``RenderOptions``
         passed in is used as it is (a front resolved it), with ``kwargs`` on top; otherwise
-        the scene's < this renderer's < ``options`` (a mapping) < ``kwargs``."""
+        (facet.scene.options.options_for) the ``front``'s defaults < the scene's < this
+        renderer's < ``options`` (a mapping) < ``kwargs``."""
         if isinstance(options, RenderOptions):
             opts = options.merged(kwargs)
         else:
-            opts = options_for(scene, self.defaults, options, kwargs)
+            opts = options_for(scene, self.defaults, options, kwargs, front=front)
         aa = clamp_msaa(opts.aa, *self._limits)
         return opts if aa is opts.aa else replace(opts, aa=aa)
 
@@ -250,8 +252,10 @@ class Renderer:
         lights = sorted(active_lights(scene.lights, camera.view, opts.lights),
                         key=lambda light: LIGHT_ORDER.index(type(light).__name__))
         view = scene.view(lights=lights)
-        background = np.array(opts.background if opts.background is not None
-                              else scene.background, dtype=np.float64)
+        # options_for put the scene's own background and environment under the explicit
+        # ones; None (a RenderOptions built without a scene) means the scene's.
+        background = np.array(scene.background if opts.background is None else opts.background,
+                              dtype=np.float64)
         if dest.window is not None:
             background[3] = 1.0  # a window shows colour only
         view.background = background

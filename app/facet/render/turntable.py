@@ -9,9 +9,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry.camera import Camera
+from ..scene.options import MAX_FRAMES
 from ..scene.scene import Scene
-
-MAX_FRAMES = 100_000
 
 
 def orbit_cameras(camera: Camera, center, frames: int, axis=(0.0, 1.0, 0.0)) -> list[Camera]:
@@ -23,12 +22,13 @@ def orbit_cameras(camera: Camera, center, frames: int, axis=(0.0, 1.0, 0.0)) -> 
 
 
 def turntable(renderer, scene: Scene, frames: int, camera: Camera | None = None,
-              axis=(0.0, 1.0, 0.0), options=None, center=None, **kwargs) -> Iterator:
+              axis=None, options=None, center=None, **kwargs) -> Iterator:
     """Yield ``frames`` Frames of ``scene`` from a camera orbiting ``center`` (default: the
-    scene's centre) about ``axis``. ``camera`` defaults to the renderer's choice for the
-    scene; ``options`` and keywords are render options, resolved once for every frame."""
+    scene's centre) about ``axis`` (default: the options' up, the world's up axis).
+    ``camera`` defaults to the renderer's choice for the scene; ``options`` and keywords
+    are render options, resolved once for every frame."""
     opts = renderer.options(scene, options, **kwargs)
     camera = camera or renderer.camera(scene, opts)
     center = scene.bounds.mean(axis=0) if center is None else center
-    for cam in orbit_cameras(camera, center, frames, axis):
+    for cam in orbit_cameras(camera, center, frames, opts.up if axis is None else axis):
         yield renderer.render(scene, cam, opts)

@@ -69,7 +69,7 @@ class Scene:
         self.objects: list[SceneObject] = []
         self.lights: list[Light] = []
         self.cameras: dict[str, Camera] = {}
-        self.options = dict(parse_layer(options))  # parsed: {option: value}
+        self.options = parse_layer(options)  # parsed once: {option: typed value}
         # A facet.scene.environment.Environment: background and reflection source.
         self.environment = None
         # True for a model file's scene: its cameras (glTF's) are there to be chosen by

@@ -19,7 +19,7 @@ from ..errors import FacetError, SceneError
 from ..geometry import transforms as T
 from .material import Material
 from .mesh import Mesh
-from .options import parse_option
+from .options import AA_KEYS, PARSERS, ParsedLayer, check_one_aa, parse_option
 from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
 from .scene import Scene
 from .scenefile_lights import read_camera, read_lights
@@ -29,9 +29,8 @@ from .validate import Reader as _Reader
 from .validate import show as _show
 
 TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms", "environment")
-# The [render] table: render options (facet.scene.options parses each) and the background.
-RENDER = ("size", "background", "shading", "msaa", "aa", "outputs", "camera", "srgb",
-          "shadows", "pcf", "lights", "wireframe", "engine", "max_depth", "up", "cull")
+# The [render] table: any render option (facet.scene.options parses each).
+RENDER = tuple(PARSERS)
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
             "gloss", "mirror", "texture", "shader", "vertex_shader", "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "transform_end", "matrix",
@@ -63,11 +62,10 @@ class _SceneBuilder:
     def build(self, data: dict) -> Scene:
         r = self.r
         r.table(data, "", TOP)
-        options, background = self.render_options(data.get("render", {}))
+        options = self.render_options(data.get("render", {}))
         self.uniforms = {name: self.uniform_value(v, f"uniforms.{name}") for name, v in
                          r.table(data.get("uniforms", {}), "uniforms", _Any()).items()}
-        scene = Scene(background=background)
-        scene.options = options
+        scene = Scene(options=options)
         materials = {name: self.material(m, f"materials.{name}")
                      for name, m in r.table(data.get("materials", {}), "materials",
                                             _Any()).items()}
@@ -91,20 +89,21 @@ class _SceneBuilder:
             r.fail("render.camera", f"no camera named {_show(camera)}{hint}")
         return scene
 
-    def render_options(self, t: dict) -> tuple[dict, tuple]:
-        """({option: parsed value}, background) of the [render] table; every value goes
-        through the same parser as the CLI's flags and the Python keywords."""
+    def render_options(self, t: dict) -> ParsedLayer:
+        """The [render] table's options, parsed by the parser every front shares (relative
+        file names from the scene file's folder)."""
         r = self.r
         r.table(t, "render", RENDER)
-        if "aa" in t and "msaa" in t:
-            r.fail("render.msaa", "give either aa or msaa (msaa = N means aa = \"msaa:N\")")
-        values = {("aa" if k == "msaa" else k): self.option(k, v) for k, v in t.items()}
-        background = values.pop("background", (0.0, 0.0, 0.0, 1.0))
-        return values, background
+        try:
+            check_one_aa(t)
+        except FacetError as exc:
+            r.fail("render", str(exc))
+        return ParsedLayer({("aa" if k in AA_KEYS else k): self.option(k, v)
+                            for k, v in t.items()})
 
     def option(self, key: str, value):
         try:
-            return parse_option(key, value)
+            return parse_option(key, value, self.base)
         except FacetError as exc:
             self.r.fail(f"render.{key}", _strip_key(str(exc), key))
 

@@ -11,10 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .keys import TURNTABLE_FRAMES, help_text
+from .keys import AA_CYCLE, TURNTABLE_FRAMES, help_text
 
 BACKGROUNDS = ((1.0, 1.0, 1.0, 1.0), (0.35, 0.37, 0.4, 1.0), (0.0, 0.0, 0.0, 1.0))
-AA_CYCLE = ("msaa:4", "none", "ssaa:jittered:16", "ssaa:jittered:64")
 
 
 def _next(options, current):
@@ -85,8 +84,10 @@ class ViewerActions:
     def toggle_shadows(self):
         self.keys["shadows"] = not self.options().shadows_on
 
-    def toggle_engine(self):
-        self.keys["engine"] = "raster" if self.options().engine == "trace" else "trace"
+    def cycle_engine(self):
+        from ..scene.options import ENGINES
+
+        self.keys["engine"] = _next(ENGINES, self.options().engine)
         self._samples = 0
         print(f"engine: {self.keys['engine']}")
 

@@ -8,7 +8,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..scene.option_values import ENGINES, SHADING
+
 TURNTABLE_FRAMES = 36
+AA_CYCLE = ("msaa:4", "none", "ssaa:jittered:16", "ssaa:jittered:64")  # the a key's modes
 
 
 @dataclass(frozen=True)
@@ -22,13 +25,14 @@ KEYMAP: dict[str, Action] = {
     "f": Action("frame", "frame the model"),
     "r": Action("reset", "reset the camera"),
     "o": Action("toggle_projection", "perspective / orthographic"),
-    "m": Action("cycle_shading", "shading model: phong, blinn, gouraud, flat, unlit, normals"),
+    "m": Action("cycle_shading", f"shading model: {', '.join(SHADING)}"),
     "w": Action("toggle_wireframe", "wireframe overlay"),
-    "a": Action("cycle_aa", "anti-aliasing: msaa:4, none, ssaa:jittered:16, ssaa:jittered:64 "
-                "(supersampling refines while the camera is still)"),
+    "a": Action("cycle_aa", f"anti-aliasing: {', '.join(AA_CYCLE)} (supersampling "
+                "refines while the camera is still)"),
     "l": Action("toggle_headlight", "lights follow the camera / stay in the scene"),
     "x": Action("toggle_shadows", "shadows (every light)"),
-    "e": Action("toggle_engine", "engine: rasterizer / ray tracer (refines while still)"),
+    "e": Action("cycle_engine", f"engine: {', '.join(ENGINES)} (the tracers refine while "
+                "the camera is still)"),
     "b": Action("cycle_background", "background colour"),
     "s": Action("screenshot", "save a screenshot (PNG, window size)"),
     "S": Action("screenshot_2x", "save a 2x screenshot (offscreen render)"),

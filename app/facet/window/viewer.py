@@ -27,24 +27,31 @@ from .base import DEBOUNCE, POLL, Debounce, GLWindow
 from .keys import KEYMAP
 
 IDLE_WAIT = 0.5  # longest sleep between events when nothing happens
-DEFAULT_SIZE = (1280, 720)
+FRONT = "view"  # the viewer's defaults (facet.scene.options.FRONT_DEFAULTS)
+
+
+def explicit_layer(options=None, size=None, msaa=None):
+    """The viewer's explicit layer: raw ``options`` (e.g. the command line's), with
+    ``size`` and ``msaa`` when given, parsed once."""
+    given = {"size": size, "msaa": msaa}
+    return parse_layer({**(options or {}), **{k: v for k, v in given.items() if v is not None}})
 
 
 class Viewer(ViewerActions):
     """A window showing a scene (or a mesh or scene file). ``run()`` blocks until it closes;
     between runs (or before one) a script can ``set_camera``, ``request_frame``, ``save``.
-    ``options``: render options over the scene's (e.g. the command line's); ``size``
-    defaults to the scene's, else 1280x720."""
+    ``options``: raw render options over the scene's (e.g. the command line's); ``size``
+    and ``msaa``, when given, join them. The window opens at the options' size (the
+    scene's, else the viewer's default, facet.scene.options.FRONT_DEFAULTS)."""
 
     def __init__(self, source, size=None, msaa: int | None = None, title: str = "facet",
                  shader=None, options=None, crease: float | None = None):
         self.path = Path(source) if isinstance(source, (str, Path)) else None
         self.crease = crease  # how files without normals are read (facet.scene.loading)
         self.user_shader = shader  # --frag: the model's own shader (a UserShader)
-        self.explicit = parse_layer({**(options or {}), "msaa": msaa})
+        self.explicit = explicit_layer(options, size, msaa)
         scene = self._load(self.path) if self.path else source
-        size = size or self.explicit.get("size") or scene.options.get("size") or DEFAULT_SIZE
-        self.win = GLWindow(size, title)
+        self.win = GLWindow(options_for(scene, self.explicit, front=FRONT).size, title)
         self.glfw, self.window, self.ctx = self.win.glfw, self.win.handle, self.win.ctx
         from ..render.renderer import Renderer
 
@@ -77,7 +84,7 @@ class Viewer(ViewerActions):
         keys' < ``changes``, at the window's size."""
         size = self.glfw.get_framebuffer_size(self.window)
         return self.renderer.options(self.scene, options_for(
-            self.scene, self.explicit, self.keys, {"size": size, **changes}))
+            self.scene, self.explicit, self.keys, {"size": size, **changes}, front=FRONT))
 
     def shown_scene(self):
         """The scene as drawn: with the default lights frozen in place if ``l`` did that."""
@@ -103,7 +110,7 @@ class Viewer(ViewerActions):
 
         self.scene = scene
         if frame or not hasattr(self, "control"):
-            opts = options_for(scene, self.explicit)
+            opts = options_for(scene, self.explicit, front=FRONT)
             self.control = OrbitControl(scene.bounds, up=opts.up, aspect=self.aspect)
             camera = scene.camera(opts.camera)
             if camera is not None:
