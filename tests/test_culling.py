@@ -1,4 +1,4 @@
-"""Automatic back-face culling (facet.render.culling) never changes a picture: closed meshes
+"""Automatic back-face culling (facet.render.raster.culling) never changes a picture: closed meshes
 seen from outside render pixel for pixel the same culled and unculled, with and without
 MSAA; open meshes, a camera inside a closed mesh, transparent and mirrored objects keep
 their back faces; and the decision itself is what the module says."""
@@ -9,7 +9,7 @@ import trimesh
 
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
-from facet.render.culling import Culling
+from facet.render.raster.culling import Culling
 from facet.scene import DirectionalLight, Material, Mesh, Scene, primitives
 
 from conftest import shared_model

@@ -1,10 +1,10 @@
-"""Grey material-light terms (facet.render.forward.grey_terms): the program that reads one
+"""Grey material-light terms (facet.render.raster.forward.grey_terms): the program that reads one
 channel of each gives the very picture of the one that reads three."""
 
 import numpy as np
 import pytest
 
-import facet.render.forward as forward
+import facet.render.raster.forward as forward
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
 from facet.render.renderer import Renderer

@@ -7,7 +7,7 @@ import random
 import numpy as np
 
 from facet.geometry.camera import Camera
-from facet.render.forward import MAX_PROGRAMS
+from facet.render.raster.forward import MAX_PROGRAMS
 from facet.render.renderer import Renderer
 from facet.scene import DirectionalLight, PointLight, Scene, SpotLight, primitives
 

@@ -8,7 +8,7 @@ import pytest
 
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
-from facet.render.overlay import EDGE_COLOR
+from facet.render.raster.overlay import EDGE_COLOR
 from facet.scene import AreaLight, DirectionalLight, Material, Scene
 from facet.scene.primitives import plane, sphere
 from test_golden import CHANNEL_TOL, MAX_DIFFERING

@@ -7,7 +7,7 @@ import pytest
 from facet.errors import InputError
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
-from facet.render.transparency import oit_two_layers, over_two_layers, weight
+from facet.render.raster.transparency import oit_two_layers, over_two_layers, weight
 from facet.scene import Material, Mesh, Scene
 
 S = 48

@@ -1,12 +1,13 @@
 // The scene's lights as a uniform block, and the whole shading equation over them.
-// World space throughout. Filled by facet.render.forward (std140, 4 vec4 per light).
+// World space throughout. Filled by facet.render.state.pack_lights (std140, 4 vec4 per
+// light); MAX_LIGHTS is facet.scene.scene.MAX_LIGHTS, defined by facet when it compiles.
 // Per draw, facet also sets the products of each light with the object's material, so the
 // per-fragment work is only what varies per fragment:
 //   u_ambient_term = I_a k_a C, u_light_diffuse[i] = I_i k_d C, u_light_specular[i] = I_i k_s.
 #include "lib/lighting.glsl"
 
 #ifndef MAX_LIGHTS
-#define MAX_LIGHTS 16
+#error MAX_LIGHTS is defined by facet (facet.scene.scene.MAX_LIGHTS)
 #endif
 
 struct LightData {

@@ -1,9 +1,11 @@
 // The ray tracer's scene in textures (packed by facet.render.trace.pack): rows of TEX_WIDTH
 // texels, element i at (i mod TEX_WIDTH, i / TEX_WIDTH). Object space for meshes and shapes,
 // world space for instances and the top level. GL 3.3: no buffers bound by index, so
-// everything is a texelFetch.
-#ifndef TEX_SHIFT
-#define TEX_SHIFT 12  // TEX_WIDTH = 4096
+// everything is a texelFetch. The layout's constants (TEX_SHIFT, NODE_TEXELS,
+// INSTANCE_TEXELS, the KIND_* and FLAG_* values) are facet.render.trace.pack's, defined by
+// facet when it compiles these files (pack.layout_defines).
+#ifndef NODE_TEXELS
+#error the tracer's layout is defined by facet.render.trace.pack (layout_defines)
 #endif
 const int TEX_MASK = (1 << TEX_SHIFT) - 1;
 
@@ -20,8 +22,7 @@ uniform int u_single;            // that instance, or -1
 const float INF = 1e30;
 // A hierarchy node holds both children's boxes: texels (left lo, ref), (left hi, count),
 // (right lo, ref), (right hi, count). ref >= 0: an inner child's node index; ref < 0: a leaf
-// of count elements starting at -ref - 1. An empty child has lo > hi.
-const int NODE_TEXELS = 4;
+// of count elements starting at -ref - 1. An empty child has lo > hi (NODE_TEXELS = 4).
 
 vec4 fetch(sampler2D s, int i) {
     return texelFetch(s, ivec2(i & TEX_MASK, i >> TEX_SHIFT), 0);

@@ -7,10 +7,8 @@
 #include "trace/bvh.glsl"
 #include "trace/shapes.glsl"
 
-const int INSTANCE_TEXELS = 11;
-const int KIND_MESH = 0;
-const int FLAG_COLORS = 1;     // the mesh has vertex colours
-const int FLAG_ONE_SIDED = 2;  // a single-sided material: its back faces are not there
+// FLAG_COLORS: the mesh has vertex colours; FLAG_ONE_SIDED: a single-sided material (its
+// back faces are not there).
 
 struct Hit {
     float t;     // along the world ray

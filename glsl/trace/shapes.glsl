@@ -3,12 +3,6 @@
 // world distance's parameter), the nearest distance so far t, and on a nearer hit in (0, t)
 // writes t, the outward object-space normal n and texture coordinates uv (those of the
 // rasterizer's tessellation, facet.scene.primitives).
-const int SHAPE_SPHERE = 1;
-const int SHAPE_PLANE = 2;
-const int SHAPE_DISK = 3;
-const int SHAPE_CYLINDER = 4;
-const int SHAPE_CONE = 5;
-const int SHAPE_BOX = 6;
 const float PI = 3.14159265358979;
 
 vec2 around(vec3 p) {  // u from +x towards -z, as the tessellations
@@ -56,7 +50,7 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
     n = vec3(0.0, 1.0, 0.0);
     uv = vec2(0.0);
     float s0, s1;
-    if (kind == SHAPE_SPHERE) {  // |o + s d|^2 = r^2: the nearest positive root
+    if (kind == KIND_SPHERE) {  // |o + s d|^2 = r^2: the nearest positive root
         if (!roots(dot(d, d), dot(o, d), dot(o, o) - q.x * q.x, s0, s1)) return false;
         float s = s0 > 0.0 ? s0 : s1;
         if (s <= 0.0 || s >= t) return false;
@@ -66,9 +60,9 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
         uv = vec2(around(p).x, asin(clamp(n.y, -1.0, 1.0)) / PI + 0.5);
         return true;
     }
-    if (kind == SHAPE_PLANE) return hit_flat(0.0, 0.0, 0.5 * q.xy, o, d, t, n, uv, 1.0);
-    if (kind == SHAPE_DISK) return hit_flat(0.0, q.x, vec2(0.0), o, d, t, n, uv, 1.0);
-    if (kind == SHAPE_BOX) {  // slabs
+    if (kind == KIND_PLANE) return hit_flat(0.0, 0.0, 0.5 * q.xy, o, d, t, n, uv, 1.0);
+    if (kind == KIND_DISK) return hit_flat(0.0, q.x, vec2(0.0), o, d, t, n, uv, 1.0);
+    if (kind == KIND_BOX) {  // slabs
         vec3 half_size = 0.5 * q.xyz;
         vec3 inv = safe_inverse(d);
         vec3 t0 = (-half_size - o) * inv, t1 = (half_size - o) * inv;
@@ -90,10 +84,10 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
     }
     float r = q.x, h = q.y;
     bool hit = false;
-    if (kind == SHAPE_CYLINDER || kind == SHAPE_CONE) {
+    if (kind == KIND_CYLINDER || kind == KIND_CONE) {
         // Side: x^2 + z^2 = k(y)^2 with k = r (cylinder) or r (h/2 - y) / h (cone, apex up).
-        float slope = kind == SHAPE_CONE ? r / h : 0.0;
-        float k0 = kind == SHAPE_CONE ? r * 0.5 : r;  // radius at y = 0
+        float slope = kind == KIND_CONE ? r / h : 0.0;
+        float k0 = kind == KIND_CONE ? r * 0.5 : r;  // radius at y = 0
         float ky = k0 - slope * o.y, kd = -slope * d.y;
         float a = d.x * d.x + d.z * d.z - kd * kd;
         float b = o.x * d.x + o.z * d.z - ky * kd;
@@ -116,7 +110,7 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
         if (hit_flat(-0.5 * h, r, vec2(0.0), o, d, t, cap_n, cap_uv, -1.0)) {
             n = cap_n; uv = cap_uv; hit = true;
         }
-        if (kind == SHAPE_CYLINDER &&
+        if (kind == KIND_CYLINDER &&
             hit_flat(0.5 * h, r, vec2(0.0), o, d, t, cap_n, cap_uv, 1.0)) {
             n = cap_n; uv = cap_uv; hit = true;
         }
@@ -130,9 +124,9 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
 // error is far more than the offset a spawned ray starts with: the ray would start inside
 // and shadow its own surface. On the surface, a point's error is a few ulps (offset_ray's).
 vec3 onto_shape(int kind, vec4 q, vec3 p, vec3 n) {
-    if (kind == SHAPE_SPHERE) return p * (q.x / max(length(p), 1e-30));
-    if (kind == SHAPE_PLANE || kind == SHAPE_DISK) return vec3(p.x, 0.0, p.z);
-    if (kind == SHAPE_BOX) {  // the face the normal names
+    if (kind == KIND_SPHERE) return p * (q.x / max(length(p), 1e-30));
+    if (kind == KIND_PLANE || kind == KIND_DISK) return vec3(p.x, 0.0, p.z);
+    if (kind == KIND_BOX) {  // the face the normal names
         vec3 half_size = 0.5 * q.xyz;
         return mix(p, sign(n) * half_size, abs(n));
     }
@@ -140,7 +134,7 @@ vec3 onto_shape(int kind, vec4 q, vec3 p, vec3 n) {
     if (abs(n.y) == 1.0) return vec3(p.x, 0.5 * h * n.y, p.z);  // a cap
     float rho = length(p.xz);
     if (rho == 0.0) return p;
-    if (kind == SHAPE_CYLINDER) return vec3(p.x * r / rho, p.y, p.z * r / rho);
+    if (kind == KIND_CYLINDER) return vec3(p.x * r / rho, p.y, p.z * r / rho);
     // The cone's side in the (rho, y) half-plane: the line rho = r (h/2 - y) / h, through
     // (r/2, 0) with direction (-r, h) / |(-r, h)|; p goes to its nearest point on it.
     vec2 u = vec2(-r, h) / length(vec2(r, h));

@@ -251,13 +251,15 @@ def mesh_uniforms(path) -> dict[str, tuple[str, int, bool]]:
     from ..gl.context import create_headless
     from ..gl.glsl_source import glsl_root
     from ..gl.shaders import compile_program
-    from ..lab.mesh_shaders import DEFAULT_VERTEX, STANDARD
+    from ..render.raster.forward import Variant
+    from ..render.raster.user_shaders import DEFAULT_VERTEX, STANDARD
+    from ..render.state import LIGHT_KIND
+    from ..scene.light import DirectionalLight
 
     ctx = create_headless()
-    try:
-        prog = compile_program(ctx, glsl_root() / DEFAULT_VERTEX, Path(path),
-                               {"MAX_LIGHTS": 16, "LIGHT_COUNT": 1,
-                                "LIGHT_KIND_LIST": "int[1](0)"})
+    try:  # linked as the viewer would, for one directional light
+        defines = Variant("phong", (LIGHT_KIND[DirectionalLight],)).defines()
+        prog = compile_program(ctx, glsl_root() / DEFAULT_VERTEX, Path(path), defines)
         found = {name: (gl_type, length, name in STANDARD)
                  for name, (gl_type, length) in prog.uniform_types().items()}
         prog.release()

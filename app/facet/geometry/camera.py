@@ -220,7 +220,7 @@ class Camera:
 
     def with_view(self, view) -> Camera:
         """The same camera (projection, near, far, lens) with another world -> camera view,
-        e.g. ``view @ reflection`` for a mirror's camera (facet.render.mirror)."""
+        e.g. ``view @ reflection`` for a mirror's camera (facet.render.raster.mirror)."""
         moved = Camera(view, fov_y=self.fov_y, ortho_height=self.ortho_height,
                        intrinsics=self.intrinsics, near=self.near, far=self.far)
         moved.aperture, moved.focus_distance = self.aperture, self.focus_distance

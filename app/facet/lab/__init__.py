@@ -1,3 +1,4 @@
-"""Shader experimentation: users' own GLSL on meshes (``mesh_shaders``) and full-screen
-Shadertoy-style programs (``shadertoy``), both hot reloaded through ``programs`` and with
-their uniforms checked by ``uniforms``."""
+"""Shader experimentation: full-screen Shadertoy and glslViewer programs (``shadertoy``,
+its passes, channels and projects), hot reloaded (facet.gl.reload) with their uniforms
+checked (facet.gl.uniforms). Users' shaders on meshes are drawn by the rasterizer
+(facet.render.raster.user_shaders); the lab is a front: render never imports it."""

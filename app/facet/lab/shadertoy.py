@@ -31,12 +31,12 @@ import numpy as np
 from ..errors import InputError, ShaderError
 from ..gl.fullscreen import fullscreen_vertex
 from ..gl.glsl_source import glsl_root
+from ..gl.reload import ReloadResult, WatchedPrograms
 from ..gl.shaders import Program, compile_program
+from ..gl.uniforms import check_uniform, write_uniform
 from . import project as P
 from .channels import ChannelResources
 from .dialect import GLSLVIEWER, prepare
-from .programs import ReloadResult, WatchedPrograms
-from .uniforms import check_uniform, write_uniform
 
 BUFFERS = ("a", "b", "c", "d")
 DEFAULT_DATE = datetime.datetime(2000, 1, 1)  # iDate of headless renders (deterministic)

@@ -93,21 +93,6 @@ def accumulation(aa: AntiAliasing, scene, camera, shadows: bool) -> AntiAliasing
     return parse_aa(DISTRIBUTED_AA) if needs_accumulation(scene, camera, shadows) else None
 
 
-def colour_sampling(opts, scene, camera, preview: bool = False) -> AntiAliasing | None:
-    """The supersamples a render's colour sums, None for one picture. A window's moving
-    view (``preview``) gets one plain picture (the tracer's: one ray through each pixel's
-    centre). The tracer always sums: msaa:N becomes N samples (a grid if N is square, else
-    jittered), none one sample at the pixel's centre."""
-    trace = opts.engine == "trace"
-    if preview:
-        return parse_aa("ssaa:grid:1") if trace else None
-    aa = accumulation(opts.aa, scene, camera, opts.shadows_on)
-    if trace and aa is None:
-        n = opts.aa.msaa or 1
-        aa = parse_aa(f"ssaa:{'grid' if round(n ** 0.5) ** 2 == n else 'jittered'}:{n}")
-    return aa
-
-
 def needs_accumulation(scene, camera, shadows: bool) -> bool:
     """Depth of field, motion blur, area-light penumbrae and glossy environment reflection
     are sums over samples: a render with any of them supersamples (headless and viewer)."""

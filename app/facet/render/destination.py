@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from ..gl.targets import Targets
 from ..scene.options import RenderOptions
 from .antialias import Accumulator
-from .transparency import Transparency
+from .raster.transparency import Transparency
 
 
 class Surfaces:

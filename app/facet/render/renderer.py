@@ -4,19 +4,20 @@
         frame = r.render(scene, camera, outputs=("color", "depth", "ids", "normals"))
 
 ``render`` (an offscreen target, read back to numpy; facet.render.frame) and ``present`` (a
-window's framebuffer) are two destinations of the same sequence, ``_sequence``:
+window's framebuffer) are two destinations of the same sequence, ``_sequence``, whatever
+the engine (facet.render.engine: the ``engine`` option picks it once per call):
 
-1. prepare: the options (facet.scene.options, resolved once per call), the camera and its
-   lens, the lights that shine (the default rig when the scene has none), background and
-   environment; the frame's shared state (facet.render.state);
-2. shadow maps (facet.render.shadow), once per frame, or per sample for area lights;
+1. prepare: the options (facet.scene.options, resolved once per call), the engine (and
+   one warning line for each thing it cannot honour), the camera and its lens, the lights
+   that shine (the default rig when the scene has none), background and environment; the
+   frame's shared state (facet.render.state);
+2. what the engine's samples share (the rasterizer's shadow maps, the tracer's geometry);
 3. the exact channels (depth, ids, normals, position, uv) at pixel centres: with the
    colour in one pass, or (MSAA, supersampling) in a pass of their own, drawn when
    first read (facet.render.frame says why);
-4. colour: one picture (MSAA when asked: opaque objects with their mirrors and environment,
-   the wireframe overlay, then transparent ones by OIT over the resolved colour), or the
-   sum of supersamples carrying the distributed effects (facet.render.antialias): all of
-   them offscreen, one more per call in a window, so a still view refines;
+4. colour: one picture (the rasterizer's, MSAA when asked), or the sum of supersamples
+   carrying the distributed effects (facet.render.antialias): all of them offscreen, one
+   more per call in a window, so a still view refines;
 5. finishing (facet.render.finish): mean, straight alpha, sRGB, into the destination.
 
 A call changes nothing the next one sees: targets are kept per size, sample count and
@@ -27,18 +28,19 @@ from __future__ import annotations
 
 import copy
 import threading
+import warnings
 import weakref
 from dataclasses import replace
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import FacetWarning, InputError
 from ..geometry.camera import Camera
 from ..geometry.lens import with_lens
 from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
-from ..gl.targets import clear_frame, writing
+from ..gl.targets import writing
 from ..scene.light import active_lights
 from ..scene.options import (
     ParsedLayer,
@@ -48,22 +50,12 @@ from ..scene.options import (
     parse_layer,
 )
 from ..scene.scene import Scene
-from .antialias import (
-    colour_sampling,
-    distributed_sample,
-    gloss_jitter,
-    has_area_lights,
-    jitter_matrix,
-    point_lights_for,
-)
+from .antialias import distributed_sample, gloss_jitter, jitter_matrix, point_lights_for
 from .destination import Destination, Surfaces
+from .engine import engine_for
 from .finish import Finisher, finish_for
-from .forward import ForwardPass
 from .frame import Frame
-from .overlay import wireframe_overlay
-from .shadow import ShadowMaps
 from .state import FrameState
-from .transparency import split_transparent
 
 LIGHT_ORDER = ("DirectionalLight", "PointLight", "SpotLight", "AreaLight")
 
@@ -101,8 +93,9 @@ class Renderer:
         self.ctx = (glcontext.create_headless(device=device, backend=backend)
                     if context is None else context)
         self.cache = ResourceCache(self.ctx)
-        self.forward = ForwardPass(self.ctx, self.cache)
-        self._parts: dict = {}  # shadow atlas, finishing pass, ray tracer: made on first use
+        self._engines: dict = {}  # name -> engine (facet.render.engine), made on first use
+        self._finisher = None  # the finishing pass, made on first use
+        self._warned: set[str] = set()  # what the engines cannot honour, said once
         self._surfaces: Surfaces | None = None
         self._closed = False
         self._unread = None  # the last Frame with channels still on the GPU (weakly)
@@ -176,30 +169,27 @@ class Renderer:
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
         """How many supersamples the colour of this render sums (0: one picture)."""
         opts = self.options(scene, options, **kwargs)
-        aa = colour_sampling(opts, scene, with_lens(camera, opts.aperture, opts.focus))
+        aa = self._engine(opts.engine).sampling(
+            opts, scene, with_lens(camera, opts.aperture, opts.focus), False)
         return aa.samples if aa is not None else 0
 
     # -- the pass sequence ---------------------------------------------------------------
     def _sequence(self, scene, camera, opts: RenderOptions, dest: Destination):
         self._settle()
+        engine = self._engine(opts.engine)
         scene, state = self._prepare(scene, camera, opts, dest)  # 1
+        self._warn(engine.unsupported(opts, scene))
         surf = self._surfaces_for(opts.size)
-        trace = opts.engine == "trace"
-        aa = colour_sampling(opts, scene, state.camera, dest.preview)
-        centre = point_lights_for(scene)  # an area light without supersamples: its centre
-        if trace:  # the tracer casts shadow rays: its geometry instead of shadow maps
-            self._part("tracer").prepare(scene, state)
-        elif opts.shadows_on and not (aa is not None and has_area_lights(scene)):  # 2
-            state = state.with_(shadows=self._part("shadows").draw(centre, opts.pcf))
+        aa = engine.sampling(opts, scene, state.camera, dest.preview)
+        state = engine.prepare(scene, state, opts, aa)  # 2
         aux = dest.channels(opts)
-        # Without MSAA, supersampling or users' shaders, colour and the exact channels come
-        # from one pass (multiple render targets); otherwise the exact ones get their own.
-        users = any(o.material.shader is not None for o in scene.objects)
+        # Without MSAA or supersampling, colour and the exact channels come from one pass
+        # (multiple render targets) where the engine can; otherwise they get their own.
         together = aux if (dest.wants_colour(opts) and aa is None and not opts.aa.msaa
-                           and not users) else ()
-        channels = self._exact(centre, state, aux, surf, trace) \
+                           and engine.draws_together(scene)) else ()
+        channels = self._exact(engine, point_lights_for(scene), state, aux, surf) \
             if aux and not together else {}  # 3
-        color, shown = self._colour(scene, state, opts, aa, dest, surf, together) \
+        color, shown = self._colour(engine, scene, state, opts, aa, dest, surf, together) \
             if dest.wants_colour(opts) else (None, 0)  # 4, 5
         if together:
             channels = {name: self._reader(surf, name) for name in aux}
@@ -212,6 +202,13 @@ class Renderer:
         if frame.unread:
             self._unread = weakref.ref(frame)
         return frame
+
+    def _warn(self, lines) -> None:
+        """What an engine cannot honour: each line once per renderer (facet.render.engine)."""
+        for line in lines:
+            if line not in self._warned:
+                self._warned.add(line)
+                warnings.warn(line, FacetWarning, stacklevel=4)
 
     def _reader(self, surf, name: str, draw=None):
         """Read channel ``name`` when the frame's user first asks for it (facet.render.frame:
@@ -266,7 +263,7 @@ class Renderer:
                            view.environment, time=opts.time, cull=opts.cull)
         return view, state
 
-    def _colour(self, scene, state, opts, aa, dest, surf, together):
+    def _colour(self, engine, scene, state, opts, aa, dest, surf, together):
         """Steps 4 and 5: (colour read back or None, samples shown)."""
         alpha = float(scene.background[3])
         bg = np.array([*state.to_linear(scene.background[:3]).tolist(), alpha])
@@ -274,84 +271,50 @@ class Renderer:
         if aa is None:
             finish = finish_for(bg, opts.srgb)
             dtype = "f4" if finish.needed or opts.float_color else "f1"
-            fbo = self._picture(scene, state, opts, clear, surf, dtype, together,
-                                None if finish.needed else dest.window)
+            fbo = engine.draw_picture(scene, state, opts, surf, clear, dtype, together,
+                                      None if finish.needed else dest.window)
             source = surf.targets.color_texture(dtype)
             return self._finish(source, fbo, finish, opts, dest, surf), 1
         samples = dest.samples(aa.samples)
-        source = self._accumulate(scene, state, opts, aa, samples, bg, surf, dest.preview)
+        source = self._accumulate(engine, scene, state, opts, aa, samples, bg, surf,
+                                  dest.preview)
         finish = finish_for(bg, opts.srgb, samples.stop)
         return self._finish(source, None, finish, opts, dest, surf), samples.stop
 
-    def _exact(self, scene, state: FrameState, aux, surf, trace: bool) -> dict:
-        """The exact channels at pixel centres, from the opaque objects (step 3), in a
-        single-sample pass of their own; read back when used (``_reader``).
+    def _exact(self, engine, scene, state: FrameState, aux, surf) -> dict:
+        """The exact channels at pixel centres (step 3), in a single-sample pass of their
+        own; read back when used (``_reader``).
 
-        The rasterizer's pass is drawn when a channel is first read, not now: most callers
-        of the default outputs look at colour only, and under MSAA this pass costs a second
-        trip through every triangle. It draws a snapshot of the objects taken now (their
-        transforms and materials copied), so a scene changed after ``render`` returns
-        changes nothing; the renderer draws it before its targets are used again
-        (``_settle``). The ray tracer's pass is drawn now (its geometry is this frame's)."""
-        if trace:
-            self._draw_exact(scene, state, aux, surf, trace)
+        An engine with ``deferred_exact`` (the rasterizer) draws this pass when a channel
+        is first read, not now: most callers of the default outputs look at colour only,
+        and under MSAA this pass costs a second trip through every triangle. It draws a
+        snapshot of the objects taken now (their transforms and materials copied), so a
+        scene changed after ``render`` returns changes nothing; the renderer draws it before
+        its targets are used again (``_settle``). Otherwise (the ray tracer, whose geometry
+        is this frame's) the pass is drawn now."""
+        scene = engine.exact_scene(scene)
+        if not engine.deferred_exact:
+            self._draw_exact(engine, scene, state, aux, surf)
             return {name: self._reader(surf, name) for name in aux}
-        opaque = frozen(split_transparent(scene)[0])
-        state = state.with_(shading="unlit", shadows=None, environment=None)
+        snapshot = frozen(scene)
         drawn = []
 
         def draw():
             if not drawn:
                 drawn.append(True)
-                self._draw_exact(opaque, state, aux, surf, trace)
+                self._draw_exact(engine, snapshot, state, aux, surf)
         return {name: self._reader(surf, name, draw) for name in aux}
 
-    def _draw_exact(self, scene, state: FrameState, aux, surf, trace: bool) -> None:
+    def _draw_exact(self, engine, scene, state: FrameState, aux, surf) -> None:
         fbo = surf.targets.aux(aux)
         fbo.use()
         with writing(fbo, colour=False):  # no colour written (nor cleared) per fragment
             fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)  # the exact channels: "nothing"
             self.ctx.enable_only(self.ctx.DEPTH_TEST)
-            if trace:
-                self._part("tracer").draw_exact(scene, state, aux)
-            else:
-                self.forward.draw(split_transparent(scene)[0], state, aux=aux,
-                                  colour_pass=False)
+            engine.draw_exact(scene, state, aux)
 
-    def _picture(self, scene, state, opts, clear, surf, dtype, together, direct):
-        """One picture (step 4): opaque objects (straight into the window ``direct`` when
-        nothing needs compositing or finishing), the overlay, then transparent ones over the
-        resolved colour. Returns the framebuffer holding it."""
-        t = surf.targets
-        opaque, transparent = split_transparent(scene)
-        if opts.aa.msaa:
-            target = t.multisample(opts.aa.msaa, dtype)
-        elif direct is not None and transparent is None:
-            target = direct
-            target.viewport = (0, 0, *opts.size)
-        else:
-            target = t.color(dtype)
-        if together:  # the same colour texture, with the exact channels' attachments
-            target = t.aux(together, dtype)
-        target.use()
-        clear_frame(target, clear, exact=bool(together))
-        self.ctx.enable_only(self.ctx.DEPTH_TEST)
-        self.forward.draw(opaque, state, aux=together)
-        if opts.wireframe:
-            wireframe_overlay(self.forward, scene, state)
-        if transparent is None and direct is not None:
-            return target  # shown as it is (a multisampled one resolves as it is copied)
-        zbuffer = target.depth_attachment if opts.aa.msaa else t.zbuffer
-        result = t.resolve(target, dtype) if opts.aa.msaa else t.color(dtype)
-        if transparent is not None:
-            # Layers tested against the opaque depth (multisampled with MSAA: anti-aliased
-            # edges), composited over the resolved opaque colour.
-            oit = surf.oit.begin(zbuffer)
-            self.forward.draw(transparent, state, oit=True)
-            surf.oit.end(oit, result)
-        return result
-
-    def _accumulate(self, scene, state, opts, aa, samples: range, bg, surf, plain=False):
+    def _accumulate(self, engine, scene, state, opts, aa, samples: range, bg, surf,
+                    plain=False):
         """Add supersamples ``samples`` of ``aa`` (step 4): each with its pixel offset, lens
         point, shutter time, area-light points and gloss tilt (``plain``: the centre of
         each); returns the sum's texture."""
@@ -368,24 +331,10 @@ class Renderer:
                 sample = state.with_(camera=cam_k, lights=tuple(scene_k.lights),
                                      jitter=jitter_matrix(dx, dy, opts.width, opts.height),
                                      gloss_jitter=gloss_jitter(k, aa.samples))
-            trace = opts.engine == "trace"
-            if opts.shadows_on and not trace and has_area_lights(scene) and not plain:
-                # The maps follow the area lights' points.
-                sample = sample.with_(shadows=self._part("shadows").draw(scene_k, opts.pcf, k))
+            sample = engine.sample_state(scene, scene_k, sample, opts, k, plain)
             acc.begin_sample(clear)
             self.ctx.enable_only(self.ctx.DEPTH_TEST)
-            if trace:
-                self._part("tracer").draw(scene_k, sample, bg, opts.max_depth, opts.shadows_on)
-                acc.add_sample()
-                continue
-            opaque, transparent = split_transparent(scene_k)
-            self.forward.draw(opaque, sample)
-            if opts.wireframe:
-                wireframe_overlay(self.forward, scene_k, sample)
-            if transparent is not None:
-                oit = surf.oit.begin(acc.sample_depth)
-                self.forward.draw(transparent, sample, oit=True)
-                surf.oit.end(oit, acc.sample)
+            engine.draw_sample(scene_k, sample, opts, surf, bg)
             acc.add_sample()
         return acc.accum_tex
 
@@ -398,27 +347,32 @@ class Renderer:
         if dest.window is not None:
             dest.window.viewport = (0, 0, *opts.size)
             if needed:
-                self._part("finisher").draw(source, dest.window, finish)
+                self.finisher.draw(source, dest.window, finish)
             elif source_fbo is not dest.window:
                 self.ctx.copy_framebuffer(dest.window, source_fbo)
             return None
         if not needed:
             return t.read_color(source_fbo, out)
-        self._part("finisher").draw(source, t.output(out), finish)
+        self.finisher.draw(source, t.output(out), finish)
         return t.read_color(t.output(out), out)
 
     # -- resources -----------------------------------------------------------------------
-    def _part(self, name: str):
-        """The shadow maps, the finishing pass or the ray tracer, made on first use."""
-        if name not in self._parts:
-            if name == "tracer":
-                from .trace.engine import Tracer  # the tracer's modules load only if used
+    def _engine(self, name: str):
+        """The engine called ``name`` (facet.render.engine), made on first use."""
+        if name not in self._engines:
+            self._engines[name] = engine_for(name)(self.ctx, self.cache)
+        return self._engines[name]
 
-                self._parts[name] = Tracer(self.ctx, self.cache)
-            else:
-                self._parts[name] = ShadowMaps(self.ctx, self.cache) if name == "shadows" \
-                    else Finisher(self.ctx)
-        return self._parts[name]
+    @property
+    def forward(self):
+        """The rasterizer's forward pass (its programs, users' mesh shaders)."""
+        return self._engine("raster").forward
+
+    @property
+    def finisher(self) -> Finisher:
+        if self._finisher is None:
+            self._finisher = Finisher(self.ctx)
+        return self._finisher
 
     def _surfaces_for(self, size) -> Surfaces:
         """The size-dependent targets, made anew when the size changes."""
@@ -450,8 +404,9 @@ class Renderer:
         with self.ctx:
             if self._surfaces is not None:
                 self._surfaces.release()
-            for part in (*self._parts.values(), self.forward, self.cache):
-                part.release()
+            for part in (*self._engines.values(), self._finisher, self.cache):
+                if part is not None:
+                    part.release()
         if self._own_context:
             self.ctx.release()
 

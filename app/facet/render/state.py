@@ -53,7 +53,7 @@ def pack_lights(lights, ambient, to_linear=np.asarray) -> bytes:
 class FrameState:
     """One frame's shared state (see the module docstring). ``lights`` are point-like (area
     lights already replaced by a point of theirs); ``shadows`` is what
-    ``facet.render.shadow.ShadowMaps.draw`` returned, or None."""
+    ``facet.render.raster.shadow.ShadowMaps.draw`` returned, or None."""
 
     camera: Camera
     width: int
@@ -69,7 +69,7 @@ class FrameState:
     jitter: np.ndarray | None = None  # clip-space sub-pixel shift (facet.render.antialias)
     gloss_jitter: tuple[float, float] = (0.0, 0.0)
     clip_plane: tuple | None = None  # world (n, d) of the mirror whose reflection is drawn
-    cull: str = "auto"  # back-face culling: auto, on, off (facet.render.culling)
+    cull: str = "auto"  # back-face culling: auto, on, off (facet.render.raster.culling)
     lights_block: bytes = field(default=b"", compare=False)
 
     def __post_init__(self):

@@ -39,17 +39,17 @@ class Material:
     name: str = ""
     texture: object = None
     shader: object = None  # a facet.scene.shader.UserShader: the material's own GLSL
-    opacity: float = 1.0  # < 1: transparent (order-independent, facet.render.transparency)
+    opacity: float = 1.0  # < 1: transparent (order-independent, facet.render.raster.transparency)
     reflectivity: float = 0.0  # mix towards the scene's environment (reflection/refraction)
     ior: float = 0.0  # index of refraction (> 1) for refraction with Fresnel; 0: none
     gloss: float = 0.0  # 0: a sharp mirror; up to 1: reflections blurred (by supersampling)
     # A planar mirror: a flat object showing the scene mirrored in its plane, mixed in by
-    # ``reflectivity`` (facet.render.mirror). Needs a flat mesh and reflectivity > 0.
+    # ``reflectivity`` (facet.render.raster.mirror). Needs a flat mesh and reflectivity > 0.
     mirror: bool = False
 
     @property
     def transparent(self) -> bool:
-        """Drawn in the transparent pass (order-independent, facet.render.transparency)."""
+        """Drawn in the transparent pass (order-independent, facet.render.raster.transparency)."""
         return self.opacity < 1.0
 
     def __post_init__(self):

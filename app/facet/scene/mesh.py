@@ -232,7 +232,7 @@ class Mesh:
         """Whether the surface is closed and consistently wound: every edge is shared by
         exactly two triangles that run along it in opposite directions (degenerate
         triangles aside). Vertices at the same position count as one, so texture seams do
-        not open it. Then no back face can be seen from outside (facet.render.culling).
+        not open it. Then no back face can be seen from outside (facet.render.raster.culling).
         Computed once."""
         if getattr(self, "_closed", None) is None:
             faces = self.faces.astype(np.int64)

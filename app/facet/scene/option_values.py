@@ -32,8 +32,10 @@ PCF_CHOICES = (0, 1, 2)  # shadow filter kernel radius: one tap, 3 x 3, 5 x 5
 # camera when it has none; "scene" only its own (none: only ambient); "camera" the rig even
 # when the scene has lights.
 LIGHTS = ("auto", "scene", "camera")
-ENGINES = ("raster", "trace")  # the rasterizer, the ray tracer (facet.render.trace)
-CULL = ("auto", "on", "off")  # back-face culling (facet.render.culling)
+ENGINES = ("raster", "trace")  # the rasterizer, the ray tracer (facet.render.engine)
+# Engines whose shadows are on unless asked otherwise (a shadow ray costs no extra pass).
+SHADOWS_BY_DEFAULT = ("trace",)
+CULL = ("auto", "on", "off")  # back-face culling (facet.render.raster.culling)
 DEFAULT_MAX_DEPTH = 5  # reflection/refraction bounces of the ray tracer
 DEFAULT_AA = "msaa:4"
 # Files without normals: vertices split where faces meet at more than this many degrees

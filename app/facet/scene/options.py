@@ -45,6 +45,7 @@ from .option_values import (  # noqa: F401 - the vocabularies, importable from h
     PATH_KEYS,
     PCF_CHOICES,
     SHADING,
+    SHADOWS_BY_DEFAULT,
     AntiAliasing,
     _default_aa,
     clamp_msaa,
@@ -108,7 +109,8 @@ class RenderOptions:
     def shadows_on(self) -> bool:
         """Whether this render has shadows: as asked, else the engine's default (the ray
         tracer casts shadow rays, the rasterizer draws shadow maps only when asked)."""
-        return self.shadows if self.shadows is not None else self.engine == "trace"
+        return self.shadows if self.shadows is not None else \
+            self.engine in SHADOWS_BY_DEFAULT
 
     @classmethod
     def build(cls, *layers) -> RenderOptions:

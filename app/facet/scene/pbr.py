@@ -138,7 +138,7 @@ class PbrMaterial:
 
     @property
     def transparent(self) -> bool:
-        """Drawn in the transparent pass (order-independent, facet.render.transparency)."""
+        """Drawn in the transparent pass (order-independent, facet.render.raster.transparency)."""
         return self.alpha_mode == "BLEND"
 
     @property

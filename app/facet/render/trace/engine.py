@@ -1,7 +1,9 @@
-"""The ray tracer on the GPU: uploads what facet.render.trace.pack lays out, and draws one
-supersample of traced colour (glsl/trace/trace.frag) or the exact channels
-(glsl/trace/primary.frag) as full-screen passes, on any GL 3.3 context (llvmpipe and the
-viewer's window included).
+"""The ray tracer as an engine (facet.render.engine) on the GPU: uploads what
+facet.render.trace.pack lays out, and draws one supersample of traced colour
+(glsl/trace/trace.frag) or the exact channels (glsl/trace/primary.frag) as full-screen
+passes, on any GL 3.3 context (llvmpipe and the viewer's window included). Its colour is
+always a sum of samples (msaa:N becomes N rays per pixel); what it does not honour it names
+(``unsupported``).
 
 Meshes are packed once per Mesh (kept while it lives) and the scene's geometry textures are
 uploaded again only when the set of meshes changes; instances and the top level are packed
@@ -19,19 +21,26 @@ from ...gl.fullscreen import FullScreenPass
 from ...gl.glsl_source import glsl_root
 from ...gl.shaders import compile_program
 from ...gl.targets import aux_locations
+from ...scene.options import PCF_CHOICES, parse_aa
+from ...scene.pbr import PbrMaterial
+from ...scene.scene import MAX_LIGHTS
+from ..antialias import accumulation
+from ..engine import Engine, grid_or_jittered
 from ..materials import phong_color
 from ..shading import SHADING_MODELS
-from ..state import UNITS, FrameState
+from ..state import UNITS, FrameState, pack_lights
 from . import pack
 
 MAX_TEXTURE_LAYER = 2048  # materials' images are resized to at most this square
 
 
-class Tracer:
+class TraceEngine(Engine):
     """The ray tracer of one renderer: programs, the scene's textures, and the draws."""
 
+    name = "trace"
+
     def __init__(self, ctx, cache):
-        self.ctx, self.cache = ctx, cache
+        super().__init__(ctx, cache)
         self.programs: dict[tuple, FullScreenPass] = {}
         self._meshes = weakref.WeakKeyDictionary()  # Mesh -> pack.MeshData
         self._geometry_key: tuple | None = None
@@ -40,7 +49,7 @@ class Tracer:
         self._textures: dict[str, object] = {}
         self._layers_key: tuple | None = None
         self._layers: dict[int, int] = {}
-        self.lights_ubo = ctx.buffer(reserve=16 * 4 * 66)
+        self.lights_ubo = ctx.buffer(reserve=len(pack_lights((), np.zeros(3))))
         limit = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
         self.max_texels = pack.TEX_WIDTH * limit
 
@@ -113,10 +122,44 @@ class Tracer:
         self._layers = {id(t): i for i, t in enumerate(images)}
         self._layers_key = key
 
-    def prepare(self, scene, state: FrameState) -> None:
+    # -- the engine interface (facet.render.engine) ----------------------------------------
+    def sampling(self, opts, scene, camera, preview: bool):
+        """Always a sum: msaa:N is N rays per pixel (none: one through the centre); a
+        window's moving view one ray through each pixel's centre."""
+        if preview:
+            return parse_aa("ssaa:grid:1")
+        aa = accumulation(opts.aa, scene, camera, opts.shadows_on)
+        return aa if aa is not None else grid_or_jittered(opts.aa.msaa or 1)
+
+    def prepare(self, scene, state: FrameState, opts=None, aa=None) -> FrameState:
         """Geometry and textures for this scene (uploaded only when they changed)."""
         self._geometry(scene)
         self._texture_layers(scene, state.srgb)
+        return state
+
+    def draw_sample(self, scene, state, opts, surf, background) -> None:
+        self.draw(scene, state, background, opts.max_depth, opts.shadows_on)
+
+    def unsupported(self, opts, scene) -> list[str]:
+        """What the tracer does not draw as asked (each a warning line)."""
+        lines = []
+        if opts.wireframe:
+            lines.append("the ray tracer draws no wireframe overlay")
+        if opts.shading == "gouraud":
+            lines.append("the ray tracer shades gouraud as phong (per pixel)")
+        if opts.cull == "on":
+            lines.append("the ray tracer culls no back faces for cull = on (only "
+                         "single-sided glTF materials lose theirs)")
+        if opts.pcf != PCF_CHOICES[1]:
+            lines.append("pcf filters shadow maps; the ray tracer's shadow rays are exact")
+        counts: dict[str, int] = {}
+        for obj in scene.objects:
+            for feature in _dropped(obj.material):
+                counts[feature] = counts.get(feature, 0) + 1
+        total = len(scene.objects)
+        lines += [f"the ray tracer ignores {feature} ({n} of {total} objects)"
+                  for feature, n in counts.items()]
+        return lines
 
     def _instances(self, scene, state: FrameState) -> tuple[int, bool, int]:
         """Upload the placed objects: (unbounded count, has a top level, the single
@@ -138,8 +181,8 @@ class Tracer:
         # The tracer shades every material by the Phong equation (a PbrMaterial through
         # its Phong stand-ins, facet.scene.pbr).
         model = "phong" if state.shading in ("auto", "pbr") else state.shading
-        defines = {SHADING_MODELS[model].define: None, "TEX_SHIFT": pack.TEX_SHIFT,
-                   "MAX_LIGHTS": 16}
+        defines = {SHADING_MODELS[model].define: None, "MAX_LIGHTS": MAX_LIGHTS,
+                   **pack.layout_defines()}
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
                  "SECONDARY": secondary and stage == "trace",
                  "HAS_ENVIRONMENT": state.environment is not None and stage == "trace"}
@@ -215,3 +258,33 @@ class Tracer:
             tex.release()
         self._textures.clear()
         self.lights_ubo.release()
+
+
+def _dropped(m) -> list[str]:
+    """The material features of ``m`` the tracer does not draw (it shades every material
+    by Phong terms: a glTF material by its Phong stand-ins, facet.scene.pbr)."""
+    out = []
+    if m.shader is not None:
+        out.append("users' mesh shaders (the material's Phong terms are traced)")
+    if not isinstance(m, PbrMaterial):
+        return out
+    if not m.unlit:
+        out.append("the metallic-roughness BRDF (traced by Phong stand-ins)")
+    else:
+        out.append("KHR_materials_unlit")
+    slots = m.slots
+    for slot, what in (("metallic_roughness", "metallic-roughness textures"),
+                       ("normal", "normal maps"), ("emissive", "emissive textures")):
+        if slot in slots:
+            out.append(what)
+    if np.any(m.emissive > 0):
+        out.append("emission")
+    if any(not np.array_equal(s.transform, np.eye(3)) for s in slots.values()):
+        out.append("texture transforms (KHR_texture_transform)")
+    if any(s.texcoord != 0 for s in slots.values()):
+        out.append("second texture coordinate sets")
+    if m.alpha_mode == "MASK":
+        out.append("alpha MASK cut-outs")
+    if m.alpha_mode == "BLEND" and "base_color" in slots:
+        out.append("base-colour texture alpha")
+    return out

@@ -26,6 +26,14 @@ NODE_TEXELS = 4
 INSTANCE_TEXELS = 11
 KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
 FLAG_COLORS, FLAG_ONE_SIDED = 1, 2  # an instance's flags (glsl/trace/scene.glsl)
+
+
+def layout_defines() -> dict:
+    """The layout's constants for the GLSL that reads it (glsl/trace/data.glsl)."""
+    return {"TEX_SHIFT": TEX_SHIFT, "NODE_TEXELS": NODE_TEXELS,
+            "INSTANCE_TEXELS": INSTANCE_TEXELS, "FLAG_COLORS": FLAG_COLORS,
+            "FLAG_ONE_SIDED": FLAG_ONE_SIDED,
+            **{f"KIND_{name.upper()}": kind for name, kind in KINDS.items()}}
 MAX_REFERENCE = 1 << 24  # node and triangle indices are exact in float32 up to here
 EMPTY_CHILD = ((1e30, 1e30, 1e30, -1.0), (-1e30, -1e30, -1e30, 0.0))  # lo > hi: never hit
 

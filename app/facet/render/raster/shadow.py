@@ -19,14 +19,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..geometry import transforms as T
-from ..gl.glsl_source import glsl_root
-from ..gl.shaders import compile_program
-from ..scene.light import DirectionalLight, PointLight, SpotLight
-from ..scene.options import PCF_CHOICES
-from ..scene.scene import Scene
-from .state import UNITS
+from ...errors import InputError
+from ...geometry import transforms as T
+from ...gl.glsl_source import glsl_root
+from ...gl.shaders import compile_program
+from ...scene.light import DirectionalLight, PointLight, SpotLight
+from ...scene.options import PCF_CHOICES
+from ...scene.scene import Scene
+from ..state import UNITS
 
 TILE = 1024  # shadow map resolution per tile
 ATLAS_COLUMNS = 8  # tiles per atlas row (TILE x 8 = 8192 px wide, within GL limits)

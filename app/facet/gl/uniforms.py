@@ -9,7 +9,7 @@ import warnings
 import numpy as np
 
 from ..errors import FacetWarning, InputError
-from ..gl.shaders import INT_TYPES, Program
+from .shaders import INT_TYPES, Program
 
 _SIZES = {"float": 1, "int": 1, "bool": 1, "uint": 1, "mat2": 4, "mat3": 9, "mat4": 16}
 

@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import FacetError, ShaderError
-from ..gl.glsl_source import file_digest
-from ..gl.shaders import Program
+from .glsl_source import file_digest
+from .shaders import Program
 
 
 @dataclass

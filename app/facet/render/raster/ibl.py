@@ -15,7 +15,7 @@ import weakref
 
 import numpy as np
 
-from ..gl.fullscreen import FullScreenPass
+from ...gl.fullscreen import FullScreenPass
 
 LUT_SIZE = 64
 PREFILTER_SIZE = (256, 256)  # level 0 of the prefiltered map: roughness 0

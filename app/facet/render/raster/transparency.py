@@ -21,8 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..gl.fullscreen import FullScreenPass
-from .state import UNITS
+from ...gl.fullscreen import FullScreenPass
+from ..state import UNITS
 
 WEIGHT_SCALE, WEIGHT_MIN = 3000.0, 0.01  # w = max(WEIGHT_MIN, WEIGHT_SCALE (1 - z)^3)
 

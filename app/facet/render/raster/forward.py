@@ -15,17 +15,14 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..geometry import transforms as T
-from ..gl.fullscreen import FullScreenPass
-from ..gl.glsl_source import glsl_root
-from ..gl.resources import ResourceCache
-from ..gl.shaders import Program, compile_program
-from ..gl.targets import aux_locations, writing
-from ..lab.mesh_shaders import UserPrograms
-from ..scene.scene import MAX_LIGHTS, Scene
-from .culling import Culling, det3
-from .ibl import PREFILTER_LEVELS, ImageLighting
-from .materials import (
+from ...geometry import transforms as T
+from ...gl.fullscreen import FullScreenPass
+from ...gl.glsl_source import glsl_root
+from ...gl.resources import ResourceCache
+from ...gl.shaders import Program, compile_program
+from ...gl.targets import aux_locations, writing
+from ...scene.scene import MAX_LIGHTS, Scene
+from ..materials import (
     IBL_UNITS,
     SlotSamplers,
     as_pbr,
@@ -34,9 +31,12 @@ from .materials import (
     set_pbr_material,
     slot_defines,
 )
+from ..shading import SHADING_MODELS, check_shading
+from ..state import UNITS, FrameState, pack_lights
+from .culling import Culling, det3
+from .ibl import PREFILTER_LEVELS, ImageLighting
 from .mirror import MirrorTargets, mirror_plane
-from .shading import SHADING_MODELS, check_shading
-from .state import UNITS, FrameState, pack_lights
+from .user_shaders import UserPrograms
 
 LIGHTS_BINDING = 0
 MAX_PROGRAMS = 16  # compiled mesh programs kept per renderer (least recently used go)
@@ -56,9 +56,9 @@ class Variant:
     shadow_slots: tuple[int, ...] | None = None  # per light: its first shadow tile, or -1
     shadow_tiles: int = 0  # tiles in the shadow atlas
     shadow_pcf: int = 1  # PCF kernel radius in texels
-    oit: bool = False  # the transparent pass (outputs to the OIT sums, facet.render.transparency)
+    oit: bool = False  # the transparent pass (into the OIT sums, raster.transparency)
     environment: bool = False  # reflects / refracts the scene's environment
-    mirror: bool = False  # mixes in its planar reflection (facet.render.mirror)
+    mirror: bool = False  # mixes in its planar reflection (facet.render.raster.mirror)
     clip_plane: bool = False  # discards what is behind a mirror (its reflection pass)
     slots: tuple[str, ...] = ()  # the pbr model's TEX_* defines (materials.slot_defines)
     uv1: bool = False  # the mesh has a second texture coordinate set
@@ -239,7 +239,7 @@ class ForwardPass:
                 ready.add(id(prog))
             det = det3(obj.transform)
             self._front(mirrored_view != (det < 0))
-            # Back faces nobody can see are not drawn (facet.render.culling).
+            # Back faces nobody can see are not drawn (facet.render.raster.culling).
             self._cull(self.culling.cull(obj, state.cull, state.camera.view,
                                          state.camera.near, det))
             if model == "pbr" and not user:
@@ -349,7 +349,7 @@ class ForwardPass:
             state.shadows.bind(prog, UNITS["shadow"])
 
     def _draw_reflections(self, scene: Scene, state: FrameState) -> dict:
-        """Draw each mirror's reflection into its texture (facet.render.mirror), before the
+        """Draw each mirror's reflection into its texture (facet.render.raster.mirror), before the
         pass sets its own uniforms; {id(mirror object): texture}. Rebinds the framebuffer
         that was bound."""
         mirrors = [o for o in scene.objects if o.material.mirror and o.material.shader is None]

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
-from ..geometry.transforms import fit_plane
+from ...errors import InputError
+from ...geometry.transforms import fit_plane
 
 
 def mirror_plane(obj, eye) -> np.ndarray:

@@ -1,14 +1,14 @@
 """Users' mesh shaders on the GPU: one program per (shader, variant of the frame), with the
-user's uniforms checked and written, hot reloaded through ``facet.lab.programs`` (a save
+user's uniforms checked and written, hot reloaded through facet.gl.reload (a save
 that fails to compile keeps the last good program drawing)."""
 
 from __future__ import annotations
 
-from ..gl.glsl_source import glsl_root
-from ..gl.shaders import Program, compile_program
-from ..scene.shader import UserShader
-from .programs import ReloadResult, WatchedPrograms
-from .uniforms import check_uniform, write_uniform
+from ...gl.glsl_source import glsl_root
+from ...gl.reload import ReloadResult, WatchedPrograms
+from ...gl.shaders import Program, compile_program
+from ...gl.uniforms import check_uniform, write_uniform
+from ...scene.shader import UserShader
 
 DEFAULT_VERTEX = "mesh/phong.vert"
 # Uniforms facet fills for user mesh shaders (facet.scene.shader lists them).

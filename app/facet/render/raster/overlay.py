@@ -5,8 +5,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from ..gl.targets import writing
-from ..scene.material import Material
+from ...gl.targets import writing
+from ...scene.material import Material
 
 EDGE_COLOR = (0.05, 0.05, 0.05)
 

@@ -1,0 +1,91 @@
+"""The engines behind one door: the rasterizer and the ray tracer draw one scene, with the
+same lights and materials, behind one interface; the ``engine`` option picks one per render
+call (facet.render.renderer asks ``engine_for`` once and calls nothing else engine-specific).
+
+An engine, given the frame's shared state (facet.render.state.FrameState):
+
+    sampling(opts, scene, camera, preview)   the supersamples its colour sums, or None for
+                                             one picture (``draw_picture``)
+    prepare(scene, state, opts, aa)          what every sample of the frame shares (shadow
+                                             maps, uploaded geometry); returns the state
+    draw_picture(...)                        one picture, when ``sampling`` gave None
+    sample_state(scene, scene_k, state, opts, k, plain)
+                                             supersample k's own state (area-light maps)
+    draw_sample(scene, state, opts, surf, background)
+                                             one supersample into the bound sample target
+    exact_scene(scene), draw_exact(scene, state, aux)
+                                             the exact channels at pixel centres into the
+                                             bound target (``deferred_exact``: may be drawn
+                                             later, from a snapshot of ``exact_scene``)
+    unsupported(opts, scene)                 what it cannot honour: one line each, which the
+                                             renderer warns once (never silently dropped)
+
+``ENGINE_CLASSES`` maps each name of facet.scene.options.ENGINES to its class, loaded on
+first use; a new engine is a new module and a row here.
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+
+from ..scene.options import AntiAliasing, parse_aa
+from .antialias import accumulation
+
+ENGINE_CLASSES = {
+    "raster": ("facet.render.raster.engine", "RasterEngine"),
+    "trace": ("facet.render.trace.engine", "TraceEngine"),
+}
+
+
+def engine_for(name: str):
+    """The class of engine ``name`` (its module is imported now)."""
+    module, cls = ENGINE_CLASSES[name]
+    return getattr(import_module(module), cls)
+
+
+class Engine:
+    """The interface (module docstring); the defaults are a rasterizer's."""
+
+    name = ""
+    deferred_exact = False  # the exact channels may be drawn after the call returns
+
+    def __init__(self, ctx, cache):
+        self.ctx, self.cache = ctx, cache
+
+    def sampling(self, opts, scene, camera, preview: bool) -> AntiAliasing | None:
+        """The supersampling the colour needs: the options' (or the distributed effects'),
+        None for one picture; a window's moving view (``preview``) gets one picture."""
+        return None if preview else accumulation(opts.aa, scene, camera, opts.shadows_on)
+
+    def draws_together(self, scene) -> bool:
+        """Whether colour and the exact channels may come from one pass."""
+        return False
+
+    def prepare(self, scene, state, opts, aa):
+        return state
+
+    def draw_picture(self, scene, state, opts, surf, clear, dtype, together, direct):
+        raise NotImplementedError(f"the {self.name} engine always sums samples")
+
+    def sample_state(self, scene, scene_k, state, opts, k: int, plain: bool):
+        return state
+
+    def draw_sample(self, scene, state, opts, surf, background) -> None:
+        raise NotImplementedError
+
+    def exact_scene(self, scene):
+        return scene
+
+    def draw_exact(self, scene, state, aux) -> None:
+        raise NotImplementedError
+
+    def unsupported(self, opts, scene) -> list[str]:
+        return []
+
+    def release(self) -> None:
+        pass
+
+
+def grid_or_jittered(n: int) -> AntiAliasing:
+    """N samples per pixel: a grid when N is square, else jittered."""
+    return parse_aa(f"ssaa:{'grid' if round(n ** 0.5) ** 2 == n else 'jittered'}:{n}")

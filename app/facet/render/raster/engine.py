@@ -1,0 +1,110 @@
+"""The rasterizer as an engine (facet.render.engine): forward shading with shadow maps,
+order-independent transparency, planar mirrors and the wireframe overlay. One picture (with
+MSAA when asked: opaque objects with their mirrors and environment, the overlay, then
+transparent ones by OIT over the resolved colour), or one supersample of a sum; the exact
+channels from the opaque objects in a single-sample pass, drawn when first read.
+"""
+
+from __future__ import annotations
+
+from ...gl.targets import clear_frame
+from ...scene.options import DEFAULT_MAX_DEPTH
+from ..antialias import has_area_lights, point_lights_for
+from ..engine import Engine
+from .forward import ForwardPass
+from .overlay import wireframe_overlay
+from .shadow import ShadowMaps
+from .transparency import split_transparent
+
+
+class RasterEngine(Engine):
+    name = "raster"
+    deferred_exact = True  # most callers read colour only (facet.render.frame)
+
+    def __init__(self, ctx, cache):
+        super().__init__(ctx, cache)
+        self.forward = ForwardPass(ctx, cache)
+        self._shadows = None  # the shadow atlas, made on first use
+
+    @property
+    def shadows(self) -> ShadowMaps:
+        if self._shadows is None:
+            self._shadows = ShadowMaps(self.ctx, self.cache)
+        return self._shadows
+
+    def draws_together(self, scene) -> bool:
+        # Users' shaders write colour only: the exact channels get their own pass then.
+        return not any(o.material.shader is not None for o in scene.objects)
+
+    def prepare(self, scene, state, opts, aa):
+        """The shadow maps, once per frame (per sample for area lights, sample_state)."""
+        if opts.shadows_on and not (aa is not None and has_area_lights(scene)):
+            return state.with_(shadows=self.shadows.draw(point_lights_for(scene), opts.pcf))
+        return state
+
+    def draw_picture(self, scene, state, opts, surf, clear, dtype, together, direct):
+        """One picture (straight into the window ``direct`` when nothing needs compositing
+        or finishing; ``together``: the exact channels drawn alongside). Returns the
+        framebuffer holding it."""
+        t = surf.targets
+        opaque, transparent = split_transparent(scene)
+        if opts.aa.msaa:
+            target = t.multisample(opts.aa.msaa, dtype)
+        elif direct is not None and transparent is None:
+            target = direct
+            target.viewport = (0, 0, *opts.size)
+        else:
+            target = t.color(dtype)
+        if together:  # the same colour texture, with the exact channels' attachments
+            target = t.aux(together, dtype)
+        target.use()
+        clear_frame(target, clear, exact=bool(together))
+        self.ctx.enable_only(self.ctx.DEPTH_TEST)
+        self.forward.draw(opaque, state, aux=together)
+        if opts.wireframe:
+            wireframe_overlay(self.forward, scene, state)
+        if transparent is None and direct is not None:
+            return target  # shown as it is (a multisampled one resolves as it is copied)
+        zbuffer = target.depth_attachment if opts.aa.msaa else t.zbuffer
+        result = t.resolve(target, dtype) if opts.aa.msaa else t.color(dtype)
+        if transparent is not None:
+            # Layers tested against the opaque depth (multisampled with MSAA: anti-aliased
+            # edges), composited over the resolved opaque colour.
+            oit = surf.oit.begin(zbuffer)
+            self.forward.draw(transparent, state, oit=True)
+            surf.oit.end(oit, result)
+        return result
+
+    def sample_state(self, scene, scene_k, state, opts, k: int, plain: bool):
+        """Area lights: the maps follow the lights' points of sample ``k`` (``scene_k``)."""
+        if opts.shadows_on and has_area_lights(scene) and not plain:
+            return state.with_(shadows=self.shadows.draw(scene_k, opts.pcf, k))
+        return state
+
+    def draw_sample(self, scene, state, opts, surf, background) -> None:
+        acc = surf.accumulator
+        opaque, transparent = split_transparent(scene)
+        self.forward.draw(opaque, state)
+        if opts.wireframe:
+            wireframe_overlay(self.forward, scene, state)
+        if transparent is not None:
+            oit = surf.oit.begin(acc.sample_depth)
+            self.forward.draw(transparent, state, oit=True)
+            surf.oit.end(oit, acc.sample)
+
+    def exact_scene(self, scene):
+        return split_transparent(scene)[0]  # the nearest opaque surface, as the tracer's
+
+    def draw_exact(self, scene, state, aux) -> None:
+        self.forward.draw(scene, state.with_(shading="unlit", shadows=None, environment=None),
+                          aux=aux, colour_pass=False)
+
+    def unsupported(self, opts, scene) -> list[str]:
+        if opts.max_depth != DEFAULT_MAX_DEPTH:
+            return ["max_depth sets the ray tracer's bounces; the rasterizer ignores it"]
+        return []
+
+    def release(self) -> None:
+        if self._shadows is not None:
+            self._shadows.release()
+        self.forward.release()
