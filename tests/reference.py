@@ -242,3 +242,45 @@ def pbr_uniform_environment(n_dot_v, base, metallic, roughness, radiance=1.0, st
 def srgb_encode(c):
     c = np.clip(np.asarray(c, dtype=float), 0, 1)
     return np.where(c <= 0.0031308, c * 12.92, 1.055 * c ** (1 / 2.4) - 0.055)
+
+
+def traverse(bvh, tri, origin, direction, t_max=np.inf):
+    """Nearest hit of one ray through the hierarchy of triangles ``tri`` (N, 3, 3):
+    (t, triangle index) or (inf, -1) (facet.geometry.bvh's layout; slow: a loop)."""
+    o, d = np.asarray(origin, float), np.asarray(direction, float)
+    inv = 1.0 / np.where(np.abs(d) < 1e-30, np.copysign(1e-30, d), d)
+    best, hit = t_max, -1
+    stack = [0]
+    while stack:
+        i = stack.pop()
+        t0 = (bvh.lo[i] - o) * inv
+        t1 = (bvh.hi[i] - o) * inv
+        near, far = np.minimum(t0, t1).max(), np.maximum(t0, t1).min()
+        if near > min(far, best) or far < 0:
+            continue
+        if bvh.left[i] >= 0:
+            stack += [bvh.left[i], bvh.right[i]]
+            continue
+        prims = bvh.order[bvh.first[i]: bvh.first[i] + bvh.count[i]]
+        t = ray_triangles(tri[prims], o, d)
+        j = int(np.argmin(t))
+        if t[j] < best:
+            best, hit = t[j], int(prims[j])
+    return best, hit
+
+
+def ray_triangles(tri, origin, direction) -> np.ndarray:
+    """Möller-Trumbore distance along the ray to each triangle (K, 3, 3); inf for misses."""
+    tri = np.asarray(tri, float)
+    v0, e1, e2 = tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    p = np.cross(direction, e2)
+    det = np.einsum("ij,ij->i", e1, p)
+    ok = np.abs(det) > 1e-12
+    inv = 1.0 / np.where(ok, det, 1.0)
+    s = origin - v0
+    u = np.einsum("ij,ij->i", s, p) * inv
+    q = np.cross(s, e1)
+    v = (q @ direction) * inv
+    t = np.einsum("ij,ij->i", e2, q) * inv
+    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+    return np.where(hit, t, np.inf)

@@ -42,11 +42,7 @@ uniform float u_alpha_cutoff;  // ALPHA_MASK
 uniform bool u_unlit;
 uniform int u_object_id;
 
-const int SLOT_BASE = 0, SLOT_MR = 1, SLOT_NORMAL = 2, SLOT_OCCLUSION = 3, SLOT_EMISSIVE = 4;
-uniform mat3 u_slot_transform[5];
-uniform float u_slot_set[5];   // 0: v_uv, 1: v_uv1
-uniform vec2 u_slot_mirror[5];  // 1 on mirrored axes
-uniform sampler2D u_tex_base, u_tex_mr, u_tex_normal, u_tex_occlusion, u_tex_emissive;
+#include "mesh/slots.glsl"
 
 #ifdef CLIP_PLANE
 uniform vec4 u_clip_plane;  // a mirror's reflection pass: world plane, n towards the viewer
@@ -58,37 +54,7 @@ uniform sampler2D u_prefiltered;  // octahedral, mip k: roughness k / (levels - 
 uniform float u_prefiltered_levels;
 #endif
 
-#ifdef OIT
-layout(location = 0) out vec4 f_color;
-layout(location = 1) out float f_reveal;
-const float OIT_MAX_OPACITY = 0.999;
-#else
-layout(location = 0) out vec4 f_color;
-#endif
-#ifdef OUT_DEPTH_IDS
-// (the bits of the linear depth along the camera axis, object id + 1): one attachment
-layout(location = OUT_DEPTH_IDS) out uvec2 f_depth_ids;
-#endif
-#ifdef OUT_NORMALS
-layout(location = OUT_NORMALS) out vec4 f_normal;
-#endif
-#ifdef OUT_POSITION
-layout(location = OUT_POSITION) out vec4 f_position;
-#endif
-#ifdef OUT_UV
-layout(location = OUT_UV) out vec2 f_uv;
-#endif
-
-vec4 sample_slot(sampler2D tex, int k) {
-#ifdef HAS_UV1
-    vec2 uv = u_slot_set[k] > 0.5 ? v_uv1 : v_uv;
-#else
-    vec2 uv = v_uv;
-#endif
-    uv = (u_slot_transform[k] * vec3(uv, 1.0)).xy;
-    uv = mix(uv, 1.0 - abs(mod(uv, 2.0) - 1.0), u_slot_mirror[k]);
-    return texture(tex, uv);
-}
+#include "mesh/outputs.glsl"
 
 void main() {
 #ifdef CLIP_PLANE
@@ -109,15 +75,7 @@ void main() {
 #if defined(ALPHA_MASK)
     if (base.a < u_alpha_cutoff) discard;
 #endif
-#ifdef OUT_DEPTH_IDS
-    f_depth_ids = uvec2(floatBitsToUint(v_depth_view), uint(u_object_id));
-#endif
-#ifdef OUT_POSITION
-    f_position = vec4(v_pos_world, 1.0);
-#endif
-#ifdef OUT_UV
-    f_uv = v_uv;
-#endif
+    write_exact();
     // Seen from behind (double-sided materials), the whole frame turns round.
     float side = gl_FrontFacing ? 1.0 : -1.0;
     vec3 N = normalize(v_normal_world) * side;
@@ -128,9 +86,7 @@ void main() {
     t.xy *= u_normal_scale;
     N = normalize(mat3(T, B, N) * t);
 #endif
-#ifdef OUT_NORMALS
-    f_normal = vec4(N, 0.0);
-#endif
+    write_normal(N);
     float metallic = u_metallic, roughness = u_roughness;
 #ifdef TEX_MR
     vec4 mr = sample_slot(u_tex_mr, SLOT_MR);
@@ -150,7 +106,7 @@ void main() {
             falloff *= SHADOW(i, v_pos_world, N, L, falloff);
             rgb += falloff * u_lights[i].color.rgb * pbr_light(s, N, V, L);
         }
-        const float LUT_SIZE = 64.0;  // facet.render.ibl.LUT_SIZE: texel centres at 0 and 1
+        // The table's texel centres are at 0 and 1 (LUT_SIZE: facet.render.raster.ibl's).
         vec2 at = (vec2(n_dot_v, roughness) * (LUT_SIZE - 1.0) + 0.5) / LUT_SIZE;
         vec3 lut = texture(u_ibl_lut, at).rgb;
 #ifdef HAS_ENVIRONMENT
@@ -177,12 +133,5 @@ void main() {
 #ifndef COLOR_SRGB
     rgb = linear_to_srgb_fast(clamp(rgb, 0.0, 1.0));
 #endif
-#ifdef OIT
-    float a = clamp(base.a, 0.0, OIT_MAX_OPACITY);
-    float w = max(0.01, 3000.0 * pow(1.0 - gl_FragCoord.z, 3.0));
-    f_color = vec4(rgb * a, a) * w;
-    f_reveal = -log(1.0 - a);
-#else
-    f_color = vec4(rgb, 1.0);
-#endif
+    write_color(rgb, base.a);
 }

@@ -36,18 +36,17 @@ uniform vec3 u_color;      // material C, linear [0, 1] (unlit)
 #ifdef HAS_ENVIRONMENT
 // Reflection and refraction of the environment (facet.scene.environment): the colour is
 // mixed towards the environment by u_reflectivity; with u_ior > 0 the environment colour is
-// the refraction and reflection weighted by Schlick's Fresnel term.
+// the refraction and reflection weighted by Schlick's Fresnel term; glossy (u_gloss) by
+// accumulation (lib/gloss.glsl).
+#include "lib/gloss.glsl"
 uniform samplerCube u_environment;
 uniform float u_reflectivity;
 uniform float u_ior;
-// Glossy reflection by accumulation: each supersample tilts the reflected ray by
-// u_gloss * u_gloss_jitter (a point of a jittered pattern in [-0.5, 0.5)^2), so the average
-// of the samples is the environment blurred over a lobe as wide as u_gloss.
 uniform float u_gloss;
 uniform vec2 u_gloss_jitter;
 #endif
 #ifdef HAS_MIRROR
-// A planar mirror (facet.render.mirror): the scene mirrored in its plane, drawn at this
+// A planar mirror (facet.render.raster.mirror): the scene mirrored in its plane, drawn at this
 // target's size, fetched at this fragment's own pixel and mixed in by u_mirror_weight.
 uniform sampler2D u_mirror;
 uniform float u_mirror_weight;
@@ -58,34 +57,10 @@ uniform float u_mirror_weight;
 uniform vec4 u_clip_plane;
 #endif
 #ifdef OIT
-// Weighted blended order-independent transparency (McGuire and Bavoil 2013), written with
-// one additive blend for both targets: location 0 sums w a C and w a, location 1 sums
-// -log(1 - a), so that exp(-sum) is the product of the (1 - a) behind which the opaque
-// scene shows. The weight favours what is nearer: w = max(0.01, 3000 (1 - z)^3).
-uniform float u_opacity;
+uniform float u_opacity;  // weighted blended transparency (mesh/outputs.glsl)
 #endif
 uniform int u_object_id;
-
-layout(location = 0) out vec4 f_color;
-#ifdef OIT
-layout(location = 1) out float f_reveal;
-const float OIT_MAX_OPACITY = 0.999;  // log(1 - a) stays finite
-#endif
-// Auxiliary outputs exist only when asked for (OUT_<NAME> = its location, see
-// facet.gl.targets): writing outputs nobody reads still costs a software rasteriser time.
-#ifdef OUT_DEPTH_IDS
-// (the bits of the linear depth along the camera axis, object id + 1): one attachment
-layout(location = OUT_DEPTH_IDS) out uvec2 f_depth_ids;
-#endif
-#ifdef OUT_NORMALS
-layout(location = OUT_NORMALS) out vec4 f_normal;  // world space, facing the viewer
-#endif
-#ifdef OUT_POSITION
-layout(location = OUT_POSITION) out vec4 f_position;  // world space
-#endif
-#ifdef OUT_UV
-layout(location = OUT_UV) out vec2 f_uv;
-#endif
+#include "mesh/outputs.glsl"
 
 void main() {
 #ifdef CLIP_PLANE
@@ -104,15 +79,7 @@ void main() {
 #endif
     if (alpha < u_alpha_cutoff) discard;
 #endif
-#ifdef OUT_DEPTH_IDS
-    f_depth_ids = uvec2(floatBitsToUint(v_depth_view), uint(u_object_id));
-#endif
-#ifdef OUT_POSITION
-    f_position = vec4(v_pos_world, 1.0);
-#endif
-#ifdef OUT_UV
-    f_uv = v_uv;
-#endif
+    write_exact();
 #ifdef VIEW_ORTHOGRAPHIC
     vec3 V = u_eye_world;  // parallel projection: the same direction to the viewer everywhere
 #else
@@ -127,9 +94,7 @@ void main() {
     // Two-sided lighting: back faces (open meshes, holes) are lit from their visible side.
     vec3 N = normalize(v_normal_world) * (gl_FrontFacing ? 1.0 : -1.0);
 #endif
-#ifdef OUT_NORMALS
-    f_normal = vec4(N, 0.0);
-#endif
+    write_normal(N);
 #ifdef EXACT_ONLY
     // The exact-channel pass (facet.render.renderer, step 3): no colour is kept, so none
     // is computed (and the varyings only colour needs are dropped by the linker).
@@ -156,10 +121,7 @@ void main() {
     vec3 rgb = shade_scene(v_pos_world, N, V, albedo, false);
 #endif
 #ifdef HAS_ENVIRONMENT
-    vec3 R = reflect(-V, N);
-    vec3 t1 = normalize(cross(R, abs(R.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
-    vec3 t2 = cross(R, t1);
-    R = normalize(R + 2.0 * u_gloss * (t1 * u_gloss_jitter.x + t2 * u_gloss_jitter.y));
+    vec3 R = gloss_tilt(reflect(-V, N), u_gloss, u_gloss_jitter);
     vec3 reflected = texture(u_environment, R).rgb;
     vec3 env = reflected;
     if (u_ior > 0.0) {
@@ -174,11 +136,8 @@ void main() {
     rgb = mix(rgb, texelFetch(u_mirror, ivec2(gl_FragCoord.xy), 0).rgb, u_mirror_weight);
 #endif
 #ifdef OIT
-    float a = clamp(u_opacity, 0.0, OIT_MAX_OPACITY);
-    float w = max(0.01, 3000.0 * pow(1.0 - gl_FragCoord.z, 3.0));
-    f_color = vec4(rgb * a, a) * w;
-    f_reveal = -log(1.0 - a);
+    write_color(rgb, u_opacity);
 #else
-    f_color = vec4(rgb, 1.0);
+    write_color(rgb, 1.0);
 #endif
 }

@@ -9,6 +9,7 @@
 // reflection and refraction go at most u_max_depth bounces deep, where an unfinished ray
 // takes the environment's colour (black without one).
 #include "trace/shade.glsl"
+#include "lib/gloss.glsl"
 
 uniform mat4 u_inv_view_projection;  // window NDC -> world, this sample's camera and shift
 uniform vec2 u_viewport;
@@ -32,10 +33,8 @@ vec3 escaped(vec3 d) {
 #endif
 }
 
-vec3 tilt(vec3 r, float gloss) {  // the rasterizer's glossy tilt (glsl/mesh/phong.frag)
-    vec3 t1 = normalize(cross(r, abs(r.y) < 0.99 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
-    vec3 t2 = cross(r, t1);
-    return normalize(r + 2.0 * gloss * (t1 * u_gloss_jitter.x + t2 * u_gloss_jitter.y));
+vec3 tilt(vec3 r, float gloss) {  // the rasterizer's glossy tilt
+    return gloss_tilt(r, gloss, u_gloss_jitter);
 }
 
 void main() {

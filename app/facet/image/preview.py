@@ -24,9 +24,6 @@ def ramp(t: np.ndarray) -> np.ndarray:
     return np.rint(_RAMP[i] * (1 - f) + _RAMP[i + 1] * f).astype(np.uint8)
 
 
-_RAMP_LUT = ramp(np.linspace(0.0, 1.0, 256))  # per-pixel work is one table look-up
-
-
 # Palette of indexed depth previews: 0 is "no hit" (black), 1..255 run from far to near.
 _DEPTH_PALETTE = np.vstack([np.zeros((1, 3), np.uint8), ramp(np.linspace(0.0, 1.0, 255))])
 
@@ -41,12 +38,6 @@ def depth_indexed(depth: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = d.min(), d.max()
         index[hit] = 255 - ((d - lo) * (254.0 / max(hi - lo, 1e-12))).astype(np.uint8)
     return index, _DEPTH_PALETTE
-
-
-def depth_preview(depth: np.ndarray) -> np.ndarray:
-    """(H, W, 3) uint8: near bright, far dark, no hit black."""
-    index, palette = depth_indexed(depth)
-    return palette[index]
 
 
 def id_colors(count: int) -> np.ndarray:

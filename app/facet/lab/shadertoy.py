@@ -216,10 +216,6 @@ class ShaderToy:
     def programs(self) -> dict[str, Program]:
         return self.watched.programs
 
-    def watched_files(self) -> list[Path]:
-        """Every file the programs were built from (includes too)."""
-        return self.watched.files()
-
     def changed(self) -> bool:
         """Whether any watched file's content differs from the last (re)load (a missing
         include that now exists counts)."""

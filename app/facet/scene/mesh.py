@@ -143,11 +143,6 @@ class Mesh:
         return v
 
     @property
-    def has_tangents(self) -> bool:
-        """Whether the tangents came with the mesh (else ``tangents`` computes them)."""
-        return self._tangents is not None
-
-    @property
     def tangents(self) -> np.ndarray | None:
         """(N, 4) float32 tangent frames: the mesh's own, else computed from ``uvs`` once
         (None without uvs)."""

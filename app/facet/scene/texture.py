@@ -12,8 +12,6 @@ import numpy as np
 
 from ..errors import InputError
 
-IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".bmp", ".tga", ".tif", ".tiff", ".webp")
-
 
 class Texture:
     """An RGBA8 image to sample. ``pixels``: (H, W, 3|4) uint8 (alpha 255 is added)."""

@@ -34,7 +34,7 @@ from ..materials import (
 from ..shading import SHADING_MODELS, check_shading
 from ..state import UNITS, FrameState, pack_lights
 from .culling import Culling, det3
-from .ibl import PREFILTER_LEVELS, ImageLighting
+from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
 from .mirror import MirrorTargets, mirror_plane
 from .user_shaders import UserPrograms
 
@@ -91,6 +91,8 @@ class Variant:
             d["SHADOW_TILES"] = max(self.shadow_tiles, 1)
             d["SHADOW_PCF"] = self.shadow_pcf
         d.update({s: None for s in self.slots})
+        if self.shading == "pbr":
+            d["LUT_SIZE"] = float(LUT_SIZE)  # the split-sum table's (facet.render.raster.ibl)
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
                  "HAS_UV1": self.uv1, "HAS_TANGENTS": self.tangents,
                  "ALPHA_MASK": self.alpha_mask, "EXACT_ONLY": self.exact_only,
