@@ -240,7 +240,8 @@ def test_cameras_plan_reproduces_the_views_of_a_transforms_json(tmp_path):
     (tmp_path / "bad.json").write_text('{"frames": 3}')
     again.write_text(json.dumps({"model": "models/m02.ply", "views": {
         "plan": "cameras", "file": "bad.json"}}) + "\n")
-    with pytest.raises(InputError, match=r"again.jsonl:1.views.file: .*bad.json: cannot read"):
+    with pytest.raises(InputError, match=r"again.jsonl:1.views.file: .*bad.json: a "
+                                         r"transforms.json has a list of \"frames\""):
         load_manifest(again)
 
 

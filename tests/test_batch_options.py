@@ -6,6 +6,7 @@ outputs, up) beats a dataset's defaults while a manifest's values beat the scene
 import json
 
 import numpy as np
+import pytest
 from PIL import Image
 
 from batch_data import make_models, write_manifest
@@ -64,3 +65,53 @@ def test_a_scene_files_render_table_beats_the_datasets_defaults(tmp_path):
     assert np.ptp(eyes[:, 2]) < 1e-6 < np.ptp(eyes[:, 1])  # orbiting about the file's z up
     job = np.asarray(Image.open(tmp_path / "out" / "job" / "images" / "0000.png"))
     assert job.shape[:2] == (24, 24)  # the manifest's value beats the file's
+
+
+def _blender_transforms(folder, size, **intrinsics):
+    """A NeRF-synthetic / Blender transforms.json: camera_angle_x and the frames' poses
+    only (their images beside it give the size), or with the given intrinsics."""
+    from facet.geometry.camera import Camera
+
+    (folder / "train").mkdir(parents=True, exist_ok=True)
+    frames = []
+    for i, eye in enumerate([(0.0, 0.5, 3.0), (2.5, 1.0, 1.5), (-2.0, -0.5, 2.0)]):
+        Image.fromarray(np.zeros((size[1], size[0], 3), np.uint8)).save(
+            folder / "train" / f"r_{i}.png")
+        view = Camera.look_at(eye, (0, 0, 0)).view
+        frames.append({"file_path": f"./train/r_{i}", "rotation": 0.0,
+                       "transform_matrix": np.linalg.inv(view).tolist()})
+    data = {"camera_angle_x": 0.6911, "frames": frames, **intrinsics}
+    (folder / "transforms.json").write_text(json.dumps(data))
+    return folder / "transforms.json"
+
+
+def test_a_nerf_synthetic_transforms_json_is_read(tmp_path):
+    """camera_angle_x alone (the commonest kind): the size from the frames' images, square
+    pixels, the centre in the middle; the sphere's centre (the world origin every pose
+    looks at) lands in the middle of each mask. With fl_x, fl_y, cx, cy given they are
+    honoured: the centre lands at (cx, cy)."""
+    make_models(tmp_path / "models", 1)  # a sphere at the origin
+    cams = _blender_transforms(tmp_path / "blender", (40, 30))
+    cv = _blender_transforms(tmp_path / "cv", (40, 30), fl_x=50.0, fl_y=45.0, cx=14.0,
+                             cy=19.0)
+    manifest = write_manifest(tmp_path, [
+        {"model": "models/m00.ply", "name": "blender", "outputs": ["color", "ids"],
+         "views": {"plan": "cameras", "file": str(cams)}},
+        {"model": "models/m00.ply", "name": "cv", "outputs": ["color", "ids"],
+         "views": {"plan": "cameras", "file": str(cv)}}])
+    assert render_dataset(manifest, tmp_path / "out", quiet=True)["done"] == 2
+    for name, centre in (("blender", (20.0, 15.0)), ("cv", (14.0, 19.0))):
+        folder = tmp_path / "out" / name
+        written = json.loads((folder / "transforms.json").read_text())
+        assert (written["w"], written["h"]) == (40, 30)
+        if name == "blender":
+            assert written["fl_x"] == pytest.approx(20 / np.tan(0.6911 / 2), rel=1e-6)
+            assert written["fl_y"] == pytest.approx(written["fl_x"])
+        else:
+            assert (written["fl_x"], written["fl_y"]) == (50.0, 45.0)
+        for i in range(3):
+            ids = np.load(folder / "ids" / f"{i:04d}.npy")
+            ys, xs = np.nonzero(ids >= 0)
+            # pixel-corner convention: pixel (i, j) covers [i, i + 1)
+            assert abs(xs.mean() + 0.5 - centre[0]) < 1.0 and \
+                abs(ys.mean() + 0.5 - centre[1]) < 1.0, (name, i, xs.mean(), ys.mean())

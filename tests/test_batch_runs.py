@@ -144,7 +144,7 @@ def test_a_job_that_kills_its_worker_every_time_fails_alone(tmp_path):
     """A job whose worker dies each time it runs it (as a model too large for memory
     would; here the test kills the worker whenever the job writes a view) is found by
     running the suspects alone, fails with its one line, and the others are done."""
-    models, out, proc = _start_batch(tmp_path, 5, views=30, workers=1)
+    models, out, proc = _start_batch(tmp_path, 5, views=30, workers=2)
     killed, last = 0, 0.0
     end = time.time() + 120
     while proc.poll() is None and time.time() < end:
@@ -191,19 +191,27 @@ def _workers(proc) -> list[int]:
 
 
 @pytest.mark.slow
-def test_a_script_without_a_main_guard_gets_one_clear_error(tmp_path):
-    """Workers are spawned, so they import the calling script again: one without
-    `if __name__ == "__main__":` cannot start them. The run stops at once saying so
-    (not a pool breaking and retrying every job alone)."""
+def test_a_script_without_a_main_guard(tmp_path):
+    """One worker renders in the calling process, so a script without
+    `if __name__ == "__main__":` (or a notebook) makes its dataset through `import facet`.
+    More workers are spawned, and import the calling script again: such a script cannot
+    start them, and the run stops at once saying so (not a pool retrying every job)."""
     make_models(tmp_path / "models", 3)
-    manifest = write_manifest(tmp_path, [{"model": f"models/m0{i}.ply"} for i in range(3)])
-    script = tmp_path / "make_dataset.py"
-    script.write_text("from facet.batch import render_dataset\n"
-                      f"render_dataset({str(manifest)!r}, {str(tmp_path / 'out')!r})\n")
+    manifest = write_manifest(tmp_path, [{"model": f"models/m0{i}.ply"} for i in range(3)],
+                              {"size": [32, 32], "views": 2})
     env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
-    start = time.time()
-    run = subprocess.run([sys.executable, str(script)], env=env, capture_output=True,
-                         text=True, timeout=120)
-    assert run.returncode != 0 and time.time() - start < 60
-    assert 'if __name__ == "__main__":' in run.stderr.splitlines()[-1]
-    assert not list((tmp_path / "out").rglob("*.png"))
+    for workers, out in ((1, "one"), (2, "two")):
+        script = tmp_path / f"make_{out}.py"
+        script.write_text("import facet\n"
+                          f"facet.batch.render_dataset({str(manifest)!r}, "
+                          f"{str(tmp_path / out)!r}, workers={workers})\n")
+        start = time.time()
+        run = subprocess.run([sys.executable, str(script)], env=env, capture_output=True,
+                             text=True, timeout=120)
+        if workers == 1:
+            assert run.returncode == 0, run.stderr
+            assert len(list((tmp_path / out).rglob("images/*.png"))) == 3 * 2
+        else:
+            assert run.returncode != 0 and time.time() - start < 60
+            assert 'if __name__ == "__main__":' in run.stderr.splitlines()[-1]
+            assert not list((tmp_path / out).rglob("*.png"))

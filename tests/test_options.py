@@ -111,3 +111,12 @@ def test_a_python_scene_carries_options_like_a_scene_file():
     with pytest.raises(InputError, match="unknown lights mode"):
         Scene(options={"lights": "none!"})
     assert np.array_equal(Scene().background, [0, 0, 0, 1])
+
+
+def test_build_takes_options_as_keywords_over_its_layers():
+    """The README's `RenderOptions.build(aa=..., ...)`: keywords are the last layer."""
+    opts = RenderOptions.build({"shadows": False, "msaa": 2}, aa="jittered:16", shadows=True)
+    assert str(opts.aa) == "ssaa:jittered:16" and opts.shadows is True
+    assert RenderOptions.build(size="64x48").size == (64, 48)
+    with pytest.raises(InputError, match="unknown render option 'shadow'"):
+        RenderOptions.build(shadow=True)

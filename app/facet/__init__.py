@@ -44,6 +44,7 @@ _EXPORTS = {
     "SHADING_MODELS": "facet.render.shading",
     "view": "facet.window.viewer",
     "ShaderToy": "facet.lab.shadertoy",
+    "batch": "facet",
     "UserShader": "facet.scene.shader",
     "Viewer": "facet.window.viewer",
     "FacetError": "facet.errors",
@@ -60,7 +61,9 @@ __all__ = sorted(_EXPORTS)
 
 def __getattr__(name: str):
     if name in _EXPORTS:
-        value = getattr(import_module(_EXPORTS[name]), name)
+        module = _EXPORTS[name]
+        value = import_module(f"{module}.{name}") if module == "facet" else \
+            getattr(import_module(module), name)
         globals()[name] = value
         return value
     raise AttributeError(f"module 'facet' has no attribute {name!r}")

@@ -247,7 +247,7 @@ def _flag(t: dict, key: str, where: str) -> bool:
 
 @functools.lru_cache(maxsize=64)  # jobs of a manifest often share one cameras file
 def _camera_count(path: str) -> int:
-    from .views import read_transforms
+    from .transforms_file import read_transforms
 
     count = len(read_transforms(Path(path)))
     if not 1 <= count <= MAX_FRAMES:

@@ -1,6 +1,8 @@
-"""Rendering a dataset on local worker processes (``render_dataset``): each worker holds
-one long-lived Renderer (its EGL device, llvmpipe's thread count, an exit when the parent
-dies) and takes runs of jobs (facet.batch.runner). The pool survives a worker dying
+"""Rendering a dataset locally (``render_dataset``): with one worker in the calling process
+(a notebook, or a script without a ``__main__`` guard, can run it), with more on worker
+processes. Each worker holds one long-lived Renderer (its EGL device, llvmpipe's thread
+count, an exit when the parent dies) and takes runs of jobs (facet.batch.runner). The pool
+survives a worker dying
 (killed for memory by a huge model, a crash in a GL driver): the jobs in flight are tried
 again one at a time, alone, so the one that kills its worker fails alone and the run goes
 on (multiprocessing.Pool would wait for ever). Ctrl-C or SIGTERM kills the workers.
@@ -79,12 +81,25 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
             bar.update(1)
 
     try:
-        run_pool(ctx, workers, setup, chunks(jobs, workers), out, note, news, view)
+        if workers == 1:
+            run_here(jobs, out, (gpus or [None])[0], confine, note, view)
+        else:
+            run_pool(ctx, workers, setup, chunks(jobs, workers), out, note, news, view)
     finally:
         bar.close()
         compact_index(out / "index.jsonl")
     counts["seconds"] = round(time.perf_counter() - start, 3)
     return counts
+
+
+def run_here(jobs, out: Path, device, confine, note, view) -> None:
+    """Every job in this process, with one renderer (on EGL device ``device``)."""
+    from ..render.renderer import Renderer
+
+    with Renderer(device=device) as renderer:
+        for record in render_jobs(jobs, out, renderer, confine,
+                                  on_view=lambda job: view(_key(job))):
+            note(record)
 
 
 def _key(job) -> tuple[str, str]:

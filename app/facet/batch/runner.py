@@ -46,7 +46,8 @@ def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
         saved = tuple(dict.fromkeys(("color", *opts.outputs)))
         extra = ("depth", "position") if job.colmap else ()
         opts = replace(opts, outputs=tuple(dict.fromkeys((*saved, *extra))))
-        cameras = job.views.cameras(scene.bounds, opts.up, opts.width / opts.height)
+        cameras = job.views.cameras(scene.bounds, opts.up, opts.width / opts.height,
+                                    size=opts.size)
         entries, points = [], []
         rng = np.random.default_rng(job.views.seed)
         for i, camera in enumerate(cameras):
@@ -72,7 +73,14 @@ def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
 
 def job_options(job, scene, renderer):
     """The options of ``job``'s renders of ``scene`` (facet.scene.options.options_for: a
-    dataset's defaults < the scene file's [render] < the job's)."""
+    dataset's defaults < the scene file's [render] < the job's). A cameras file's image
+    size comes before the dataset's default size (its cameras are made for it)."""
+    if job.views.file is not None and "size" not in job.options and \
+            "size" not in scene.options:
+        from .transforms_file import file_size
+
+        return renderer.options(scene, job.options, front=FRONT,
+                                size=file_size(job.views.file))
     return renderer.options(scene, job.options, front=FRONT)
 
 

@@ -5,7 +5,8 @@
     band N [elevations A B]     N views, azimuths evenly spread, elevations evenly from A
                                 to B degrees (-10 to 40)
     random N [seed S]           N directions uniformly at random on the sphere, seeded
-    cameras FILE                the cameras of a transforms.json (nerfstudio / instant-ngp)
+    cameras FILE                the cameras of a transforms.json (NeRF synthetic, instant-ngp,
+                                nerfstudio: facet.batch.transforms_file)
 
 Every view but ``cameras`` looks at the centre of the model's bounds from the distance
 that fits them (facet.geometry.camera.Camera.frame) with a vertical field of view of FOV
@@ -14,7 +15,6 @@ degrees; directions are in the frame whose up axis is the job's ``up``.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -61,13 +61,17 @@ class ViewPlan:
         eye = np.stack([np.cos(el) * np.sin(az), np.sin(el), np.cos(el) * np.cos(az)], 1)
         return -eye
 
-    def cameras(self, bounds, up=(0.0, 1.0, 0.0), aspect: float = 1.0, base: Path | None = None):
-        """The plan's facet Cameras for a model with world ``bounds`` (2, 3)."""
+    def cameras(self, bounds, up=(0.0, 1.0, 0.0), aspect: float = 1.0, base: Path | None = None,
+                size=None):
+        """The plan's facet Cameras for a model with world ``bounds`` (2, 3); a cameras
+        file's for images of ``size`` (facet.batch.transforms_file)."""
         from ..geometry import transforms as T
         from ..geometry.camera import Camera
 
         if self.kind == "cameras":
-            return read_transforms(Path(base or ".") / self.file, bounds)
+            from .transforms_file import read_transforms
+
+            return read_transforms(Path(base or ".") / self.file, bounds, size)
         u = np.asarray(up, dtype=np.float64)
         u /= np.linalg.norm(u)
         y = np.array([0.0, 1.0, 0.0])
@@ -83,25 +87,3 @@ class ViewPlan:
             view_up = u if abs(np.dot(d, u)) < 0.999 else turn @ np.array([0.0, 0.0, -1.0])
             cams.append(Camera.frame(bounds, d, view_up, fov_y=FOV, aspect=aspect))
         return cams
-
-
-def read_transforms(path: Path, bounds=None):
-    """Cameras from a nerfstudio / instant-ngp transforms.json: per frame a camera-to-world
-    ``transform_matrix`` (OpenGL axes) and the file's (or the frame's) fl_y and h; near and
-    far fitted around ``bounds`` when given."""
-    from ..geometry.camera import Camera, depth_range
-
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-        h = int(data["h"])
-        cams = []
-        for frame in data["frames"]:
-            view = np.linalg.inv(np.asarray(frame["transform_matrix"], dtype=np.float64))
-            fl_y = float(frame.get("fl_y", data.get("fl_y")))
-            fov = float(np.degrees(2 * np.arctan(h / (2 * fl_y))))
-            near, far = depth_range(view, bounds) if bounds is not None else (0.01, 1000.0)
-            cams.append(Camera(view, fov_y=fov, near=near, far=far))
-        return cams
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise InputError(f"{path}: cannot read cameras from it as a transforms.json "
-                         f"({type(exc).__name__}: {exc})") from None

@@ -113,11 +113,13 @@ class RenderOptions:
             self.engine in SHADOWS_BY_DEFAULT
 
     @classmethod
-    def build(cls, *layers) -> RenderOptions:
-        """Defaults, then each layer in order (a later one wins). A layer is a mapping of
-        raw values, a ``RenderOptions`` (all of its values), or None."""
+    def build(cls, *layers, **options) -> RenderOptions:
+        """Defaults, then each layer in order (a later one wins), then ``options`` (raw
+        values as keywords: ``RenderOptions.build(aa="ssaa:jittered:16", shadows=True)``).
+        A layer is a mapping of raw values, a ``RenderOptions`` (all of its values), or
+        None."""
         values: dict = {}
-        for layer in layers:
+        for layer in (*layers, options):
             values.update(parse_layer(layer))
         return cls(**values)
 

@@ -1,0 +1,134 @@
+"""Cameras from a transforms.json, as the NeRF tools write them (no GL): NeRF synthetic /
+Blender (``camera_angle_x`` only, the commonest), instant-ngp and nerfstudio (``fl_x``,
+``fl_y``, ``cx``, ``cy``, ``w``, ``h``, in the file or per frame). Per frame a
+camera-to-world ``transform_matrix`` in OpenGL axes.
+
+The intrinsics, per frame: ``fl_x`` (else from ``camera_angle_x``: fl_x = w / 2 /
+tan(angle / 2)), ``fl_y`` (else from ``camera_angle_y``, else fl_x: square pixels), ``cx``
+and ``cy`` (else the image's centre) in the pixel-corner convention these tools use (a
+pixel's centre at i + 0.5; facet's OpenCV K puts it at i). The image size ``w`` x ``h``
+comes from the file, else from the first frame's image (``file_path``, relative to the
+file, with ``.png`` added when it has no extension, as NeRF synthetic writes it).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+
+def read_transforms(path, bounds=None, size=None) -> list:
+    """The file's cameras (facet Cameras with intrinsics) for images of ``size`` (w, h;
+    default the file's: intrinsics scaled to another size); near and far fitted around
+    ``bounds`` when given."""
+    from ..geometry.camera import Camera, Intrinsics, depth_range
+
+    path = Path(path)
+    data = _document(path)
+    frames = data.get("frames")
+    if not isinstance(frames, list) or not frames:
+        raise InputError(f"{path}: a transforms.json has a list of \"frames\"")
+    cams = []
+    for i, frame in enumerate(frames):
+        where = f"{path}: frames[{i}]"
+        if not isinstance(frame, dict):
+            raise InputError(f"{where}: expected an object with a transform_matrix")
+        fields = {**data, **frame}  # a frame's own intrinsics win
+        w, h = image_size(path, data, frame)
+        fl_x = _focal(fields, "fl_x", "camera_angle_x", w, where)
+        fl_y = _focal(fields, "fl_y", "camera_angle_y", h, where, default=fl_x)
+        cx = _number(fields.get("cx", w / 2), f"{where}.cx")
+        cy = _number(fields.get("cy", h / 2), f"{where}.cy")
+        to_world = _matrix(frame.get("transform_matrix"), f"{where}.transform_matrix")
+        view = np.linalg.inv(to_world)
+        sx, sy = (1.0, 1.0) if size is None else (size[0] / w, size[1] / h)
+        k = Intrinsics(fl_x * sx, fl_y * sy, cx * sx - 0.5, cy * sy - 0.5,
+                       int(size[0]) if size else w, int(size[1]) if size else h)
+        near, far = depth_range(view, bounds) if bounds is not None else (0.01, 1000.0)
+        cams.append(Camera(view, intrinsics=k, near=near, far=far))
+    return cams
+
+
+def file_size(path) -> tuple[int, int]:
+    """(w, h) of the images a transforms.json describes (its first frame's)."""
+    path = Path(path)
+    data = _document(path)
+    frames = data.get("frames")
+    return image_size(path, data, frames[0] if isinstance(frames, list) and frames and
+                      isinstance(frames[0], dict) else None)
+
+
+def image_size(path: Path, data: dict, frame: dict | None = None) -> tuple[int, int]:
+    """(w, h) of the file's (or ``frame``'s) images."""
+    fields = {**data, **(frame or {})}
+    if "w" in fields and "h" in fields:
+        w, h = fields["w"], fields["h"]
+        if all(isinstance(v, (int, float)) and not isinstance(v, bool) and v >= 1
+               and float(v).is_integer() for v in (w, h)):
+            return int(w), int(h)
+        raise InputError(f"{path}: w and h must be whole numbers >= 1, got {w!r} x {h!r}")
+    first = (frame or (data.get("frames") or [{}])[0]).get("file_path")
+    if isinstance(first, str):
+        image = path.parent / first
+        for candidate in (image, image.with_name(image.name + ".png")):
+            if candidate.is_file():
+                from PIL import Image, UnidentifiedImageError
+
+                try:
+                    with Image.open(candidate) as im:
+                        return im.size
+                except (OSError, UnidentifiedImageError) as exc:
+                    raise InputError(f"{candidate}: cannot read its size ({exc})") from None
+    raise InputError(f"{path}: no image size: give w and h, or keep the frames' images "
+                     f"beside it ({first!r} not found)")
+
+
+def _document(path: Path) -> dict:
+    from ..guard import regular_file
+
+    try:
+        data = json.loads(regular_file(path, "cameras file").read_text(encoding="utf-8"))
+    except (ValueError, UnicodeDecodeError, RecursionError) as exc:
+        raise InputError(f"{path}: not a transforms.json ({exc})") from None
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: not a transforms.json (expected an object)")
+    return data
+
+
+def _focal(fields, key, angle_key, extent, where, default=None) -> float:
+    if key in fields:
+        return _number(fields[key], f"{where}.{key}", positive=True)
+    if angle_key in fields:
+        angle = _number(fields[angle_key], f"{where}.{angle_key}", positive=True)
+        if angle >= math.pi:
+            raise InputError(f"{where}.{angle_key}: an angle in radians below pi, got "
+                             f"{angle}")
+        return extent / 2.0 / math.tan(angle / 2.0)
+    if default is not None:
+        return default
+    raise InputError(f"{where}: no focal length: give fl_x (pixels) or camera_angle_x "
+                     "(radians)")
+
+
+def _number(value, where: str, positive: bool = False) -> float:
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and \
+        math.isfinite(value) and (value > 0 or not positive)
+    if not ok:
+        raise InputError(f"{where}: expected a {'positive ' if positive else ''}number, got "
+                         f"{value!r}")
+    return float(value)
+
+
+def _matrix(value, where: str) -> np.ndarray:
+    try:
+        m = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        m = np.zeros(0)
+    if m.shape != (4, 4) or not np.all(np.isfinite(m)) or abs(np.linalg.det(m[:3, :3])) < 1e-12:
+        raise InputError(f"{where}: expected a 4x4 camera-to-world matrix")
+    return m
