@@ -2,7 +2,8 @@
 
 ``regular_file(path, what)`` is called before any user-named file is opened: a missing
 path, a directory, a FIFO, a device or a socket each get one clear error instead of a hang
-(a FIFO blocks an open) or a misleading message. ``open_image`` opens an image with an
+(a FIFO blocks an open) or a misleading message, and so does a Git LFS pointer (what a
+clone without Git LFS leaves in place of a model or an image). ``open_image`` opens an image with an
 explicit pixel budget (a decompression bomb is an error, not a traceback) and no warnings
 reaching the terminal. ``parse_toml`` turns a nesting the parser cannot follow into one
 line.
@@ -18,6 +19,7 @@ from pathlib import Path
 from .errors import InputError
 
 MAX_IMAGE_PIXELS = 1 << 28  # 268 megapixels (16384^2): textures, channels, environments
+LFS_POINTER = b"version https://git-lfs.github.com/spec/"  # how a pointer file starts
 
 
 # The folder every file read on a user's behalf must lie in (``confined``), or None.
@@ -71,7 +73,19 @@ def regular_file(path, what: str = "file", error=InputError, missing: str | None
                 "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
                 "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
         raise error(f"{p}: is {kind}, expected a {what} (facet reads regular files only)")
+    if lfs_pointer(p):
+        raise error(f"{p}: is a Git LFS pointer, not the {what} itself (its repository was "
+                    "cloned without Git LFS: run `git lfs pull` there)")
     return p
+
+
+def lfs_pointer(path) -> bool:
+    """Whether ``path`` (a regular file) is a Git LFS pointer file."""
+    try:
+        with open(path, "rb") as f:
+            return f.read(len(LFS_POINTER)) == LFS_POINTER
+    except OSError:
+        return False
 
 
 def open_image(source, name: str):
@@ -87,7 +101,10 @@ def open_image(source, name: str):
             img = Image.open(source)
         except Image.DecompressionBombError:
             img = None
-        except (UnidentifiedImageError, OSError, ValueError) as exc:
+        except UnidentifiedImageError:
+            raise InputError(f"{name}: not an image Pillow can read (truncated, or not "
+                             "PNG, JPEG or another image format)") from None
+        except (OSError, ValueError) as exc:
             raise InputError(f"{name}: cannot read the image ({exc})") from None
     if img is None or img.width * img.height > MAX_IMAGE_PIXELS:
         size = f" ({img.width}x{img.height})" if img is not None else ""

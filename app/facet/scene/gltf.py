@@ -39,6 +39,7 @@ def read_gltf(path: Path, check_mesh) -> tuple[list, dict]:
     ``check_mesh(arrays, where)`` finishes a primitive's arrays into ``Mesh`` arguments."""
     from pygltflib import GLTF2
 
+    _check_version(path)
     try:
         gltf = GLTF2().load(str(path))
     except Exception as exc:  # pygltflib raises what json/struct raise on bad files
@@ -47,7 +48,29 @@ def read_gltf(path: Path, check_mesh) -> tuple[list, dict]:
                         "or in another format?") from None
     if gltf is None:
         raise MeshError(f"{path}: cannot read the file as glTF; is it truncated?")
+    version = str(getattr(gltf.asset, "version", "") or "")
+    if not version.startswith("2."):
+        raise MeshError(f"{path}: glTF {version or 'without asset.version'}; facet reads "
+                        "glTF 2.0 (convert 1.0 files with the Khronos glTF-Pipeline)")
     return _Reader(gltf, path, check_mesh).read()
+
+
+def _check_version(path: Path) -> None:
+    """A binary glTF's header: magic "glTF" and container version 2 (pygltflib reads other
+    versions with a warning, and draws them wrong)."""
+    import struct
+
+    with open(path, "rb") as f:
+        head = f.read(12)
+    if head[:4] != b"glTF":
+        if path.suffix.lower() == ".glb":
+            raise MeshError(f"{path}: not a binary glTF file (it does not start with "
+                            "'glTF'); is it truncated or in another format?")
+        return
+    version = struct.unpack("<I", head[4:8])[0] if len(head) >= 8 else None
+    if version != 2:
+        raise MeshError(f"{path}: binary glTF version {version}; facet reads version 2 "
+                        "(glTF 2.0)")
 
 
 class _Reader:

@@ -8,6 +8,7 @@ Every failure is a ``MeshError`` naming the file and what it needs, e.g. a missi
 from __future__ import annotations
 
 import base64
+import binascii
 import io
 from pathlib import Path
 from urllib.parse import unquote
@@ -21,11 +22,18 @@ COMPONENTS = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16,
 WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 
 
-def _data_uri(uri: str) -> bytes | None:
+def _data_uri(uri: str, what: str = "data") -> bytes | None:
+    """The bytes of a ``data:`` URI (None for another URI); MeshError-ready ValueError
+    naming ``what`` when its base64 is broken."""
     if not uri.startswith("data:"):
         return None
     head, _, payload = uri.partition(",")
-    return base64.b64decode(payload) if head.endswith(";base64") else unquote(payload).encode()
+    if not head.endswith(";base64"):
+        return unquote(payload).encode()
+    try:
+        return base64.b64decode(payload, validate=True)
+    except (binascii.Error, ValueError) as exc:
+        raise ValueError(f"{what}: its data: URI is not valid base64 ({exc})") from None
 
 
 class GltfData:
@@ -48,7 +56,10 @@ class GltfData:
                 if data is None:
                     self.fail(f"buffer {index} has no uri and the file has no binary chunk")
             else:
-                data = _data_uri(buf.uri)
+                try:
+                    data = _data_uri(buf.uri, f"buffer {index}")
+                except ValueError as exc:
+                    self.fail(str(exc))
                 if data is None:
                     data = self._file(buf.uri, "buffer file")
             if len(data) < (buf.byteLength or 0):
@@ -130,13 +141,15 @@ class GltfData:
         from .texture import Texture
 
         img = self.gltf.images[index]
-        name = img.name or img.uri or f"image {index}"
+        embedded = img.bufferView is not None or (img.uri or "").startswith("data:")
+        name = img.name or (f"image {index} (embedded)" if embedded else img.uri) or \
+            f"image {index}"
         try:
             if img.bufferView is not None:
                 data, start, length, _ = self.view(img.bufferView)
                 raw = data[start:start + length]
-            elif _data_uri(img.uri or "") is not None:
-                raw = _data_uri(img.uri)
+            elif (img.uri or "").startswith("data:"):
+                raw = _data_uri(img.uri, name)
             else:
                 p = self.path.parent / unquote(img.uri or "")
                 if not p.exists():
@@ -144,12 +157,12 @@ class GltfData:
                                   f" not found in {p.parent}; drawn without it",
                                   FacetWarning, stacklevel=2)
                     return None
-                raw = regular_file(p, "texture", MeshError).read_bytes()
-            with open_image(io.BytesIO(raw), f"{self.path.name}: {name}") as pil:
+                raw = regular_file(p, f"texture {name}", MeshError).read_bytes()
+            with open_image(io.BytesIO(raw), f"texture {name}") as pil:
                 return Texture.from_pil(pil, str(name))
-        except (UnidentifiedImageError, OSError, ValueError) as exc:
-            warnings.warn(f"{self.path.name}: cannot read texture {name} ({exc}); drawn "
-                          "without it", FacetWarning, stacklevel=2)
+        except (UnidentifiedImageError, OSError, ValueError, MeshError) as exc:
+            warnings.warn(f"{self.path.name}: {exc}; drawn without it", FacetWarning,
+                          stacklevel=2)
             return None
 
     # -- Draco -------------------------------------------------------------------------
