@@ -5,6 +5,8 @@
 * icosphere.ply: a unit icosphere (subdivision 3, 1280 faces), binary PLY.
 * cube.stl: a unit cube centred at the origin, STL (triangle soup, no shared vertices).
 * torus.off: a torus (major radius 1, minor 0.3), OFF.
+* globe.obj: a unit UV sphere (32 x 16 segments) with texture coordinates and normals, for
+  texturing examples (``--texture checker``).
 
 Deterministic: the same numpy and trimesh give the same bytes.
 """
@@ -46,6 +48,29 @@ def torus_knot(p: int = 2, q: int = 3, segments: int = 240, sides: int = 20,
     return mesh
 
 
+def globe(segments: int = 32, rings: int = 16) -> str:
+    """A unit UV sphere as OBJ text: u around from +x towards -z, v from the south pole
+    (0) to the north (1); the seam's and poles' vertices are repeated with their own uv."""
+    u, v = np.meshgrid(np.linspace(0, 1, segments + 1), np.linspace(0, 1, rings + 1))
+    phi, theta = 2 * np.pi * u, np.pi * (v - 0.5)
+    pos = np.stack([np.cos(theta) * np.cos(phi), np.sin(theta), -np.cos(theta) * np.sin(phi)],
+                   -1).reshape(-1, 3)
+    uv = np.stack([u, v], -1).reshape(-1, 2)
+    i, j = np.meshgrid(np.arange(rings), np.arange(segments), indexing="ij")
+    a, b = i * (segments + 1) + j, i * (segments + 1) + j + 1
+    c, d = a + segments + 1, b + segments + 1
+    faces = np.concatenate([np.stack([a, b, d], -1).reshape(-1, 3),
+                            np.stack([a, d, c], -1).reshape(-1, 3)])
+    faces = faces[np.abs(np.cross(pos[faces[:, 1]] - pos[faces[:, 0]],
+                                  pos[faces[:, 2]] - pos[faces[:, 0]])).sum(1) > 1e-12]
+    lines = ["# a unit UV sphere with texture coordinates, written by models/make_models.py"]
+    lines += [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in pos]
+    lines += [f"vt {s:.6f} {t:.6f}" for s, t in uv]
+    lines += [f"vn {x:.6f} {y:.6f} {z:.6f}" for x, y, z in pos]
+    lines += ["f " + " ".join(f"{k + 1}/{k + 1}/{k + 1}" for k in f) for f in faces]
+    return "\n".join(lines) + "\n"
+
+
 def main() -> None:
     knot = torus_knot()
     (HERE / "default.mtl").write_text(
@@ -59,6 +84,7 @@ def main() -> None:
     trimesh.creation.icosphere(subdivisions=3).export(HERE / "icosphere.ply")
     trimesh.creation.box().export(HERE / "cube.stl")
     trimesh.creation.torus(major_radius=1.0, minor_radius=0.3).export(HERE / "torus.off")
+    (HERE / "globe.obj").write_text(globe())
 
 
 if __name__ == "__main__":
