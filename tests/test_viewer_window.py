@@ -6,90 +6,31 @@ installs them) these tests skip with a reason.
 
 import json
 import os
-import shutil
 import subprocess
 import sys
-import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 import trimesh
 from PIL import Image
 
-from xwd import read_xwd
-
-ROOT = Path(__file__).resolve().parents[1]
-TOOLS = ("Xvfb", "xdotool", "xwd")
-W, H = 320, 240
+from window_tools import ROOT, H, W, Window, files, start_display, until
 
 
 @pytest.fixture(scope="module")
 def display():
-    missing = [t for t in TOOLS if shutil.which(t) is None]
-    if missing:
-        pytest.skip(f"window tests need {', '.join(missing)} (Debian: xvfb xdotool x11-apps)")
-    number = 90 + os.getpid() % 9
-    while Path(f"/tmp/.X11-unix/X{number}").exists():
-        number += 1
-    proc = subprocess.Popen(["Xvfb", f":{number}", "-screen", "0", "800x600x24", "-nolisten",
-                             "tcp"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    for _ in range(100):
-        if Path(f"/tmp/.X11-unix/X{number}").exists():
-            break
-        time.sleep(0.05)
-    yield f":{number}"
+    name, proc = start_display()
+    yield name
     proc.terminate()
     proc.wait(timeout=10)
-
-
-class Window:
-    """A running `facet view` process and its window."""
-
-    def __init__(self, display, args, cwd):
-        self.env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT / "app")}
-        size = [] if "--size" in args or "--scene-size" in args else ["--size", f"{W}x{H}"]
-        args = [a for a in args if a != "--scene-size"]  # open at the scene file's size
-        self.proc = subprocess.Popen([sys.executable, "-m", "facet", "view", *args, *size],
-                                     cwd=cwd, env=self.env,
-                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        out = self.xdotool("search", "--sync", "--onlyvisible", "--name", "^facet", timeout=60)
-        self.id = out.split()[0]
-        self.xdotool("windowfocus", "--sync", self.id)
-        time.sleep(0.5)
-
-    def xdotool(self, *args, timeout=20):
-        return subprocess.run(["xdotool", *args], env=self.env, capture_output=True, text=True,
-                              timeout=timeout, check=True).stdout
-
-    def screen(self) -> np.ndarray:
-        time.sleep(0.4)  # let the viewer redraw
-        dump = subprocess.run(["xwd", "-root", "-silent"], env=self.env, capture_output=True,
-                              check=True).stdout
-        return read_xwd(dump)[:H, :W]  # no window manager: the window sits at (0, 0)
-
-    def key(self, name):
-        self.xdotool("key", name)
-
-    def title(self) -> str:
-        return self.xdotool("getwindowname", self.id).strip()
-
-    def quit(self) -> int:
-        self.key("q")
-        return self.proc.wait(timeout=20)
-
-    def kill(self):
-        if self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.wait()
 
 
 @pytest.fixture
 def window(display, tmp_path):
     opened = []
 
-    def open_(*args):
-        w = Window(display, list(args), tmp_path)
+    def open_(*args, command="view"):
+        w = Window(display, list(args), tmp_path, command)
         opened.append(w)
         return w
 
@@ -104,16 +45,16 @@ def test_drag_scroll_keys_and_quit(window):
     assert before.std() > 10  # the bundled model is drawn
     w.xdotool("mousemove", "160", "120", "mousedown", "1", "mousemove", "200", "130",
               "mousemove", "240", "140", "mouseup", "1")
-    dragged = w.screen()
+    dragged = w.screen(changed_from=before)
     assert w.proc.poll() is None, w.proc.stderr.read()
-    assert np.abs(dragged.astype(int) - before).mean() > 3
+    assert np.abs(dragged - before).mean() > 3
     w.xdotool("click", "4", "click", "4", "click", "4")
-    zoomed = w.screen()
-    assert np.abs(zoomed.astype(int) - dragged).mean() > 3
+    zoomed = w.screen(changed_from=dragged)
+    assert np.abs(zoomed - dragged).mean() > 3
     assert (zoomed.sum(axis=2) > 0).mean() > (dragged.sum(axis=2) > 0).mean()  # bigger
     assert "facet - default.obj - 9,600 triangles" in w.title()
     w.key("b")
-    assert np.abs(w.screen().astype(int) - zoomed).mean() > 3  # background changed
+    assert np.abs(w.screen(changed_from=zoomed) - zoomed).mean() > 3  # background changed
     assert w.quit() == 0
 
 
@@ -143,7 +84,7 @@ def test_screenshot_matches_the_headless_render(window, tmp_path):
     gives the same image (edge pixels may differ by rasterisation order)."""
     w = window()
     w.key("s")
-    shots = _wait_for(tmp_path, "facet-*.png")
+    shots = files(tmp_path, "facet-*.png")
     assert w.quit() == 0
     shot, ref = _shot_and_headless(shots[0], msaa=4)
     from test_golden import CHANNEL_TOL, MAX_DIFFERING  # the one tolerance table
@@ -159,28 +100,20 @@ def test_reload_on_change_and_errors_survive(window, tmp_path):
     w = window(str(path))
     box = w.screen()
     trimesh.creation.icosphere(subdivisions=3, radius=0.6).export(path)
-    time.sleep(1.0)
-    ball = w.screen()
-    assert np.abs(ball.astype(int) - box).mean() > 2  # new geometry, same camera
+    ball = w.screen(changed_from=box)
+    assert np.abs(ball - box).mean() > 2  # new geometry, same camera
     path.write_bytes(b"ply\nformat garbage\n")
-    time.sleep(1.0)
-    assert "error" in w.title() and w.proc.poll() is None  # shown, survived
-    assert np.abs(w.screen().astype(int) - ball).mean() < 1  # still the last good picture
+    w.wait_title(lambda t: "error" in t)
+    assert w.proc.poll() is None  # shown, survived
+    assert np.abs(w.screen() - ball).mean() < 1  # still the last good picture
     assert w.quit() == 0
     assert "cannot read the file" in w.proc.stderr.read()
 
 
 def test_idle_viewer_uses_almost_no_cpu(window):
     w = window()
-    time.sleep(1.0)
-
-    def cpu_seconds():
-        fields = Path(f"/proc/{w.proc.pid}/stat").read_text().rsplit(")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-    start, t0 = cpu_seconds(), time.monotonic()
-    time.sleep(3.0)
-    share = (cpu_seconds() - start) / (time.monotonic() - t0)
+    w.screen()  # drawn and settled
+    share = w.cpu_share()
     assert share < 0.05, f"idle viewer used {share:.1%} of a core"
     assert w.quit() == 0
 
@@ -196,16 +129,6 @@ def test_no_display_is_one_line_and_exit_2(tmp_path):
         "render' for headless images"]
 
 
-def _wait_for(pattern_dir, pattern, timeout=30.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        found = sorted(pattern_dir.glob(pattern))
-        if found:
-            return found
-        time.sleep(0.1)
-    return []
-
-
 def test_more_keys_help_2x_screenshot_turntable_cameras(window, tmp_path):
     scene = tmp_path / "two.toml"
     scene.write_text('[[objects]]\nprimitive = "cube"\n[cameras.front]\ntype = "perspective"\n'
@@ -214,15 +137,15 @@ def test_more_keys_help_2x_screenshot_turntable_cameras(window, tmp_path):
     w = window(str(scene))
     front = w.screen()
     w.key("2")
-    side = w.screen()
-    assert np.abs(side.astype(int) - front).mean() > 2  # the second named camera
+    side = w.screen(changed_from=front)
+    assert np.abs(side - front).mean() > 2  # the second named camera
     w.key("1")
-    assert np.abs(w.screen().astype(int) - front).mean() < 1
+    assert np.abs(w.screen(changed_from=side) - front).mean() < 1
     w.key("shift+s")
-    big = _wait_for(tmp_path, "facet-*-2x.png")
+    big = files(tmp_path, "facet-*-2x.png")
     assert big and np.asarray(Image.open(big[0])).shape == (2 * H, 2 * W, 3)
     w.key("t")
-    gif = _wait_for(tmp_path, "facet-turntable-*.gif", timeout=60)
+    gif = files(tmp_path, "facet-turntable-*.gif", timeout=60)
     w.key("h")
     for key in ("w", "m", "o", "a", "l"):  # every toggle redraws without failing
         w.key(key)
@@ -239,16 +162,16 @@ def test_more_keys_help_2x_screenshot_turntable_cameras(window, tmp_path):
 def test_resize_redraws_at_the_new_size(window):
     w = window()
     w.xdotool("windowsize", "--sync", w.id, "400", "300")
-    time.sleep(0.6)
-    dump = subprocess.run(["xwd", "-root", "-silent"], env=w.env, capture_output=True,
-                          check=True).stdout
-    img = read_xwd(dump)
-    assert img[:300, :400].std() > 10
-    filled = (img[:300, :400].sum(axis=2) > 0)
+    w.size = (400, 300)
+
+    def middle(img):
+        cols = np.nonzero((img.sum(axis=2) > 0).any(axis=0))[0]
+        return (cols.min() + cols.max()) / 2 if cols.size else 0.0
+
     # The model is drawn about the middle of the larger window (x = 200), not about the old
     # middle (x = 160): the viewport and projection follow the new size.
-    cols = np.nonzero(filled.any(axis=0))[0]
-    assert abs((cols.min() + cols.max()) / 2 - 200) < 15 and w.quit() == 0
+    img = w.screen(until_=lambda img: abs(middle(img) - 200) < 15)
+    assert img.std() > 10 and w.quit() == 0
 
 
 def test_python_viewer_api(display, tmp_path):
@@ -284,58 +207,28 @@ def test_python_viewer_api(display, tmp_path):
     assert json.loads(path.with_suffix(".json").read_text())["fov_y"] == pytest.approx(30)
 
 
-def _shader_window_tools(env):
-    """xdotool, and a screen grab after 0.8 s (hot reload polls), for a `facet shader`
-    window on the display of ``env``."""
-    def xdo(*args):
-        return subprocess.run(["xdotool", *args], env=env, capture_output=True, text=True,
-                              timeout=60, check=True).stdout
-
-    def screen():
-        time.sleep(0.8)
-        dump = subprocess.run(["xwd", "-root", "-silent"], env=env, capture_output=True,
-                              check=True).stdout
-        return read_xwd(dump)[:H, :W].astype(int)
-
-    return xdo, screen
-
-
-def test_shader_window_survives_a_broken_save(display, tmp_path):
+def test_shader_window_survives_a_broken_save(window, tmp_path):
     """`facet shader FILE` in a window: a broken save keeps the last picture inside a red
     frame with the error in the title; the fix brings the clean picture back."""
     shader = tmp_path / "live.frag"
     good = ("void mainImage(out vec4 c, in vec2 p) { c = vec4(p / iResolution.xy, 0.0, 1.0);"
             " }\n")
     shader.write_text(good)
-    env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT / "app")}
-    proc = subprocess.Popen([sys.executable, "-m", "facet", "shader", str(shader), "--size",
-                             f"{W}x{H}"], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-
-    xdo, screen = _shader_window_tools(env)
-
-    try:
-        wid = xdo("search", "--sync", "--onlyvisible", "--name", "^facet shader").split()[0]
-        clean = screen()
-        assert clean[H // 2, W // 2, 0] > 100 and clean[2, 2, 0] < 20  # the uv gradient
-        shader.write_text(good.replace("p / iResolution.xy", "q / iResolution.xy"))
-        broken = screen()
-        assert "error: " in xdo("getwindowname", wid) and "live.frag:1:" in \
-            xdo("getwindowname", wid)
-        red = (broken[..., 0] > 180) & (broken[..., 1] < 60) & (broken[..., 2] < 60)
-        assert red[:4].all() and red[:, :4].all()  # the red frame
-        assert np.abs(broken[H // 2, W // 2] - clean[H // 2, W // 2]).max() <= 2  # last good
-        shader.write_text(good)
-        fixed = screen()
-        assert "error" not in xdo("getwindowname", wid)
-        assert np.abs(fixed - clean).max() <= 2
-        xdo("windowfocus", "--sync", wid)
-        xdo("key", "q")
-        assert proc.wait(timeout=20) == 0
-        assert "live.frag:1:" in proc.stderr.read()
-    finally:
-        if proc.poll() is None:
-            proc.kill()
+    w = window(str(shader), "--size", f"{W}x{H}", command="shader")
+    clean = w.screen(until_=lambda img: img[H // 2, W // 2, 0] > 100)
+    assert clean[2, 2, 0] < 20  # the uv gradient
+    shader.write_text(good.replace("p / iResolution.xy", "q / iResolution.xy"))
+    w.wait_title(lambda t: "error: " in t and "live.frag:1:" in t)
+    red = lambda img: (img[..., 0] > 180) & (img[..., 1] < 60) & (img[..., 2] < 60)  # noqa: E731
+    broken = w.screen(until_=lambda img: red(img)[:4].all())
+    assert red(broken)[:, :4].all()  # the red frame
+    assert np.abs(broken[H // 2, W // 2] - clean[H // 2, W // 2]).max() <= 2  # last good
+    shader.write_text(good)
+    w.wait_title(lambda t: "error" not in t)
+    fixed = w.screen(until_=lambda img: not red(img)[:4].all())
+    assert np.abs(fixed - clean).max() <= 2
+    assert w.quit() == 0
+    assert "live.frag:1:" in w.proc.stderr.read()
 
 
 def test_viewer_mesh_shader_hot_reload(window, tmp_path):
@@ -348,15 +241,13 @@ def test_viewer_mesh_shader_hot_reload(window, tmp_path):
     green = w.screen()
     assert green[..., 1].max() == 255 and green[..., 0].max() == 0
     frag.write_text(body.format("nothing"))
-    time.sleep(1.0)
-    broken = w.screen()
-    assert "mine.frag:3:" in w.title()
+    w.wait_title(lambda t: "mine.frag:3:" in t)
+    broken = w.screen(until_=lambda img: (img[:4, :, 0] > 180).all())
     assert (broken[:4, :, 0] > 180).all() and (broken[:4, :, 1] < 60).all()  # red frame
     assert broken[H // 2, W // 2, 1] == 255  # the last good program still draws
     frag.write_text(body.format("0.0, 0.0, 1.0"))
-    time.sleep(1.0)
-    blue = w.screen()
-    assert "error" not in w.title()
+    w.wait_title(lambda t: "error" not in t)
+    blue = w.screen(until_=lambda img: img[..., 2].max() == 255)
     assert blue[..., 2].max() == 255 and blue[..., 1].max() == 0
     assert w.quit() == 0
 
@@ -369,9 +260,9 @@ def test_progressive_supersampling_matches_headless(window, tmp_path):
     w = window()
     w.key("a")
     w.key("a")
-    time.sleep(1.5)  # 16 samples, one per frame
+    w.wait_title(lambda t: "16/16 samples" in t)
     w.key("s")
-    shots = _wait_for(tmp_path, "facet-*.png")
+    shots = files(tmp_path, "facet-*.png")
     assert w.quit() == 0 and "aa: ssaa:jittered:16" in w.proc.stdout.read()
     shot, ref = _shot_and_headless(shots[0], aa="ssaa:jittered:16")
     diff = np.abs(shot.astype(int) - ref).max(axis=2)
@@ -425,9 +316,9 @@ def test_depth_of_field_refines_in_msaa_mode(window, tmp_path):
     path = tmp_path / "lens.toml"
     path.write_text(LENS_SCENE)
     w = window(str(path))
-    time.sleep(2.0)  # 16 samples, one per frame
+    w.wait_title(lambda t: "16/16 samples" in t)
     w.key("s")
-    shots = _wait_for(tmp_path, "facet-*.png")
+    shots = files(tmp_path, "facet-*.png")
     assert w.quit() == 0
     shot = np.asarray(Image.open(shots[0]))
     info = json.loads(shots[0].with_suffix(".json").read_text())
@@ -456,18 +347,19 @@ def test_lights_key_keeps_the_model_lit_and_turntables_too(window, tmp_path):
 
     w = window()
     w.key("s")
-    first = _wait_for(tmp_path, "facet-*.png")[0]
+    first = files(tmp_path, "facet-*.png")[0]
     start = json.loads(first.with_suffix(".json").read_text())
     first.rename(tmp_path / "start.png")
     first.with_suffix(".json").rename(tmp_path / "start.json")
+    before = w.screen()
     w.key("l")
     w.xdotool("mousemove", "160", "120", "mousedown", "1", "mousemove", "220", "120",
               "mousemove", "260", "120", "mouseup", "1")
-    time.sleep(0.5)
+    w.screen(changed_from=before)  # orbited
     w.key("s")
-    shot = _wait_for(tmp_path, "facet-*.png")[0]
+    shot = files(tmp_path, "facet-*.png")[0]
     w.key("t")
-    gif = _wait_for(tmp_path, "facet-turntable-*.gif", timeout=60)
+    gif = files(tmp_path, "facet-turntable-*.gif", timeout=60)
     assert w.quit() == 0 and "lights: fixed in the scene" in w.proc.stdout.read()
     info = json.loads(shot.with_suffix(".json").read_text())
     camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
@@ -549,9 +441,9 @@ def test_every_front_draws_the_same_first_frame(window, tmp_path):
     single = np.asarray(Image.open(tmp_path / "single.png")).astype(int)
     assert single.shape == (120, 160, 3)
     w = window(str(path), "--scene-size")
-    time.sleep(2.5)  # 8 supersamples, one per frame
+    w.wait_title(lambda t: "8/8 samples" in t)
     w.key("s")
-    shot = _wait_for(tmp_path, "facet-*.png")
+    shot = files(tmp_path, "facet-*.png")
     assert w.quit() == 0
     fronts = {"turntable": tmp_path / "tt-00.png", "dataset": tmp_path / "ds" / "color.png",
               "turntable dataset": tmp_path / "tds" / "0000_color.png", "viewer": shot[0]}
@@ -600,9 +492,9 @@ def test_the_engine_key_refines_the_traced_picture(window, tmp_path):
 
     w = window()
     w.key("e")
-    time.sleep(3.0)  # 4 traced samples, one per frame
+    w.wait_title(lambda t: "4/4 samples" in t)
     w.key("s")
-    shots = _wait_for(tmp_path, "facet-*.png")
+    shots = files(tmp_path, "facet-*.png")
     assert w.quit() == 0 and "engine: trace" in w.proc.stdout.read()
     info = json.loads(shots[0].with_suffix(".json").read_text())
     from facet.geometry.camera import Camera
@@ -647,37 +539,53 @@ def test_a_gltf_opens_framed_with_its_cameras_on_the_number_keys(display, tmp_pa
         np.testing.assert_allclose(v.camera().eye, [0.5, 0.5, 9], atol=1e-6)
 
 
-def test_shader_window_reloads_when_a_missing_include_appears(display, tmp_path):
+def test_shader_window_reloads_when_a_missing_include_appears(window, tmp_path):
     """Saving a shader that includes a file that does not exist yet shows the error; creating
     that file brings the new picture without touching the shader. With a keyboard channel
     the keys go to the shader (Shadertoy's keyboard texture)."""
     shader = tmp_path / "live.frag"
     shader.write_text("void mainImage(out vec4 c, in vec2 p) {\n"
                       "  c = vec4(0.0, 0.0, texelFetch(iChannel0, ivec2(65, 0), 0).x, 1.0);\n}\n")
-    env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT / "app")}
-    proc = subprocess.Popen([sys.executable, "-m", "facet", "shader", str(shader), "--size",
-                             f"{W}x{H}", "--channel", "0=keyboard"], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    w = window(str(shader), "--size", f"{W}x{H}", "--channel", "0=keyboard", command="shader")
+    assert w.screen()[H // 2, W // 2, 2] < 20  # 'a' is not held
+    w.xdotool("keydown", "a")
+    # held: the keyboard texture says so
+    w.screen(until_=lambda img: img[H // 2, W // 2, 2] > 200)
+    w.xdotool("keyup", "a")
+    shader.write_text('#include "later.glsl"\n'
+                      "void mainImage(out vec4 c, in vec2 p) { c = vec4(later(), 1.0); }\n")
+    w.wait_title(lambda t: 'cannot find include "later.glsl"' in t)
+    (tmp_path / "later.glsl").write_text("vec3 later() { return vec3(1.0, 0.0, 0.0); }\n")
+    w.wait_title(lambda t: "error" not in t)
+    fixed = w.screen(until_=lambda img: img[H // 2, W // 2, 0] > 200)
+    assert fixed[H // 2, W // 2, 2] < 20
+    assert w.quit("Escape") == 0
 
-    xdo, screen = _shader_window_tools(env)
 
-    try:
-        wid = xdo("search", "--sync", "--onlyvisible", "--name", "^facet shader").split()[0]
-        assert screen()[H // 2, W // 2, 2] < 20  # 'a' is not held
-        xdo("windowfocus", "--sync", wid)
-        xdo("keydown", "a")
-        assert screen()[H // 2, W // 2, 2] > 200  # held: the keyboard texture says so
-        xdo("keyup", "a")
-        shader.write_text('#include "later.glsl"\n'
-                          "void mainImage(out vec4 c, in vec2 p) { c = vec4(later(), 1.0); }\n")
-        screen()
-        assert 'cannot find include "later.glsl"' in xdo("getwindowname", wid)
-        (tmp_path / "later.glsl").write_text("vec3 later() { return vec3(1.0, 0.0, 0.0); }\n")
-        fixed = screen()
-        assert "error" not in xdo("getwindowname", wid)
-        assert fixed[H // 2, W // 2, 0] > 200 and fixed[H // 2, W // 2, 2] < 20
-        xdo("key", "Escape")
-        assert proc.wait(timeout=20) == 0
-    finally:
-        if proc.poll() is None:
-            proc.kill()
+@pytest.mark.parametrize("command,animated", [("shader", False), ("shader", True),
+                                              ("view", False), ("view", True)])
+def test_windows_draw_only_when_something_changes(window, tmp_path, command, animated):
+    """A program that reads no time input (a static Shadertoy shader, a mesh shader without
+    u_time) leaves the window idle once drawn; one that reads the time keeps drawing."""
+    if command == "shader":
+        body = "sin(iTime) * 0.5 + 0.5" if animated else "p.x / iResolution.x"
+        path = tmp_path / "s.frag"
+        path.write_text(f"void mainImage(out vec4 c, in vec2 p) {{ c = vec4({body}); }}\n")
+        w = window(str(path), "--size", f"{W}x{H}", command="shader")
+    else:
+        path = tmp_path / "m.frag"
+        path.write_text("#version 330 core\nuniform float u_time;\nout vec4 c;\n"
+                        f"void main() {{ c = vec4({'fract(u_time)' if animated else '0.5'}); }}"
+                        "\n")
+        w = window("--frag", str(path))
+    if animated:  # it moves by itself: two grabs differ
+        first = w.grab()
+        until(lambda: np.abs(w.grab() - first).mean() > 0.5, 20, "the picture to move")
+    else:
+        w.screen()  # drawn, and then still
+    share = w.cpu_share(2.0)
+    if animated:
+        assert share > 0.2, f"an animated window used only {share:.1%} of a core"
+    else:
+        assert share < 0.05, f"an idle window used {share:.1%} of a core"
+    assert w.quit() == 0

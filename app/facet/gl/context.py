@@ -14,6 +14,13 @@ context is current afterwards, whatever was current before: glcontext's EGL back
 not restore). So facet never nests ``with ctx:`` blocks: a nested one would leave the outer
 block's GL calls without a context, silently doing nothing. Public methods that enter the
 context (``Renderer.render``, ``ShaderToy.render``) must not be called inside one.
+
+WebGL's semantics for what people paste: WebGL (hence Shadertoy) zero-initialises every
+variable a shader declares without a value, desktop GL leaves it undefined (Mesa: garbage,
+and a pasted ``vec3 color; color += ...`` renders black). Mesa's driconf option
+``glsl_zero_init`` does what WebGL does; facet turns it on for the process before its first
+context (``MESA_DEBUG=silent`` keeps Mesa from announcing the override on stderr), unless
+the environment already sets either. Other drivers keep their own behaviour.
 """
 
 from __future__ import annotations
@@ -27,6 +34,9 @@ from ..errors import ContextError, FacetWarning, InputError
 
 GL_REQUIRED = 330
 BACKENDS = ("auto", "egl", "osmesa")
+if "glsl_zero_init" not in os.environ:  # read by Mesa when a context's screen is made
+    os.environ["glsl_zero_init"] = "true"
+    os.environ.setdefault("MESA_DEBUG", "silent")
 INSTALL_HINT = ("install Mesa's EGL and software rasteriser: "
                 "sudo apt-get install libegl1 libgl1-mesa-dri")
 

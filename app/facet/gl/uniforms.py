@@ -53,3 +53,14 @@ def write_uniform(prog: Program, name: str, values: np.ndarray) -> None:
         member = prog.gl[name]
         integer = prog.uniform_types()[name][0] in INT_TYPES
         member.write(values.astype("i4" if integer else "f4").tobytes())
+
+
+def write_sized(member, value) -> None:
+    """A value into a uniform of whatever size the user's shader declared it with (u_mouse
+    as vec2 or vec4, u_frame as int or float)."""
+    n = getattr(member, "dimension", 1)
+    if isinstance(value, tuple):
+        value = tuple(value[:n]) + (0.0,) * (n - len(value)) if n > 1 else value[0]
+    if member.gl_type in (0x1404, 0x8B56):  # int, bool
+        value = int(value) if not isinstance(value, tuple) else tuple(int(v) for v in value)
+    member.value = value

@@ -2,6 +2,11 @@
 (no GL): Shadertoy (``mainImage``) or glslViewer / The Book of Shaders (its own ``main()``
 writing ``gl_FragColor`` and reading ``u_time``, ``u_resolution``, ``u_mouse``).
 
+The entry points are looked for after the preprocessor (facet.lab.preprocess), with
+Shadertoy's defines (``SHADERTOY_DEFINES``): a ``main()`` in a branch Shadertoy never takes
+(``#ifdef GRIMOIRE``) is not there, and a ``mainImage`` made by a macro (code golf's
+``#define mainImage(O,u) ...``) is.
+
 Accepted and handled: a UTF-8 byte-order mark (dropped), a ``#version`` line (blanked: the
 wrapper brings its own, and lines keep their numbers), ``precision`` lines and ``#ifdef
 GL_ES`` blocks (valid GLSL 3.3). Refused with a sentence of their own: an empty file,
@@ -15,8 +20,11 @@ import re
 from dataclasses import dataclass
 
 from ..errors import ShaderError
+from .preprocess import preprocess
 
 SHADERTOY, GLSLVIEWER = "shadertoy", "glslviewer"
+# What Shadertoy's WebGL 2 compiler defines (GLSL ES 3.00) and its own HW_PERFORMANCE.
+SHADERTOY_DEFINES = {"GL_ES": 1, "__VERSION__": 300, "HW_PERFORMANCE": 1}
 _COMMENTS = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
 _MAIN_IMAGE = re.compile(r"\bvoid\s+mainImage\s*\(")
 _MAIN_CUBEMAP = re.compile(r"\bvoid\s+mainCubemap\s*\(")
@@ -52,18 +60,21 @@ def prepare(text: str, name: str, cube: bool = False, common: bool = False) -> P
                     f"{name}:{number}:{col}: error: {what}, invisible in an editor and "
                     "often pasted from web pages; GLSL allows only plain spaces: replace it",
                     [(name, number, col, "error", what)])
-    code = _COMMENTS.sub(" ", text)
     if common:
         return Prepared(SHADERTOY, text)
-    if not code.strip():
+    raw = _COMMENTS.sub(" ", text)
+    pre = preprocess(text, SHADERTOY_DEFINES)
+    code = pre.text
+    if not raw.strip():
         raise ShaderError(f"{name}: error: the file is empty (no code to run); a Shadertoy "
                           "shader defines mainImage(out vec4 fragColor, in vec2 fragCoord)")
     if cube:
-        if not _MAIN_CUBEMAP.search(code):
+        if not _MAIN_CUBEMAP.search(code) and "mainCubemap" not in pre.macros:
             raise ShaderError(f"{name}: error: a Cube A pass defines mainCubemap(out vec4 "
                               "fragColor, in vec2 fragCoord, in vec3 rayOri, in vec3 rayDir)")
         return Prepared(SHADERTOY, text)
-    has_image, has_main = bool(_MAIN_IMAGE.search(code)), bool(_MAIN.search(code))
+    has_image = bool(_MAIN_IMAGE.search(code)) or "mainImage" in pre.macros
+    has_main = bool(_MAIN.search(code))
     if has_image and has_main:
         line = code[:_MAIN.search(code).start()].count("\n") + 1
         raise ShaderError(f"{name}:{line}: error: defines main() as well as mainImage(): "
@@ -73,7 +84,7 @@ def prepare(text: str, name: str, cube: bool = False, common: bool = False) -> P
         return Prepared(SHADERTOY, text)
     if has_main and _VIEWER_NAMES.search(code):
         return Prepared(GLSLVIEWER, text, "gl_FragColor" in code)
-    if re.search(r"^\s*#\s*include\b", code, re.M):
+    if re.search(r"^\s*#\s*include\b", raw, re.M):
         return Prepared(SHADERTOY, text)  # mainImage may come from an include
     if has_main:
         raise ShaderError(f"{name}: error: has its own main() but neither gl_FragColor nor "
@@ -84,3 +95,22 @@ def prepare(text: str, name: str, cube: bool = False, common: bool = False) -> P
                       "or a glslViewer shader? (Shadertoy: void mainImage(out vec4 "
                       "fragColor, in vec2 fragCoord); glslViewer: void main() writing "
                       "gl_FragColor)")
+
+
+def blame_user(exc: ShaderError, name: str, text: str) -> ShaderError:
+    """An error the compiler reports inside facet's wrapper is caused by the user's file
+    (the wrapper compiles on its own): say so at the end of that file, with the likely
+    cause (an unclosed bracket), never pointing into facet's files."""
+    host = [d for d in exc.diagnostics if d[0].startswith("glsl/shadertoy/")]
+    if not host or any(d[3] == "error" and not d[0].startswith("glsl/shadertoy/")
+                       for d in exc.diagnostics):
+        return exc
+    code = re.sub(r"//[^\n]*|/\*.*?\*/", " ", text, flags=re.S)
+    unclosed = [f"{code.count(o) - code.count(c)} unclosed '{o}'"
+                for o, c in (("{", "}"), ("(", ")"), ("[", "]")) if code.count(o) > code.count(c)]
+    cause = ("; it ends early: " + ", ".join(unclosed)) if unclosed else \
+        " (a #define in it that renames something Shadertoy declares, like iTime?)"
+    last = max(len(text.splitlines()), 1)
+    message = host[0][4]
+    return ShaderError(f"{name}:{last}: error: {message} where facet's wrapper continues after "
+                       f"your file{cause}", [(name, last, 0, "error", message)])

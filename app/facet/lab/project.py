@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import difflib
 import json
+import re
 import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -21,6 +22,7 @@ from pathlib import Path
 from ..errors import FacetWarning, InputError
 
 PASSES = ("a", "b", "c", "d", "cube", "image")  # the order they run in each frame
+BUFFERS = PASSES[:4]  # Buffer A-D
 PASS_NAMES = {"a": "Buffer A", "b": "Buffer B", "c": "Buffer C", "d": "Buffer D",
               "cube": "Cube A", "image": "Image"}
 BUFFER_SOURCES = {"buffer-a": "a", "buffer-b": "b", "buffer-c": "c", "buffer-d": "d",
@@ -49,16 +51,25 @@ class Channel:
 @dataclass
 class Pass:
     """One pass: ``key`` in PASSES, its source (``path`` on disk, or ``code`` text named
-    ``path`` in messages), and its channels 0-3."""
+    ``path`` in messages), and its channels 0-3; ``defines`` it is compiled with and
+    ``samplers`` ({uniform name: Channel}) it reads by name (glslViewer's buffers,
+    facet.lab.glslviewer); ``label``: its name in messages, if not Shadertoy's."""
 
     key: str
     path: Path
     code: str | None = None
     channels: dict[int, Channel] = field(default_factory=dict)
+    defines: dict = field(default_factory=dict)
+    samplers: dict[str, Channel] = field(default_factory=dict)
+    label: str | None = None
 
     @property
     def name(self) -> str:
-        return PASS_NAMES[self.key]
+        return self.label or PASS_NAMES[self.key]
+
+    def inputs(self) -> dict:
+        """Every input it reads: {channel number or sampler name: Channel}."""
+        return {**self.channels, **self.samplers}
 
 
 @dataclass
@@ -69,6 +80,7 @@ class Project:
     common: Path | None = None
     common_code: str | None = None
     origin: Path | None = None  # a TOML project or a JSON export
+    media: Path | None = None  # where a JSON export's textures are (read again with it)
 
     def ordered(self) -> list[Pass]:
         return [self.passes[k] for k in PASSES if k in self.passes]
@@ -135,11 +147,13 @@ def parse_compact(text: str, where: str) -> tuple[str | None, int, Channel]:
 
 
 def pass_key(name: str, where: str) -> str:
-    """``image``, ``a``/``buffer-a``/``Buffer A``, ``cube``/``cube-a``/``Cube A`` -> key."""
+    """``image``, ``a``/``buffer-a``/``Buffer A``/``Buf A``, ``cube``/``cube-a``/``Cube A``
+    -> key."""
     text = str(name).strip().lower().replace(" ", "-")
     key = {"image": "image", "cube": "cube", "cube-a": "cube", "cubemap": "cube"}.get(text)
-    if key is None and text.removeprefix("buffer-") in ("a", "b", "c", "d"):
-        key = text.removeprefix("buffer-")
+    letter = re.sub(r"^(buffer|buf)-?", "", text)
+    if key is None and letter in ("a", "b", "c", "d"):
+        key = letter
     if key is None:
         raise InputError(f"{where}: unknown pass {name!r}; passes are image, buffer-a ... "
                          "buffer-d and cube-a")
@@ -293,10 +307,12 @@ def load_shadertoy_json(path, media: Path | None = None) -> Project:
         warnings.warn(f"{path.name}: not supported, left out: {what}", FacetWarning,
                       stacklevel=2)
     common = path.with_name(f"{path.name}[Common]") if common_code is not None else None
-    return Project(passes, common, common_code, origin=path)
+    return Project(passes, common, common_code, origin=path, media=media)
 
 
 def _json_pass_key(rp: dict, where: str) -> str:
+    """A pass's key by its type, then (buffers) by the fixed id of its output, then by
+    its name ("Buffer A", "Buf A", ...): exports carry all kinds of names."""
     kind = str(rp.get("type", "")).lower()
     if kind in ("common", "sound"):
         return kind
@@ -304,6 +320,10 @@ def _json_pass_key(rp: dict, where: str) -> str:
         return "image"
     if kind == "cubemap":
         return "cube"
+    for out in rp.get("outputs") or []:
+        key = OUTPUT_IDS.get(str(out.get("id"))) if isinstance(out, dict) else None
+        if key is not None and key != "cube":
+            return key
     return pass_key(rp.get("name", ""), where)
 
 

@@ -23,24 +23,28 @@ errors, each line naming its pass, errors before warnings, mapped to the user's 
 from __future__ import annotations
 
 import datetime
-import re
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, ShaderError
+from ..errors import FacetWarning, InputError, ShaderError
 from ..gl.fullscreen import fullscreen_vertex
 from ..gl.glsl_source import glsl_root
 from ..gl.reload import ReloadResult, WatchedPrograms
 from ..gl.shaders import Program, compile_program
-from ..gl.uniforms import check_uniform, write_uniform
+from ..gl.uniforms import check_uniform, write_sized, write_uniform
 from . import project as P
+from .assemble import check_channels, from_arguments, with_glslviewer_buffers
 from .channels import ChannelResources
-from .dialect import GLSLVIEWER, prepare
+from .dialect import GLSLVIEWER, blame_user, prepare
+from .targets import PassTargets
 
-BUFFERS = ("a", "b", "c", "d")
 DEFAULT_DATE = datetime.datetime(2000, 1, 1)  # iDate of headless renders (deterministic)
 CUBE_SIZE = 512  # texels along a Cube A face
+# Inputs that change from frame to frame (a program reading one is animated).
+TIME_INPUTS = ("iTime", "iTimeDelta", "iFrame", "iDate", "iChannelTime", "u_time", "u_delta",
+               "u_frame", "u_date")
 FILLED = ("iResolution", "iTime", "iTimeDelta", "iFrame", "iFrameRate", "iMouse", "iDate",
           "iSampleRate", "iChannelTime", "iChannelResolution", "iChannel0", "iChannel1",
           "iChannel2", "iChannel3", "facet_face", "u_resolution", "u_time", "u_mouse",
@@ -63,9 +67,10 @@ class ShaderToy:
                  cube=None, cube_size: int = CUBE_SIZE, date=DEFAULT_DATE):
         from ..gl import context as glcontext
 
-        self.project = project or _project(image, buffers, common, cube, channels or {},
-                                           pass_channels or {})
-        _check_channels(self.project)
+        self.project = with_glslviewer_buffers(
+            project or from_arguments(image, buffers, common, cube, channels or {},
+                                      pass_channels or {}))
+        check_channels(self.project)
         self.width, self.height = _size(size)
         self.cube_size = int(cube_size)
         self.date = date
@@ -85,7 +90,7 @@ class ShaderToy:
         with self.ctx:
             self.resources = ChannelResources(self.ctx)
             self.targets = self._make_targets()
-            self._bindings = {p.key: self._bind_channels(p) for p in self.project.ordered()}
+            self._bind()
             for p in self.project.ordered():
                 self.watched.add(p.key, lambda p=p: self._compile(p))
                 self.watched.labels[p.key] = p.name
@@ -95,61 +100,45 @@ class ShaderToy:
         if not result.success:
             self.close()
             raise ShaderError(result.errors, result.diagnostics)
+        self._warn_unbound()
 
     @property
     def paths(self) -> dict[str, Path]:
         return {p.key: p.path for p in self.project.ordered()}
 
     # -- targets and channels ------------------------------------------------------------
-    def _make_targets(self) -> dict:
-        """Ping-pong float targets per buffer, one for the image pass, and for Cube A a
-        pair of cube maps with one face-sized target and a pixel buffer to copy through."""
-        ctx, size = self.ctx, (self.width, self.height)
-        targets = {}
-        for p in self.project.ordered():
-            if p.key == "cube":
-                s = (self.cube_size, self.cube_size)
-                face = ctx.texture(s, 4, dtype="f4")
-                cubes = [ctx.texture_cube(s, 4, dtype="f4") for _ in range(2)]
-                targets["cube"] = {"face": (face, ctx.framebuffer([face])), "cubes": cubes,
-                                   "pixels": ctx.buffer(reserve=s[0] * s[1] * 16)}
-                continue
-            pair = []
-            for _ in range(2 if p.key != "image" else 1):
-                tex = ctx.texture(size, 4, dtype="f4")
-                tex.repeat_x = tex.repeat_y = False  # Shadertoy's buffers clamp
-                fbo = ctx.framebuffer([tex])
-                fbo.clear(0.0, 0.0, 0.0, 0.0)
-                pair.append((tex, fbo))
-            targets[p.key] = pair
-        return targets
+    def _make_targets(self) -> PassTargets:
+        return PassTargets(self.ctx, [p.key for p in self.project.ordered()],
+                           (self.width, self.height), self.cube_size)
+
+    def _bind(self) -> None:
+        """Each pass's inputs: its channels 0-3, then its named samplers."""
+        self._bindings = {p.key: self._bind_channels(p) for p in self.project.ordered()}
+        self._named = {p.key: [(name, self._input(ch)) for name, ch in p.samplers.items()]
+                       for p in self.project.ordered()}
 
     def _bind_channels(self, p: P.Pass) -> list:
         """Per channel 0-3: (texture getter, sampler, resolution, is cube)."""
-        out = []
-        for n in range(4):
-            ch = p.channels.get(n, P.Channel())
-            sampler = self.resources.sampler(ch.filter, ch.wrap)
-            if ch.kind == "buffer" and ch.source == "cube":
-                pair = self.targets["cube"]["cubes"]
-                # [1] holds the latest finished cube map (the pair swaps after each frame).
-                out.append((lambda pair=pair: pair[1], sampler, (self.cube_size,) * 2, True))
-            elif ch.kind == "buffer":
-                pair = self.targets[ch.source]
-                out.append((lambda pair=pair: pair[1][0], sampler, None, False))
-            elif ch.kind == "texture":
-                tex, size = self.resources.image(ch.source, ch.vflip)
-                out.append((lambda tex=tex: tex, sampler, size, False))
-            elif ch.kind == "cube":
-                tex, size = self.resources.cube(ch.source)
-                out.append((lambda tex=tex: tex, sampler, size, True))
-            elif ch.kind == "keyboard":
-                kb = self.resources.keyboard
-                out.append((lambda kb=kb: kb, sampler, (256, 3), False))
-            else:
-                black = self.resources.black
-                out.append((lambda black=black: black, sampler, (1, 1), False))
-        return out
+        return [self._input(p.channels.get(n, P.Channel())) for n in range(4)]
+
+    def _input(self, ch: P.Channel) -> tuple:
+        """(texture getter, sampler, resolution or None for the output's, is cube)."""
+        sampler = self.resources.sampler(ch.filter, ch.wrap)
+        if ch.kind == "buffer":
+            cube = ch.source == "cube"
+            return (self.targets.latest(ch.source), sampler,
+                    (self.cube_size,) * 2 if cube else None, cube)
+        if ch.kind == "texture":
+            tex, size = self.resources.image(ch.source, ch.vflip)
+            return (lambda: tex), sampler, size, False
+        if ch.kind == "cube":
+            tex, size = self.resources.cube(ch.source)
+            return (lambda: tex), sampler, size, True
+        if ch.kind == "keyboard":
+            kb = self.resources.keyboard
+            return (lambda: kb), sampler, (256, 3), False
+        black = self.resources.black
+        return (lambda: black), sampler, (1, 1), False
 
     # -- programs and reloading ------------------------------------------------------------
     def _source(self, p: P.Pass) -> str:
@@ -160,7 +149,7 @@ class ShaderToy:
             return regular_file(p.path, "shader file").read_text(encoding="utf-8")
         origin = self.project.origin
         if origin is not None and origin.suffix.lower() == ".json" and origin.is_file():
-            fresh = P.load_shadertoy_json(origin).passes.get(p.key)
+            fresh = P.load_shadertoy_json(origin, self.project.media).passes.get(p.key)
             if fresh is not None:
                 return fresh.code
         return p.code
@@ -188,7 +177,7 @@ class ShaderToy:
         host_path = glsl_root() / "shadertoy" / host
         stage = host_path.read_text().replace("\nFACET_USER_CODE\n",
                                               "\n" + "\n".join(includes) + "\n")
-        defines = {"HW_PERFORMANCE": 1}
+        defines = {"HW_PERFORMANCE": 1, **p.defines}
         for n, (_, _, _, cube) in enumerate(self._bindings[p.key]):
             defines[f"FACET_CHANNEL{n}"] = "samplerCube" if cube else "sampler2D"
         if p.key == "cube":
@@ -199,7 +188,7 @@ class ShaderToy:
             prog = compile_program(self.ctx, fullscreen_vertex(), host_path, defines,
                                    fragment_text=stage, texts=texts)
         except ShaderError as exc:
-            raise _blame_user(exc, name, prepared.text) from None
+            raise blame_user(exc, name, prepared.text) from None
         self.dialects[p.key] = prepared.kind
         for uniform, values in self.uniforms.items():  # user uniforms survive a reload
             write_uniform(prog, uniform, values)
@@ -229,6 +218,46 @@ class ShaderToy:
             if result.success and result.changed:
                 self._make_vaos()
         return result
+
+    # -- what the programs read ------------------------------------------------------------
+    def _reads(self, names) -> bool:
+        return any(name in prog.gl for prog in self.programs.values() for name in names)
+
+    @property
+    def animated(self) -> bool:
+        """Whether frames differ with time alone: a pass reads a time or frame input, or a
+        buffer reads its own last frame (feedback). A window redraws only then (or when a
+        file, the mouse or a key changes something, ``reads_mouse``, ``reads_keys``)."""
+        if self._reads(TIME_INPUTS):
+            return True
+        order = [p.key for p in self.project.ordered()]
+        return any(ch.kind == "buffer" and order.index(ch.source) >= order.index(p.key)
+                   for p in self.project.ordered() for ch in p.inputs().values())
+
+    @property
+    def reads_mouse(self) -> bool:
+        return self._reads(("iMouse", "u_mouse"))
+
+    @property
+    def reads_keys(self) -> bool:
+        return any(ch.kind == "keyboard" for p in self.project.ordered()
+                   for ch in p.inputs().values())
+
+    def _warn_unbound(self) -> None:
+        """One warning line per channel a pass reads with nothing bound to it (it reads
+        black): a silent black picture is the worst outcome."""
+        for p in self.project.ordered():
+            prog = self.programs[p.key].gl
+            for n in range(4):
+                if p.channels.get(n, P.Channel()).kind != "none":
+                    continue
+                for name in (f"iChannel{n}", f"u_tex{n}"):
+                    if name in prog:
+                        where = f"{p.name} pass" if len(self.project.passes) > 1 else \
+                            _display(p.path)
+                        warnings.warn(f"{where} reads {name}, but nothing is bound to it "
+                                      f"(it reads black): give --channel{n} SOURCE",
+                                      FacetWarning, stacklevel=3)
 
     # -- uniforms ------------------------------------------------------------------------
     def active_uniforms(self) -> dict[str, tuple[str, int, bool]]:
@@ -270,7 +299,7 @@ class ShaderToy:
             self.resources.upload_keys()
             for p in self.project.ordered():
                 self._draw_pass(p, shared, time)
-            self.ctx.clear_samplers(0, 4)
+            self.ctx.clear_samplers(0, 4 + max(len(n) for n in self._named.values()))
         self.frame += 1
         self.time = time
 
@@ -289,14 +318,24 @@ class ShaderToy:
             for name in (f"iChannel{n}", f"u_tex{n}"):
                 if name in prog:
                     prog[name].value = n
+        for k, (name, (texture, sampler, _, _)) in enumerate(self._named[p.key]):
+            unit = len(resolutions) + k  # after the four channels
+            texture().use(location=unit)
+            sampler.use(location=unit)
+            if name in prog:
+                prog[name].value = unit
         for name, value in values.items():
             if name in prog:
-                _write(prog[name], value)
+                write_sized(prog[name], value)
+        # Arrays are written as bytes: the compiler may keep fewer elements than declared
+        # (one, for a shader that reads iChannelResolution[0] only), and moderngl's value
+        # setter wants a single value for a one-element array.
         if "iChannelResolution" in prog:
             m = prog["iChannelResolution"]
-            m.value = resolutions[:m.array_length]
+            m.write(np.array(resolutions[:m.array_length], np.float32).tobytes())
         if "iChannelTime" in prog:
-            prog["iChannelTime"].value = [float(time)] * prog["iChannelTime"].array_length
+            m = prog["iChannelTime"]
+            m.write(np.full(m.array_length, time, np.float32).tobytes())
         if cube:
             face_tex, fbo = self.targets["cube"]["face"]
             target = self.targets["cube"]["cubes"][0]
@@ -346,59 +385,32 @@ class ShaderToy:
         if (width, height) == (self.width, self.height):
             return
         with self.ctx:
-            self._release_targets()
+            self.targets.release()
             self.width, self.height = _size((width, height))
             self.targets = self._make_targets()
-            self._bindings = {p.key: self._bind_channels(p) for p in self.project.ordered()}
+            self._bind()
         self.frame = 0
 
     @property
     def image_framebuffer(self):
         """Where the image pass draws (bottom-up, like any GL framebuffer)."""
-        return self.targets["image"][0][1]
+        return self.targets.image_framebuffer
 
     def restart(self) -> None:
         """Back to frame 0 with cleared buffers."""
         with self.ctx:
-            for key, t in self.targets.items():
-                if key != "cube":
-                    for _, fbo in t:
-                        fbo.clear(0.0, 0.0, 0.0, 0.0)
-                else:
-                    zero = np.zeros((self.cube_size, self.cube_size, 4), np.float32)
-                    for cube in t["cubes"]:
-                        for face in range(6):
-                            cube.write(face, zero.tobytes())
+            self.targets.clear()
         self.frame, self.time = 0, 0.0
 
     def read(self) -> np.ndarray:
-        out = np.empty((self.height, self.width, 4), np.float32)
         with self.ctx:
-            self.targets["image"][0][1].read_into(out, components=4, dtype="f4")
-        return np.ascontiguousarray(out[::-1])  # fragCoord's origin is the bottom-left
+            return self.targets.read()
 
     def read_cube(self) -> np.ndarray:
         """The Cube A pass's latest cube map, (6, S, S, 4) float32 in OpenGL's face order,
         rows as written (t = 0 first)."""
-        s = self.cube_size
         with self.ctx:
-            cube = self.targets["cube"]["cubes"][1]
-            faces = [np.frombuffer(cube.read(face), np.float32).reshape(s, s, 4)
-                     for face in range(6)]
-        return np.stack(faces)
-
-    def _release_targets(self) -> None:
-        for key, t in getattr(self, "targets", {}).items():
-            if key == "cube":
-                t["face"][1].release()
-                t["face"][0].release()
-                t["pixels"].release()
-                for cube in t["cubes"]:
-                    cube.release()
-                continue
-            for tex, fbo in t:
-                fbo.release()
-                tex.release()
+            return self.targets.read_cube()
 
     def close(self) -> None:
         if self.ctx is None:
@@ -408,7 +420,8 @@ class ShaderToy:
                 vao.release()
             self.vaos.clear()
             self.watched.release()
-            self._release_targets()
+            if hasattr(self, "targets"):
+                self.targets.release()
             if hasattr(self, "resources"):
                 self.resources.release()
         if self._own_context:
@@ -422,91 +435,10 @@ class ShaderToy:
         self.close()
 
 
-def _blame_user(exc: ShaderError, name: str, text: str) -> ShaderError:
-    """An error the compiler reports inside facet's wrapper is caused by the user's file
-    (the wrapper compiles on its own): say so at the end of that file, with the likely
-    cause (an unclosed bracket), never pointing into facet's files."""
-    host = [d for d in exc.diagnostics if d[0].startswith("glsl/shadertoy/")]
-    if not host or any(d[3] == "error" and not d[0].startswith("glsl/shadertoy/")
-                       for d in exc.diagnostics):
-        return exc
-    code = re.sub(r"//[^\n]*|/\*.*?\*/", " ", text, flags=re.S)
-    unclosed = [f"{code.count(o) - code.count(c)} unclosed '{o}'"
-                for o, c in (("{", "}"), ("(", ")"), ("[", "]")) if code.count(o) > code.count(c)]
-    cause = ("; it ends early: " + ", ".join(unclosed)) if unclosed else \
-        " (a #define in it that renames something Shadertoy declares, like iTime?)"
-    last = max(len(text.splitlines()), 1)
-    message = host[0][4]
-    return ShaderError(f"{name}:{last}: error: {message} where facet's wrapper continues after "
-                       f"your file{cause}", [(name, last, 0, "error", message)])
-
-
-def _write(member, value) -> None:
-    """A value into a uniform of whatever size the user's shader declared it with (u_mouse
-    as vec2 or vec4, u_frame as int or float)."""
-    n = getattr(member, "dimension", 1)
-    if isinstance(value, tuple):
-        value = tuple(value[:n]) + (0.0,) * (n - len(value)) if n > 1 else value[0]
-    if member.gl_type in (0x1404, 0x8B56):  # int, bool
-        value = int(value) if not isinstance(value, tuple) else tuple(int(v) for v in value)
-    member.value = value
-
-
 def _display(path: Path) -> str:
     from ..gl.glsl_source import display_path
 
     return display_path(path)
-
-
-def _project(image, buffers, common, cube, channels, pass_channels) -> P.Project:
-    """A Project from ShaderToy's keyword arguments (every file checked)."""
-    if image is None:
-        raise InputError("ShaderToy needs an image shader (or a project)")
-    passes = {"image": P.Pass("image", _existing(image, "shader"))}
-    for key, path in (buffers or {}).items():
-        if key not in BUFFERS:
-            raise InputError(f"buffer {key!r}: buffers are a, b, c and d")
-        passes[key] = P.Pass(key, _existing(path, f"buffer {key}"))
-    if cube is not None:
-        passes["cube"] = P.Pass("cube", _existing(cube, "Cube A shader"))
-    shared = {}
-    for index, spec in channels.items():
-        if index not in range(4):
-            raise InputError(f"channel {index}: channels are 0 to 3")
-        shared[index] = P.channel(spec, f"--channel{index}")
-    for p in passes.values():
-        p.channels = dict(shared)
-    for name, chans in pass_channels.items():
-        key = P.pass_key(name, "pass_channels")
-        if key not in passes:
-            raise InputError(f"channels given for the {P.PASS_NAMES[key]} pass, which has no "
-                             "shader")
-        for index, spec in chans.items():
-            if index not in range(4):
-                raise InputError(f"{P.PASS_NAMES[key]} channel {index}: channels are 0 to 3")
-            passes[key].channels[index] = P.channel(spec, f"{P.PASS_NAMES[key]} channel "
-                                                          f"{index}")
-    return P.Project(passes, _existing(common, "common file") if common else None)
-
-
-def _check_channels(project: P.Project) -> None:
-    """Every buffer a channel reads has a pass; every image exists."""
-    for p in project.ordered():
-        for n, ch in p.channels.items():
-            if ch.kind == "buffer" and ch.source not in project.passes:
-                src = "cube-a" if ch.source == "cube" else f"buffer-{ch.source}"
-                flag = "--cube-a" if ch.source == "cube" else f"--buffer-{ch.source}"
-                raise InputError(f"{p.name} channel {n} reads {src}, but no {src} was given "
-                                 f"({flag} FILE)")
-            if ch.kind == "texture" and isinstance(ch.source, Path) and \
-                    not ch.source.is_file():
-                raise InputError(f"{ch.source}: no such texture file ({p.name} channel {n})")
-
-
-def _existing(path, what: str) -> Path:
-    from ..guard import regular_file
-
-    return regular_file(path, what)
 
 
 def _size(size) -> tuple[int, int]:

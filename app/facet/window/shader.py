@@ -10,6 +10,11 @@ bottom-left; z/w the click, negative once released). Keys: q / Esc quit, space p
 r restarts time and buffers; when a pass reads the keyboard channel every key but Esc goes
 to the shader (Shadertoy's keyboard texture, JavaScript key codes). iDate is the wall clock
 unless --date fixes it.
+
+It draws only when the picture can change: every frame while the program reads a time or
+frame input or a buffer feeds back on itself (ShaderToy.animated); otherwise once, and
+again when a file is reloaded, the window is resized or exposed, the mouse moves or clicks
+(if the program reads it) or a key reaches the keyboard channel. Idle, it sleeps.
 """
 
 from __future__ import annotations
@@ -47,16 +52,20 @@ class ShaderWindow:
             self.win.close()
             raise
         self.name = str(name)
-        self.keyboard = any(ch.kind == "keyboard" for p in self.toy.project.ordered()
-                            for ch in p.channels.values())
+        self.keyboard = self.toy.reads_keys
         self.error, self.paused, self.fps = "", False, fps
+        self.dirty = True  # draw once, then when something changes (module docstring)
         self.start = self.last = time.perf_counter()
         self.mouse = [0.0, 0.0, 0.0, 0.0]
         self.debounce = Debounce()
         glfw.set_key_callback(self.win.handle, self._on_key)
         glfw.set_mouse_button_callback(self.win.handle, self._on_button)
         glfw.set_cursor_pos_callback(self.win.handle, self._on_cursor)
+        glfw.set_framebuffer_size_callback(self.win.handle, lambda *_: self._redraw())
+        glfw.set_window_refresh_callback(self.win.handle, lambda *_: self._redraw())
 
+    def _redraw(self) -> None:
+        self.dirty = True
     def _on_key(self, _w, key, _s, action, _m):
         glfw = self.glfw
         code = js_key(key)
@@ -69,6 +78,7 @@ class ShaderWindow:
         if action != glfw.PRESS:
             return
         if self.keyboard and key != glfw.KEY_ESCAPE:
+            self.dirty = True
             return  # the shader reads the keyboard: keys are its own
         if key in (glfw.KEY_ESCAPE, glfw.KEY_Q):
             self.win.quit()
@@ -77,6 +87,7 @@ class ShaderWindow:
         elif key == glfw.KEY_R:
             self.toy.restart()
             self.start = time.perf_counter()
+            self.dirty = True
 
     def _pixel(self, x, y):
         """Window cursor -> framebuffer pixels, origin bottom-left (Shadertoy's iMouse)."""
@@ -89,10 +100,12 @@ class ShaderWindow:
             self.mouse = [x, y, x, y]  # z, w > 0: pressed, and w > 0 this frame: clicked
         elif action == self.glfw.RELEASE:
             self.mouse[2] = -abs(self.mouse[2])
+        self.dirty = self.dirty or self.toy.reads_mouse
 
     def _on_cursor(self, _w, x, y):
-        if self.mouse[2] > 0:
+        if self.mouse[2] > 0:  # iMouse (and u_mouse) follow a held button
             self.mouse[0], self.mouse[1] = self._pixel(x, y)
+            self.dirty = self.dirty or self.toy.reads_mouse
 
     def _check_reload(self):
         if not self.debounce.due(self.toy.changed):
@@ -107,6 +120,7 @@ class ShaderWindow:
             print(result.errors, file=sys.stderr)
         title = f"facet shader - {self.name}"
         self.win.set_title(f"{title} - error: {self.error}" if self.error else title)
+        self.dirty = True
 
     def frame(self):
         fb = self.win.framebuffer_size
@@ -129,11 +143,15 @@ class ShaderWindow:
 
     def run(self):
         while not self.win.should_close():
-            self.frame()
-            self.glfw.poll_events()
-            self._check_reload()
-            if self.paused:
+            moving = self.toy.animated and not self.paused
+            if moving or self.dirty:
+                self.dirty = False
+                self.frame()
+            if moving:
+                self.glfw.poll_events()
+            else:  # asleep until an event, or the next look at the files
                 self.glfw.wait_events_timeout(POLL)
+            self._check_reload()
 
     def close(self):
         self.toy.close()

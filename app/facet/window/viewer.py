@@ -60,6 +60,7 @@ class Viewer(ViewerActions):
         self.fixed_rig = None  # the default lights frozen in the world (key l)
         self.error = ""
         self._samples = 0  # supersamples accumulated for the current view
+        self._sample_count = 0  # supersamples the current view refines to (0: none)
         self._set_scene(scene, frame=True)
         self._dirty, self._frames, self._fps, self._fps_time = True, 0, 0.0, time.perf_counter()
         self._start = time.perf_counter()
@@ -102,8 +103,10 @@ class Viewer(ViewerActions):
 
     @property
     def animated(self) -> bool:
-        """User shaders may use u_time: keep drawing while they are shown."""
-        return any(o.material.shader is not None for o in self.scene.objects)
+        """A user's shader on the scene reads u_time: keep drawing while it is shown (its
+        programs are made at the first draw, which every new scene gets)."""
+        return any(o.material.shader is not None for o in self.scene.objects) and \
+            self.renderer.forward.user.reads_time()
 
     def _set_scene(self, scene, frame: bool) -> None:
         from ..geometry.orbit import OrbitControl
@@ -148,7 +151,7 @@ class Viewer(ViewerActions):
         opts = self.options(time=time.perf_counter() - self._start)
         moving = self._dirty or self.animated
         with self.ctx:
-            n = self.renderer.samples(scene, camera, opts)
+            n = self._sample_count = self.renderer.samples(scene, camera, opts)
             if n and (opts.aa.supersampled or not moving):
                 # One more sample per frame while nothing changes; a change starts over
                 # with one sample (or, for the distributed effects, one plain picture), so
@@ -172,6 +175,8 @@ class Viewer(ViewerActions):
     def _update_title(self) -> None:
         name = self.path.name if self.path else "scene"
         title = f"facet - {name} - {self.triangles:,} triangles - {self._fps:.0f} fps"
+        if self._sample_count:  # progressive supersampling: how far it has refined
+            title += f" - {self._samples}/{self._sample_count} samples"
         self.win.set_title(f"{title} - error: {self.error}" if self.error else title)
 
     # -- events --------------------------------------------------------------------------

@@ -48,6 +48,10 @@ class UserPrograms:
     def changed(self) -> bool:
         return self.watched.changed()
 
+    def reads_time(self) -> bool:
+        """Whether a program made so far reads ``u_time`` (its picture changes by itself)."""
+        return any("u_time" in prog.gl for prog in self.watched.programs.values())
+
     def reload(self) -> ReloadResult:
         """Recompile when a file changed; keep the old programs if a new one fails."""
         return self.watched.reload()

@@ -1,0 +1,180 @@
+"""What people paste into the shader lab runs as it runs where they found it (real GL,
+headless): Shadertoy's code-golf entry points made by macros, branches Shadertoy never
+takes, uniform arrays the compiler shortens, exports whose passes are named "Buf A",
+textures from --media, glslViewer's buffers, WebGL's zero-initialised variables; a channel
+read with nothing bound is said in one warning line; what animates is known."""
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from facet.cli import main
+from facet.errors import FacetWarning, ShaderError
+from facet.lab.project import load_shadertoy_json
+from facet.lab.shadertoy import ShaderToy
+
+W, H = 16, 8
+
+
+def _run(tmp_path, text, name="s.frag", **kw):
+    path = tmp_path / name
+    path.write_text(text)
+    with ShaderToy(path, size=(W, H), **kw) as st:
+        return st.render(1.0)
+
+
+@pytest.mark.parametrize("text", [
+    # code golf: no function at all, the wrapper's call goes through the macro
+    "#define mainImage(O,u) O = vec4((u) / iResolution.xy, .5, 1)\n",
+    "void f(out vec4 O, vec2 u) { O = vec4(u / iResolution.xy, .5, 1.); }\n"
+    "#define mainImage(O,u) f(O,u)\n",
+    "#define M mainImage\nvoid M(out vec4 O, vec2 u) { O = vec4(u / iResolution.xy, .5, 1.); }\n",
+    # a main() in branches Shadertoy never takes (GRIMOIRE, #if 0)
+    "#ifdef GRIMOIRE\nout vec4 o;\nvoid main() { o = vec4(1.0); }\n#endif\n"
+    "#if 0\nvoid main() {}\n#endif\n"
+    "void mainImage(out vec4 O, in vec2 u) { O = vec4(u / iResolution.xy, .5, 1.); }\n",
+])
+def test_entry_points_are_found_after_the_preprocessor(tmp_path, text):
+    img = _run(tmp_path, text)
+    x = (np.arange(W) + 0.5) / W
+    assert np.allclose(img[H // 2, :, 0], x, atol=1e-5) and np.allclose(img[..., 2], 0.5)
+
+
+def test_a_main_next_to_main_image_in_a_branch_that_compiles_is_refused(tmp_path):
+    text = ("#ifdef GL_ES\nout vec4 o;\nvoid main() { o = vec4(1.0); }\n#endif\n"
+            "void mainImage(out vec4 O, in vec2 u) { O = vec4(1.); }\n")
+    with pytest.raises(ShaderError, match="defines main\\(\\) as well as mainImage"):
+        _run(tmp_path, text)  # Shadertoy defines GL_ES: its compiler sees both
+
+
+def test_uniform_arrays_the_compiler_shortened(tmp_path):
+    """Reading iChannelResolution[0] (the compiler keeps one element of four) and
+    iChannelTime[0] crashed with "pack expected 3 items"."""
+    Image.fromarray(np.zeros((8, 24, 3), np.uint8)).save(tmp_path / "t.png")
+    img = _run(tmp_path, "void mainImage(out vec4 O, in vec2 u) { O = vec4("
+                         "iChannelResolution[0].xy / 100.0, iChannelTime[0], 1.0); }\n",
+               channels={0: tmp_path / "t.png"})
+    assert np.allclose(img[0, 0, :3], [0.24, 0.08, 1.0], atol=1e-6)
+
+
+def test_webgl_zero_initialises_what_is_declared_without_a_value(tmp_path):
+    img = _run(tmp_path, "void mainImage(out vec4 O, in vec2 u) {\n  vec3 color;\n  float k;\n"
+                         "  for (int i = 0; i < 4; i++) { color += vec3(0.1, 0.2, 0.05); "
+                         "k += 0.1; }\n  O = vec4(color + k, 1.0);\n}\n")
+    assert np.allclose(img[H // 2, W // 2, :3], [0.8, 1.2, 0.6], atol=1e-5)
+
+
+def _export(tmp_path, names, media_file="noise.png"):
+    """A Shadertoy export: Buffer A (named names[0]) keeps adding 1/255, Image shows it
+    and a texture."""
+    passes = [
+        {"name": names[0], "type": "buffer", "outputs": [{"id": "4dXGR8", "channel": 0}],
+         "inputs": [{"id": "4dXGR8", "channel": 0, "type": "buffer", "src": ""}],
+         "code": "void mainImage(out vec4 c, in vec2 p) { c = texelFetch(iChannel0, "
+                 "ivec2(p), 0) + vec4(1.0 / 255.0); }"},
+        {"name": names[1], "type": "image", "outputs": [{"id": "4sXGR8", "channel": 0}],
+         "inputs": [{"id": "4dXGR8", "channel": 0, "type": "buffer", "src": ""},
+                    {"id": "XsX3Rn", "channel": 1, "type": "texture",
+                     "src": f"/media/a/{media_file}"}],
+         "code": "void mainImage(out vec4 c, in vec2 p) { c = vec4(texelFetch(iChannel0, "
+                 "ivec2(p), 0).r, texture(iChannel1, vec2(0.5)).g, 0.0, 1.0); }"},
+    ]
+    path = tmp_path / "export.json"
+    path.write_text(json.dumps({"Shader": {"info": {"name": "t"}, "renderpass": passes}}))
+    return path
+
+
+@pytest.mark.parametrize("names", [("Buf A", "Image"), ("Buffer A", "Image"), ("", "")])
+def test_exports_map_passes_by_type_and_output_id(tmp_path, names):
+    media = tmp_path / "textures"
+    media.mkdir()
+    Image.fromarray(np.full((4, 4, 3), (0, 200, 0), np.uint8)).save(media / "noise.png")
+    path = _export(tmp_path, names)
+    project = load_shadertoy_json(path, media)
+    assert set(project.passes) == {"a", "image"}
+    with ShaderToy(project=project, size=(W, H)) as st:  # reloads re-read it with media
+        img = st.render(9 / 60)  # frames 0..9
+        assert st.reload(force=True).success
+    assert np.allclose(img[0, 0, :2], [10 / 255, 200 / 255], atol=1e-3)
+    out = tmp_path / "f.png"
+    assert main(["shader", str(path), "--media", str(media), "--time", "0", "--size",
+                 f"{W}x{H}", "-o", str(out), "-q"]) == 0
+    assert np.asarray(Image.open(out))[0, 0, 1] == 200
+
+
+GLSLVIEWER = """
+#ifdef GL_ES
+precision mediump float;
+#endif
+uniform vec2 u_resolution;
+uniform float u_time;
+uniform sampler2D u_buffer0;
+uniform sampler2D u_doubleBuffer0;
+
+void main() {
+    vec2 st = gl_FragCoord.xy / u_resolution;
+#if defined(BUFFER_0)
+    gl_FragColor = vec4(0.25, 0.0, 0.0, 1.0);
+#elif defined(DOUBLE_BUFFER_0)
+    gl_FragColor = texture2D(u_doubleBuffer0, st) + vec4(0.0, 1.0 / 255.0, 0.0, 0.0);
+#else
+    gl_FragColor = vec4(texture2D(u_buffer0, st).r, texture2D(u_doubleBuffer0, st).g,
+                        0.5, 1.0);
+#endif
+}
+"""
+
+
+def test_glslviewer_buffers_and_double_buffers(tmp_path):
+    path = tmp_path / "multi.frag"
+    path.write_text(GLSLVIEWER)
+    with ShaderToy(path, size=(W, H)) as st:
+        assert [p.name for p in st.project.ordered()] == ["BUFFER_0", "DOUBLE_BUFFER_0",
+                                                         "Image"]
+        img = st.render(4 / 60)  # frames 0..4: the double buffer adds 1/255 five times
+    assert np.allclose(img[H // 2, W // 2, :3], [0.25, 5 / 255, 0.5], atol=1e-4)
+
+
+def test_a_channel_read_with_nothing_bound_is_said_once(tmp_path, capsys):
+    text = "void mainImage(out vec4 O, in vec2 u) { O = texture(iChannel2, u); }\n"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        _run(tmp_path, text)
+    said = [str(w.message) for w in caught if issubclass(w.category, FacetWarning)]
+    assert said == ["s.frag reads iChannel2, but nothing is bound to it (it reads black): "
+                    "give --channel2 SOURCE"] or (len(said) == 1 and "iChannel2" in said[0])
+    Image.fromarray(np.zeros((4, 4, 3), np.uint8)).save(tmp_path / "t.png")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        _run(tmp_path, text, channels={2: tmp_path / "t.png"})
+    assert not [w for w in caught if issubclass(w.category, FacetWarning)]
+    out = tmp_path / "o.png"
+    assert main(["shader", str(tmp_path / "s.frag"), "--size", "8x8", "-o", str(out)]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("facet: warning: ") and "iChannel2" in err[0]
+
+
+@pytest.mark.parametrize("text,animated,mouse", [
+    ("void mainImage(out vec4 O, in vec2 u) { O = vec4(u.x); }", False, False),
+    ("void mainImage(out vec4 O, in vec2 u) { O = vec4(sin(iTime)); }", True, False),
+    ("void mainImage(out vec4 O, in vec2 u) { O = vec4(iMouse.x); }", False, True),
+    ("uniform vec2 u_resolution;\nuniform float u_time;\n"
+     "void main() { gl_FragColor = vec4(u_time); }", True, False),
+])
+def test_what_animates_is_known(tmp_path, text, animated, mouse):
+    path = tmp_path / "s.frag"
+    path.write_text(text + "\n")
+    with ShaderToy(path, size=(W, H)) as st:
+        assert (st.animated, st.reads_mouse) == (animated, mouse)
+
+
+def test_feedback_buffers_animate(tmp_path):
+    a = tmp_path / "a.frag"
+    a.write_text("void mainImage(out vec4 c, in vec2 p) { c = texture(iChannel0, p) + 0.1; }\n")
+    image = tmp_path / "i.frag"
+    image.write_text("void mainImage(out vec4 c, in vec2 p) { c = texture(iChannel0, p); }\n")
+    with ShaderToy(image, buffers={"a": a}, channels={0: "buffer-a"}, size=(W, H)) as st:
+        assert st.animated and not st.reads_mouse
