@@ -113,9 +113,25 @@ def test_help_documents_every_option(capsys):
 
 
 def test_info(capsys):
+    """`facet info` prints, one per line, what a headless context here reports: the same
+    keys in order and the same values as the context itself, a GL of at least 3.3."""
+    import re
+
+    from facet.gl.context import create_headless, describe
+
     assert main(["info"]) == 0
-    out = capsys.readouterr().out
-    assert "renderer" in out and "max_texture_size" in out
+    rows = [line.split(None, 1) for line in capsys.readouterr().out.strip().splitlines()]
+    ctx = create_headless()
+    try:
+        expected = describe(ctx)
+    finally:
+        ctx.release()
+    assert [k for k, _ in rows] == list(expected)
+    assert {k: v for k, v in rows} == {k: str(v) for k, v in expected.items()}
+    info = dict(rows)
+    assert info["backend"] in ("egl", "osmesa")
+    major, minor = map(int, re.match(r"(\d+)\.(\d+)", info["version"]).groups())
+    assert (major, minor) >= (3, 3) and int(info["max_texture_size"]) >= 2048
 
 
 BAD = {

@@ -91,9 +91,17 @@ def test_objects_with_their_own_shader_are_reflected(renderer):
 
     s = _floor_scene()
     s.objects[1].material = Material(shader=UserShader(ROOT / "glsl/examples/normals.frag"))
-    frame = renderer(W, H).render(s, CAMERAS[0], shading="unlit", outputs=("color", "ids"))
+    r = renderer(W, H)
+    frame = r.render(s, CAMERAS[0], shading="unlit", outputs=("color", "ids"))
     floor = frame.object_ids == 0
-    assert (frame.color[floor][:, :3].max(axis=1) > 60).sum() > 100
+    seen = floor & (frame.color[..., :3].max(axis=2) > 20)
+    twin = Scene(ambient=0.0)
+    twin.add(sphere(0.5), Material(color=RED), T.compose(T.translate(CENTRE),
+                                                         T.scale((1, -1, 1))))
+    expected = floor & (r.render(twin, CAMERAS[0], outputs=("ids",)).object_ids == 0)
+    assert expected.sum() > 100
+    iou = (seen & expected).sum() / (seen | expected).sum()
+    assert iou >= 0.95, iou  # the reflection is there, where the mirror image projects
 
 
 def test_mirror_mistakes():

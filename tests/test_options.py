@@ -1,8 +1,7 @@
-"""Render options (no GL): one parser per key for every front, and the precedence
-defaults < scene file < explicit arguments, written once in facet.scene.options and tested
-once here."""
+"""Render options (no GL): the precedence defaults < front < scene file < explicit
+arguments, written once in facet.scene.options and tested here; that every front hands the
+same value to the one parser (and gets the same sentence back) is tests/test_option_fronts.py."""
 
-import re
 
 import numpy as np
 import pytest
@@ -62,29 +61,6 @@ def test_msaa_is_aa_sugar_and_one_layer_may_not_give_both():
     with pytest.raises(InputError, match="spp must be an integer >= 1"):
         RenderOptions.build({"spp": 0})
     assert str(RenderOptions.build({"msaa": 4}, {"aa": "grid:4"}).aa) == "ssaa:grid:4"
-
-
-@pytest.mark.parametrize("key,value,message", [
-    ("aa", "ssaa:grid:7", "square number"),
-    ("aa", "supersample", "expected none, msaa:N or ssaa:PATTERN:N"),
-    ("msaa", 3, "msaa must be one of 0, 2, 4, 8, got 3"),
-    ("shading", "toon", "unknown shading model 'toon'"),
-    ("pcf", 5, "pcf: expected one of 0, 1, 2, got 5"),
-    ("size", [0, 10], "width and height must be >= 1"),
-    ("outputs", ["color", "albedo"], "unknown output channel 'albedo'"),
-    ("lights", "sun", "unknown lights mode 'sun'"),
-    ("background", [2, 0, 0], "floats in [0, 1]"),
-    ("shadows", "yes", "expected true or false"),
-])
-def test_every_front_gets_the_same_parse_error(tmp_path, key, value, message):
-    """Python keywords, scene files and the command line share the parser of each key."""
-    with pytest.raises(InputError, match=re.escape(message)):
-        RenderOptions.build({key: value})
-    toml = f'{key} = "{value}"' if isinstance(value, str) else f"{key} = {value}"
-    toml = toml.replace("'", '"')
-    tail = re.escape(message[-12:])
-    with pytest.raises(SceneError, match=f"s.toml: render.{key}: .*{tail}"):
-        _scene_file(tmp_path, toml)
 
 
 def test_unknown_option_keys_get_a_did_you_mean(tmp_path):

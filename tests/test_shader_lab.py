@@ -102,8 +102,8 @@ void mainImage(out vec4 c, in vec2 p) {{ c = texture(iChannel1, vec2({u}, {v}));
 
 
 def test_shadertoy_defaults(tmp_path):
-    """HW_PERFORMANCE is 1; an unset channel is black; buffers clamp (not repeat); iDate is
-    the fixed default; the keyboard texture holds the keys' state."""
+    """HW_PERFORMANCE is 1; a channel given as none is black; buffers clamp (not repeat);
+    iDate is the fixed default; the keyboard texture holds the keys' state."""
     a = write(tmp_path / "a.frag",
               "void mainImage(out vec4 c, in vec2 p) { c = vec4(p.x / iResolution.x); }")
     image = write(tmp_path / "image.frag", """
@@ -120,6 +120,7 @@ void mainImage(out vec4 c, in vec2 p) {
     if (p.x > 1.0) c = iDate / vec4(4000.0, 12.0, 31.0, 86400.0);
 }""")
     with ShaderToy(image, buffers={"a": a}, pass_channels={"image": {0: "buffer-a",
+                                                                     2: "none",
                                                                      3: "keyboard"}},
                    size=(8, 2)) as toy:
         out = toy.render(0.0)
@@ -307,7 +308,7 @@ def test_json_export_problems_are_named(tmp_path):
     export.write_text(json.dumps(data))
     with pytest.warns(FacetWarning, match="not supported, left out: music inputs"):
         project = load_shadertoy_json(export)
-    assert 1 not in project.passes["image"].channels  # black
+    assert project.passes["image"].channels[1].kind == "none"  # black
     (tmp_path / "junk.json").write_text("{}")
     with pytest.raises(InputError, match="not a Shadertoy JSON export"):
         load_shadertoy_json(tmp_path / "junk.json")

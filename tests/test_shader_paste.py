@@ -138,19 +138,28 @@ def test_glslviewer_buffers_and_double_buffers(tmp_path):
     assert np.allclose(img[H // 2, W // 2, :3], [0.25, 5 / 255, 0.5], atol=1e-4)
 
 
-def test_a_channel_read_with_nothing_bound_is_said_once(tmp_path, capsys):
-    text = "void mainImage(out vec4 O, in vec2 u) { O = texture(iChannel2, u); }\n"
+def test_a_channel_read_with_nothing_bound_reads_noise_and_says_so(tmp_path, capsys):
+    """Most pasted shaders that read an unset iChannel want Shadertoy's noise texture:
+    they get facet's (the same every run; mean 1/2, spread over the bytes), with one
+    warning line; `none` asks for black, an image for itself, without a word."""
+    text = "void mainImage(out vec4 O, in vec2 u) { O = texelFetch(iChannel2, ivec2(u) % 4, 0); }\n"
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        _run(tmp_path, text)
+        noise, again = _run(tmp_path, text), _run(tmp_path, text)
     said = [str(w.message) for w in caught if issubclass(w.category, FacetWarning)]
-    assert said == ["s.frag reads iChannel2, but nothing is bound to it (it reads black): "
-                    "give --channel2 SOURCE"] or (len(said) == 1 and "iChannel2" in said[0])
-    Image.fromarray(np.zeros((4, 4, 3), np.uint8)).save(tmp_path / "t.png")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        _run(tmp_path, text, channels={2: tmp_path / "t.png"})
-    assert not [w for w in caught if issubclass(w.category, FacetWarning)]
+    assert len(said) == 2 and said[0].endswith("s.frag reads iChannel2, which nothing is "
+                                               "bound to: it reads facet's noise texture "
+                                               "(Shadertoy's RGBA Noise Medium stand-in); "
+                                               "give --channel2 SOURCE, or none for black")
+    assert np.array_equal(noise, again) and abs(noise.mean() - 0.5) < 0.15
+    assert noise[..., 0].std() > 0.2
+    Image.fromarray(np.full((4, 4, 3), 51, np.uint8)).save(tmp_path / "t.png")
+    for channel, value in (("none", 0.0), (tmp_path / "t.png", 0.2)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            img = _run(tmp_path, text, channels={2: channel})
+        assert not [w for w in caught if issubclass(w.category, FacetWarning)]
+        assert np.allclose(img[..., :3], value, atol=1e-3)
     out = tmp_path / "o.png"
     assert main(["shader", str(tmp_path / "s.frag"), "--size", "8x8", "-o", str(out)]) == 0
     err = capsys.readouterr().err.strip().splitlines()

@@ -422,11 +422,29 @@ fov = 40
 """
 
 
+def _transforms_of(scene_path, out):
+    """A transforms.json holding the scene file's camera (what `facet batch` renders from
+    with plan = "cameras")."""
+    from facet.scene import load_scene
+
+    scene = load_scene(scene_path)
+    w, h = scene.options["size"]
+    camera = scene.camera()
+    K = camera.K(w, h)
+    out.write_text(json.dumps({
+        "w": w, "h": h, "fl_x": K[0, 0], "fl_y": K[1, 1], "cx": K[0, 2] + 0.5,
+        "cy": K[1, 2] + 0.5, "frames": [{"file_path": "images/0000.png",
+                                        "transform_matrix": np.linalg.inv(camera.view).tolist()}]}))
+    return out
+
+
 def test_every_front_draws_the_same_first_frame(window, tmp_path):
     """One scene file through every front: `facet render` to a PNG, frame 0 of a turntable,
-    frame 0 of a dataset (single and turntable), and a screenshot of `facet view` once it
-    has refined: the same pixels within the golden tolerance, with the file's shadows,
-    supersampling, sRGB, shading and background all on (so the viewer honours [render])."""
+    frame 0 of a dataset (single and turntable), a `facet batch` job from the file's
+    camera, a screenshot of `facet view` once it has refined, and one of `facet view`
+    given the file's [render] settings as flags over a file without them: the same pixels
+    within the golden tolerance, with shadows, supersampling, sRGB, shading and background
+    all on (so every front honours them)."""
     from facet.cli import main
     from test_golden import CHANNEL_TOL, MAX_DIFFERING
 
@@ -438,6 +456,10 @@ def test_every_front_draws_the_same_first_frame(window, tmp_path):
     assert main(["render", str(path), "--out-dir", str(tmp_path / "ds"), "-q"]) == 0
     assert main(["render", str(path), "--turntable", "2", "--out-dir",
                  str(tmp_path / "tds"), "-q"]) == 0
+    manifest = tmp_path / "jobs.jsonl"
+    manifest.write_text(json.dumps({"model": "fronts.toml", "outputs": ["color"], "views": {
+        "plan": "cameras", "file": str(_transforms_of(path, tmp_path / "cams.json"))}}) + "\n")
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "batch"), "-q"]) == 0
     single = np.asarray(Image.open(tmp_path / "single.png")).astype(int)
     assert single.shape == (120, 160, 3)
     w = window(str(path), "--scene-size")
@@ -445,8 +467,20 @@ def test_every_front_draws_the_same_first_frame(window, tmp_path):
     w.key("s")
     shot = files(tmp_path, "facet-*.png")
     assert w.quit() == 0
+    shot[0].rename(tmp_path / "viewer.png")
+    # The same settings as flags, over a file that has none of them.
+    plain = tmp_path / "plain.toml"
+    plain.write_text(FRONTS_SCENE[FRONTS_SCENE.index("[[objects]]"):])
+    w = window(str(plain), "--size", "160x120", "--background", "0.15,0.2,0.3", "--shading",
+               "blinn", "--srgb", "--shadows", "--aa", "ssaa:jittered:8")
+    w.wait_title(lambda t: "8/8 samples" in t)
+    w.key("s")
+    flagged = files(tmp_path, "facet-*.png")
+    assert w.quit() == 0
     fronts = {"turntable": tmp_path / "tt-00.png", "dataset": tmp_path / "ds" / "color.png",
-              "turntable dataset": tmp_path / "tds" / "0000_color.png", "viewer": shot[0]}
+              "turntable dataset": tmp_path / "tds" / "0000_color.png",
+              "batch": tmp_path / "batch" / "fronts" / "images" / "0000.png",
+              "viewer": tmp_path / "viewer.png", "viewer flags": flagged[0]}
     for name, file in fronts.items():
         image = np.asarray(Image.open(file).convert("RGB")).astype(int)
         assert image.shape == single.shape, name

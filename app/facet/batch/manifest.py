@@ -94,14 +94,7 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
 
         data = parse_toml(regular_file(path, "manifest").read_text(encoding="utf-8"),
                           path.name)
-        for key in data:
-            if key not in ("defaults", "jobs"):
-                raise InputError(f"{path.name}: unknown table {key!r}; a manifest has "
-                                 "[defaults] and [[jobs]]")
-        merged = merge_raw(_table(data.get("defaults", {}), f"{path.name}: defaults"),
-                           base_defaults)
-        entries = [(f"{path.name}: jobs[{i}]", merged, j)
-                   for i, j in enumerate(data.get("jobs", []))]
+        entries = _document_entries(data, path.name, base_defaults, "[defaults] and [[jobs]]")
         base = path.parent
     elif path.suffix.lower() in (".jsonl", ".json") and path.is_file():
         from ..guard import regular_file
@@ -112,18 +105,8 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
         if document is not None:  # one JSON value: [jobs] or {"defaults", "jobs"}
             if isinstance(document, list):
                 document = {"jobs": document}
-            document = _table(document, path.name)
-            for key in document:
-                if key not in ("defaults", "jobs"):
-                    raise InputError(f"{path.name}: unknown key {key!r}; a manifest has "
-                                     "\"defaults\" and \"jobs\"")
-            merged = merge_raw(_table(document.get("defaults", {}), f"{path.name}: defaults"),
-                               base_defaults)
-            jobs_ = document.get("jobs", [])
-            if not isinstance(jobs_, list):
-                raise InputError(f"{path.name}: jobs: expected a list of jobs")
-            entries = [(f"{path.name}: jobs[{i}]", merged, _table(j, f"{path.name}: jobs[{i}]"))
-                       for i, j in enumerate(jobs_)]
+            entries = _document_entries(_table(document, path.name), path.name, base_defaults,
+                                        "\"defaults\" and \"jobs\"")
         lines = [] if document is not None else text_.splitlines()
         for number, line in enumerate(lines, start=1):
             if not line.strip():
@@ -160,6 +143,20 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
         names[name] = where
         unique.append(job if name == job.name else dataclasses.replace(job, name=name))
     return unique
+
+
+def _document_entries(data: dict, name: str, base_defaults: dict, keys: str) -> list:
+    """(where, defaults, job) of a manifest written as one document (TOML, or one JSON
+    value): its defaults under the command line's, each job with them."""
+    for key in data:
+        if key not in ("defaults", "jobs"):
+            raise InputError(f"{name}: unknown key {key!r}; a manifest has {keys}")
+    merged = merge_raw(_table(data.get("defaults", {}), f"{name}: defaults"), base_defaults)
+    jobs = data.get("jobs", [])
+    if not isinstance(jobs, list):
+        raise InputError(f"{name}: jobs: expected a list of jobs")
+    return [(f"{name}: jobs[{i}]", merged, _table(j, f"{name}: jobs[{i}]"))
+            for i, j in enumerate(jobs)]
 
 
 def _json_document(text: str):

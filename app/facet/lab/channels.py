@@ -1,5 +1,5 @@
 """The GL side of Shadertoy channels (facet.lab.project.Channel): image and cube-map
-textures (loaded once per file and flip), the keyboard texture, black for unset channels,
+textures (loaded once per file and flip), the keyboard texture, the noise texture, black,
 and one sampler object per (filter, wrap) setting.
 
 The keyboard texture is Shadertoy's: 256 x 3 texels, x = the JavaScript key code; row 0:
@@ -15,6 +15,8 @@ import numpy as np
 from ..errors import InputError
 
 KEYBOARD_SIZE = (256, 3)
+NOISE_SIZE = 256  # texels a side of the noise texture (Shadertoy's "RGBA Noise Medium")
+NOISE_SEED = 0
 
 
 class ChannelResources:
@@ -31,6 +33,17 @@ class ChannelResources:
         self.keyboard = ctx.texture(KEYBOARD_SIZE, 1, self.keys.tobytes())
         self.keyboard.filter = (ctx.NEAREST, ctx.NEAREST)
         self._keys_sent = self.keys.copy()
+        self._noise = None
+
+    @property
+    def noise(self):
+        """256 x 256 RGBA random bytes, mipmapped (made on first use, the same every run)."""
+        if self._noise is None:
+            rng = np.random.default_rng(NOISE_SEED)
+            data = rng.integers(0, 256, (NOISE_SIZE, NOISE_SIZE, 4), np.uint8)
+            self._noise = self.ctx.texture((NOISE_SIZE, NOISE_SIZE), 4, data.tobytes())
+            self._noise.build_mipmaps()
+        return self._noise
 
     def image(self, source, vflip: bool):
         """(texture, (w, h)) of an image file or a facet Texture, mipmapped."""
@@ -89,8 +102,9 @@ class ChannelResources:
         for s in self._samplers.values():
             s.release()
         self._samplers.clear()
-        for tex in (self.black, self.black_cube, self.keyboard):
-            tex.release()
+        for tex in (self.black, self.black_cube, self.keyboard, self._noise):
+            if tex is not None:
+                tex.release()
 
 
 def _rgba(faces: np.ndarray) -> np.ndarray:

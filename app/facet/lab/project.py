@@ -5,9 +5,12 @@ TOML project file, or a Shadertoy JSON export (the format its API returns).
 
 Channel sources: ``buffer-a`` ... ``buffer-d``, ``cube-a`` (the Cube A pass), ``keyboard``,
 an image file, a cube map (a folder of six faces ``px nx py ny pz nz`` or an image of an
-environment, with ``cube:`` in front), or nothing (black). Sampler settings follow
-Shadertoy's defaults: images mipmapped, repeating and flipped so that v = 0 is their bottom
-row; buffers linear and clamped; cube maps linear.
+environment, with ``cube:`` in front), ``noise`` (facet's stand-in for Shadertoy's "RGBA
+Noise Medium": 256 x 256 random bytes, the same every run), or ``none`` (black). A channel
+nobody gave that a shader reads gets the noise, with one warning line (most pasted shaders
+that read an unset iChannel want a noise texture; ``none`` asks for black). Sampler
+settings follow Shadertoy's defaults: images and noise mipmapped, repeating and flipped so
+that v = 0 is their bottom row; buffers linear and clamped; cube maps linear.
 """
 
 from __future__ import annotations
@@ -46,6 +49,9 @@ class Channel:
     @property
     def is_cube(self) -> bool:
         return self.kind == "cube" or (self.kind == "buffer" and self.source == "cube")
+
+
+NOISE = Channel("noise", None, "mipmap", "repeat", True)  # also what an unset channel reads
 
 
 @dataclass
@@ -98,6 +104,8 @@ def channel(spec, where: str, base: Path | None = None, **settings) -> Channel:
         ch = Channel("keyboard", None, "nearest", "clamp", False)
     elif text in ("", "none", "black"):
         ch = Channel()
+    elif text == "noise":
+        ch = NOISE
     elif text.startswith("cube:"):
         ch = Channel("cube", _resolve(text[5:], base), "linear", "clamp", False)
     else:
@@ -296,6 +304,7 @@ def load_shadertoy_json(path, media: Path | None = None) -> Project:
                 chans[n] = channel("keyboard", where)
             elif ctype in UNSUPPORTED:
                 skipped.add(f"{ctype} inputs ({PASS_NAMES[key]} channel {n}: black)")
+                chans[n] = Channel()
             else:
                 raise InputError(f"{where}: channel {n} has an input type {ctype!r} facet "
                                  "does not know")

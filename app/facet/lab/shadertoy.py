@@ -119,7 +119,7 @@ class ShaderToy:
 
     def _bind_channels(self, p: P.Pass) -> list:
         """Per channel 0-3: (texture getter, sampler, resolution, is cube)."""
-        return [self._input(p.channels.get(n, P.Channel())) for n in range(4)]
+        return [self._input(p.channels.get(n, P.NOISE)) for n in range(4)]
 
     def _input(self, ch: P.Channel) -> tuple:
         """(texture getter, sampler, resolution or None for the output's, is cube)."""
@@ -137,6 +137,9 @@ class ShaderToy:
         if ch.kind == "keyboard":
             kb = self.resources.keyboard
             return (lambda: kb), sampler, (256, 3), False
+        if ch.kind == "noise":
+            noise = self.resources.noise
+            return (lambda: noise), sampler, noise.size, False
         black = self.resources.black
         return (lambda: black), sampler, (1, 1), False
 
@@ -244,20 +247,21 @@ class ShaderToy:
                    for ch in p.inputs().values())
 
     def _warn_unbound(self) -> None:
-        """One warning line per channel a pass reads with nothing bound to it (it reads
-        black): a silent black picture is the worst outcome."""
+        """One warning line per channel a pass reads that nobody gave (it reads the noise
+        texture, facet.lab.project): never a silent stand-in."""
         for p in self.project.ordered():
             prog = self.programs[p.key].gl
             for n in range(4):
-                if p.channels.get(n, P.Channel()).kind != "none":
+                if n in p.channels:
                     continue
                 for name in (f"iChannel{n}", f"u_tex{n}"):
                     if name in prog:
                         where = f"{p.name} pass" if len(self.project.passes) > 1 else \
                             _display(p.path)
-                        warnings.warn(f"{where} reads {name}, but nothing is bound to it "
-                                      f"(it reads black): give --channel{n} SOURCE",
-                                      FacetWarning, stacklevel=3)
+                        warnings.warn(f"{where} reads {name}, which nothing is bound to: it "
+                                      "reads facet's noise texture (Shadertoy's RGBA Noise "
+                                      f"Medium stand-in); give --channel{n} SOURCE, or none "
+                                      "for black", FacetWarning, stacklevel=3)
 
     # -- uniforms ------------------------------------------------------------------------
     def active_uniforms(self) -> dict[str, tuple[str, int, bool]]:
