@@ -29,15 +29,14 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import FacetWarning, InputError, ShaderError
-from ..gl.fullscreen import fullscreen_vertex
-from ..gl.glsl_source import glsl_root
+from ..gl.glsl_source import display_path
 from ..gl.reload import ReloadResult, WatchedPrograms
-from ..gl.shaders import Program, compile_program
+from ..gl.shaders import Program
 from ..gl.uniforms import check_uniform, write_sized, write_uniform
 from . import project as P
 from .assemble import check_channels, from_arguments, with_glslviewer_buffers
 from .channels import ChannelResources
-from .dialect import GLSLVIEWER, blame_user, prepare
+from .passes import compile_pass
 from .targets import PassTargets
 
 DEFAULT_DATE = datetime.datetime(2000, 1, 1)  # iDate of headless renders (deterministic)
@@ -144,55 +143,9 @@ class ShaderToy:
         return (lambda: black), sampler, (1, 1), False
 
     # -- programs and reloading ------------------------------------------------------------
-    def _source(self, p: P.Pass) -> str:
-        """The pass's current text (from its file, or from the export re-read)."""
-        if p.code is None:
-            from ..guard import regular_file
-
-            return regular_file(p.path, "shader file").read_text(encoding="utf-8")
-        origin = self.project.origin
-        if origin is not None and origin.suffix.lower() == ".json" and origin.is_file():
-            fresh = P.load_shadertoy_json(origin, self.project.media).passes.get(p.key)
-            if fresh is not None:
-                return fresh.code
-        return p.code
-
     def _compile(self, p: P.Pass) -> Program:
-        name = _display(p.path)
-        try:
-            text = self._source(p)
-        except UnicodeDecodeError:
-            raise InputError(f"{name}: not a text file (GLSL must be UTF-8)") from None
-        prepared = prepare(text, name, cube=p.key == "cube")
-        texts = {p.path: prepared.text}
-        includes = []
-        common = self.project.common
-        if common is not None and prepared.kind != GLSLVIEWER:
-            code = self.project.common_code
-            if code is None:
-                code = common.read_text(encoding="utf-8") if common.is_file() else None
-                if code is None:
-                    raise InputError(f"{common}: no such common file")
-            texts[common] = prepare(code, _display(common), common=True).text
-            includes.append(f'#include "{common.resolve()}"')
-        includes.append(f'#include "{p.path.resolve()}"')
-        host = "viewer.frag" if prepared.kind == GLSLVIEWER else "host.frag"
-        host_path = glsl_root() / "shadertoy" / host
-        stage = host_path.read_text().replace("\nFACET_USER_CODE\n",
-                                              "\n" + "\n".join(includes) + "\n")
-        defines = {"HW_PERFORMANCE": 1, **p.defines}
-        for n, (_, _, _, cube) in enumerate(self._bindings[p.key]):
-            defines[f"FACET_CHANNEL{n}"] = "samplerCube" if cube else "sampler2D"
-        if p.key == "cube":
-            defines["FACET_CUBE_PASS"] = None
-        if prepared.frag_color:
-            defines["FACET_FRAG_COLOR"] = None
-        try:
-            prog = compile_program(self.ctx, fullscreen_vertex(), host_path, defines,
-                                   fragment_text=stage, texts=texts)
-        except ShaderError as exc:
-            raise blame_user(exc, name, prepared.text) from None
-        self.dialects[p.key] = prepared.kind
+        cubes = [cube for _, _, _, cube in self._bindings[p.key]]
+        prog, self.dialects[p.key] = compile_pass(self.ctx, self.project, p, cubes)
         for uniform, values in self.uniforms.items():  # user uniforms survive a reload
             write_uniform(prog, uniform, values)
         return prog
@@ -257,7 +210,7 @@ class ShaderToy:
                 for name in (f"iChannel{n}", f"u_tex{n}"):
                     if name in prog:
                         where = f"{p.name} pass" if len(self.project.passes) > 1 else \
-                            _display(p.path)
+                            display_path(p.path)
                         warnings.warn(f"{where} reads {name}, which nothing is bound to: it "
                                       "reads facet's noise texture (Shadertoy's RGBA Noise "
                                       f"Medium stand-in); give --channel{n} SOURCE, or none "
@@ -437,12 +390,6 @@ class ShaderToy:
 
     def __exit__(self, *exc):
         self.close()
-
-
-def _display(path: Path) -> str:
-    from ..gl.glsl_source import display_path
-
-    return display_path(path)
 
 
 def _size(size) -> tuple[int, int]:

@@ -26,7 +26,6 @@ format, programs per variant, meshes per Mesh; options are never stored.
 
 from __future__ import annotations
 
-import copy
 import threading
 import warnings
 import weakref
@@ -41,7 +40,6 @@ from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import writing
-from ..scene.light import active_lights
 from ..scene.options import (
     ParsedLayer,
     RenderOptions,
@@ -55,17 +53,8 @@ from .destination import Destination, Surfaces
 from .engine import engine_for
 from .finish import Finisher, finish_for
 from .frame import Frame
+from .prepare import frozen, prepare_frame
 from .state import FrameState
-
-LIGHT_ORDER = ("DirectionalLight", "PointLight", "SpotLight", "AreaLight")
-
-
-def frozen(scene: Scene) -> Scene:
-    """A view of ``scene`` whose objects are copies with their own transforms and materials
-    (what a deferred pass draws, whatever the caller changes afterwards)."""
-    return scene.view(objects=[
-        replace(o, transform=np.array(o.transform, dtype=np.float64),
-                material=copy.copy(o.material)) for o in scene.objects])
 
 
 class Renderer:
@@ -177,7 +166,7 @@ class Renderer:
     def _sequence(self, scene, camera, opts: RenderOptions, dest: Destination):
         self._settle()
         engine = self._engine(opts.engine)
-        scene, state = self._prepare(scene, camera, opts, dest)  # 1
+        scene, state = prepare_frame(scene, camera, opts, dest.window is not None)  # 1
         self._warn(engine.unsupported(opts, scene))
         surf = self._surfaces_for(opts.size)
         aa = engine.sampling(opts, scene, state.camera, dest.preview)
@@ -240,28 +229,6 @@ class Renderer:
         self._unread = None
         if frame is not None:
             frame.settle()
-
-    def _prepare(self, scene, camera, opts: RenderOptions, dest: Destination):
-        """The scene as this render sees it, and the frame's state (step 1)."""
-        camera = with_lens(camera, opts.aperture, opts.focus)
-        # Lights in a canonical order (by kind; the sum does not care): programs are
-        # specialised on the kinds, so scenes that differ only in light order share one.
-        lights = sorted(active_lights(scene.lights, camera.view, opts.lights),
-                        key=lambda light: LIGHT_ORDER.index(type(light).__name__))
-        view = scene.view(lights=lights)
-        # options_for put the scene's own background and environment under the explicit
-        # ones; None (a RenderOptions built without a scene) means the scene's.
-        background = np.array(scene.background if opts.background is None else opts.background,
-                              dtype=np.float64)
-        if dest.window is not None:
-            background[3] = 1.0  # a window shows colour only
-        view.background = background
-        if opts.environment is not None:
-            view.environment = opts.environment
-        state = FrameState(camera, opts.width, opts.height, dest.flip_y, opts.shading,
-                           opts.srgb, tuple(point_lights_for(view).lights), view.ambient,
-                           view.environment, time=opts.time, cull=opts.cull)
-        return view, state
 
     def _colour(self, engine, scene, state, opts, aa, dest, surf, together):
         """Steps 4 and 5: (colour read back or None, samples shown)."""

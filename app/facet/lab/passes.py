@@ -1,0 +1,70 @@
+"""One pass of a Shadertoy-style program compiled (facet.lab.shadertoy): its text read
+afresh (from its file, or from the JSON export read again), its dialect decided
+(facet.lab.dialect), the common file and the user's file included into facet's wrapper
+(glsl/shadertoy/host.frag for Shadertoy, viewer.frag for glslViewer), with the pass's
+defines and its channels' sampler types; a compiler error caused by the user's file is
+blamed on it.
+"""
+
+from __future__ import annotations
+
+from ..errors import InputError, ShaderError
+from ..gl.fullscreen import fullscreen_vertex
+from ..gl.glsl_source import display_path, glsl_root
+from ..gl.shaders import Program, compile_program
+from . import project as P
+from .dialect import GLSLVIEWER, blame_user, prepare
+
+
+def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, str]:
+    """(program, dialect) of pass ``p``; ``cubes``: per channel 0-3 whether it is a cube
+    map (its sampler type)."""
+    name = display_path(p.path)
+    try:
+        text = source(project, p)
+    except UnicodeDecodeError:
+        raise InputError(f"{name}: not a text file (GLSL must be UTF-8)") from None
+    prepared = prepare(text, name, cube=p.key == "cube")
+    texts = {p.path: prepared.text}
+    includes = []
+    common = project.common
+    if common is not None and prepared.kind != GLSLVIEWER:
+        code = project.common_code
+        if code is None:
+            code = common.read_text(encoding="utf-8") if common.is_file() else None
+            if code is None:
+                raise InputError(f"{common}: no such common file")
+        texts[common] = prepare(code, display_path(common), common=True).text
+        includes.append(f'#include "{common.resolve()}"')
+    includes.append(f'#include "{p.path.resolve()}"')
+    host = "viewer.frag" if prepared.kind == GLSLVIEWER else "host.frag"
+    host_path = glsl_root() / "shadertoy" / host
+    stage = host_path.read_text().replace("\nFACET_USER_CODE\n",
+                                          "\n" + "\n".join(includes) + "\n")
+    defines = {"HW_PERFORMANCE": 1, **p.defines}
+    for n, cube in enumerate(cubes):
+        defines[f"FACET_CHANNEL{n}"] = "samplerCube" if cube else "sampler2D"
+    if p.key == "cube":
+        defines["FACET_CUBE_PASS"] = None
+    if prepared.frag_color:
+        defines["FACET_FRAG_COLOR"] = None
+    try:
+        prog = compile_program(ctx, fullscreen_vertex(), host_path, defines,
+                               fragment_text=stage, texts=texts)
+    except ShaderError as exc:
+        raise blame_user(exc, name, prepared.text) from None
+    return prog, prepared.kind
+
+
+def source(project: P.Project, p: P.Pass) -> str:
+    """The pass's current text (from its file, or from the export read again)."""
+    if p.code is None:
+        from ..guard import regular_file
+
+        return regular_file(p.path, "shader file").read_text(encoding="utf-8")
+    origin = project.origin
+    if origin is not None and origin.suffix.lower() == ".json" and origin.is_file():
+        fresh = P.load_shadertoy_json(origin, project.media).passes.get(p.key)
+        if fresh is not None:
+            return fresh.code
+    return p.code

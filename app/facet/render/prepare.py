@@ -1,0 +1,51 @@
+"""Step 1 of facet.render.renderer's sequence: the scene as one render sees it (the lights
+that shine, in a canonical order; its background and environment as the options say) and
+the frame's state (facet.render.state); and a snapshot of a scene for a pass drawn later.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import replace
+
+import numpy as np
+
+from ..geometry.lens import with_lens
+from ..scene.light import active_lights
+from .antialias import point_lights_for
+from .state import FrameState
+
+LIGHT_ORDER = ("DirectionalLight", "PointLight", "SpotLight", "AreaLight")
+
+
+def prepare_frame(scene, camera, opts, window: bool):
+    """The scene as a render sees it (its lights that shine, in a canonical order; its
+    background and environment as the options say), and the frame's state: step 1 of
+    facet.render.renderer's sequence. ``window``: a window shows colour only (opaque)."""
+    camera = with_lens(camera, opts.aperture, opts.focus)
+    # Lights in a canonical order (by kind; the sum does not care): programs are
+    # specialised on the kinds, so scenes that differ only in light order share one.
+    lights = sorted(active_lights(scene.lights, camera.view, opts.lights),
+                    key=lambda light: LIGHT_ORDER.index(type(light).__name__))
+    view = scene.view(lights=lights)
+    # options_for put the scene's own background and environment under the explicit
+    # ones; None (a RenderOptions built without a scene) means the scene's.
+    background = np.array(scene.background if opts.background is None else opts.background,
+                          dtype=np.float64)
+    if window:
+        background[3] = 1.0
+    view.background = background
+    if opts.environment is not None:
+        view.environment = opts.environment
+    state = FrameState(camera, opts.width, opts.height, not window, opts.shading, opts.srgb,
+                       tuple(point_lights_for(view).lights), view.ambient, view.environment,
+                       time=opts.time, cull=opts.cull)
+    return view, state
+
+
+def frozen(scene):
+    """A view of ``scene`` whose objects are copies with their own transforms and materials
+    (what a deferred pass draws, whatever the caller changes afterwards)."""
+    return scene.view(objects=[
+        replace(o, transform=np.array(o.transform, dtype=np.float64),
+                material=copy.copy(o.material)) for o in scene.objects])
