@@ -76,7 +76,7 @@ class RenderOptions:
     camera : a scene camera's name or None   aperture, focus : a lens over the camera's
     environment : an Environment or None (options_for: the scene's)
     lights : LIGHTS                          wireframe : overlay the triangle edges
-    time : seconds (users' shaders' u_time)  engine : "raster" or "trace"
+    time : seconds (users' shaders' u_time)  engine : one of ENGINES (facet.render.engine)
     max_depth : the ray tracer's reflection/refraction recursion (1: the notes' one
                 reflection and one transmission ray; default DEFAULT_MAX_DEPTH)
     up : the world's up axis: default cameras frame the scene and turntables orbit

@@ -21,7 +21,7 @@ from ...gl.fullscreen import FullScreenPass
 from ...gl.glsl_source import glsl_root
 from ...gl.shaders import compile_program
 from ...gl.targets import aux_locations
-from ...scene.options import PCF_CHOICES, parse_aa
+from ...scene.options import RenderOptions, parse_aa
 from ...scene.pbr import PbrMaterial
 from ...scene.scene import MAX_LIGHTS
 from ..antialias import accumulation
@@ -150,7 +150,7 @@ class TraceEngine(Engine):
         if opts.cull == "on":
             lines.append("the ray tracer culls no back faces for cull = on (only "
                          "single-sided glTF materials lose theirs)")
-        if opts.pcf != PCF_CHOICES[1]:
+        if opts.pcf != RenderOptions.pcf:  # given: the default filters nothing here
             lines.append("pcf filters shadow maps; the ray tracer's shadow rays are exact")
         counts: dict[str, int] = {}
         for obj in scene.objects:
