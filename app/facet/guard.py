@@ -12,10 +12,12 @@ line.
 from __future__ import annotations
 
 import contextlib
+import os
 import stat
 from contextvars import ContextVar
 from pathlib import Path
 
+from .budgets import budget
 from .errors import InputError
 
 MAX_IMAGE_PIXELS = 1 << 28  # 268 megapixels (16384^2): textures, channels, environments
@@ -73,6 +75,10 @@ def regular_file(path, what: str = "file", error=InputError, missing: str | None
                 "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
                 "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
         raise error(f"{p}: is {kind}, expected a {what} (facet reads regular files only)")
+    size_limit = budget("file_bytes")
+    if os.stat(p).st_size > size_limit:
+        raise error(f"{p}: {os.stat(p).st_size / 2**30:.1f} GiB, more than facet's budget of "
+                    f"{size_limit / 2**30:.1f} GiB for a {what} (FACET_BUDGET_FILE_BYTES)")
     if lfs_pointer(p):
         raise error(f"{p}: is a Git LFS pointer, not the {what} itself (its repository was "
                     "cloned without Git LFS: run `git lfs pull` there)")

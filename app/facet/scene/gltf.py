@@ -22,6 +22,7 @@ import numpy as np
 
 from ..errors import FacetWarning, MeshError
 from ..srgb import linear_to_srgb
+from .gltf_check import check_gltf
 from .gltf_data import GltfData
 from .pbr import PbrMaterial, TextureSlot, texture_transform
 
@@ -36,10 +37,17 @@ NO_MIPS = {9728, 9729}
 
 def read_gltf(path: Path, check_mesh) -> tuple[list, dict]:
     """(parts as (name, mesh arguments, 4x4 node -> file), {camera name: Camera}).
-    ``check_mesh(arrays, where)`` finishes a primitive's arrays into ``Mesh`` arguments."""
+    ``check_mesh(arrays, where)`` finishes a primitive's arrays into ``Mesh`` arguments.
+    The document is checked (facet.scene.gltf_check) as JSON, before pygltflib builds it."""
     from pygltflib import GLTF2
 
-    _check_version(path)
+    document = _document(path)
+    version = str((document.get("asset") or {}).get("version", "") if isinstance(
+        document.get("asset"), dict) else "")
+    if not version.startswith("2."):
+        raise MeshError(f"{path}: glTF {version or 'without asset.version'}; facet reads "
+                        "glTF 2.0 (convert 1.0 files with the Khronos glTF-Pipeline)")
+    check_gltf(document, path.name)
     try:
         gltf = GLTF2().load(str(path))
     except Exception as exc:  # pygltflib raises what json/struct raise on bad files
@@ -48,29 +56,43 @@ def read_gltf(path: Path, check_mesh) -> tuple[list, dict]:
                         "or in another format?") from None
     if gltf is None:
         raise MeshError(f"{path}: cannot read the file as glTF; is it truncated?")
-    version = str(getattr(gltf.asset, "version", "") or "")
-    if not version.startswith("2."):
-        raise MeshError(f"{path}: glTF {version or 'without asset.version'}; facet reads "
-                        "glTF 2.0 (convert 1.0 files with the Khronos glTF-Pipeline)")
     return _Reader(gltf, path, check_mesh).read()
 
 
-def _check_version(path: Path) -> None:
-    """A binary glTF's header: magic "glTF" and container version 2 (pygltflib reads other
-    versions with a warning, and draws them wrong)."""
+def _document(path: Path) -> dict:
+    """The file's JSON document: a .gltf's text, or a GLB's JSON chunk (its header checked:
+    magic "glTF", container version 2, chunk lengths within the file)."""
+    import json
     import struct
 
+    size = path.stat().st_size
     with open(path, "rb") as f:
-        head = f.read(12)
-    if head[:4] != b"glTF":
-        if path.suffix.lower() == ".glb":
-            raise MeshError(f"{path}: not a binary glTF file (it does not start with "
-                            "'glTF'); is it truncated or in another format?")
-        return
-    version = struct.unpack("<I", head[4:8])[0] if len(head) >= 8 else None
-    if version != 2:
-        raise MeshError(f"{path}: binary glTF version {version}; facet reads version 2 "
-                        "(glTF 2.0)")
+        head = f.read(20)
+        if head[:4] == b"glTF":
+            version = struct.unpack("<I", head[4:8])[0] if len(head) >= 8 else None
+            if version != 2:
+                raise MeshError(f"{path}: binary glTF version {version}; facet reads version "
+                                "2 (glTF 2.0)")
+            length, kind = struct.unpack("<II", head[12:20]) if len(head) >= 20 else (0, 0)
+            if kind != 0x4E4F534A or 20 + length > size:
+                raise MeshError(f"{path}: its JSON chunk (of {length:,} bytes) does not fit in "
+                                f"the file's {size:,}; is it truncated?")
+            text = f.read(length)
+        elif path.suffix.lower() == ".glb":
+            raise MeshError(f"{path}: not a binary glTF file (it does not start with 'glTF'); "
+                            "is it truncated or in another format?")
+        else:
+            text = head + f.read()
+    try:
+        document = json.loads(text)
+    except RecursionError:
+        raise MeshError(f"{path}: its JSON is nested too deeply to read") from None
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise MeshError(f"{path}: cannot read the file as glTF ({exc}); is it truncated "
+                        "or in another format?") from None
+    if not isinstance(document, dict):
+        raise MeshError(f"{path}: a glTF document is a JSON object")
+    return document
 
 
 class _Reader:

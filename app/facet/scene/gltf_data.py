@@ -117,11 +117,17 @@ class GltfData:
         return out[:, 0] if acc.type == "SCALAR" else out
 
     def _strided(self, view: int, offset: int, count: int, width: int, dtype) -> np.ndarray:
+        """(count, width) elements of bufferView ``view`` from ``offset``; every bound is
+        checked here (offset, stride and length are facet.scene.gltf_check's non-negative
+        integers) before the strided view is made."""
         data, start, length, stride = self.view(view)
         item = dtype.itemsize * width
         stride = stride or item
+        if stride < item:
+            self.fail(f"bufferView {view}: byteStride {stride} is less than one element's "
+                      f"{item} bytes")
         need = offset + stride * (count - 1) + item if count else 0
-        if need > length:
+        if offset < 0 or need > length:
             self.fail(f"bufferView {view} is too short for {count} elements; is the file "
                       "truncated?")
         raw = np.frombuffer(data, np.uint8, count=length, offset=start)

@@ -1,0 +1,42 @@
+"""Running facet on hostile input, for the reliability tests: a `facet` command in a child
+process under a memory limit and a timeout, so a blow-up fails the test, not the machine;
+and what a handled refusal looks like (exit 2, one line, no traceback, no signal)."""
+
+from __future__ import annotations
+
+import os
+import resource
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+MEMORY = 3 << 30  # address space of the child: facet's budgets keep far below it
+
+
+def _limit():  # in the child, before exec
+    resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
+
+
+def facet(*args, cwd=None, timeout: float = 60, env=None, stdin=None):
+    """(exit status, stderr) of `python -m facet ARGS` (a signal: a negative status)."""
+    full = {**os.environ, "PYTHONPATH": str(ROOT / "app"), **(env or {})}
+    run = subprocess.run([sys.executable, "-m", "facet", *map(str, args)], cwd=cwd,
+                         env=full, capture_output=True, text=True, timeout=timeout,
+                         preexec_fn=_limit, stdin=stdin if stdin is not None else
+                         subprocess.DEVNULL)
+    return run.returncode, run.stderr
+
+
+def refused(result, *fragments) -> str:
+    """Assert ``result`` is a refusal: exit 2, one line of stderr starting with facet's
+    error prefix (warnings before it allowed), no traceback; returns the line."""
+    code, err = result
+    lines = [line for line in err.strip().splitlines() if not line.startswith(
+        "facet: warning:")]
+    assert code == 2, (code, err[-2000:])
+    assert "Traceback" not in err, err[-2000:]
+    assert len(lines) == 1 and lines[0].startswith("facet: error: "), err[-2000:]
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, lines[0])
+    return lines[0]
