@@ -23,7 +23,7 @@ BUDGETS = {
     "elements": (1 << 28, "numbers in one glTF accessor"),
     "gltf_items": (1_000_000, "accessors, meshes, materials, ... of one glTF file, each"),
     "nodes": (200_000, "nodes of one glTF file"),
-    "objects": (100_000, "objects of one scene file"),
+    "objects": (50_000, "objects of one scene file"),
     "depth": (1_000, "levels of nesting: node hierarchies, parent chains, includes, JSON"),
     "shader_bytes": (1 << 20, "bytes of one shader with everything it includes"),
     "wait_seconds": (10, "seconds to wait for a window system to answer"),

@@ -3,7 +3,15 @@
 ``regular_file(path, what)`` is called before any user-named file is opened: a missing
 path, a directory, a FIFO, a device or a socket each get one clear error instead of a hang
 (a FIFO blocks an open) or a misleading message, and so does a Git LFS pointer (what a
-clone without Git LFS leaves in place of a model or an image). ``open_image`` opens an image with an
+clone without Git LFS leaves in place of a model or an image) or a file beyond the size
+budget (facet.budgets). Under ``confined(folder)`` a file outside the folder gets the same
+sentence whether it exists or not (a confined input cannot probe which files exist).
+
+Writing: ``check_output(path)`` before any file is written: an existing FIFO, device or
+socket is refused (never opened, never replaced), and within ``writing_into(folder)`` (a
+dataset's output folder) a path whose folder resolves outside it (a symbolic link to
+elsewhere) or that is itself a symbolic link is refused: facet writes only inside the
+output folder it was given. ``open_image`` opens an image with an
 explicit pixel budget (a decompression bomb is an error, not a traceback) and no warnings
 reaching the terminal. ``parse_toml`` turns a nesting the parser cannot follow into one
 line.
@@ -26,6 +34,8 @@ LFS_POINTER = b"version https://git-lfs.github.com/spec/"  # how a pointer file 
 
 # The folder every file read on a user's behalf must lie in (``confined``), or None.
 _CONFINE: ContextVar[Path | None] = ContextVar("facet_confine", default=None)
+# The folder every file written must lie in (``writing_into``), or None.
+_OUTPUT: ContextVar[Path | None] = ContextVar("facet_output", default=None)
 
 
 @contextlib.contextmanager
@@ -43,6 +53,42 @@ def confined(folder):
         _CONFINE.reset(token)
 
 
+@contextlib.contextmanager
+def writing_into(folder):
+    """Within this block, refuse to write outside ``folder`` (module docstring)."""
+    token = _OUTPUT.set(Path(folder).resolve())
+    try:
+        yield
+    finally:
+        _OUTPUT.reset(token)
+
+
+def check_output(path) -> Path:
+    """``path`` when facet may write it (module docstring); InputError otherwise."""
+    p = Path(path)
+    try:
+        info = os.lstat(p)
+    except FileNotFoundError:
+        info = None
+    except OSError as exc:
+        raise InputError(f"{p}: cannot be written ({exc.strerror or exc})") from None
+    if info is not None and stat.S_ISDIR(info.st_mode):
+        raise InputError(f"{p}: is a directory; give a file name for the output")
+    if info is not None and not (stat.S_ISREG(info.st_mode) or stat.S_ISLNK(info.st_mode)):
+        kind = "a named pipe (FIFO)" if stat.S_ISFIFO(info.st_mode) else \
+            "a device" if stat.S_ISCHR(info.st_mode) or stat.S_ISBLK(info.st_mode) else \
+            "a socket"
+        raise InputError(f"{p}: is {kind}; facet writes regular files only")
+    root = _OUTPUT.get()
+    if root is not None:
+        parent = p.parent.resolve()
+        if (parent != root and root not in parent.parents) or \
+                (info is not None and stat.S_ISLNK(info.st_mode)):
+            raise InputError(f"{p}: leads outside the output folder {root} (a symbolic "
+                             "link); facet writes only inside it")
+    return p
+
+
 def check_confined(path, what: str = "file", error=InputError) -> None:
     """``error`` when ``path`` resolves outside the confinement folder (if one is set)."""
     root = _CONFINE.get()
@@ -50,16 +96,18 @@ def check_confined(path, what: str = "file", error=InputError) -> None:
         return
     resolved = Path(path).resolve()
     if resolved != root and root not in resolved.parents:
-        raise error(f"{path}: outside the confinement folder {root} (the {what} is not "
-                    "read; --confine)")
+        raise error(f"{path}: not readable here: outside the confinement folder {root} "
+                    f"(--confine; a {what} there is never read, whether it exists or not)")
 
 
-def regular_file(path, what: str = "file", error=InputError, missing: str | None = None) -> Path:
+def regular_file(path, what: str = "file", error=InputError, missing: str | None = None,
+                 confine: bool = True) -> Path:
     """``path`` when it is a readable regular file (and inside the confinement folder, if
-    one is set); ``error`` naming it otherwise (``missing``: the noun for a path that does
-    not exist, default ``what``)."""
+    one is set and ``confine``: facet's own files are not the input's); ``error`` naming it
+    otherwise (``missing``: the noun for a path that does not exist, default ``what``)."""
     p = Path(path)
-    check_confined(p, what, error)
+    if confine:
+        check_confined(p, what, error)
     try:
         mode = p.stat().st_mode
     except FileNotFoundError:

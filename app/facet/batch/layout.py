@@ -26,22 +26,29 @@ job's digest: every other file is written before it, each one atomically.
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
 
+from ..guard import check_output
 from ..image.writers import save_array, save_exr, save_image, to_uint8, write_atomic
 
 CHANNEL_DIRS = {"depth": "depth", "normals": "normals", "position": "position", "uv": "uv"}
 
 
 def finished(folder: Path, digest: str) -> bool:
-    """Whether ``folder`` holds a finished job with this digest."""
+    """Whether ``folder`` holds a finished job with this digest (its transforms.json, a
+    regular file inside the output folder: a FIFO there is not opened)."""
     try:
-        data = json.loads((folder / "transforms.json").read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        path = check_output(folder / "transforms.json")
+        if not path.is_file():
+            return False
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
         return False
-    return data.get("facet", {}).get("digest") == digest
+    return isinstance(data, dict) and isinstance(data.get("facet"), dict) and \
+        data["facet"].get("digest") == digest
 
 
 def write_view(folder: Path, index: int, frame, outputs, float_files=("npy",)) -> dict:
@@ -94,7 +101,9 @@ def write_transforms(folder: Path, job, size, cameras, entries: list[dict]) -> P
 
 def append_index(path: Path, record: dict) -> None:
     """One JSON line in the dataset's index (appended and flushed at once)."""
-    with open(path, "a", encoding="utf-8") as f:
+    check_output(path)  # inside the output folder, not a FIFO: never a link followed out
+    fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT | os.O_NOFOLLOW, 0o666)
+    with open(fd, "a", encoding="utf-8") as f:
         f.write(json.dumps(record) + "\n")
         f.flush()
 
@@ -104,6 +113,8 @@ def compact_index(path: Path) -> None:
     a rerun's "skipped" keeps the record of the run that rendered it. Lines cut short by a
     crash are dropped."""
     try:
+        if not check_output(path).is_file():
+            return
         lines = path.read_text(encoding="utf-8").splitlines()
     except OSError:
         return

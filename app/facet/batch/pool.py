@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 from ..errors import FacetError, InputError
+from ..guard import writing_into
 from .layout import append_index, compact_index
 from .runner import _progress, chunks, render_jobs
 
@@ -81,13 +82,15 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
             bar.update(1)
 
     try:
-        if workers == 1:
-            run_here(jobs, out, (gpus or [None])[0], confine, note, view)
-        else:
-            run_pool(ctx, workers, setup, chunks(jobs, workers), out, note, news, view)
+        with writing_into(out):  # the index, like every job's files, stays inside out
+            if workers == 1:
+                run_here(jobs, out, (gpus or [None])[0], confine, note, view)
+            else:
+                run_pool(ctx, workers, setup, chunks(jobs, workers), out, note, news, view)
     finally:
         bar.close()
-        compact_index(out / "index.jsonl")
+        with writing_into(out):
+            compact_index(out / "index.jsonl")
     counts["seconds"] = round(time.perf_counter() - start, 3)
     return counts
 

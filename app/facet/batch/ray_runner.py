@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 
 from ..errors import FacetError, InputError
+from ..guard import writing_into
 from .layout import append_index, compact_index
 
 RETRIES = 2
@@ -92,13 +93,15 @@ def _run(ray, jobs, out: Path, gpus: int, actors, quiet: bool, confine) -> dict:
                             "error": f"lost its Ray worker {RETRIES + 1} times "
                                      f"({type(exc).__name__})"} for job in chunk]
             for record in records:
-                append_index(out / "index.jsonl", record)
+                with writing_into(out):
+                    append_index(out / "index.jsonl", record)
                 counts[record["status"]] += 1
                 counts["views"] += record["views"]
                 bar.update(record["views"] if record["status"] == "done" else 0)
     finally:
         bar.close()
-        compact_index(out / "index.jsonl")
+        with writing_into(out):
+            compact_index(out / "index.jsonl")
         for actor in pool:
             ray.kill(actor)
     counts["seconds"] = round(time.perf_counter() - start, 3)

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import FacetError
+from ..guard import writing_into
 from .colmap import surface_points, write_colmap
 from .layout import finished, write_transforms, write_view
 from .manifest import FRONT
@@ -104,7 +105,7 @@ def render_jobs(jobs, out: Path, renderer, confine=None, on_view=None):
         ahead = start(jobs[0]) if jobs else None
         for k, job in enumerate(jobs):
             current, ahead = ahead, start(jobs[k + 1]) if k + 1 < len(jobs) else None
-            with _confined(job_root(confine, job.model)):
+            with _confined(job_root(confine, job.model)), writing_into(out):
                 yield render_job(job, out, renderer,
                                  None if current is None else current.result, on_view)
             del current  # its scene goes once rendered

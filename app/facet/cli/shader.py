@@ -107,10 +107,9 @@ def parse_date(text: str):
 
 
 def _existing_file(path) -> None:
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: no such file" if not p.exists() else
-                         f"{p}: is a directory, expected a file")
+    from ..guard import regular_file
+
+    regular_file(path, "file")
 
 
 def parse_uniform(text: str) -> tuple[str, list[float]]:
@@ -236,8 +235,10 @@ def is_mesh_stage(path) -> bool:
     (mainImage) nor glslViewer code (gl_FragColor, u_resolution)."""
     import re
 
-    try:
-        text = Path(path).read_text(encoding="utf-8")
+    from ..guard import regular_file
+
+    try:  # through the guard: a FIFO or a file outside --confine is refused, not opened
+        text = regular_file(path, "shader file").read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError):
         return False
     lines = [ln.strip() for ln in text.splitlines()]

@@ -9,15 +9,22 @@ driver error logs through it. Rules:
   (the bundled ``glsl/`` directory last). Each file is included once per program.
 * A cycle is an error showing the chain; a missing file is an error at the including
   file and line.
+* Input controls the depth: the expansion is a loop over an explicit stack (no recursion),
+  no deeper than the depth budget, and the files together no larger than the shader budget
+  (facet.budgets: a compiler fed megabytes of source can crash); every file is read through
+  facet.guard (regular files only: an include that is a FIFO or a device is refused).
 """
 
 from __future__ import annotations
 
 import hashlib
+import os
 import re
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..budgets import budget
 from ..errors import FacetError, ShaderError
 from ..paths import data_dir
 
@@ -31,9 +38,13 @@ def glsl_root() -> Path:
 
 
 def file_digest(path: Path) -> str | None:
-    """SHA-1 of a file's content (None if it cannot be read): reloads compare content, not
-    timestamps, so touching a file or saving it unchanged reloads nothing."""
+    """SHA-1 of a file's content (None if it is missing, not a regular file, or larger than
+    the file budget): reloads compare content, not timestamps, so touching a file or saving
+    it unchanged reloads nothing. A watched FIFO or device is never opened."""
     try:
+        info = os.stat(path)
+        if not stat.S_ISREG(info.st_mode) or info.st_size > budget("file_bytes"):
+            return None
         return hashlib.sha1(Path(path).read_bytes()).hexdigest()
     except OSError:
         return None
@@ -80,7 +91,7 @@ def expand(path, defines: dict[str, object] | None = None,
     """
     texts = {Path(k).resolve(): v for k, v in (texts or {}).items()}
     stage = Path(path)
-    if text is None and not stage.is_file():
+    if text is None and not stage.exists():
         raise ShaderError(f"{display_path(stage)}: no such shader file")
     roots = tuple(Path(p) for p in search) + (glsl_root(),)
     stage_text = text
@@ -93,54 +104,91 @@ def expand(path, defines: dict[str, object] | None = None,
         out_lines.append(text)
         origin.append(where)
 
-    def include(file: Path, chain: list[Path], is_stage: bool) -> None:
+    size_limit, depth_limit = budget("shader_bytes"), budget("depth")
+    total = [0]
+
+    def read(file: Path, is_stage: bool) -> list[str]:
+        """The lines of ``file`` (given text first), read through facet.guard."""
+        name = display_path(file)
+        if is_stage and stage_text is not None:
+            body = stage_text
+        elif file in texts:
+            body = texts[file]
+        else:
+            from ..guard import regular_file
+
+            own = glsl_root().resolve() in file.parents  # facet's own library: always readable
+            try:
+                body = regular_file(file, "shader file", ShaderError,
+                                    confine=not own).read_text(encoding="utf-8")
+            except UnicodeDecodeError:
+                raise ShaderError(f"{name}: error: not a text file (GLSL must be UTF-8)") \
+                    from None
+        total[0] += len(body)
+        if total[0] > size_limit:
+            raise ShaderError(f"{name}: error: the shader and its includes pass "
+                              f"{size_limit:,} bytes, facet's budget (FACET_BUDGET_"
+                              "SHADER_BYTES): a GL compiler fed that much can crash")
+        return body.splitlines()
+
+    def enter(file: Path, chain: list[Path], is_stage: bool):
+        """A frame for ``file`` (None when it was included already)."""
         file = file.resolve()
         if file in chain:
             names = " -> ".join(display_path(p) for p in [*chain, file])
             raise ShaderError(f"{display_path(chain[-1])}: error: #include cycle: {names}")
         if file in done:
-            return
+            return None
+        if len(chain) >= depth_limit:
+            raise ShaderError(f"{display_path(chain[-1])}: error: #include nested more than "
+                              f"{depth_limit:,} deep, facet's budget (FACET_BUDGET_DEPTH)")
         done.add(file)
         files.append(file)
+        return [file, read(file, is_stage), 0, chain, is_stage]
+
+    stack = [enter(stage, [], True)]
+    while stack:
+        frame = stack[-1]
+        file, lines, index, chain, is_stage = frame
+        if index >= len(lines):
+            stack.pop()
+            continue
+        line, number = lines[index], index + 1
+        frame[2] += 1
         name = display_path(file)
-        try:
-            body = stage_text if is_stage and stage_text is not None else \
-                texts[file] if file in texts else file.read_text(encoding="utf-8")
-        except UnicodeDecodeError:
-            raise ShaderError(f"{name}: error: not a text file (GLSL must be UTF-8)") from None
-        for number, line in enumerate(body.splitlines(), start=1):
-            if _VERSION.match(line):
-                if not (is_stage and number == 1):
-                    raise ShaderError(f"{name}:{number}:1: error: #version belongs on line 1 "
-                                      "of a stage file only (.vert/.frag/.comp)")
-                emit(line, (name, number))
-                for key, value in (defines or {}).items():
-                    emit(f"#define {key} {'' if value is None else value}".rstrip(),
-                         ("<defines>", len(origin)))
-                continue
-            m = _INCLUDE.match(line)
-            if not m:
-                emit(line, (name, number))
-                continue
-            target = m.group(1) or m.group(2)
-            for base in (file.parent, *roots):
-                candidate = base / target
-                if candidate.is_file() or candidate.resolve() in texts:
-                    if base != glsl_root():  # facet's own library is always readable
-                        from ..guard import check_confined
+        if _VERSION.match(line):
+            if not (is_stage and number == 1):
+                raise ShaderError(f"{name}:{number}:1: error: #version belongs on line 1 "
+                                  "of a stage file only (.vert/.frag/.comp)")
+            emit(line, (name, number))
+            for key, value in (defines or {}).items():
+                emit(f"#define {key} {'' if value is None else value}".rstrip(),
+                     ("<defines>", len(origin)))
+            continue
+        m = _INCLUDE.match(line)
+        if not m:
+            emit(line, (name, number))
+            continue
+        target = m.group(1) or m.group(2)
+        for base in (file.parent, *roots):
+            candidate = base / target
+            if candidate.exists() or candidate.resolve() in texts:
+                if base != glsl_root():  # facet's own library is always readable
+                    from ..guard import check_confined
 
-                        check_confined(candidate, "include", ShaderError)
-                    include(candidate, [*chain, file], is_stage=False)
-                    break
-            else:
-                searched = ", ".join(display_path(b) for b in (file.parent, *roots))
-                col = line.index(target) + 1 if target in line else 1
-                error = ShaderError(f'{name}:{number}:{col}: error: cannot find include '
-                                    f'"{target}" (searched {searched})')
-                error.missing = [file.parent / target]  # where a new file would be found
-                raise error
+                    check_confined(candidate, "include", ShaderError)
+                inner = enter(candidate, [*chain, file], is_stage=False)
+                if inner is not None:
+                    stack.append(inner)
+                break
+        else:
+            searched = ", ".join(display_path(b) for b in (file.parent, *roots))
+            col = line.index(target) + 1 if target in line else 1
+            error = ShaderError(f'{name}:{number}:{col}: error: cannot find include '
+                                f'"{target}" (searched {searched})')
+            error.missing = [file.parent / target]  # where a new file would be found
+            raise error
 
-    include(stage, [], is_stage=True)
     if stage_text is not None:
         files.remove(stage.resolve())  # nothing on disk to watch or quote
     if not out_lines or not _VERSION.match(out_lines[0]):

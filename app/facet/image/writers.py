@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..guard import check_output
 
 IMAGE_FORMATS = {".png": "PNG"}
 
@@ -21,9 +22,7 @@ IMAGE_FORMATS = {".png": "PNG"}
 @contextlib.contextmanager
 def write_atomic(path):
     """Yield a temporary path next to ``path``; on success rename it to ``path``."""
-    target = Path(path)
-    if target.is_dir():
-        raise InputError(f"{target}: is a directory; give a file name for the output")
+    target = check_output(path)  # not a FIFO, device or folder; inside the output folder
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         tmp = temp_beside(target, ".tmp")

@@ -31,9 +31,9 @@ def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, st
     if common is not None and prepared.kind != GLSLVIEWER:
         code = project.common_code
         if code is None:
-            code = common.read_text(encoding="utf-8") if common.is_file() else None
-            if code is None:
-                raise InputError(f"{common}: no such common file")
+            from ..guard import regular_file
+
+            code = regular_file(common, "common file").read_text(encoding="utf-8")
         texts[common] = prepare(code, display_path(common), common=True).text
         includes.append(f'#include "{common.resolve()}"')
     includes.append(f'#include "{p.path.resolve()}"')

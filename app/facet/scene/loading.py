@@ -127,12 +127,13 @@ def _read(p: Path):
     """trimesh's object for a checked path (a Trimesh, a Scene, or something else)."""
     import trimesh  # imported here: commands that load no mesh do not pay for it
 
+    resolver = None
     if p.suffix.lower() == ".obj":
         _check_obj_indices(p)
-        _warn_missing_obj_files(p)
+        resolver = _guarded_resolver(p)
     try:
-        return trimesh.load(str(p), file_type=FORMATS[p.suffix.lower().lstrip(".")],
-                            process=False)
+        loaded = trimesh.load(str(p), file_type=FORMATS[p.suffix.lower().lstrip(".")],
+                              process=False, resolver=resolver)
     except FacetError:
         raise
     except Exception as exc:  # trimesh raises many types for bad files; report them as one
@@ -143,6 +144,48 @@ def _read(p: Path):
                 type(exc).__name__
         raise MeshError(f"{p}: cannot read the file as {p.suffix.lower()} ({detail}); "
                         "is it truncated or in another format?") from None
+    if getattr(resolver, "fatal", None):  # trimesh swallows what its resolver raises
+        raise resolver.fatal[0]
+    for name, problem in dict.fromkeys(getattr(resolver, "refused", ())):
+        warnings.warn(f"{p.name}: {name}: {problem}; loaded without it", FacetWarning,
+                      stacklevel=3)
+    return loaded
+
+
+def _guarded_resolver(p: Path):
+    """A trimesh resolver that opens only regular files inside the model's folder (and
+    the confinement folder, facet.guard), for whatever the model names (material
+    libraries, textures: trimesh finds ``mtllib`` even in a comment). A missing one is
+    listed in ``refused`` (the model loads without it, with one warning each); one that
+    is not a regular file, outside the confinement folder or beyond a budget is a
+    MeshError kept in ``fatal`` (raised once trimesh returns)."""
+    import trimesh
+
+    from ..guard import regular_file
+
+    class Guarded(trimesh.resolvers.FilePathResolver):
+        refused: list = []
+        fatal: list = []
+
+        def get(self, name: str) -> bytes:
+            shown = name.strip()
+            try:
+                path = self.absolute(shown)
+            except ValueError:
+                self.refused.append((shown, f"outside {self.parent}"))
+                raise FileNotFoundError(name) from None
+            if not path.exists() and not path.is_symlink():
+                self.refused.append((shown, f"not found in {path.parent}"))
+                raise FileNotFoundError(name)
+            try:
+                return regular_file(path, f"file {p.name} names", MeshError).read_bytes()
+            except MeshError as exc:
+                self.fatal.append(exc)
+                raise FileNotFoundError(name) from None
+
+    resolver = Guarded(str(p))
+    resolver.refused, resolver.fatal = [], []
+    return resolver
 
 
 # A face line with an index that is exactly 0 (OBJ counts from 1; negative counts back).
@@ -158,32 +201,6 @@ def _check_obj_indices(p: Path) -> None:
         line = data.count(b"\n", 0, m.start()) + 1
         raise MeshError(f"{p}:{line}: a face refers to vertex 0, but OBJ counts vertices "
                         "from 1 (or back from -1); fix the file's face indices")
-
-
-def _warn_missing_obj_files(p: Path) -> None:
-    """One warning line per material library or texture an OBJ names but that is missing
-    (the model then loads without it)."""
-    from ..guard import regular_file
-
-    pattern = re.compile(rb"^[ \t]*mtllib[ \t]+(.+?)[ \t]*$", re.M)
-    for lib in pattern.findall(p.read_bytes()):
-        name = lib.decode("utf-8", "replace")
-        mtl = p.parent / name
-        if mtl.exists() or mtl.is_symlink():  # a FIFO would hang the reader: refuse it
-            regular_file(mtl, "material library", MeshError)
-        if not mtl.is_file():
-            warnings.warn(f"{p.name}: material library '{name}' not found in {p.parent}; "
-                          "loaded without its materials", FacetWarning, stacklevel=4)
-            continue
-        maps = re.findall(rb"^[ \t]*(?:map_\w+|bump|disp|decal)[ \t]+(?:-\S+[ \t]+\S+[ \t]+)*"
-                          rb"(.+?)[ \t]*$", mtl.read_bytes(), re.M)
-        for image in dict.fromkeys(maps):
-            image_name = image.decode("utf-8", "replace")
-            if (mtl.parent / image_name).exists():
-                regular_file(mtl.parent / image_name, "texture", MeshError)
-            if not (mtl.parent / image_name).is_file():
-                warnings.warn(f"{mtl.name}: texture '{image_name}' not found in "
-                              f"{mtl.parent}; loaded without it", FacetWarning, stacklevel=4)
 
 
 def _trimesh_parts(p: Path, finish) -> list:

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..budgets import budget
 from ..errors import FacetError, SceneError
 from ..geometry import transforms as T
 from .material import Material
@@ -180,6 +181,9 @@ class _SceneBuilder:
         r = self.r
         if not isinstance(items, list):
             r.fail("objects", "expected an array of tables ([[objects]])")
+        if len(items) > budget("objects"):
+            r.fail("objects", f"{len(items):,} objects, more than facet's budget of "
+                   f"{budget('objects'):,} (FACET_BUDGET_OBJECTS)")
         nodes = {}
         for i, t in enumerate(items):
             where = f"objects[{i}]"
@@ -213,16 +217,22 @@ class _SceneBuilder:
                     r.fail(where, str(exc))
 
     def resolve_parents(self, nodes: dict) -> list[str]:
-        """Node names with every parent before its children; cycles and unknown parents fail."""
+        """Node names with every parent before its children (in time linear in the nodes);
+        cycles, unknown parents and chains deeper than the depth budget fail."""
         r, order, state = self.r, [], {}
+        limit = budget("depth")
         for name in nodes:
-            chain = []
+            chain, seen = [], set()
             current = name
             while current is not None and state.get(current) != "done":
-                if current in chain:
+                if current in seen:
                     loop = " -> ".join([*chain[chain.index(current):], current])
                     r.fail(f"{nodes[name]['where']}.parent", f"parent cycle: {loop}")
+                if len(chain) >= limit:
+                    r.fail(f"{nodes[name]['where']}.parent", f"parents more than {limit:,} "
+                           "levels deep, facet's budget (FACET_BUDGET_DEPTH)")
                 chain.append(current)
+                seen.add(current)
                 parent = nodes[current]["t"].get("parent")
                 if parent is not None:
                     parent = r.string(parent, f"{nodes[current]['where']}.parent")

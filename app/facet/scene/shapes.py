@@ -21,6 +21,7 @@ included: the tracer intersects in object space).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -50,9 +51,9 @@ class Shape:
         return self.kind == "plane" and self.params[0] == np.inf
 
     def mesh(self) -> Mesh:
-        """The tessellation the rasterizer draws (made once per shape)."""
+        """The tessellation the rasterizer draws (shapes of one kind and size share one)."""
         if self._mesh is None:
-            self._mesh = _TESSELLATE[self.kind](*self.params)
+            self._mesh = _tessellation(self.kind, tuple(self.params))
         return self._mesh
 
     @property
@@ -121,6 +122,13 @@ _TESSELLATE = {
     "box": lambda x, y, z: P.cube([x, y, z]),
 }
 KINDS = tuple(_TESSELLATE)
+
+
+@lru_cache(maxsize=256)
+def _tessellation(kind: str, params: tuple) -> Mesh:
+    """One Mesh per shape kind and size: a scene of many like shapes makes (and the
+    renderer uploads) it once."""
+    return _TESSELLATE[kind](*params)
 # Scene-file primitives that are shapes (their parameters as facet.scene.primitives names).
 SHAPES = {"sphere": lambda radius=1.0: Sphere(radius), "plane": lambda size=1.0: Plane(size),
           "disk": lambda radius=1.0: Disk(radius), "cube": lambda size=1.0: Box(size),
