@@ -13,8 +13,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gltf_files import GltfBuilder, png, quad
 from hostile import facet, refused
+
+from gltf_files import GltfBuilder, png, quad
 
 
 def _document():

@@ -11,8 +11,9 @@ from PIL import Image
 
 from facet.cli import main
 from facet.errors import FacetWarning, InputError, ShaderError
-from facet.lab.project import load_project, load_shadertoy_json
+from facet.lab.project import load_project
 from facet.lab.shadertoy import DEFAULT_DATE, ShaderToy
+from facet.lab.shadertoy_json import load_shadertoy_json
 from facet.scene.environment import face_directions
 
 

@@ -13,8 +13,8 @@ from PIL import Image
 
 from facet.cli import main
 from facet.errors import FacetWarning, ShaderError
-from facet.lab.project import load_shadertoy_json
 from facet.lab.shadertoy import ShaderToy
+from facet.lab.shadertoy_json import load_shadertoy_json
 
 W, H = 16, 8
 

@@ -16,8 +16,8 @@ from .errors import InputError
 
 # name: (default, what it bounds)
 BUDGETS = {
-    "pixels": (1 << 28, "pixels of one image: a render's size, textures, environments, "
-               "channels (16384 x 16384)"),
+    "pixels": (1 << 26, "pixels of one image: a render's size, textures, environments, "
+               "channels (8192 x 8192)"),
     "file_bytes": (1 << 31, "bytes of one file read into memory: models, glTF buffers, "
                    "images, includes, manifests"),
     "elements": (1 << 28, "numbers in one glTF accessor"),
@@ -54,6 +54,16 @@ def set_budget(text: str) -> None:
                          f"{', '.join(BUDGETS)}")
     os.environ[f"FACET_BUDGET_{name.upper()}"] = value.strip()
     budget(name)  # checked now
+
+
+def check_pixels(width: int, height: int, what: str) -> None:
+    """One line when a ``width`` x ``height`` image is beyond the pixel budget (before any
+    of it is allocated)."""
+    limit = budget("pixels")
+    if width * height > limit:
+        raise InputError(f"{what}: {width}x{height} is {width * height / 2**20:.0f} megapixels, "
+                         f"beyond facet's budget of {limit / 2**20:.0f} megapixels; make it "
+                         "smaller, or raise the budget with --budget pixels=N")
 
 
 def describe() -> dict[str, int]:

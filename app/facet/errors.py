@@ -56,4 +56,16 @@ def show_warning(message, category, filename, lineno, file=None, line=None):
     text = str(message).strip().splitlines()[0] if str(message).strip() else category.__name__
     if not issubclass(category, FacetWarning):
         text = f"{text} ({category.__name__})"
-    print(f"facet: warning: {text}", file=sys.stderr)
+    print(f"facet: warning: {printable(text)}", file=sys.stderr)
+
+
+def printable(text, keep_newlines: bool = False) -> str:
+    """``text`` with control characters escaped (``\\n``, ``\\x1b``, ...): a name from
+    the input printed raw could end a line early, rewrite it (CR) or drive the terminal
+    (ESC). ``keep_newlines`` keeps line breaks for multi-line compiler output."""
+    text = str(text)
+    keep = "\n" if keep_newlines else ""
+    if not any((ord(c) < 32 or ord(c) == 127) and c not in keep for c in text):
+        return text
+    return "".join(c.encode("unicode_escape").decode("ascii")
+                   if (ord(c) < 32 or ord(c) == 127) and c not in keep else c for c in text)

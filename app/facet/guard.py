@@ -28,7 +28,6 @@ from pathlib import Path
 from .budgets import budget
 from .errors import InputError
 
-MAX_IMAGE_PIXELS = 1 << 28  # 268 megapixels (16384^2): textures, channels, environments
 LFS_POINTER = b"version https://git-lfs.github.com/spec/"  # how a pointer file starts
 
 
@@ -91,11 +90,16 @@ def check_output(path) -> Path:
 
 def check_confined(path, what: str = "file", error=InputError) -> None:
     """``error`` when ``path`` resolves outside the confinement folder (if one is set)."""
+    if "\0" in str(path):
+        raise error(f"{path!r}: a path with a NUL byte names no file")
     root = _CONFINE.get()
     if root is None:
         return
-    resolved = Path(path).resolve()
-    if resolved != root and root not in resolved.parents:
+    try:
+        resolved = Path(path).resolve()
+    except (OSError, RuntimeError):  # a loop of links leads nowhere inside
+        resolved = None
+    if resolved is None or (resolved != root and root not in resolved.parents):
         raise error(f"{path}: not readable here: outside the confinement folder {root} "
                     f"(--confine; a {what} there is never read, whether it exists or not)")
 
@@ -108,6 +112,8 @@ def regular_file(path, what: str = "file", error=InputError, missing: str | None
     p = Path(path)
     if confine:
         check_confined(p, what, error)
+    elif "\0" in str(p):
+        raise error(f"{str(p)!r}: a path with a NUL byte names no file")
     try:
         mode = p.stat().st_mode
     except FileNotFoundError:
@@ -144,7 +150,7 @@ def lfs_pointer(path) -> bool:
 
 def open_image(source, name: str):
     """A Pillow image opened from ``source`` (a path or a file object), its size checked
-    against MAX_IMAGE_PIXELS before any pixel is decoded."""
+    against the pixel budget before any pixel is decoded."""
     import warnings
 
     from PIL import Image, UnidentifiedImageError
@@ -160,11 +166,30 @@ def open_image(source, name: str):
                              "PNG, JPEG or another image format)") from None
         except (OSError, ValueError) as exc:
             raise InputError(f"{name}: cannot read the image ({exc})") from None
-    if img is None or img.width * img.height > MAX_IMAGE_PIXELS:
+    limit = budget("pixels")
+    if img is None or img.width * img.height > limit:
         size = f" ({img.width}x{img.height})" if img is not None else ""
         raise InputError(f"{name}: the image{size} is larger than facet's budget of "
-                         f"{MAX_IMAGE_PIXELS // 2**20} megapixels; scale it down")
+                         f"{limit // 2**20} megapixels; scale it down, or raise the budget "
+                         "with --budget pixels=N")
     return img
+
+
+def parse_json(text, name: str, error=InputError):
+    """The value of JSON ``text`` (str or bytes); one line naming ``name`` when it is not
+    JSON or is nested too deeply to read (arrays inside arrays 100,000 deep)."""
+    import json
+
+    try:
+        return json.loads(text)
+    except RecursionError:
+        raise error(f"{name}: nested too deeply to read (arrays or objects inside one "
+                    "another thousands of times)") from None
+    except json.JSONDecodeError as exc:
+        raise error(f"{name}: not JSON ({exc.msg} at line {exc.lineno}, column "
+                    f"{exc.colno})") from None
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise error(f"{name}: not JSON text ({exc})") from None
 
 
 def parse_toml(text: str, name: str, error=InputError) -> dict:

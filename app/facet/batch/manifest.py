@@ -31,13 +31,14 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import glob as globbing
 import hashlib
 import json
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
+from ..guard import parse_json, regular_file
 from ..scene.options import (
     MAX_FRAMES,
     PARSERS,
@@ -90,15 +91,13 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
     path = Path(text)
     base_defaults = dict(defaults or {})
     if path.suffix.lower() == ".toml" and path.is_file():
-        from ..guard import parse_toml, regular_file
+        from ..guard import parse_toml
 
         data = parse_toml(regular_file(path, "manifest").read_text(encoding="utf-8"),
                           path.name)
         entries = _document_entries(data, path.name, base_defaults, "[defaults] and [[jobs]]")
         base = path.parent
     elif path.suffix.lower() in (".jsonl", ".json") and path.is_file():
-        from ..guard import regular_file
-
         entries, merged = [], base_defaults
         text_ = regular_file(path, "manifest").read_text(encoding="utf-8")
         document = _json_document(text_) if path.suffix.lower() == ".json" else None
@@ -112,11 +111,7 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
             if not line.strip():
                 continue
             where = f"{path.name}:{number}"
-            try:
-                obj = json.loads(line)
-            except json.JSONDecodeError as exc:
-                raise InputError(f"{where}: not JSON ({exc.msg})") from None
-            obj = _table(obj, where)
+            obj = _table(parse_json(line, where), where)
             if "defaults" in obj:
                 merged = merge_raw(merged, _table(obj["defaults"], f"{where}: defaults"),
                                    base_defaults)
@@ -125,7 +120,7 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
         base = path.parent
     else:
         # Files only: a folder the pattern also matches is no model.
-        files = sorted(f for f in globbing.glob(text, recursive=True) if Path(f).is_file())
+        files = _model_files(text)
         if not files:
             raise InputError(f"{text}: no manifest file and no model files match it")
         entries = [(f, base_defaults, {"model": f}) for f in files]
@@ -143,6 +138,22 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
         names[name] = where
         unique.append(job if name == job.name else dataclasses.replace(job, name=name))
     return unique
+
+
+def _model_files(pattern: str) -> list[str]:
+    """The files a glob names, sorted; ``**`` descends into folders but never through a
+    symbolic link to one (a link back up would loop for ever)."""
+    parts = Path(pattern).parts
+    fixed = next((i for i, part in enumerate(parts) if any(c in part for c in "*?[")),
+                 len(parts))
+    if fixed == len(parts):
+        return [pattern] if Path(pattern).is_file() else []
+    base = Path(*parts[:fixed]) if fixed else Path(".")
+    try:
+        found = base.glob(str(Path(*parts[fixed:])))
+        return sorted(str(f) for f in found if f.is_file())
+    except (OSError, ValueError):  # unreadable folders, a pattern pathlib cannot take
+        return []
 
 
 def _document_entries(data: dict, name: str, base_defaults: dict, keys: str) -> list:
@@ -166,6 +177,9 @@ def _json_document(text: str):
         value = json.loads(text)
     except json.JSONDecodeError:
         return None
+    except RecursionError:
+        raise InputError("the manifest is nested too deeply to read (arrays or objects "
+                         "inside one another thousands of times)") from None
     return value if isinstance(value, list) or (isinstance(value, dict) and (
         "jobs" in value or set(value) <= {"defaults"})) else None
 
@@ -186,10 +200,14 @@ def _job(where: str, t: dict, base: Path) -> Job:
             raise InputError(f"{where}: unknown key {key!r}{hint}")
     if "model" not in t:
         raise InputError(f"{where}: needs model = \"FILE\"")
-    model = Path(str(t["model"]))
+    if not isinstance(t["model"], str) or not t["model"]:
+        raise InputError(f"{where}.model: expected a file name, got {t['model']!r}")
+    model = Path(t["model"])
     model = model if model.is_absolute() else base / model
-    if not model.is_file():  # the whole manifest is checked before any rendering
-        raise InputError(f"{where}.model: {model}: no such file")
+    try:  # the whole manifest is checked before any rendering
+        regular_file(model, "model file", missing="file")
+    except InputError as exc:
+        raise InputError(f"{where}.model: {exc}") from None
     name = str(t.get("name") or model.stem)
     if not name or "/" in name or name.startswith("."):
         raise InputError(f"{where}.name: {name!r} cannot be a folder name")
@@ -208,9 +226,8 @@ def _job(where: str, t: dict, base: Path) -> Job:
     views = _views(t.get("views", {}), f"{where}.views", t.get("seed", 0))
     if views.file is not None:  # relative to the manifest, checked now
         file = Path(views.file) if Path(views.file).is_absolute() else base / views.file
-        if not file.is_file():
-            raise InputError(f"{where}.views.file: {file}: no such file")
         try:  # read now: a file that is no transforms.json is found before any rendering
+            regular_file(file, "cameras file", missing="file")
             count = _camera_count(str(file.resolve()))
         except InputError as exc:
             raise InputError(f"{where}.views.file: {exc}") from None
@@ -263,15 +280,32 @@ def _views(v, where: str, seed) -> ViewPlan:
     if plan not in PLANS:
         raise InputError(f"{where}.plan: {plan!r}; choose one of {', '.join(PLANS)}")
     count = v.get("count", 8)
-    if plan != "cameras" and not (isinstance(count, int) and 1 <= count <= MAX_FRAMES):
+    if plan != "cameras" and not (_whole(count) and 1 <= count <= MAX_FRAMES):
         raise InputError(f"{where}.count: expected 1..{MAX_FRAMES} views, got {count!r}")
     if plan == "cameras" and "file" not in v:
         raise InputError(f"{where}: plan = \"cameras\" needs file = \"transforms.json\"")
-    lo_hi = v.get("elevations", (-10.0, 40.0))
-    try:
-        return ViewPlan(plan, int(count), float(v.get("elevation", 20.0)),
-                        (float(lo_hi[0]), float(lo_hi[1])), int(v.get("seed", seed)),
-                        v.get("file"))
-    except (TypeError, ValueError, IndexError):
-        raise InputError(f"{where}: elevation and seed are numbers, elevations two numbers"
-                         ) from None
+    file = v.get("file")
+    if file is not None and (not isinstance(file, str) or not file or "\0" in file):
+        raise InputError(f"{where}.file: expected the path of a transforms.json, got {file!r}")
+    seed = v.get("seed", seed)
+    if not (_whole(seed) and 0 <= seed < 2**63):
+        raise InputError(f"{where}.seed: expected a whole number >= 0, got {seed!r}")
+    elevation = v.get("elevation", 20.0)
+    if not (_real(elevation) and -90 <= elevation <= 90):
+        raise InputError(f"{where}.elevation: expected degrees in [-90, 90], got {elevation!r}")
+    lo_hi = v.get("elevations", [-10.0, 40.0])
+    if not (isinstance(lo_hi, (list, tuple)) and len(lo_hi) == 2 and all(map(_real, lo_hi))
+            and -90 <= lo_hi[0] <= lo_hi[1] <= 90):
+        raise InputError(f"{where}.elevations: expected [low, high] degrees with -90 <= low "
+                         f"<= high <= 90, got {lo_hi!r}")
+    return ViewPlan(plan, int(count), float(elevation), (float(lo_hi[0]), float(lo_hi[1])),
+                    int(seed), file)
+
+
+def _whole(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _real(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and \
+        math.isfinite(value)

@@ -74,7 +74,9 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
         if record["status"] == "failed" and not quiet:
             import sys
 
-            print(f"facet: {record['job']}: {record['error']}", file=sys.stderr)
+            from ..errors import printable
+
+            print(printable(f"facet: {record['job']}: {record['error']}"), file=sys.stderr)
 
     def view(key) -> None:
         if shown.get(key, 0) < planned.get(key, 0):

@@ -42,6 +42,12 @@ def read_transforms(path, bounds=None, size=None) -> list:
         w, h = image_size(path, data, frame)
         fl_x = _focal(fields, "fl_x", "camera_angle_x", w, where)
         fl_y = _focal(fields, "fl_y", "camera_angle_y", h, where, default=fl_x)
+        for name, fl, extent in (("fl_x", fl_x, w), ("fl_y", fl_y, h)):
+            angle = 2 * math.degrees(math.atan(extent / 2 / fl))
+            if not 1e-3 <= angle <= 179:  # beyond, the projection is degenerate
+                raise InputError(f"{where}.{name}: a focal length of {fl:g} pixels is a "
+                                 f"{angle:.3g} degree field of view over {extent} pixels; "
+                                 "expected 0.001 to 179 degrees")
         cx = _number(fields.get("cx", w / 2), f"{where}.cx")
         cy = _number(fields.get("cy", h / 2), f"{where}.cy")
         to_world = _matrix(frame.get("transform_matrix"), f"{where}.transform_matrix")
@@ -70,20 +76,24 @@ def image_size(path: Path, data: dict, frame: dict | None = None) -> tuple[int, 
         w, h = fields["w"], fields["h"]
         if all(isinstance(v, (int, float)) and not isinstance(v, bool) and v >= 1
                and float(v).is_integer() for v in (w, h)):
+            from ..budgets import check_pixels
+
+            check_pixels(int(w), int(h), f"{path}: w x h")
             return int(w), int(h)
         raise InputError(f"{path}: w and h must be whole numbers >= 1, got {w!r} x {h!r}")
-    first = (frame or (data.get("frames") or [{}])[0]).get("file_path")
-    if isinstance(first, str):
+    if frame is None:
+        frames = data.get("frames")
+        frame = frames[0] if isinstance(frames, list) and frames else {}
+    first = frame.get("file_path") if isinstance(frame, dict) else None
+    if isinstance(first, str) and first and "\0" not in first:
+        from ..guard import check_confined, open_image, regular_file
+
         image = path.parent / first
         for candidate in (image, image.with_name(image.name + ".png")):
+            check_confined(candidate, "frame image")
             if candidate.is_file():
-                from PIL import Image, UnidentifiedImageError
-
-                try:
-                    with Image.open(candidate) as im:
-                        return im.size
-                except (OSError, UnidentifiedImageError) as exc:
-                    raise InputError(f"{candidate}: cannot read its size ({exc})") from None
+                with open_image(regular_file(candidate, "frame image"), str(candidate)) as im:
+                    return im.size
     raise InputError(f"{path}: no image size: give w and h, or keep the frames' images "
                      f"beside it ({first!r} not found)")
 

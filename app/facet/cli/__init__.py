@@ -28,13 +28,19 @@ class _Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
 
     def error(self, message: str):
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+        from ..errors import printable
+
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {printable(message)} "
+                  f"(see {self.prog} --help)\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="facet", description="facet: headless GPU rendering of meshes with "
                      "Phong shading (OpenGL through EGL; Mesa llvmpipe when there is no GPU).")
     parser.add_argument("--version", action="version", version="facet 0.1.0")
+    parser.add_argument("--budget", action="append", metavar="NAME=VALUE", default=[],
+                        help="raise (or lower) one of facet's resource budgets for this run, "
+                        "e.g. --budget pixels=300000000 (facet info lists them); repeatable")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     for name in COMMANDS:
@@ -85,9 +91,24 @@ def _unknown(parser, command: str, extras: list[str]) -> str:
     return f"unknown option {first}{hint}"
 
 
+def _apply_budgets(argv: list[str]) -> None:
+    """``facet --budget NAME=VALUE ... COMMAND``: set before anything is parsed (a
+    subcommand's --size is checked against the pixel budget as it is read)."""
+    from ..budgets import set_budget
+
+    for i, arg in enumerate(argv):
+        if arg in COMMANDS:
+            return
+        if arg == "--budget" and i + 1 < len(argv):
+            set_budget(argv[i + 1])
+        elif arg.startswith("--budget="):
+            set_budget(arg.split("=", 1)[1])
+
+
 def parse_args(argv: list[str]):
     """(arguments, one line about what the subcommand does not know or None): argparse
     with negative values joined to their options (argparse's own usage errors exit 2)."""
+    _apply_budgets(list(argv))
     parser = build_parser()
     args, extras = parser.parse_known_args(_join_negative_values(parser, list(argv)))
     problem = _unknown(parser, args.command, extras) if extras else None
@@ -97,13 +118,19 @@ def parse_args(argv: list[str]):
 def main(argv: list[str] | None = None) -> int:
     import warnings
 
-    args, problem = parse_args(sys.argv[1:] if argv is None else argv)
+    from ..errors import InputError
+
+    try:
+        args, problem = parse_args(sys.argv[1:] if argv is None else argv)
+    except InputError as exc:  # a --budget that is no budget
+        print(f"facet: error: {_printable(exc)}", file=sys.stderr)
+        return EXIT_USAGE
     if problem:
         prog = f"facet {args.command}"
-        print(f"{prog}: error: {problem} (see {prog} --help)",
+        print(f"{prog}: error: {_printable(problem)} (see {prog} --help)",
               file=sys.stderr)
         return EXIT_USAGE
-    from ..errors import FacetError, show_warning
+    from ..errors import FacetError, ShaderError, printable, show_warning
 
     previous = _stop_on_sigterm()
     try:
@@ -116,12 +143,13 @@ def main(argv: list[str] | None = None) -> int:
         if args.command in ("render", "shader") and not args.quiet:
             for path in result or ():
                 print(_printable(path))
-    except FacetError as exc:
-        print(f"facet: error: {exc}", file=sys.stderr)
+    except FacetError as exc:  # compiler output keeps its lines; anything else is one line
+        print(f"facet: error: {printable(exc, isinstance(exc, ShaderError))}",
+              file=sys.stderr)
         return EXIT_USAGE
     except OSError as exc:  # unwritable output folder, disk full, ...
         name = f"{_printable(exc.filename)}: " if exc.filename else ""
-        print(f"facet: error: {name}{exc.strerror or exc}", file=sys.stderr)
+        print(f"facet: error: {name}{printable(exc.strerror or exc)}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:  # Ctrl-C, or SIGTERM (timeout, docker, systemd) made one
         return 128 + _STOPPED_BY[0]
@@ -161,12 +189,11 @@ def _confinement(args):
     return confined(folder)
 
 
+
 def _printable(path) -> str:
     """A written path on one line, control characters escaped (a newline or a carriage
     return in a name would break one-path-per-line scripts; a tab or an escape sequence
     would garble a terminal)."""
-    text = str(path)
-    if any(ord(c) < 32 or ord(c) == 127 for c in text):
-        return "".join(c.encode("unicode_escape").decode("ascii")
-                       if ord(c) < 32 or ord(c) == 127 else c for c in text)
-    return text
+    from ..errors import printable
+
+    return printable(path)

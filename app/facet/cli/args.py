@@ -26,6 +26,19 @@ def floats(text: str, n: tuple[int, ...], what: str) -> list[float]:
     return values
 
 
+MIN_FPS = 0.01  # one frame per 100 s: slower has no use, and overflows a GIF's frame time
+
+
+def output_path(text: str) -> str:
+    """An output file or folder named on the command line: never empty (an empty name
+    would quietly fall back to the default file)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty output path; name a file, e.g. -o out.png")
+    if "\0" in text:
+        raise argparse.ArgumentTypeError(f"output path {text!r}: contains a NUL byte")
+    return text
+
+
 def vec3(text: str) -> list[float]:
     return floats(text, (3,), "vector")
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import re
 
 from . import args as A
 
@@ -28,7 +29,7 @@ def add_parser(sub) -> None:
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     b.add_argument("manifest", help="a .toml / .jsonl / .json manifest, or a glob of model "
                    "files")
-    b.add_argument("-o", "--output", required=True, metavar="DATASET",
+    b.add_argument("-o", "--output", type=A.output_path, required=True, metavar="DATASET",
                    help="the dataset folder (made if missing)")
     b.add_argument("--views", metavar="N|PLAN:N",
                    help="default view plan: N (N views on a sphere), or turntable:N, "
@@ -62,7 +63,7 @@ def run(args) -> int:
     defaults = {}
     if args.views:
         plan, _, count = args.views.rpartition(":")
-        if not count.isdigit():
+        if not re.fullmatch(r"[0-9]+", count):
             raise InputError(f"--views {args.views!r}: expected N or PLAN:N, like sphere:8")
         defaults["views"] = {"plan": plan or "sphere", "count": int(count)}
     if args.size:

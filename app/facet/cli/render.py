@@ -50,7 +50,7 @@ def add_parser(sub) -> None:
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("model", nargs="?", help="mesh file or .toml scene file (default: the "
                    "bundled torus knot)")
-    r.add_argument("-o", "--output", metavar="OUT.png",
+    r.add_argument("-o", "--output", type=A.output_path, metavar="OUT.png",
                    help="image to write (default: MODEL's name with .png, in the current folder)")
     r.add_argument("--eye", type=A.vec3, metavar="X,Y,Z",
                    help="camera position (default: framed to fit the model)")
@@ -75,14 +75,16 @@ def add_parser(sub) -> None:
                    "pattern like frames/{:04d}.png")
     r.add_argument("--fps", type=float, default=30.0,
                    help="frame rate of GIF/MP4 turntables (default 30)")
-    r.add_argument("--depth", metavar="OUT.npy", help="also write linear depth (float32 .npy)")
-    r.add_argument("--ids", metavar="OUT.npy",
+    r.add_argument("--depth", type=A.output_path, metavar="OUT.npy",
+                   help="also write linear depth (float32 .npy)")
+    r.add_argument("--ids", type=A.output_path, metavar="OUT.npy",
                    help="also write object ids (int32 .npy, -1 = background)")
     out = r.add_argument_group("dataset outputs and colour quantisation")
     out.add_argument("--outputs", metavar="LIST",
                      help="channels to write into --out-dir: any of color,depth,ids,normals,"
                      "position,uv (default: the scene file's, else color,depth,ids)")
-    out.add_argument("--out-dir", metavar="DIR", help="write each channel as files in DIR "
+    out.add_argument("--out-dir", type=A.output_path, metavar="DIR",
+                     help="write each channel as files in DIR "
                      "(PNG, exact .npy, previews, camera.json) instead of -o")
     out.add_argument("--png16", action="store_true",
                      help="also write depth in millimetres and normals as 16-bit PNG")
@@ -242,8 +244,8 @@ def run(args) -> list[Path]:
         raise InputError(f"--fov must be in [1, 180) degrees, got {args.fov:g}")
     if args.turntable is not None and not 1 <= args.turntable <= MAX_FRAMES:
         raise InputError(f"--turntable needs 1..{MAX_FRAMES} frames, got {args.turntable}")
-    if not 0 < args.fps <= 240:
-        raise InputError(f"--fps must be in (0, 240], got {args.fps:g}")
+    if not A.MIN_FPS <= args.fps <= 240:  # below, a frame's GIF duration overflows
+        raise InputError(f"--fps must be in [{A.MIN_FPS:g}, 240], got {args.fps:g}")
     target, depth_path, ids_path = _targets(args)
     color_options = ColorOptions(parse_bits(args.bits), args.dither, args.palette,
                                  args.palette_method)

@@ -37,7 +37,7 @@ def add_parser(sub) -> None:
                         "  facet shader --list-uniforms glsl/examples/toon.frag")
     sh.add_argument("shader", help="fragment shader (mainImage, or main() glslViewer-style), "
                     "a Shadertoy JSON export, or a .toml project")
-    sh.add_argument("-o", "--output", metavar="OUT",
+    sh.add_argument("-o", "--output", type=A.output_path, metavar="OUT",
                     help="a .png (one frame at --time), or .gif / .mp4 / frames/{:04d}.png "
                     "for a --time range")
     sh.add_argument("--time", default="0", metavar="T|A:B",
@@ -127,6 +127,7 @@ def parse_uniform(text: str) -> tuple[str, list[float]]:
 def build(args, size, context=None, date="default"):
     from ..lab import project as P
     from ..lab.shadertoy import DEFAULT_DATE, ShaderToy
+    from ..lab.shadertoy_json import load_shadertoy_json
 
     date = parse_date(args.date) if args.date else DEFAULT_DATE if date == "default" else date
     kind = Path(args.shader).suffix.lower()
@@ -146,7 +147,7 @@ def build(args, size, context=None, date="default"):
     common = dict(size=size, context=context, cube_size=args.cube_size, date=date)
     if kind == ".json" or kind == ".toml":
         _existing_file(args.shader)
-        project = P.load_shadertoy_json(args.shader, args.media) if kind == ".json" else \
+        project = load_shadertoy_json(args.shader, args.media) if kind == ".json" else \
             P.load_project(args.shader)
         toy = ShaderToy(project=project, **common)
     else:
@@ -175,8 +176,8 @@ def run(args) -> list[Path]:
     from ..image.writers import check_image_path, save_image
 
     start, end = parse_time(args.time)
-    if not 0 < args.fps <= 240:
-        raise InputError(f"--fps must be in (0, 240], got {args.fps:g}")
+    if not A.MIN_FPS <= args.fps <= 240:  # below, a frame's GIF duration overflows
+        raise InputError(f"--fps must be in [{A.MIN_FPS:g}, 240], got {args.fps:g}")
     mouse = tuple(args.mouse) + (0.0,) * (4 - len(args.mouse)) if args.mouse else (0,) * 4
     if args.list_uniforms:
         uniforms = mesh_uniforms(args.shader) if is_mesh_stage(args.shader) else None

@@ -105,6 +105,30 @@ def clear_frame(fbo: moderngl.Framebuffer, colour, exact: bool = False) -> None:
         fbo.depth_mask = depth_mask
 
 
+@contextlib.contextmanager
+def allocating(size, what: str = "image buffers"):
+    """A GL error while making buffers of ``size`` (width, height) -> one line naming the
+    likely cause (the driver out of memory: GL reports it as an incomplete framebuffer or
+    an out-of-memory error), not a traceback."""
+    try:
+        yield
+    except moderngl.Error as exc:
+        w, h = size
+        raise InputError(f"the GL could not make {w}x{h} {what} ({str(exc).strip()}): "
+                         "most likely out of memory for this size; render smaller (--size), "
+                         "with fewer samples (--msaa, --ssaa), or on a larger GPU") from None
+
+
+def _allocates(method):
+    """A Targets method that makes buffers on first use, under ``allocating``."""
+    import functools
+
+    @functools.wraps(method)
+    def wrapper(self, *args, **kwargs):
+        with allocating(self.size):
+            return method(self, *args, **kwargs)
+    return wrapper
+
 class Targets:
     """The framebuffers of one image size (see the module docstring)."""
 
@@ -112,7 +136,8 @@ class Targets:
         check_size(ctx, width, height)
         self.ctx, self.width, self.height = ctx, width, height
         self.size = (width, height)
-        self.zbuffer = ctx.depth_renderbuffer(self.size)
+        with allocating(self.size):
+            self.zbuffer = ctx.depth_renderbuffer(self.size)
         self._color: dict[str, tuple] = {}  # dtype -> (texture, framebuffer)
         self._output: dict[str, tuple] = {}  # dtype -> (texture, framebuffer)
         self._multisample: dict[tuple[int, str], tuple] = {}  # (samples, dtype) -> buffers
@@ -121,6 +146,7 @@ class Targets:
         self._aux_read: dict[str, np.ndarray] = {}  # attachment -> read since its last draw
         self._pair: np.ndarray | None = None  # where depth_ids is read to (kept)
 
+    @_allocates
     def color(self, dtype: str = "f1") -> moderngl.Framebuffer:
         """The single-sample colour target with depth; ``color_texture`` is its colour."""
         if dtype not in COLOR_DTYPES:
@@ -134,6 +160,7 @@ class Targets:
         self.color(dtype)
         return self._color[dtype][0]
 
+    @_allocates
     def output(self, dtype: str = "f1") -> moderngl.Framebuffer:
         """A colour-only target for the finishing pass."""
         if dtype not in self._output:
@@ -141,6 +168,7 @@ class Targets:
             self._output[dtype] = (tex, self.ctx.framebuffer([tex]))
         return self._output[dtype][1]
 
+    @_allocates
     def multisample(self, samples: int, dtype: str = "f1") -> moderngl.Framebuffer:
         """A multisampled colour + depth target (``samples`` in MSAA_CHOICES, within the
         context's maximum: facet.scene.options.clamp_msaa decides before this)."""
@@ -167,6 +195,7 @@ class Targets:
         self.ctx.copy_framebuffer(target, multisample)
         return target
 
+    @_allocates
     def _channel(self, name: str) -> tuple:
         if name not in self._aux:
             components, dtype, _ = AUX_ATTACHMENTS[name]
@@ -174,6 +203,7 @@ class Targets:
             self._aux[name] = (rb, self.ctx.framebuffer([rb]))
         return self._aux[name]
 
+    @_allocates
     def aux(self, channels, dtype: str = "f1") -> moderngl.Framebuffer:
         """Colour plus the requested auxiliary channels at the locations of
         ``aux_locations``, with the shared depth buffer; the caller clears it
@@ -248,3 +278,7 @@ def check_size(ctx: moderngl.Context, width, height) -> None:
         if not 1 <= v <= limit:
             raise InputError(f"image {name} must be between 1 and {limit} on this GL "
                              f"({ctx.info['GL_RENDERER']}), got {v}")
+    from ..budgets import check_pixels
+
+    check_pixels(int(width), int(height), "image size")
+

@@ -61,7 +61,7 @@ def temp_beside(target: Path, suffix: str) -> str:
                 name = entry.name
                 if name.startswith(".") and ".facet-" in name:
                     pid = name.rsplit(".facet-", 1)[1].split("-", 1)[0]
-                    if pid.isdigit() and not _alive(int(pid)):
+                    if pid.isascii() and pid.isdigit() and not _alive(int(pid)):
                         with contextlib.suppress(OSError):
                             os.unlink(entry.path)
     fd, tmp = tempfile.mkstemp(prefix=f"{prefix}{os.getpid()}-", suffix=suffix,

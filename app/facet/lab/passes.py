@@ -14,6 +14,7 @@ from ..gl.glsl_source import display_path, glsl_root
 from ..gl.shaders import Program, compile_program
 from . import project as P
 from .dialect import GLSLVIEWER, blame_user, prepare
+from .shadertoy_json import load_shadertoy_json
 
 
 def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, str]:
@@ -64,7 +65,7 @@ def source(project: P.Project, p: P.Pass) -> str:
         return regular_file(p.path, "shader file").read_text(encoding="utf-8")
     origin = project.origin
     if origin is not None and origin.suffix.lower() == ".json" and origin.is_file():
-        fresh = P.load_shadertoy_json(origin, project.media).passes.get(p.key)
+        fresh = load_shadertoy_json(origin, project.media).passes.get(p.key)
         if fresh is not None:
             return fresh.code
     return p.code

@@ -16,13 +16,11 @@ that v = 0 is their bottom row; buffers linear and clamped; cube maps linear.
 from __future__ import annotations
 
 import difflib
-import json
 import re
-import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from ..errors import FacetWarning, InputError
+from ..errors import InputError
 
 PASSES = ("a", "b", "c", "d", "cube", "image")  # the order they run in each frame
 BUFFERS = PASSES[:4]  # Buffer A-D
@@ -122,7 +120,10 @@ def channel(spec, where: str, base: Path | None = None, **settings) -> Channel:
 
 
 def _resolve(text: str, base: Path | None) -> Path:
-    p = Path(text).expanduser()
+    try:
+        p = Path(text).expanduser()
+    except RuntimeError:  # ~name of a user this machine does not have: the path as given
+        p = Path(text)
     return p if p.is_absolute() or base is None else base / p
 
 
@@ -132,7 +133,7 @@ def parse_compact(text: str, where: str) -> tuple[str | None, int, Channel]:
     ``image:1=cube:sky/:mipmap`` -> (pass key or None for every pass, channel, Channel)."""
     head, eq, rest = text.partition("=")
     target, _, number = head.rpartition(":")
-    if not eq or not number.isdigit() or int(number) > 3:
+    if not eq or not re.fullmatch(r"[0-3]", number):
         raise InputError(f"{where} {text!r}: expected [PASS:]N=SOURCE[:OPTIONS] with N in "
                          "0-3, e.g. a:0=buffer-a or image:1=wood.png:nearest:clamp")
     key = pass_key(target, where) if target else None
@@ -206,19 +207,41 @@ def load_project(path) -> Project:
         _known(t, PASS_KEYS, where)
         key = pass_key(name, where)
         chans = {}
-        for n, spec in (t.get("channels") or {}).items():
+        table = t.get("channels", {})
+        if not isinstance(table, dict):
+            raise InputError(f"{where} channels: expected a table like {{ 0 = \"buffer-a\" }}, "
+                             f"got {table!r}")
+        for n, spec in table.items():
             at = f"{where} channels.{n}"
-            if not (str(n).isdigit() and int(n) <= 3):
+            if not re.fullmatch(r"[0-3]", str(n)):
                 raise InputError(f"{at}: channels are 0 to 3")
             if isinstance(spec, dict):
                 _known(spec, CHANNEL_KEYS, at)
                 settings = {k: v for k, v in spec.items() if k != "source"}
-                chans[int(n)] = channel(spec.get("source", "none"), at, base, **settings)
+                for k in ("filter", "wrap"):
+                    if k in settings:
+                        text(settings[k], f"{at}.{k}")
+                if "vflip" in settings and not isinstance(settings["vflip"], bool):
+                    raise InputError(f"{at}.vflip: expected true or false, got "
+                                     f"{settings['vflip']!r}")
+                source = text(spec.get("source", "none"), f"{at}.source")
+                chans[int(n)] = channel(source, at, base, **settings)
             else:
-                chans[int(n)] = channel(spec, at, base)
-        passes[key] = Pass(key, _resolve(t["shader"], base), channels=chans)
-    common = _resolve(data["common"], base) if "common" in data else None
+                chans[int(n)] = channel(text(spec, at), at, base)
+        shader = text(t["shader"], f"{where} shader")
+        passes[key] = Pass(key, _resolve(shader, base), channels=chans)
+    common = _resolve(text(data["common"], f"{path.name}: common"), base) \
+        if "common" in data else None
     return Project(passes, common, origin=path)
+
+
+def text(value, where: str) -> str:
+    """``value`` when it is a string; otherwise one line naming the key and the value."""
+    if not isinstance(value, str):
+        raise InputError(f"{where}: expected a string, got {value!r}")
+    if "\0" in value:
+        raise InputError(f"{where}: contains a NUL byte")
+    return value
 
 
 def _known(table: dict, keys, where: str) -> None:
@@ -227,122 +250,3 @@ def _known(table: dict, keys, where: str) -> None:
             close = difflib.get_close_matches(str(k), keys, n=1)
             hint = f" (did you mean {close[0]!r}?)" if close else ""
             raise InputError(f"{where}: unknown key {k!r}{hint}; expected {', '.join(keys)}")
-
-
-# -- Shadertoy JSON exports ------------------------------------------------------------------
-# Shadertoy's fixed ids of the buffer outputs, for exports whose inputs name only the id.
-OUTPUT_IDS = {"4dXGR8": "a", "XsXGR8": "b", "4sXGR8": "c", "XdfGR8": "d", "4dX3Rr": "cube",
-              "257": "a", "258": "b", "259": "c", "260": "d", "41": "cube"}
-
-
-def load_shadertoy_json(path, media: Path | None = None) -> Project:
-    """A Shadertoy export (``{"Shader": {...}}``, a bare shader object, or a list of them):
-    its passes' code, inputs (channel, type, sampler) and outputs. Textures are looked up
-    by file name in ``media`` (default: beside the export); a missing one is an error
-    naming it; audio and video inputs are black, with one warning line."""
-    from ..guard import regular_file
-
-    path = regular_file(path, "Shadertoy export")
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except RecursionError:
-        raise InputError(f"{path.name}: nested too deeply to read") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path.name}: not a Shadertoy JSON export ({exc})") from None
-    if isinstance(data, list):
-        data = data[0] if data else {}
-    shader = data.get("Shader", data) if isinstance(data, dict) else {}
-    renderpasses = shader.get("renderpass") if isinstance(shader, dict) else None
-    if not isinstance(renderpasses, list) or not renderpasses:
-        raise InputError(f"{path.name}: not a Shadertoy JSON export (no \"renderpass\" "
-                         "list)")
-    media = Path(media) if media else path.parent
-    # Which pass writes which output id.
-    writers = {}
-    for rp in renderpasses:
-        key = _json_pass_key(rp, path.name)
-        for out in rp.get("outputs") or []:
-            if key not in ("common", "sound"):
-                writers[str(out.get("id"))] = key
-    passes, common_code, skipped = {}, None, set()
-    for rp in renderpasses:
-        key = _json_pass_key(rp, path.name)
-        code = rp.get("code", "")
-        if key == "common":
-            common_code = code
-            continue
-        if key == "sound":
-            skipped.add("the Sound pass")
-            continue
-        where = f"{path.name}: {PASS_NAMES[key]}"
-        chans = {}
-        for inp in rp.get("inputs") or []:
-            n = int(inp.get("channel", 0))
-            ctype = inp.get("ctype") or inp.get("type") or ""
-            sampler = inp.get("sampler") or {}
-            settings = {k: sampler[k] for k in ("filter", "wrap") if k in sampler}
-            if "vflip" in sampler:
-                settings["vflip"] = str(sampler["vflip"]).lower() == "true"
-            src = str(inp.get("src") or inp.get("filepath") or "")
-            if ctype == "buffer":
-                owner = writers.get(str(inp.get("id"))) or OUTPUT_IDS.get(str(inp.get("id")))
-                if owner is None and "buffer0" in src:
-                    owner = "abcd"[int(src.split("buffer0")[1][0])]
-                if owner is None:
-                    raise InputError(f"{where}: channel {n} reads a buffer the export does "
-                                     "not define")
-                chans[n] = channel("cube-a" if owner == "cube" else f"buffer-{owner}",
-                                   where, **settings)
-            elif ctype == "cubemap" and ("cubemap0" in src or
-                                         OUTPUT_IDS.get(str(inp.get("id"))) == "cube"):
-                chans[n] = channel("cube-a", where, **settings)
-            elif ctype in ("texture", "cubemap"):
-                file = _media(media, src, where, n)
-                chans[n] = channel(("cube:" if ctype == "cubemap" else "") + str(file),
-                                   where, **settings)
-            elif ctype == "keyboard":
-                chans[n] = channel("keyboard", where)
-            elif ctype in UNSUPPORTED:
-                skipped.add(f"{ctype} inputs ({PASS_NAMES[key]} channel {n}: black)")
-                chans[n] = Channel()
-            else:
-                raise InputError(f"{where}: channel {n} has an input type {ctype!r} facet "
-                                 "does not know")
-        passes[key] = Pass(key, path.with_name(f"{path.name}[{PASS_NAMES[key]}]"), code,
-                           chans)
-    if "image" not in passes:
-        raise InputError(f"{path.name}: the export has no Image pass")
-    for what in sorted(skipped):
-        warnings.warn(f"{path.name}: not supported, left out: {what}", FacetWarning,
-                      stacklevel=2)
-    common = path.with_name(f"{path.name}[Common]") if common_code is not None else None
-    return Project(passes, common, common_code, origin=path, media=media)
-
-
-def _json_pass_key(rp: dict, where: str) -> str:
-    """A pass's key by its type, then (buffers) by the fixed id of its output, then by
-    its name ("Buffer A", "Buf A", ...): exports carry all kinds of names."""
-    kind = str(rp.get("type", "")).lower()
-    if kind in ("common", "sound"):
-        return kind
-    if kind == "image":
-        return "image"
-    if kind == "cubemap":
-        return "cube"
-    for out in rp.get("outputs") or []:
-        key = OUTPUT_IDS.get(str(out.get("id"))) if isinstance(out, dict) else None
-        if key is not None and key != "cube":
-            return key
-    return pass_key(rp.get("name", ""), where)
-
-
-def _media(media: Path, src: str, where: str, n: int) -> Path:
-    """A texture of the export, by file name in ``media`` (a cube map's six faces are
-    ``name``, ``name_1`` ... ``name_5`` on Shadertoy: a folder named after the file, or the
-    file itself, are accepted)."""
-    name = Path(src).name
-    for candidate in (media / name, media / Path(name).stem):
-        if candidate.exists():
-            return candidate
-    raise InputError(f"{where}: channel {n} needs the media file {name!r}, which is not in "
-                     f"{media} (download it there, or give --media DIR)")

@@ -15,8 +15,16 @@ class PassTargets:
     are ``cube_size`` texels."""
 
     def __init__(self, ctx, keys, size: tuple[int, int], cube_size: int):
+        from ..gl.targets import allocating, check_size
+
         self.ctx, self.size, self.cube_size = ctx, tuple(size), int(cube_size)
         self.targets: dict = {}
+        check_size(ctx, *self.size)
+        with allocating(self.size, "pass buffers"):
+            self._make(keys)
+
+    def _make(self, keys) -> None:
+        ctx = self.ctx
         for key in keys:
             if key == "cube":
                 s = (self.cube_size, self.cube_size)

@@ -77,17 +77,18 @@ class Environment:
 
     @classmethod
     def from_equirect(cls, path, size: int = 256) -> Environment:
-        """An equirectangular (latitude-longitude) image resampled onto the cube."""
+        """An equirectangular (latitude-longitude) image resampled onto the cube (its
+        bytes sampled where they are: no float copy of the whole image)."""
         from .texture import Texture
 
-        img = Texture.load(path).pixels[..., :3].astype(np.float32) / 255.0
+        img = Texture.load(path).pixels
         d = face_directions(size)
         u = 0.5 + np.arctan2(d[..., 0], -d[..., 2]) / (2 * np.pi)
         v = np.arccos(np.clip(d[..., 1], -1, 1)) / np.pi  # 0 at the zenith (image top)
         h, w = img.shape[:2]
         x = np.clip((u * w).astype(int), 0, w - 1)
         y = np.clip((v * h).astype(int), 0, h - 1)
-        return cls(img[y, x], Path(path).name)
+        return cls(img[y, x, :3].astype(np.float32) / 255.0, Path(path).name)
 
     @property
     def size(self) -> int:
@@ -98,7 +99,10 @@ def load_environment(spec: str, base: Path | None = None) -> Environment:
     """``sky``, an equirectangular image file, or a folder with px/nx/py/ny/pz/nz images."""
     if spec == "sky":
         return Environment.sky()
+    from ..guard import check_confined
+
     path = Path(base or ".") / spec
+    check_confined(path, "environment")
     if path.is_dir():
         faces = []
         for name in FACE_NAMES:

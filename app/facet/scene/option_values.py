@@ -221,12 +221,10 @@ def _size(value, key):
     import numpy as np
 
     given = value
-    if isinstance(value, str):
+    if isinstance(value, str):  # ASCII digits only: int() would read "١٢" and " 12 "
         parts = value.lower().split("x")
-        try:
-            value = tuple(int(p) for p in parts)
-        except ValueError:
-            value = ()
+        value = tuple(int(p) for p in parts) if all(
+            p.isascii() and p.isdigit() for p in parts) else ()
     values = tuple(value) if isinstance(value, (tuple, list, np.ndarray)) else ()
     if len(values) != 2 or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool)
                                    for v in values):
@@ -234,6 +232,9 @@ def _size(value, key):
                          f"(WIDTHxHEIGHT), got {given!r}")
     if min(values) < 1:
         raise InputError(f"{key}: width and height must be >= 1, got {values[0]}x{values[1]}")
+    from ..budgets import check_pixels
+
+    check_pixels(int(values[0]), int(values[1]), key)
     return int(values[0]), int(values[1])
 
 

@@ -201,7 +201,7 @@ class Viewer(ViewerActions):
 
     def _on_char(self, _window, codepoint: int) -> None:
         char = chr(codepoint)
-        if char.isdigit() and char != "0":
+        if char in "123456789":
             self._run_action("use_camera", int(char) - 1)
         elif char in KEYMAP:
             self._run_action(KEYMAP[char].method)
