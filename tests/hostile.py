@@ -5,6 +5,7 @@ and what a handled refusal looks like (exit 2, one line, no traceback, no signal
 from __future__ import annotations
 
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -30,13 +31,14 @@ def facet(*args, cwd=None, timeout: float = 60, env=None, stdin=None):
 
 def refused(result, *fragments) -> str:
     """Assert ``result`` is a refusal: exit 2, one line of stderr starting with facet's
-    error prefix (warnings before it allowed), no traceback; returns the line."""
+    error prefix (``facet: error:``, or ``facet COMMAND: error:`` for a usage error;
+    warnings before it allowed), no traceback; returns the line."""
     code, err = result
     lines = [line for line in err.strip().splitlines() if not line.startswith(
         "facet: warning:")]
     assert code == 2, (code, err[-2000:])
     assert "Traceback" not in err, err[-2000:]
-    assert len(lines) == 1 and lines[0].startswith("facet: error: "), err[-2000:]
+    assert len(lines) == 1 and re.match(r"facet( [a-z]+)?: error: ", lines[0]), err[-2000:]
     for fragment in fragments:
         assert fragment in lines[0], (fragment, lines[0])
     return lines[0]

@@ -51,17 +51,17 @@ def _gone(pids, timeout: float = 10.0) -> bool:
     return False
 
 
-def _run(args, sig, tmp_path, wait_for):
+def _run(args, sig, tmp_path, wait_for, poll: float = 0.1, group: bool = False):
     proc = subprocess.Popen([sys.executable, "-m", "facet", *args], env=ENV,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             start_new_session=True, cwd=tmp_path)
     end = time.time() + 60
     while not wait_for() and time.time() < end and proc.poll() is None:
-        time.sleep(0.1)
+        time.sleep(poll)
     assert proc.poll() is None, proc.communicate()
     kids = _children(proc.pid)
-    if sig == signal.SIGINT:
-        os.killpg(proc.pid, sig)  # as a terminal's Ctrl-C does
+    if sig == signal.SIGINT or group:
+        os.killpg(proc.pid, sig)  # as a terminal's Ctrl-C does (or docker, systemd)
     else:
         os.kill(proc.pid, sig)
     out, err = proc.communicate(timeout=30)  # returns only once every pipe holder is gone
@@ -122,3 +122,21 @@ def test_videos_patterns_and_shader_sequences_stopped_from_outside(tmp_path, kin
             assert not target.exists()  # a video is whole or absent
     for png in (tmp_path / "frames").glob("*.png"):
         assert png.read_bytes().endswith(b"IEND\xaeB`\x82")  # whole, under final names
+
+
+@pytest.mark.slow
+def test_a_two_worker_batch_stopped_mid_write_leaves_no_temporary_file(tmp_path):
+    """SIGTERM to every process of the run (as docker and systemd send it) while a worker
+    writes a view's arrays: the workers die mid-file, and what they were writing is
+    removed (their temporary files had no chance to be renamed)."""
+    for i in range(4):
+        (tmp_path / f"m{i}.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                            "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    out = tmp_path / "ds"
+    code, err = _run(["batch", "m*.obj", "-o", str(out), "--workers", "2", "--views", "200",
+                      "--size", "2048x2048", "--outputs", "depth,normals,position", "-q"],
+                     signal.SIGTERM, tmp_path,
+                     lambda: any(".npy.facet-" in p.name for p in _temps(out)), poll=0.002,
+                     group=True)
+    assert code == 143 and "Traceback" not in err, err
+    assert not [p for p in _temps(out) if ".facet-" in p.name]

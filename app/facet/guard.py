@@ -132,7 +132,7 @@ def regular_file(path, what: str = "file", error=InputError, missing: str | None
     size_limit = budget("file_bytes")
     if os.stat(p).st_size > size_limit:
         raise error(f"{p}: {os.stat(p).st_size / 2**30:.1f} GiB, more than facet's budget of "
-                    f"{size_limit / 2**30:.1f} GiB for a {what} (FACET_BUDGET_FILE_BYTES)")
+                    f"{size_limit / 2**30:.1f} GiB for a {what} (--budget file_bytes=N)")
     if lfs_pointer(p):
         raise error(f"{p}: is a Git LFS pointer, not the {what} itself (its repository was "
                     "cloned without Git LFS: run `git lfs pull` there)")

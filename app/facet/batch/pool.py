@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 
 from ..errors import FacetError, InputError
-from ..guard import writing_into
+from ..guard import check_output, writing_into
 from .layout import append_index, compact_index
 from .runner import _progress, chunks, render_jobs
 
@@ -49,6 +49,8 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder")
     out.mkdir(parents=True, exist_ok=True)
+    with writing_into(out):  # before any job: an index that leads elsewhere is refused now
+        check_output(out / "index.jsonl")
     workers = default_workers(gpus) if workers is None else workers
     if workers < 1:
         raise InputError(f"--workers must be at least 1, got {workers}")
@@ -137,7 +139,7 @@ def _worker_init(devices, counter, threads, confine, news) -> None:
         _WORKER["renderer"] = Renderer(device=device)
     except FacetError as exc:
         _WORKER["error"] = exc
-    news.put(("ready", None))  # this worker started: a later death is a job's doing
+    news.put(("ready", os.getpid()))  # this worker started: a later death is a job's doing
 
 
 def _worker_jobs(jobs, out) -> list[dict]:
@@ -174,6 +176,7 @@ def run_pool(ctx, workers: int, setup, runs: list[list], out: Path, note, news,
             note(record)
 
     started = [False]  # a worker of the current pool has started
+    pids: set[int] = set()  # every worker that started: whose temporary files to remove
 
     def drain() -> None:
         while True:
@@ -183,6 +186,7 @@ def run_pool(ctx, workers: int, setup, runs: list[list], out: Path, note, news,
                 return
             if kind == "ready":
                 started[0] = True
+                pids.add(item)
             else:
                 (once if kind == "job" else view)(item)
 
@@ -223,10 +227,11 @@ def run_pool(ctx, workers: int, setup, runs: list[list], out: Path, note, news,
                         suspects.extend(lost)
                     raise BrokenProcessPool
         except BrokenProcessPool:
-            _stop(pool)
+            _stop(pool, out, pids)
             continue
         except BaseException:
-            _stop(pool)  # Ctrl-C / SIGTERM: stop now; files under final names are whole
+            drain()
+            _stop(pool, out, pids)  # Ctrl-C / SIGTERM: stop now; files under final names are whole
             raise
         pool.shutdown()
 
@@ -238,11 +243,18 @@ def _died(job) -> dict:
                      "GL driver?); the rest of the run went on"}
 
 
-def _stop(pool) -> None:
-    """Shut ``pool`` down now, its workers killed (what Pool.terminate does)."""
+def _stop(pool, out: Path, pids) -> None:
+    """Shut ``pool`` down now, its workers killed (what Pool.terminate does), and the
+    temporary files they were writing removed from ``out``."""
+    from ..image.writers import remove_temporaries
+
     processes = list(getattr(pool, "_processes", {}).values())  # before shutdown clears it
     for process in processes:
         process.terminate()
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         process.join(5)
+        if process.is_alive():  # deaf to SIGTERM (stuck in the driver)
+            process.kill()
+            process.join(5)
+    remove_temporaries(out, {p.pid for p in processes} | set(pids))

@@ -127,8 +127,8 @@ def expand(path, defines: dict[str, object] | None = None,
         total[0] += len(body)
         if total[0] > size_limit:
             raise ShaderError(f"{name}: error: the shader and its includes pass "
-                              f"{size_limit:,} bytes, facet's budget (FACET_BUDGET_"
-                              "SHADER_BYTES): a GL compiler fed that much can crash")
+                              f"{size_limit:,} bytes, facet's budget (a GL compiler fed that "
+                              "much can crash; raise it with --budget shader_bytes=N)")
         return body.splitlines()
 
     def enter(file: Path, chain: list[Path], is_stage: bool):
@@ -141,12 +141,13 @@ def expand(path, defines: dict[str, object] | None = None,
             return None
         if len(chain) >= depth_limit:
             raise ShaderError(f"{display_path(chain[-1])}: error: #include nested more than "
-                              f"{depth_limit:,} deep, facet's budget (FACET_BUDGET_DEPTH)")
+                              f"{depth_limit:,} deep, facet's budget (--budget depth=N)")
         done.add(file)
         files.append(file)
         return [file, read(file, is_stage), 0, chain, is_stage]
 
     stack = [enter(stage, [], True)]
+    own = glsl_root().resolve()  # facet's library: never confined
     while stack:
         frame = stack[-1]
         file, lines, index, chain, is_stage = frame
@@ -172,11 +173,11 @@ def expand(path, defines: dict[str, object] | None = None,
         target = m.group(1) or m.group(2)
         for base in (file.parent, *roots):
             candidate = base / target
-            if candidate.exists() or candidate.resolve() in texts:
-                if base != glsl_root():  # facet's own library is always readable
-                    from ..guard import check_confined
+            if own not in (base.resolve(), *base.resolve().parents):  # facet's own library
+                from ..guard import check_confined  # is readable; elsewhere, outside is
 
-                    check_confined(candidate, "include", ShaderError)
+                check_confined(candidate, "include file", ShaderError)  # refused first
+            if candidate.exists() or candidate.resolve() in texts:
                 inner = enter(candidate, [*chain, file], is_stage=False)
                 if inner is not None:
                     stack.append(inner)

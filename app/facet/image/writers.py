@@ -70,6 +70,20 @@ def temp_beside(target: Path, suffix: str) -> str:
     return tmp
 
 
+def remove_temporaries(folder, pids) -> None:
+    """Remove, anywhere under ``folder`` (links not followed), the temporary files of the
+    processes ``pids`` (writers that were stopped mid-file and had no chance to clean up:
+    a batch's workers after SIGTERM)."""
+    marks = tuple(f".facet-{pid}-" for pid in pids)
+    if not marks:
+        return
+    for root, _dirs, files in os.walk(folder):
+        for name in files:
+            if name.startswith(".") and any(m in name for m in marks):
+                with contextlib.suppress(OSError):
+                    os.unlink(os.path.join(root, name))
+
+
 def _alive(pid: int) -> bool:
     try:
         os.kill(pid, 0)

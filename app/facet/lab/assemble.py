@@ -78,9 +78,13 @@ def check_channels(project: P.Project) -> None:
                 flag = "--cube-a" if ch.source == "cube" else f"--buffer-{ch.source}"
                 raise InputError(f"{p.name} channel {n} reads {src}, but no {src} was given "
                                  f"({flag} FILE)")
-            if ch.kind == "texture" and isinstance(ch.source, Path) and \
-                    not ch.source.is_file():
-                raise InputError(f"{ch.source}: no such texture file ({p.name} channel {n})")
+            if ch.kind in ("texture", "cube") and isinstance(ch.source, Path):
+                from ..guard import check_confined
+
+                check_confined(ch.source, "texture file")  # before asking whether it exists
+                if ch.kind == "texture" and not ch.source.is_file():
+                    raise InputError(f"{ch.source}: no such texture file ({p.name} channel "
+                                     f"{n})")
 
 
 def existing(path, what: str) -> Path:

@@ -102,7 +102,7 @@ def load_environment(spec: str, base: Path | None = None) -> Environment:
     from ..guard import check_confined
 
     path = Path(base or ".") / spec
-    check_confined(path, "environment")
+    check_confined(path, "environment file")
     if path.is_dir():
         faces = []
         for name in FACE_NAMES:

@@ -110,8 +110,8 @@ class GltfCheck:
             limit = budget("nodes") if name == "nodes" else budget("gltf_items")
             if len(items) > limit:
                 self.fail(name, f"{len(items):,} of them, more than facet's budget of "
-                          f"{limit:,} (raise it with FACET_BUDGET_"
-                          f"{'NODES' if name == 'nodes' else 'GLTF_ITEMS'})")
+                          f"{limit:,} (raise it with --budget "
+                          f"{'nodes' if name == 'nodes' else 'gltf_items'}=N)")
             for i, item in enumerate(items):
                 if item is None or isinstance(item, (str, numbers.Number, list)):
                     self.fail(f"{name}[{i}]", f"expected an object, got {item!r}")
@@ -317,7 +317,7 @@ class GltfCheck:
                 depth[node] = base + offset
             if depth.get(start, 0) > depth_limit:
                 self.fail(f"nodes[{start}]", f"is {depth[start]:,} levels deep, more than "
-                          f"facet's budget of {depth_limit:,} (FACET_BUDGET_DEPTH)")
+                          f"facet's budget of {depth_limit:,} (--budget depth=N)")
 
 
 def check_gltf(gltf, name: str) -> None:

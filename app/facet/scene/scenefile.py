@@ -183,7 +183,7 @@ class _SceneBuilder:
             r.fail("objects", "expected an array of tables ([[objects]])")
         if len(items) > budget("objects"):
             r.fail("objects", f"{len(items):,} objects, more than facet's budget of "
-                   f"{budget('objects'):,} (FACET_BUDGET_OBJECTS)")
+                   f"{budget('objects'):,} (--budget objects=N)")
         nodes = {}
         for i, t in enumerate(items):
             where = f"objects[{i}]"
@@ -230,7 +230,7 @@ class _SceneBuilder:
                     r.fail(f"{nodes[name]['where']}.parent", f"parent cycle: {loop}")
                 if len(chain) >= limit:
                     r.fail(f"{nodes[name]['where']}.parent", f"parents more than {limit:,} "
-                           "levels deep, facet's budget (FACET_BUDGET_DEPTH)")
+                           "levels deep, facet's budget (--budget depth=N)")
                 chain.append(current)
                 seen.add(current)
                 parent = nodes[current]["t"].get("parent")

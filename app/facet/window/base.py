@@ -20,8 +20,20 @@ class NoDisplayError(FacetError):
 
 
 def check_display(hint: str = "use 'facet render' for headless images") -> None:
-    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+    """NoDisplayError when there is no display, or when the X server DISPLAY names does
+    not answer within the wait budget (glfw would wait for ever, deaf to SIGTERM)."""
+    display = os.environ.get("DISPLAY")
+    if not (display or os.environ.get("WAYLAND_DISPLAY")):
         raise NoDisplayError(f"no display to open a window on (DISPLAY is not set); {hint}")
+    if display:
+        from ..budgets import budget
+        from .display_probe import answers
+
+        wait = budget("wait_seconds")
+        if answers(display, wait) is False:
+            raise NoDisplayError(f"the X display {display!r} did not answer within {wait} s "
+                                 "(a stuck X server, or a forwarded display that is gone; "
+                                 f"--budget wait_seconds=N waits longer); {hint}")
 
 
 class GLWindow:
