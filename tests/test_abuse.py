@@ -4,8 +4,6 @@ or ask for absurd widths. Each is one clear error (exit 2 from the command line)
 hang or a traceback (facet.guard)."""
 
 import os
-import struct
-import zlib
 
 import pytest
 
@@ -14,6 +12,7 @@ from facet.cli import main
 from facet.errors import FacetError, InputError, MeshError
 from facet.image.sequence import check_sequence_path
 from facet.scene.texture import Texture
+from hostile import png_header
 
 
 @pytest.fixture
@@ -21,16 +20,6 @@ def fifo(tmp_path):
     path = tmp_path / "pipe"
     os.mkfifo(path)
     return path
-
-
-def _png_header(width: int, height: int) -> bytes:
-    """A PNG that claims width x height pixels (RGB) and holds almost nothing."""
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(
-            ">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
-    ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(b"")) + \
-        chunk(b"IEND", b"")
 
 
 def test_special_files_are_refused_not_read(tmp_path, fifo):
@@ -65,7 +54,7 @@ def test_side_files_that_are_pipes(tmp_path, fifo):
 
 def test_a_decompression_bomb_is_an_error(tmp_path):
     bomb = tmp_path / "bomb.png"
-    bomb.write_bytes(_png_header(100_000, 100_000))
+    bomb.write_bytes(png_header(100_000, 100_000))
     with pytest.raises(InputError, match=r"100000x100000\)? is larger than facet's budget|"
                                          r"larger than facet's budget"):
         Texture.load(bomb)

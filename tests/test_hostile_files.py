@@ -8,7 +8,7 @@ import os
 
 import pytest
 
-from hostile import facet, refused
+from hostile import facet, png_header, refused
 
 CUBE = """v 0 0 0
 v 1 0 0
@@ -142,21 +142,9 @@ def test_common_and_list_uniforms_on_fifos(tmp_path, fifo):
 
 
 # -- images and environments ---------------------------------------------------------------
-def _png_header(width, height):
-    import struct
-    import zlib
-
-    def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(
-            ">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
-    ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(b"")) + \
-        chunk(b"IEND", b"")
-
-
 def test_a_13000_square_environment_is_refused_before_decoding(tmp_path):
     (tmp_path / "m.obj").write_text(CUBE)
-    (tmp_path / "env.png").write_bytes(_png_header(13000, 13000))
+    (tmp_path / "env.png").write_bytes(png_header(13000, 13000))
     refused(_render(tmp_path, "m.obj", "--env", "env.png"), "env.png", "budget")
 
 

@@ -69,3 +69,16 @@ def printable(text, keep_newlines: bool = False) -> str:
         return text
     return "".join(c.encode("unicode_escape").decode("ascii")
                    if (ord(c) < 32 or ord(c) == 127) and c not in keep else c for c in text)
+
+
+def gl_out_of_memory(exc: BaseException) -> str | None:
+    """One line for a GL error that means the driver could not make buffers (an
+    incomplete framebuffer, out of memory), or None for any other exception: the
+    command line's and batch workers' last word on a size the budget let through."""
+    text = str(exc).strip()
+    if type(exc).__module__.split(".")[0] != "moderngl" or not any(
+            key in text.lower() for key in ("framebuffer", "out of memory", "outofmemory")):
+        return None
+    return (f"the GL could not make its buffers ({text}): most likely out of memory for "
+            "this size; render smaller (--size), with fewer samples (--msaa, --ssaa), or "
+            "on a larger GPU")

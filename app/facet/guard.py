@@ -91,7 +91,7 @@ def check_output(path) -> Path:
 def check_confined(path, what: str = "file", error=InputError) -> None:
     """``error`` when ``path`` resolves outside the confinement folder (if one is set)."""
     if "\0" in str(path):
-        raise error(f"{path!r}: a path with a NUL byte names no file")
+        raise error(f"{str(path)!r}: a path with a NUL byte names no file")
     root = _CONFINE.get()
     if root is None:
         return

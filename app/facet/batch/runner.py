@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import FacetError
+from ..errors import FacetError, gl_out_of_memory
 from ..guard import writing_into
 from .colmap import surface_points, write_colmap
 from .layout import finished, write_transforms, write_view
@@ -62,9 +62,12 @@ def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
             write_colmap(folder, opts.size, cameras, [e["file_path"][len("images/"):]
                                                       for e in entries], np.vstack(points))
         write_transforms(folder, job, opts.size, cameras, entries)
-    except (FacetError, MemoryError) as exc:
+    except Exception as exc:  # noqa: BLE001 - only the user's kinds; the rest is re-raised
         error = (str(exc).splitlines()[0] if isinstance(exc, FacetError) else
-                 "out of memory: the model is too large for this machine")
+                 "out of memory: the model is too large for this machine"
+                 if isinstance(exc, MemoryError) else gl_out_of_memory(exc))
+        if error is None:
+            raise
         return {**record, "status": "failed", "error": error,
                 "seconds": round(time.perf_counter() - start, 3)}
     files = sum(1 for p in folder.rglob("*") if p.is_file() and not p.name.startswith("."))

@@ -130,7 +130,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{prog}: error: {_printable(problem)} (see {prog} --help)",
               file=sys.stderr)
         return EXIT_USAGE
-    from ..errors import FacetError, ShaderError, printable, show_warning
+    from ..errors import FacetError, ShaderError, gl_out_of_memory, printable, show_warning
 
     previous = _stop_on_sigterm()
     try:
@@ -150,6 +150,12 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:  # unwritable output folder, disk full, ...
         name = f"{_printable(exc.filename)}: " if exc.filename else ""
         print(f"facet: error: {name}{printable(exc.strerror or exc)}", file=sys.stderr)
+        return EXIT_USAGE
+    except Exception as exc:  # a GL that ran out of memory where no Targets could say so
+        message = gl_out_of_memory(exc)
+        if message is None:
+            raise
+        print(f"facet: error: {printable(message)}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:  # Ctrl-C, or SIGTERM (timeout, docker, systemd) made one
         return 128 + _STOPPED_BY[0]

@@ -12,11 +12,11 @@ string here.
 
 from __future__ import annotations
 
-import math
 import numbers
 
 from ..budgets import budget
 from ..errors import MeshError
+from .option_values import number_problem
 
 COMPONENTS = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}  # componentType: bytes
 INDEX_COMPONENTS = (5121, 5123, 5125)
@@ -56,16 +56,9 @@ class GltfCheck:
                above: float | None = None):
         if value is None and optional:
             return None
-        ok = isinstance(value, numbers.Real) and not isinstance(value, bool) and \
-            math.isfinite(value)
-        if ok and low is not None:
-            ok = value >= low
-        if ok and above is not None:
-            ok = value > above
-        if not ok:
-            bound = f" >= {low:g}" if low is not None else f" > {above:g}" if above is not None \
-                else ""
-            self.fail(path, f"expected a number{bound}, got {value!r}")
+        problem = number_problem(value, low, above)
+        if problem:
+            self.fail(path, f"{problem}, got {value!r}")
         return float(value)
 
     def numbers(self, value, path: str, n: int):
@@ -270,12 +263,15 @@ class GltfCheck:
         else:
             self.fail(f"{path}.type", f"expected perspective or orthographic, got {kind!r}")
 
+    def _node_list(self, value, path):
+        """A list of node indices (a node's children, a scene's nodes)."""
+        if value is not None and not isinstance(value, list):
+            self.fail(path, f"expected a list of node indices, got {value!r}")
+        for k, c in enumerate(value or []):
+            self.ref(c, "nodes", f"{path}[{k}]", optional=False)
+
     def _nodes(self, n, path):
-        children = get(n, "children")
-        if children is not None and not isinstance(children, list):
-            self.fail(f"{path}.children", f"expected a list of node indices, got {children!r}")
-        for k, c in enumerate(children or []):
-            self.ref(c, "nodes", f"{path}.children[{k}]", optional=False)
+        self._node_list(get(n, "children"), f"{path}.children")
         self.ref(get(n, "mesh"), "meshes", f"{path}.mesh")
         self.ref(get(n, "camera"), "cameras", f"{path}.camera")
         self.numbers(get(n, "matrix"), f"{path}.matrix", 16)
@@ -284,11 +280,7 @@ class GltfCheck:
         self.numbers(get(n, "translation"), f"{path}.translation", 3)
 
     def _scenes(self, s, path):
-        nodes = get(s, "nodes")
-        if nodes is not None and not isinstance(nodes, list):
-            self.fail(f"{path}.nodes", f"expected a list of node indices, got {nodes!r}")
-        for k, n in enumerate(nodes or []):
-            self.ref(n, "nodes", f"{path}.nodes[{k}]", optional=False)
+        self._node_list(get(s, "nodes"), f"{path}.nodes")
 
     def _graph(self) -> None:
         """The nodes form a forest (each node one parent at most, no cycles), no deeper

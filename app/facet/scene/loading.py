@@ -147,7 +147,9 @@ def _read(p: Path):
     if getattr(resolver, "fatal", None):  # trimesh swallows what its resolver raises
         raise resolver.fatal[0]
     for name, problem in dict.fromkeys(getattr(resolver, "refused", ())):
-        warnings.warn(f"{p.name}: {name}: {problem}; loaded without it", FacetWarning,
+        kind = "material library" if name.lower().endswith(".mtl") else "texture" if \
+            Path(name).suffix.lower() in IMAGE_SUFFIXES else "file"
+        warnings.warn(f"{p.name}: {kind} {name!r} {problem}; loaded without it", FacetWarning,
                       stacklevel=3)
     return loaded
 
@@ -187,6 +189,8 @@ def _guarded_resolver(p: Path):
     resolver.refused, resolver.fatal = [], []
     return resolver
 
+
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tga", ".tif", ".tiff", ".gif", ".webp")
 
 # A face line with an index that is exactly 0 (OBJ counts from 1; negative counts back).
 _OBJ_ZERO_INDEX = re.compile(rb"^[ \t]*f[ \t][^\n]*?(?<![\w.+-])0+(?=[/ \t\r\n]|$)", re.M)
