@@ -617,9 +617,11 @@ def test_windows_draw_only_when_something_changes(window, tmp_path, command, ani
         until(lambda: np.abs(w.grab() - first).mean() > 0.5, 20, "the picture to move")
     else:
         w.screen()  # drawn, and then still
-    share = w.cpu_share(2.0)
     if animated:
+        share = w.cpu_share(2.0)
         assert share > 0.2, f"an animated window used only {share:.1%} of a core"
-    else:
+    else:  # the quieter of two spans: a one-off wake-up (Mesa's cache thread, the X
+        # server's events) is not a window that keeps drawing
+        share = min(w.cpu_share(2.0), w.cpu_share(2.0))
         assert share < 0.05, f"an idle window used {share:.1%} of a core"
     assert w.quit() == 0
