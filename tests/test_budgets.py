@@ -54,3 +54,25 @@ def test_budgets_are_raised_and_lowered_per_run(tmp_path):
     refused(facet("--budget", "pixels=-3", "info"), "whole number >= 1")
     refused(facet("info", cwd=tmp_path, env={"FACET_BUDGET_DEPTH": "lots"}),
             "FACET_BUDGET_DEPTH")
+
+
+def test_json_nesting_is_counted_before_parsing(tmp_path):
+    """The depth budget holds JSON too: counted outside strings (brackets in names and
+    escaped quotes do not count), so a document 1,001 deep is refused before the parser
+    (whose own recursion guard stops near 1,000) and one 900 deep is read."""
+    from facet.guard import json_depth
+
+    assert json_depth('{"a": [1, {"b": "[[[\\" ]]"}]}') == 3
+    assert json_depth('["]]]]", [[1]]]') == 3 and json_depth('["[[[[", [1]]') == 2
+    assert json_depth(b"") == 0 and json_depth("[[]]", within=5) <= 5
+    model = tmp_path / "m.obj"
+    model.write_text(CUBE)
+    for depth, ok in ((900, True), (1001, False)):
+        extras = "[" * (depth - 3) + "]" * (depth - 3)  # inside {"jobs": [{..., "x": ...}]}
+        (tmp_path / "m.json").write_text('{"jobs": [{"model": "m.obj", "views": 1, '
+                                         f'"size": [8, 8], "colmap": false, "x": {extras}}}]}}')
+        code, err = facet("batch", "m.json", "-o", "ds", "-q", cwd=tmp_path)
+        if ok:  # read, then refused for its unknown key: past the depth check
+            assert code == 2 and "unknown key 'x'" in err, err
+        else:
+            refused((code, err), "m.json", "more than 1,000 levels deep")

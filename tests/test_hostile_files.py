@@ -204,9 +204,9 @@ def test_control_characters_in_paths_are_escaped_in_messages(tmp_path):
 def test_manifests_nested_deep_or_with_nul_bytes(tmp_path):
     (tmp_path / "m.obj").write_text(CUBE)
     (tmp_path / "deep.json").write_text("[" * 100_000 + "]" * 100_000)
-    refused(facet("batch", "deep.json", "-o", "ds", cwd=tmp_path), "nested too deeply")
+    refused(facet("batch", "deep.json", "-o", "ds", cwd=tmp_path), "levels deep", "budget")
     (tmp_path / "deep.jsonl").write_text('{"model": ' + "[" * 100_000 + "]" * 100_000 + "}\n")
-    refused(facet("batch", "deep.jsonl", "-o", "ds", cwd=tmp_path), "nested too deeply")
+    refused(facet("batch", "deep.jsonl", "-o", "ds", cwd=tmp_path), "levels deep", "budget")
     (tmp_path / "nul.jsonl").write_text(json.dumps({"model": "m\0.obj"}) + "\n")
     refused(facet("batch", "nul.jsonl", "-o", "ds", cwd=tmp_path), "model")
     assert not (tmp_path / "ds").exists()

@@ -37,8 +37,9 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..budgets import budget
 from ..errors import InputError
-from ..guard import parse_json, regular_file
+from ..guard import json_depth, parse_json, regular_file
 from ..scene.options import (
     MAX_FRAMES,
     PARSERS,
@@ -100,7 +101,7 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
     elif path.suffix.lower() in (".jsonl", ".json") and path.is_file():
         entries, merged = [], base_defaults
         text_ = regular_file(path, "manifest").read_text(encoding="utf-8")
-        document = _json_document(text_) if path.suffix.lower() == ".json" else None
+        document = _json_document(text_, path.name) if path.suffix.lower() == ".json" else None
         if document is not None:  # one JSON value: [jobs] or {"defaults", "jobs"}
             if isinstance(document, list):
                 document = {"jobs": document}
@@ -170,16 +171,14 @@ def _document_entries(data: dict, name: str, base_defaults: dict, keys: str) -> 
             for i, j in enumerate(jobs)]
 
 
-def _json_document(text: str):
+def _json_document(text: str, name: str):
     """The value of a .json manifest written as one JSON document, or None when it is JSON
     Lines (one job per line) instead."""
     try:
-        value = json.loads(text)
+        value = json.loads(text) if json_depth(text, budget("depth")) <= budget("depth") \
+            else parse_json(text, name)  # says how deep, in one line
     except json.JSONDecodeError:
         return None
-    except RecursionError:
-        raise InputError("the manifest is nested too deeply to read (arrays or objects "
-                         "inside one another thousands of times)") from None
     return value if isinstance(value, list) or (isinstance(value, dict) and (
         "jobs" in value or set(value) <= {"defaults"})) else None
 

@@ -13,7 +13,6 @@ file, with ``.png`` added when it has no extension, as NeRF synthetic writes it)
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -99,12 +98,12 @@ def image_size(path: Path, data: dict, frame: dict | None = None) -> tuple[int, 
 
 
 def _document(path: Path) -> dict:
-    from ..guard import regular_file
+    from ..guard import parse_json, regular_file
 
     try:
-        data = json.loads(regular_file(path, "cameras file").read_text(encoding="utf-8"))
-    except (ValueError, UnicodeDecodeError, RecursionError) as exc:
-        raise InputError(f"{path}: not a transforms.json ({exc})") from None
+        data = parse_json(regular_file(path, "cameras file").read_bytes(), str(path))
+    except InputError as exc:
+        raise InputError(f"{exc}; is it a transforms.json?") from None
     if not isinstance(data, dict):
         raise InputError(f"{path}: not a transforms.json (expected an object)")
     return data

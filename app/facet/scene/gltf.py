@@ -83,6 +83,13 @@ def _document(path: Path) -> dict:
                             "is it truncated or in another format?")
         else:
             text = head + f.read()
+    from ..budgets import budget
+    from ..guard import json_depth
+
+    limit = budget("depth")
+    if json_depth(text, limit) > limit:
+        raise MeshError(f"{path}: its JSON nests more than {limit:,} levels deep, facet's "
+                        "budget (--budget depth=N)")
     try:
         document = json.loads(text)
     except RecursionError:
