@@ -45,6 +45,10 @@ def render_dataset(jobs, out, *, workers: int | None = None, gpus=None,
     widen), where a job may read files (``job_root``; facet.guard.confined)."""
     import multiprocessing
 
+    if getattr(multiprocessing.current_process(), "_inheriting", False):
+        # A spawned worker importing a script that renders at import time (no main
+        # guard): stop here, before making queues whose semaphores it would leave behind.
+        raise InputError(NO_START)
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a folder")
