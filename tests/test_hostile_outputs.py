@@ -10,6 +10,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -160,6 +161,47 @@ def test_sigterm_stops_a_viewer_waiting_for_a_silent_x_server(tmp_path, silent_d
     finally:
         proc.kill()
     assert proc.returncode == 143 and "Traceback" not in err, (proc.returncode, err)
+
+
+def test_the_display_probe_stays_connected_until_glfw_has_connected(tmp_path):
+    """An X server resets when its last client leaves, dropping connections still in their
+    setup: a probe that hung up just before glfw connected made glfw fail at random ("Failed
+    to open display" in CI). A stand-in server answers the probe and, when the next
+    connection (glfw's) arrives, looks whether the probe is still there."""
+    (tmp_path / "m.obj").write_text(TRIANGLE)
+    folder = Path("/tmp/.X11-unix")
+    folder.mkdir(exist_ok=True)
+    number = next(n for n in range(700, 800) if not (folder / f"X{n}").exists())
+    path = folder / f"X{number}"
+    server = socket.socket(socket.AF_UNIX)
+    server.bind(str(path))
+    server.listen(8)
+    seen = {}
+
+    def serve():
+        probe, _ = server.accept()
+        probe.recv(12)
+        probe.sendall(b"\0")  # "failed": a live server, enough for the probe
+        second, _ = server.accept()
+        probe.setblocking(False)
+        try:
+            seen["probe open"] = probe.recv(1) != b""
+        except BlockingIOError:  # nothing to read and not closed: still connected
+            seen["probe open"] = True
+        second.close()
+        probe.close()
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    try:
+        result = facet("view", "m.obj", cwd=tmp_path, timeout=30,
+                       env={"DISPLAY": f":{number}", "WAYLAND_DISPLAY": ""})
+        thread.join(timeout=10)
+    finally:
+        server.close()
+        path.unlink()
+    refused(result, "cannot open the display")
+    assert seen == {"probe open": True}
 
 
 def _connected(pid: int) -> bool:

@@ -19,21 +19,24 @@ class NoDisplayError(FacetError):
     """There is no display to open a window on."""
 
 
-def check_display(hint: str = "use 'facet render' for headless images") -> None:
-    """NoDisplayError when there is no display, or when the X server DISPLAY names does
-    not answer within the wait budget (glfw would wait for ever, deaf to SIGTERM)."""
+def init_glfw(glfw, hint: str = "use 'facet render' for headless images") -> None:
+    """glfw.init, or NoDisplayError when there is no display, when the X server DISPLAY
+    names does not answer within the wait budget (glfw would wait for ever, deaf to SIGTERM)
+    or when glfw cannot open it."""
     display = os.environ.get("DISPLAY")
     if not (display or os.environ.get("WAYLAND_DISPLAY")):
         raise NoDisplayError(f"no display to open a window on (DISPLAY is not set); {hint}")
-    if display:
-        from ..budgets import budget
-        from .display_probe import answers
+    from ..budgets import budget
+    from .display_probe import answering
 
-        wait = budget("wait_seconds")
-        if answers(display, wait) is False:
+    wait = budget("wait_seconds")
+    with answering(display or "", wait) as answered:
+        if answered is False:
             raise NoDisplayError(f"the X display {display!r} did not answer within {wait} s "
                                  "(a stuck X server, or a forwarded display that is gone; "
                                  f"--budget wait_seconds=N waits longer); {hint}")
+        if not glfw.init():  # while the probe is still connected: see display_probe
+            raise NoDisplayError(f"cannot open the display {display!r}; {hint}")
 
 
 class GLWindow:
@@ -42,10 +45,7 @@ class GLWindow:
     def __init__(self, size, title: str, hint: str = "use 'facet render' for headless images"):
         import glfw
 
-        check_display(hint)
-        if not glfw.init():
-            raise NoDisplayError(f"cannot open the display {os.environ.get('DISPLAY', '')!r}; "
-                                 f"{hint}")
+        init_glfw(glfw, hint)
         self.glfw = glfw
         glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, 3)
         glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, 3)

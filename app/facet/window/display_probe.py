@@ -3,6 +3,10 @@ opens it: Xlib's XOpenDisplay (inside glfw.init) waits for ever on a server that
 the connection and never replies, in C, where not even SIGTERM stops it. The probe sends
 the X11 connection-setup request and waits (in Python, so signals still work) for the
 first byte of any reply: success, failure or "authenticate" all show a live server.
+
+The probe's connection stays open until glfw has made its own: an X server resets when its
+last client leaves, and a reset drops connections still in their setup, so a probe that
+left just as glfw connected made glfw fail ("Failed to open display") at random.
 """
 
 from __future__ import annotations
@@ -10,6 +14,7 @@ from __future__ import annotations
 import re
 import socket
 import struct
+from contextlib import contextmanager
 
 # The 12-byte connection setup request: little-endian, protocol 11.0, no authorisation.
 SETUP_REQUEST = b"l\0" + struct.pack("<HHHH", 11, 0, 0, 0) + b"\0\0"
@@ -30,23 +35,32 @@ def address(display: str):
     return socket.AF_INET6 if ":" in host else socket.AF_INET, [(host, 6000 + number)]
 
 
-def answers(display: str, timeout: float) -> bool | None:
-    """True when the server answers the setup request within ``timeout`` seconds, False
-    when it accepts and stays silent, None when no connection could be made (glfw then
-    says so itself) or the DISPLAY form is not probed."""
+@contextmanager
+def answering(display: str, timeout: float):
+    """Yields True when the server answers the setup request within ``timeout`` seconds,
+    False when it accepts and stays silent, None when no connection could be made (glfw then
+    says so itself) or the DISPLAY form is not probed; a connection that was answered stays
+    open until the ``with`` block ends."""
     where = address(display)
     if where is None:
-        return None
+        yield None
+        return
     family, candidates = where
     for target in candidates:
+        s = socket.socket(family, socket.SOCK_STREAM)
         try:
-            with socket.socket(family, socket.SOCK_STREAM) as s:
-                s.settimeout(timeout)
-                s.connect(target)
-                s.sendall(SETUP_REQUEST)
-                return True if s.recv(1) else None  # closed at once: glfw says why
+            s.settimeout(timeout)
+            s.connect(target)
+            s.sendall(SETUP_REQUEST)
+            answered = s.recv(1)
         except TimeoutError:
-            return False
+            s.close()
+            yield False
+            return
         except OSError:  # refused, no such socket, unreachable: try the next candidate
+            s.close()
             continue
-    return None
+        with s:
+            yield True if answered else None  # closed at once: glfw says why
+        return
+    yield None
