@@ -96,6 +96,38 @@ def main() -> None:
                                       "image": {2: "buffer-b"}}, size=SIZE) as toy:
             ms = _median_frame(lambda t: toy.step(t, 1 / 60), finisher(toy.ctx))
         print(f"{'3 passes (A feedback, B, image)':>30} | {'':>11} {ms * 1e3:9.2f}")
+    assembly()
+
+
+def assembly() -> None:
+    """``#include`` expansion of the largest bundled stages (it runs once per program
+    compiled) next to the floor of reading the same files' bytes."""
+    from facet.gl.glsl_source import expand
+
+    print("\nGLSL assembly: expand() of a stage and its includes (median of 20)")
+    print(f"{'stage':>30} | {'lines':>6} {'read ms':>8} {'expand ms':>9} {'ratio':>6}")
+    for stage in ("mesh/pbr.frag", "trace/trace.frag", "shadertoy/host.frag"):
+        path = ROOT / "glsl" / stage
+        source = expand(path)
+        files = source.files
+
+        def read(files=files):
+            for f in files:
+                f.read_bytes()
+
+        floor = _median(read)
+        ms = _median(lambda path=path: expand(path))
+        print(f"{stage:>30} | {len(source.origin):6d} {floor * 1e3:8.3f} {ms * 1e3:9.3f} "
+              f"{ms / floor:6.1f}")
+
+
+def _median(call, repeats: int = 20) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        call()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
 
 
 if __name__ == "__main__":

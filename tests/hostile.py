@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import re
 import resource
+import socket
 import subprocess
 import sys
 from pathlib import Path
@@ -56,3 +57,22 @@ def png_header(width: int, height: int) -> bytes:
     ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
     return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(b"")) + \
         chunk(b"IEND", b"")
+
+
+def x_socket(first: int):
+    """(display name, listening socket, path) for a stand-in X server on a unix socket in
+    /tmp/.X11-unix, at the first free display number from ``first`` (tests running side by
+    side each get their own)."""
+    folder = Path("/tmp/.X11-unix")
+    folder.mkdir(exist_ok=True)
+    for number in range(first, first + 100):
+        path = folder / f"X{number}"
+        server = socket.socket(socket.AF_UNIX)
+        try:
+            server.bind(str(path))
+        except OSError:  # taken
+            server.close()
+            continue
+        server.listen(8)
+        return f":{number}", server, path
+    raise AssertionError(f"no free X display number from {first}")

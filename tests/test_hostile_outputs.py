@@ -7,7 +7,6 @@ SIGTERM while it waits."""
 import json
 import os
 import signal
-import socket
 import subprocess
 import sys
 import threading
@@ -16,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from hostile import ROOT, facet, refused
+from hostile import ROOT, facet, refused, x_socket
 
 TRIANGLE = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
 FRAG = "void mainImage(out vec4 c, in vec2 p) { c = vec4(1.0); }\n"
@@ -122,16 +121,8 @@ def test_confinement_refuses_outside_and_missing_alike(tmp_path, opener):
 def silent_display(tmp_path):
     """An X display (:N on a unix socket in /tmp/.X11-unix) that accepts connections and
     never says a word."""
-    folder = Path("/tmp/.X11-unix")
-    folder.mkdir(exist_ok=True)
-    for number in range(600, 700):
-        path = folder / f"X{number}"
-        if not path.exists():
-            break
-    server = socket.socket(socket.AF_UNIX)
-    server.bind(str(path))
-    server.listen(8)
-    yield f":{number}"
+    name, server, path = x_socket(600)
+    yield name
     server.close()
     path.unlink()
 
@@ -169,13 +160,7 @@ def test_the_display_probe_stays_connected_until_glfw_has_connected(tmp_path):
     to open display" in CI). A stand-in server answers the probe and, when the next
     connection (glfw's) arrives, looks whether the probe is still there."""
     (tmp_path / "m.obj").write_text(TRIANGLE)
-    folder = Path("/tmp/.X11-unix")
-    folder.mkdir(exist_ok=True)
-    number = next(n for n in range(700, 800) if not (folder / f"X{n}").exists())
-    path = folder / f"X{number}"
-    server = socket.socket(socket.AF_UNIX)
-    server.bind(str(path))
-    server.listen(8)
+    name, server, path = x_socket(700)
     seen = {}
 
     def serve():
@@ -195,7 +180,7 @@ def test_the_display_probe_stays_connected_until_glfw_has_connected(tmp_path):
     thread.start()
     try:
         result = facet("view", "m.obj", cwd=tmp_path, timeout=30,
-                       env={"DISPLAY": f":{number}", "WAYLAND_DISPLAY": ""})
+                       env={"DISPLAY": name, "WAYLAND_DISPLAY": ""})
         thread.join(timeout=10)
     finally:
         server.close()

@@ -6,6 +6,7 @@ never a fixed sleep."""
 from __future__ import annotations
 
 import os
+import select
 import shutil
 import subprocess
 import sys
@@ -40,12 +41,19 @@ def start_display():
     missing = [t for t in TOOLS if shutil.which(t) is None]
     if missing:
         pytest.skip(f"window tests need {', '.join(missing)} (Debian: xvfb xdotool x11-apps)")
-    number = 90 + os.getpid() % 9
-    while Path(f"/tmp/.X11-unix/X{number}").exists():
-        number += 1
-    proc = subprocess.Popen(["Xvfb", f":{number}", "-screen", "0", "800x600x24", "-nolisten",
-                             "tcp"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    until(lambda: Path(f"/tmp/.X11-unix/X{number}").exists(), 10, "Xvfb to start")
+    read, write = os.pipe()  # Xvfb picks a free display and writes its number when ready
+    proc = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "800x600x24",
+                             "-nolisten", "tcp"], pass_fds=(write,),
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    try:
+        ready, _, _ = select.select([read], [], [], 20)
+        number = os.read(read, 64).decode().strip() if ready else ""
+    finally:
+        os.close(read)
+    if not number.isdigit():
+        proc.kill()
+        raise AssertionError("Xvfb did not start within 20 s")
     return f":{number}", proc
 
 

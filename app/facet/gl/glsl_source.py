@@ -17,6 +17,7 @@ driver error logs through it. Rules:
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 import re
@@ -32,6 +33,7 @@ _INCLUDE = re.compile(r'^\s*#\s*include\s+(?:"([^"]+)"|<([^>]+)>)\s*(?://.*)?$')
 _VERSION = re.compile(r"^\s*#\s*version\b")
 
 
+@functools.cache
 def glsl_root() -> Path:
     """The bundled shader directory: ``facet/glsl`` in a wheel, ``<repo>/glsl`` in a checkout."""
     return data_dir("glsl", "lib/lighting.glsl")
@@ -144,19 +146,18 @@ def expand(path, defines: dict[str, object] | None = None,
                               f"{depth_limit:,} deep, facet's budget (--budget depth=N)")
         done.add(file)
         files.append(file)
-        return [file, read(file, is_stage), 0, chain, is_stage]
+        return [file, read(file, is_stage), 0, chain, is_stage, display_path(file)]
 
     stack = [enter(stage, [], True)]
     own = glsl_root().resolve()  # facet's library: never confined
     while stack:
         frame = stack[-1]
-        file, lines, index, chain, is_stage = frame
+        file, lines, index, chain, is_stage, name = frame
         if index >= len(lines):
             stack.pop()
             continue
         line, number = lines[index], index + 1
         frame[2] += 1
-        name = display_path(file)
         if _VERSION.match(line):
             if not (is_stage and number == 1):
                 raise ShaderError(f"{name}:{number}:1: error: #version belongs on line 1 "

@@ -35,7 +35,7 @@ from ..gl.shaders import Program
 from ..gl.uniforms import check_uniform, write_sized, write_uniform
 from . import project as P
 from .assemble import check_channels, from_arguments, with_glslviewer_buffers
-from .channels import ChannelResources
+from .channels import NOISE_SIZE, ChannelResources
 from .passes import compile_pass
 from .targets import PassTargets
 
@@ -136,9 +136,8 @@ class ShaderToy:
         if ch.kind == "keyboard":
             kb = self.resources.keyboard
             return (lambda: kb), sampler, (256, 3), False
-        if ch.kind == "noise":
-            noise = self.resources.noise
-            return (lambda: noise), sampler, noise.size, False
+        if ch.kind == "noise":  # made when first drawn with: its mipmaps cost a compile
+            return (lambda: self.resources.noise), sampler, (NOISE_SIZE,) * 2, False
         black = self.resources.black
         return (lambda: black), sampler, (1, 1), False
 
@@ -268,13 +267,14 @@ class ShaderToy:
                       u_resolution=(float(w), float(h)))
         resolutions = []
         for n, (texture, sampler, size, _) in enumerate(self._bindings[p.key]):
-            texture().use(location=n)
-            sampler.use(location=n)
             size = size or (self.width, self.height)
             resolutions.append((float(size[0]), float(size[1]), 1.0))
-            for name in (f"iChannel{n}", f"u_tex{n}"):
-                if name in prog:
-                    prog[name].value = n
+            read = [name for name in (f"iChannel{n}", f"u_tex{n}") if name in prog]
+            if read:  # a channel the compiled pass does not read is not bound (nor made)
+                texture().use(location=n)
+                sampler.use(location=n)
+            for name in read:
+                prog[name].value = n
         for k, (name, (texture, sampler, _, _)) in enumerate(self._named[p.key]):
             unit = len(resolutions) + k  # after the four channels
             texture().use(location=unit)
