@@ -1,11 +1,14 @@
 # facet: two commands on a fresh clone.
 #   make render   create .venv, install facet, render the bundled model to out/default.png
 #   make test     install the dev dependencies too and run the whole test suite
+#                 (JOBS processes side by side; JOBS=1 for one)
 #   make bench    run the benchmarks (prints tables; asserts nothing)
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 PIP    := $(BIN)/python -m pip --disable-pip-version-check -q
+# Test processes side by side: one per core, at most 4 (llvmpipe renders on every core).
+JOBS   ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$n)
 
 .PHONY: render test bench lint check-gl clean
 
@@ -25,7 +28,7 @@ render: check-gl $(VENV)/.installed
 	@$(BIN)/facet render -o out/default.png
 
 test: check-gl $(VENV)/.installed-dev
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n $(JOBS) --dist worksteal
 
 bench: check-gl $(VENV)/.installed-dev
 	@$(PIP) install -e '.[bench]' || echo "(embreex not installable here: Embree columns skipped)"
