@@ -6,7 +6,6 @@ never a fixed sleep."""
 from __future__ import annotations
 
 import os
-import select
 import shutil
 import subprocess
 import sys
@@ -36,24 +35,38 @@ def until(condition, timeout: float = 20.0, what: str = "the condition"):
         time.sleep(POLL)
 
 
+def _locked_by(pid: int, number: int) -> bool:
+    """Whether display ``number``'s lock file names process ``pid``."""
+    try:
+        return int(Path(f"/tmp/.X{number}-lock").read_text().strip()) == pid
+    except (OSError, ValueError):
+        return False
+
+
 def start_display():
     """An Xvfb display (``(name, process)``); the tests skip without the tools."""
     missing = [t for t in TOOLS if shutil.which(t) is None]
     if missing:
         pytest.skip(f"window tests need {', '.join(missing)} (Debian: xvfb xdotool x11-apps)")
-    read, write = os.pipe()  # Xvfb picks a free display and writes its number when ready
-    proc = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "800x600x24",
-                             "-nolisten", "tcp"], pass_fds=(write,),
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    os.close(write)
-    try:
-        ready, _, _ = select.select([read], [], [], 20)
-        number = os.read(read, 64).decode().strip() if ready else ""
-    finally:
-        os.close(read)
-    if not number.isdigit():
-        proc.kill()
-        raise AssertionError("Xvfb did not start within 20 s")
+    number = 90 + os.getpid() % 50
+    end = time.monotonic() + 20
+    while time.monotonic() < end:  # the first display number no other server holds
+        socket_file, lock = Path(f"/tmp/.X11-unix/X{number}"), Path(f"/tmp/.X{number}-lock")
+        if lock.exists() or socket_file.exists():
+            number += 1
+            continue
+        proc = subprocess.Popen(["Xvfb", f":{number}", "-screen", "0", "800x600x24",
+                                 "-nolisten", "tcp"], stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL)
+        # Ours once its socket is there and the lock names it; a server that another test
+        # started on the same number at the same moment loses the lock and exits.
+        until(lambda f=socket_file, p=proc, n=number: (f.exists() and _locked_by(p.pid, n))
+              or p.poll() is not None, 10, "Xvfb to start")
+        if proc.poll() is None:
+            break
+        number += 1
+    else:
+        raise AssertionError("no X display number free for Xvfb within 20 s")
     return f":{number}", proc
 
 
