@@ -303,7 +303,7 @@ def test_bad_tracer_options_and_a_scene_too_big(renderer):
     for kwargs, message in ((dict(spp=0), "spp must be an integer >= 1"),
                             (dict(max_depth=-1), "max_depth: expected an integer in"),
                             (dict(max_depth=1000), "max_depth: expected an integer in"),
-                            (dict(engine="path"), "unknown engine 'path'")):
+                            (dict(engine="photon"), "unknown engine 'photon'")):
         with pytest.raises(InputError, match=message):
             r.render(scene, engine=kwargs.pop("engine", "trace"), **kwargs)
     r.render(scene, engine="trace", outputs=("ids",))  # the tracer exists now

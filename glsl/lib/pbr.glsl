@@ -7,7 +7,7 @@
 // facet's lights of intensity I give irradiance pi I (facet.scene.pbr), so a light adds
 // pi f I (N.L); the pi cancels f_diffuse's.
 
-const float PI = 3.14159265358979;
+#include "lib/constants.glsl"
 const float DIELECTRIC_F0 = 0.04;  // ior 1.5
 const float MIN_ALPHA = 1e-3;  // keeps D finite for a perfect mirror
 

@@ -4,6 +4,8 @@
 //   6    (kind, mesh root node, object id, flags: FLAG_COLORS | FLAG_ONE_SIDED)
 //   7    shape parameters              8    material (C rgb, k_a)
 //   9    (k_d, k_s, shininess, opacity)  10 (reflectivity, ior, gloss, texture layer or -1)
+//   11   (base colour rgb, metallic)     12 (emitted radiance rgb, roughness): the
+//        metallic-roughness model the path tracer shades by (glsl/trace/path.frag)
 #include "trace/bvh.glsl"
 #include "trace/shapes.glsl"
 

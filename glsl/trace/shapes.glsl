@@ -3,7 +3,7 @@
 // world distance's parameter), the nearest distance so far t, and on a nearer hit in (0, t)
 // writes t, the outward object-space normal n and texture coordinates uv (those of the
 // rasterizer's tessellation, facet.scene.primitives).
-const float PI = 3.14159265358979;
+#include "lib/constants.glsl"
 
 vec2 around(vec3 p) {  // u from +x towards -z, as the tessellations
     return vec2(fract(atan(-p.z, p.x) / (2.0 * PI) + 1.0), 0.0);

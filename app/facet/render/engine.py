@@ -34,6 +34,7 @@ from .antialias import accumulation
 ENGINE_CLASSES = {
     "raster": ("facet.render.raster.engine", "RasterEngine"),
     "trace": ("facet.render.trace.engine", "TraceEngine"),
+    "path": ("facet.render.trace.path_engine", "PathEngine"),
 }
 
 
@@ -48,6 +49,7 @@ class Engine:
 
     name = ""
     deferred_exact = False  # the exact channels may be drawn after the call returns
+    radiance = False  # colour is linear radiance: sRGB-encoded only for 8-bit output
 
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache

@@ -245,7 +245,11 @@ class Renderer:
         samples = dest.samples(aa.samples)
         source = self._accumulate(engine, scene, state, opts, aa, samples, bg, surf,
                                   dest.preview)
-        finish = finish_for(bg, opts.srgb, samples.stop)
+        # An engine whose colour is linear radiance (the path tracer) is encoded for 8-bit
+        # output (a window is 8-bit) and left linear in float colour, whatever srgb says.
+        encode = (not opts.float_color or dest.window is not None) if engine.radiance \
+            else opts.srgb
+        finish = finish_for(bg, encode, samples.stop)
         return self._finish(source, None, finish, opts, dest, surf), samples.stop
 
     def _exact(self, engine, scene, state: FrameState, aux, surf) -> dict:

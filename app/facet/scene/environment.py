@@ -60,6 +60,14 @@ class Environment:
         return cls(sky_color(face_directions(size), zenith, horizon, ground), "sky")
 
     @classmethod
+    def constant(cls, color) -> Environment:
+        """The same radiance from every direction (``color``: linear RGB)."""
+        from .material import as_color
+
+        c = as_color(color, "environment color")
+        return cls(np.broadcast_to(c[:3], (6, 1, 1, 3)), "constant environment")
+
+    @classmethod
     def from_faces(cls, paths) -> Environment:
         """Six images, in the order +X, -X, +Y, -Y, +Z, -Z."""
         from .texture import Texture

@@ -32,9 +32,9 @@ PCF_CHOICES = (0, 1, 2)  # shadow filter kernel radius: one tap, 3 x 3, 5 x 5
 # camera when it has none; "scene" only its own (none: only ambient); "camera" the rig even
 # when the scene has lights.
 LIGHTS = ("auto", "scene", "camera")
-ENGINES = ("raster", "trace")  # the rasterizer, the ray tracer (facet.render.engine)
+ENGINES = ("raster", "trace", "path")  # rasterizer, ray tracer, path tracer (facet.render.engine)
 # Engines whose shadows are on unless asked otherwise (a shadow ray costs no extra pass).
-SHADOWS_BY_DEFAULT = ("trace",)
+SHADOWS_BY_DEFAULT = ("trace", "path")
 CULL = ("auto", "on", "off")  # back-face culling (facet.render.raster.culling)
 DEFAULT_MAX_DEPTH = 5  # reflection/refraction bounces of the ray tracer
 DEFAULT_AA = "msaa:4"
@@ -287,14 +287,19 @@ def _integer(choices=None, minimum=None, maximum=None):
 
 def _environment(value, key, base=None):
     """'sky', an image or a folder of cube faces (a relative path: from ``base``, the
-    folder of the file that names it)."""
+    folder of the file that names it), or ``{color = [r, g, b]}``: a constant radiance."""
     from .environment import Environment, load_environment
 
     if isinstance(value, Environment):
         return value
+    if isinstance(value, dict):
+        if set(value) != {"color"}:
+            raise InputError(f"{key}: a constant environment is {{color = [r, g, b]}}, got "
+                             f"the keys {', '.join(map(str, value)) or 'none'}")
+        return Environment.constant(value["color"])
     if not isinstance(value, str):
-        raise InputError(f"{key}: expected 'sky', an image or a folder of cube faces, got "
-                         f"{value!r}")
+        raise InputError(f"{key}: expected 'sky', an image, a folder of cube faces or "
+                         f"{{color = [r, g, b]}}, got {value!r}")
     return load_environment(value, base)
 
 

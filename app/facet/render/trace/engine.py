@@ -185,7 +185,7 @@ class TraceEngine(Engine):
                    **pack.layout_defines()}
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
                  "SECONDARY": secondary and stage == "trace",
-                 "HAS_ENVIRONMENT": state.environment is not None and stage == "trace"}
+                 "HAS_ENVIRONMENT": state.environment is not None and stage != "primary"}
         defines.update({k: None for k, on in flags.items() if on})
         for name, location in aux_locations(aux).items():
             defines[f"OUT_{name.upper()}"] = location

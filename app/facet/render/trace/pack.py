@@ -19,11 +19,12 @@ import numpy as np
 
 from ...errors import InputError
 from ...geometry.bvh import build_bvh
+from ..materials import as_pbr
 
 TEX_SHIFT = 12
 TEX_WIDTH = 1 << TEX_SHIFT  # texels per texture row (glsl/trace/data.glsl)
 NODE_TEXELS = 4
-INSTANCE_TEXELS = 11
+INSTANCE_TEXELS = 13
 KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
 FLAG_COLORS, FLAG_ONE_SIDED = 1, 2  # an instance's flags (glsl/trace/scene.glsl)
 
@@ -160,6 +161,12 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
     row[9] = (mat.kd, mat.ks, mat.shininess, mat.opacity)
     layer = layers.get(id(mat.texture), -1) if mat.texture is not None else -1
     row[10] = (mat.reflectivity, mat.ior, mat.gloss, layer)
+    # The metallic-roughness model (the path tracer's; a Phong material through the
+    # rasterizer's mapping, facet.render.materials.as_pbr): linear base colour, metallic,
+    # emitted radiance, roughness.
+    pbr = as_pbr(mat)
+    row[11] = (*pbr.base_color[:3], pbr.metallic)
+    row[12] = (*(pbr.emissive * pbr.emissive_strength), pbr.roughness)
     return row
 
 
