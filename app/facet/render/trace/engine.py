@@ -152,14 +152,7 @@ class TraceEngine(Engine):
                          "single-sided glTF materials lose theirs)")
         if opts.pcf != RenderOptions.pcf:  # given: the default filters nothing here
             lines.append("pcf filters shadow maps; the ray tracer's shadow rays are exact")
-        counts: dict[str, int] = {}
-        for obj in scene.objects:
-            for feature in _dropped(obj.material):
-                counts[feature] = counts.get(feature, 0) + 1
-        total = len(scene.objects)
-        lines += [f"the ray tracer ignores {feature} ({n} of {total} objects)"
-                  for feature, n in counts.items()]
-        return lines
+        return lines + feature_lines(scene, _dropped, "the ray tracer")
 
     def _instances(self, scene, state: FrameState) -> tuple[int, bool, int]:
         """Upload the placed objects: (unbounded count, has a top level, the single
@@ -224,12 +217,18 @@ class TraceEngine(Engine):
         secondary = any(o.material.reflectivity > 0 or o.material.opacity < 1
                         for o in scene.objects)
         program = self._program("trace", state, shadows, secondary=secondary)
+        self.draw_colour(scene, state, program, u_background=background,
+                         u_max_depth=int(max_depth), u_gloss_jitter=state.gloss_jitter)
+
+    def draw_colour(self, scene, state: FrameState, program: FullScreenPass,
+                    **uniforms) -> None:
+        """Draw a colour ``program`` (the tracer's, the path tracer's) over the scene into
+        the bound target, with the environment and ``uniforms`` (those it lacks skipped)."""
         self._bind(scene, state, program)
-        prog = program.program
-        prog.set("u_background", tuple(float(c) for c in background))
-        prog.set("u_max_depth", int(max_depth))
-        prog.set("u_gloss_jitter", tuple(float(v) for v in state.gloss_jitter),
-                 strict=False)
+        for name, value in uniforms.items():
+            if not isinstance(value, int):
+                value = tuple(float(v) for v in value)
+            program.program.set(name, value, strict=False)
         textures = {}
         if state.environment is not None:
             textures["u_environment"] = (self.cache.cube(state.environment),
@@ -258,6 +257,18 @@ class TraceEngine(Engine):
             tex.release()
         self._textures.clear()
         self.lights_ubo.release()
+
+
+def feature_lines(scene, dropped, engine: str) -> list[str]:
+    """One line per material feature that ``dropped(material)`` names, with how many of
+    the scene's objects use it."""
+    counts: dict[str, int] = {}
+    for obj in scene.objects:
+        for feature in dropped(obj.material):
+            counts[feature] = counts.get(feature, 0) + 1
+    total = len(scene.objects)
+    return [f"{engine} ignores {feature} ({n} of {total} objects)"
+            for feature, n in counts.items()]
 
 
 def _dropped(m) -> list[str]:

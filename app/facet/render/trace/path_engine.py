@@ -19,8 +19,7 @@ import numpy as np
 from ...scene.option_values import DEFAULT_MAX_DEPTH
 from ...scene.pbr import PbrMaterial
 from ...srgb import srgb_to_linear
-from ..state import UNITS
-from .engine import TraceEngine
+from .engine import TraceEngine, feature_lines
 
 DEFAULT_BOUNCES = 8
 
@@ -30,6 +29,7 @@ class PathEngine(TraceEngine):
 
     name = "path"
     radiance = True
+    _sample = 0  # the supersample being drawn (sample_state)
 
     def sample_state(self, scene, scene_k, state, opts, k: int, plain: bool):
         self._sample = k
@@ -37,22 +37,11 @@ class PathEngine(TraceEngine):
 
     def draw_sample(self, scene, state, opts, surf, background) -> None:
         bounces = DEFAULT_BOUNCES if opts.max_depth == DEFAULT_MAX_DEPTH else opts.max_depth
-        program = self._program("path", state, False)
-        self._bind(scene, state, program)
-        prog = program.program
         if not state.srgb:  # a display value here; the output is encoded (Engine.radiance)
             background = (*srgb_to_linear(np.asarray(background[:3])), background[3])
-        prog.set("u_background", tuple(float(c) for c in background))
-        prog.set("u_max_depth", int(bounces))
-        prog.set("u_sample", int(getattr(self, "_sample", 0)), strict=False)
-        prog.set("u_seed", 0, strict=False)
-        textures = {}
-        if state.environment is not None:
-            textures["u_environment"] = (self.cache.cube(state.environment),
-                                         UNITS["environment"])
-        self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
-        program.draw(textures)
-        self.ctx.enable(self.ctx.DEPTH_TEST)
+        self.draw_colour(scene, state, self._program("path", state, False),
+                         u_background=background, u_max_depth=int(bounces),
+                         u_sample=self._sample, u_seed=0)
 
     def unsupported(self, opts, scene) -> list[str]:
         """What the path tracer does not draw as asked (each a warning line)."""
@@ -67,13 +56,7 @@ class PathEngine(TraceEngine):
                          "single-sided glTF materials lose theirs)")
         if not opts.shadows_on:
             lines.append("the path tracer always traces shadows (shadows = off ignored)")
-        counts: dict[str, int] = {}
-        for obj in scene.objects:
-            for feature in _dropped(obj.material):
-                counts[feature] = counts.get(feature, 0) + 1
-        total = len(scene.objects)
-        return lines + [f"the path tracer ignores {feature} ({n} of {total} objects)"
-                        for feature, n in counts.items()]
+        return lines + feature_lines(scene, _dropped, "the path tracer")
 
 
 def _dropped(m) -> list[str]:
