@@ -70,6 +70,11 @@ CASES = {
                        "accessors[0].count: expected an integer >= 1"),
     "3e9 elements": (lambda d: d["accessors"][0].update(count=3 * 10**9),
                      "more than facet's budget"),
+    "accessor type a list (found by the fuzzer)": (
+        lambda d: d["accessors"][1].update(type=[]), "accessors[1].type: unknown type"),
+    "accessor componentType a list": (
+        lambda d: d["accessors"][1].update(componentType=[5126]),
+        "accessors[1].componentType: unknown component type"),
     "unknown sparse componentType": (
         lambda d: d["accessors"][0].update(sparse={
             "count": 1, "indices": {"bufferView": 2, "componentType": 5126},

@@ -129,10 +129,10 @@ class GltfCheck:
         self.ref(get(a, "bufferView"), "bufferViews", f"{path}.bufferView")
         self.integer(get(a, "byteOffset"), f"{path}.byteOffset")
         kind = get(a, "componentType")
-        if kind not in COMPONENTS or isinstance(kind, bool):
+        if not isinstance(kind, int) or isinstance(kind, bool) or kind not in COMPONENTS:
             self.fail(f"{path}.componentType", f"unknown component type {kind!r}")
         shape = get(a, "type")
-        if shape not in WIDTH:
+        if not isinstance(shape, str) or shape not in WIDTH:
             self.fail(f"{path}.type", f"unknown type {shape!r}; expected one of "
                       f"{', '.join(WIDTH)}")
         count = self.integer(get(a, "count"), f"{path}.count", 1, optional=False)
