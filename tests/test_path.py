@@ -131,7 +131,7 @@ def test_the_same_picture_on_every_run_and_bounces_add_light():
 
 
 def test_what_the_path_tracer_ignores_is_one_warning_line():
-    mat = PbrMaterial(base_color=(1, 1, 1, 0.5), alpha_mode="MASK")
+    mat = facet.Material(color=(1, 1, 1), opacity=0.5, ior=1.5)
     with facet.Renderer(16, 16) as r, pytest.warns(FacetWarning,
-                                                   match="path tracer ignores alpha MASK"):
+                                                   match="path tracer ignores Phong ior"):
         r.render(_sphere_scene(mat), CAMERA, engine="path", spp=1)

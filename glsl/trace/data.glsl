@@ -1,8 +1,8 @@
 // The ray tracer's scene in textures (packed by facet.render.trace.pack): rows of TEX_WIDTH
 // texels, element i at (i mod TEX_WIDTH, i / TEX_WIDTH). Object space for meshes and shapes,
 // world space for instances and the top level. GL 3.3: no buffers bound by index, so
-// everything is a texelFetch. The layout's constants (TEX_SHIFT, NODE_TEXELS,
-// INSTANCE_TEXELS, the KIND_* and FLAG_* values) are facet.render.trace.pack's, defined by
+// everything is a texelFetch. The layout's constants (TEX_SHIFT, NODE_TEXELS, VERTEX_TEXELS,
+// INSTANCE_TEXELS, MATERIAL_ROW, SLOT_ROW, SLOT_TEXELS, the KIND_* and FLAG_* values) are facet.render.trace.pack's, defined by
 // facet when it compiles these files (pack.layout_defines).
 #ifndef NODE_TEXELS
 #error the tracer's layout is defined by facet.render.trace.pack (layout_defines)
@@ -11,7 +11,8 @@ const int TEX_MASK = (1 << TEX_SHIFT) - 1;
 
 uniform sampler2D u_tris;        // 3 texels per triangle: v0, e1 = v1 - v0, e2 = v2 - v0
 uniform isampler2D u_tri_index;  // 1 texel per triangle: its vertices' indices
-uniform sampler2D u_vertices;    // 2 texels per vertex: (normal, u), (v, colour rgb)
+uniform sampler2D u_vertices;    // VERTEX_TEXELS per vertex: (normal, u), (v, colour rgb),
+                                 // (tangent xyz, handedness), (uv1, colour alpha, 0)
 uniform sampler2D u_nodes;       // meshes' hierarchies, NODE_TEXELS per inner node
 uniform sampler2D u_instances;   // INSTANCE_TEXELS per placed object (see scene.glsl)
 uniform sampler2D u_tlas;        // the top level over instances, laid out like u_nodes

@@ -12,7 +12,11 @@ struct Surface {
     vec3 ng;      // unit geometric normal, the same side
     bool front;   // the ray arrived on the outward side (entering a solid)
     vec2 uv;      // texture coordinates
-    vec3 albedo;  // texture x vertex colour (1 for plain materials)
+    vec2 uv1;     // the second set (0 without)
+    vec4 tangent; // world tangent (0 without: shapes, meshes without frames), handedness
+    vec3 albedo;  // texture x vertex colour (1 for plain materials); PBR_SLOTS: the vertex
+                  // colour only (the path tracer samples the material's slots itself)
+    float alpha;  // the vertex colour's alpha (1 without)
     vec3 color;   // the material colour C (linear)
     vec4 k;       // k_a, k_d, k_s, shininess
     vec4 fx;      // opacity, reflectivity, ior, gloss
@@ -28,26 +32,37 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     vec4 m0 = fetch(u_instances, base + 8), m1 = fetch(u_instances, base + 9);
     vec4 m2 = fetch(u_instances, base + 10);
     vec3 n_obj, ng_obj, p_obj;
-    vec2 uv;
+    vec2 uv, uv1 = vec2(0.0);
+    vec4 tangent = vec4(0.0);
     vec3 albedo = vec3(1.0);
+    float alpha = 1.0;
     if (h.tri >= 0) {
         vec3 w = vec3(1.0 - h.bary.x - h.bary.y, h.bary);
         vec3 e1 = fetch(u_tris, 3 * h.tri + 1).xyz, e2 = fetch(u_tris, 3 * h.tri + 2).xyz;
         p_obj = fetch(u_tris, 3 * h.tri).xyz + h.bary.x * e1 + h.bary.y * e2;
         ng_obj = cross(e1, e2);
         ivec4 vi = fetch_int(u_tri_index, h.tri);
-        vec4 a0 = fetch(u_vertices, 2 * vi.x), b0 = fetch(u_vertices, 2 * vi.x + 1);
-        vec4 a1 = fetch(u_vertices, 2 * vi.y), b1 = fetch(u_vertices, 2 * vi.y + 1);
-        vec4 a2 = fetch(u_vertices, 2 * vi.z), b2 = fetch(u_vertices, 2 * vi.z + 1);
+        ivec3 at = vi.xyz * VERTEX_TEXELS;
+        vec4 a0 = fetch(u_vertices, at.x), b0 = fetch(u_vertices, at.x + 1);
+        vec4 a1 = fetch(u_vertices, at.y), b1 = fetch(u_vertices, at.y + 1);
+        vec4 a2 = fetch(u_vertices, at.z), b2 = fetch(u_vertices, at.z + 1);
         n_obj = a0.xyz * w.x + a1.xyz * w.y + a2.xyz * w.z;
         uv = vec2(a0.w, b0.x) * w.x + vec2(a1.w, b1.x) * w.y + vec2(a2.w, b2.x) * w.z;
         if ((int(info.w) & FLAG_COLORS) != 0) {
             vec3 c = b0.yzw * w.x + b1.yzw * w.y + b2.yzw * w.z;
-#ifdef COLOR_SRGB
+#if defined(COLOR_SRGB) || defined(PBR_SLOTS)
             c = srgb_to_linear(c);
 #endif
             albedo = c;
         }
+#ifdef PBR_SLOTS
+        vec3 extra = mat3(fetch(u_vertices, at.x + 3).xyz, fetch(u_vertices, at.y + 3).xyz,
+                          fetch(u_vertices, at.z + 3).xyz) * w;  // (uv1, alpha)
+        uv1 = extra.xy;
+        alpha = extra.z;
+        tangent = fetch(u_vertices, at.x + 2) * w.x + fetch(u_vertices, at.y + 2) * w.y
+                + fetch(u_vertices, at.z + 2) * w.z;
+#endif
     } else {
         n_obj = ng_obj = h.n_obj;
         uv = h.uv;
@@ -63,9 +78,23 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     s.ng = normalize(to_world_n * ng_obj);
     s.front = dot(s.ng, d) < 0.0;
     if (!s.front) { s.n = -s.n; s.ng = -s.ng; }
+#ifdef PBR_SLOTS
+    // Tangents are directions on the surface: carried by M (the object -> world rows).
+    vec3 t_world = apply_rows(base + 3, tangent.xyz, 0.0);
+    // A mirroring placement (det M < 0) turns the frame's handedness round.
+    mat3 m_rows = mat3(fetch(u_instances, base + 3).xyz, fetch(u_instances, base + 4).xyz,
+                       fetch(u_instances, base + 5).xyz);
+    float hand = (tangent.w < 0.0 ? -1.0 : 1.0) * (determinant(m_rows) < 0.0 ? -1.0 : 1.0);
+    s.tangent = dot(tangent.xyz, tangent.xyz) > 0.0 ? vec4(normalize(t_world), hand)
+                                                    : vec4(0.0);
+#else
+    s.tangent = vec4(0.0);
     if (m2.w >= 0.0) albedo *= textureLod(u_textures, vec3(uv, m2.w), 0.0).rgb;
+#endif
     s.albedo = albedo;
+    s.alpha = alpha;
     s.uv = uv;
+    s.uv1 = uv1;
     s.color = m0.rgb;
     s.k = vec4(m0.w, m1.xyz);
     s.fx = vec4(m1.w, m2.xyz);

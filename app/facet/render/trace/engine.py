@@ -46,6 +46,7 @@ class TraceEngine(Engine):
         self._geometry_key: tuple | None = None
         self._geometry_refs: list = []  # the meshes of the uploaded geometry (alive)
         self._roots: dict[int, int] = {}
+        self._first_tri: dict[int, int] = {}
         self._textures: dict[str, object] = {}
         self._layers_key: tuple | None = None
         self._layers: dict[int, int] = {}
@@ -67,13 +68,15 @@ class TraceEngine(Engine):
     def _geometry(self, scene) -> None:
         """Upload every mesh's triangles and hierarchy when the set of meshes changed."""
         meshes = list({id(o.mesh): o.mesh for o in scene.objects if o.shape is None}.values())
-        key = tuple(id(m) for m in meshes)
+        framed = {id(o.mesh) for o in scene.objects if o.shape is None and self._tangents(o)}
+        key = tuple((id(m), id(m) in framed) for m in meshes)
         if key == self._geometry_key and "tris" in self._textures:
             return
         data = []
         for mesh in meshes:
-            if mesh not in self._meshes:
-                self._meshes[mesh] = pack.mesh_data(mesh)
+            cached = self._meshes.get(mesh)
+            if cached is None or (id(mesh) in framed and not cached.has_tangents):
+                self._meshes[mesh] = pack.mesh_data(mesh, id(mesh) in framed)
             data.append(self._meshes[mesh])
         if not data:  # shapes only: one dummy triangle keeps every sampler valid
             from ...scene.mesh import Mesh
@@ -85,18 +88,37 @@ class TraceEngine(Engine):
         self._upload("vertices", geo["vertices"])
         self._upload("nodes", geo["nodes"])
         self._roots = {id(m): int(r) for m, r in zip(meshes, geo["root"], strict=False)}
+        self._first_tri = {id(m): int(f) for m, f in zip(meshes, geo["first_tri"],
+                                                         strict=False)}
         self._geometry_key, self._geometry_refs = key, meshes
 
+    def _tangents(self, obj) -> bool:
+        """Whether ``obj``'s mesh needs tangent frames here (the tracer: never)."""
+        return False
+
+    def _layer_requests(self, scene) -> list:
+        """(texture, colour) for each image the tracer samples: the materials' base images
+        (colour images, sRGB-encoded: decoded in the sRGB mode, ``_decoded``)."""
+        return [(o.material.texture, True) for o in scene.objects
+                if o.material.texture is not None]
+
+    def _decoded(self, srgb: bool) -> bool:
+        """Whether colour images are decoded to linear for the colour mode ``srgb``."""
+        return srgb
+
     def _texture_layers(self, scene, srgb: bool) -> None:
-        """The materials' images as layers of one texture array (resized to one size)."""
-        images = list({id(o.material.texture): o.material.texture for o in scene.objects
-                       if o.material.texture is not None}.values())
-        key = (tuple(id(t) for t in images), srgb)
+        """The materials' images as layers of one texture array (resized to one size),
+        keyed (id(texture), colour): a colour image decoded (``_decoded``), a data image
+        (metallic-roughness, normals) as stored."""
+        requests = list({(id(t), c): (t, c) for t, c in self._layer_requests(scene)}.values())
+        decode = self._decoded(srgb)
+        key = (tuple((id(t), c) for t, c in requests), decode)
         if key == self._layers_key:
             return
         old = self._textures.pop("textures", None)
         if old is not None:
             old.release()
+        images = [t for t, _ in requests]
         if images:
             from PIL import Image
 
@@ -109,17 +131,20 @@ class TraceEngine(Engine):
         else:
             side, data = 1, np.full((1, 1, 1, 4), 255, np.uint8)
         dtype = "f1"
-        if srgb:  # decoded here (moderngl makes no sRGB texture arrays); half floats keep
-            from ...image.colorspace import srgb_to_linear  # the dark tones
+        colour = np.array([c and decode for _, c in requests] or [False])
+        if colour.any():  # decoded here (moderngl makes no sRGB texture arrays); half
+            from ...image.colorspace import srgb_to_linear  # floats keep the dark tones
 
-            rgb = srgb_to_linear(data[..., :3] / 255.0)
-            data = np.concatenate([rgb, data[..., 3:] / 255.0], -1).astype(np.float16)
-            dtype = "f2"
+            plain = (np.arange(256) / 255.0).astype(np.float16)
+            decoded = srgb_to_linear(np.arange(256) / 255.0).astype(np.float16)
+            values = plain[data]  # by table lookup: 8-bit values have 256 codes
+            values[colour, ..., :3] = decoded[data[colour, ..., :3]]
+            data, dtype = values, "f2"
         tex = self.ctx.texture_array((side, side, len(data)), 4, data.tobytes(), dtype=dtype)
         tex.build_mipmaps()
         tex.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
         self._textures["textures"] = tex
-        self._layers = {id(t): i for i, t in enumerate(images)}
+        self._layers = {(id(t), c): i for i, (t, c) in enumerate(requests)}
         self._layers_key = key
 
     # -- the engine interface (facet.render.engine) ----------------------------------------
@@ -157,17 +182,25 @@ class TraceEngine(Engine):
     def _instances(self, scene, state: FrameState) -> tuple[int, bool, int]:
         """Upload the placed objects: (unbounded count, has a top level, the single
         bounded instance without one or -1)."""
-        rows, tlas, unbounded = pack.pack_instances(
+        rows, tlas, unbounded, ordered = pack.pack_instances(
             scene.objects, self._roots, lambda m: phong_color(m, state), self._layers)
+        self._more_rows(rows, ordered)
         self._upload("instances", rows.reshape(-1, 4))
         self._upload("tlas", tlas.reshape(-1, 4) if tlas is not None else
                      np.zeros((4, 4), np.float32))
         single = unbounded if tlas is None and len(rows) > unbounded else -1
         return unbounded, tlas is not None, single
 
+    def _more_rows(self, rows: np.ndarray, ordered: list) -> None:
+        """Add to the instance ``rows`` of the ``ordered`` objects (the tracer: nothing)."""
+
+    def _more_textures(self) -> dict:
+        """Scene textures of a colour program beyond _bind's: name -> (texture, unit)."""
+        return {}
+
     # -- drawing -------------------------------------------------------------------------
     def _program(self, stage: str, state: FrameState, shadows: bool, aux=(),
-                 secondary: bool = False) -> FullScreenPass:
+                 secondary: bool = False, extra=()) -> FullScreenPass:
         # The lights are looped over at run time (u_light_count), not unrolled per light
         # set as the rasterizer's are: each unrolled light would inline a whole shadow
         # ray's traversal, and one program serves every light set.
@@ -180,6 +213,7 @@ class TraceEngine(Engine):
                  "SECONDARY": secondary and stage == "trace",
                  "HAS_ENVIRONMENT": state.environment is not None and stage != "primary"}
         defines.update({k: None for k, on in flags.items() if on})
+        defines.update({k: None for k in extra})
         for name, location in aux_locations(aux).items():
             defines[f"OUT_{name.upper()}"] = location
         key = (stage, tuple(sorted(defines.items())))
@@ -229,7 +263,7 @@ class TraceEngine(Engine):
             if not isinstance(value, int):
                 value = tuple(float(v) for v in value)
             program.program.set(name, value, strict=False)
-        textures = {}
+        textures = self._more_textures()
         if state.environment is not None:
             textures["u_environment"] = (self.cache.cube(state.environment),
                                          UNITS["environment"])

@@ -2,7 +2,7 @@
 
 Per mesh, once (``mesh_data``, cached by facet.render.trace.engine while the mesh lives):
 its triangles in hierarchy order as (v0, e1, e2), their vertex indices, the vertices'
-normal / uv / colour, and its hierarchy (facet.geometry.bvh) in object space, with both
+normal, uv sets, colour and tangent frame (``VERTEX_TEXELS`` each), and its hierarchy (facet.geometry.bvh) in object space, with both
 children's boxes in each node. Moving or instancing a mesh never rebuilds this.
 
 Per scene (``pack_geometry``): every mesh's arrays concatenated, references shifted by
@@ -24,7 +24,14 @@ from ..materials import as_pbr
 TEX_SHIFT = 12
 TEX_WIDTH = 1 << TEX_SHIFT  # texels per texture row (glsl/trace/data.glsl)
 NODE_TEXELS = 4
-INSTANCE_TEXELS = 13
+VERTEX_TEXELS = 4  # (normal, u), (v, colour rgb), (tangent xyz, handedness), (uv1, alpha, 0)
+INSTANCE_TEXELS = 27
+MATERIAL_ROW = 11  # the metallic-roughness model's texels (glsl/trace/material.glsl)
+SLOT_ROW = 19  # its texture slots, SLOT_TEXELS each, in PATH_SLOTS order
+SLOT_TEXELS = 2
+PATH_SLOTS = ("base_color", "metallic_roughness", "normal", "emissive")
+ALPHA_MODES = {"OPAQUE": 0, "MASK": 1, "BLEND": 2}
+WRAPS = {"repeat": 0, "clamp": 1, "mirror": 2}
 KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
 FLAG_COLORS, FLAG_ONE_SIDED = 1, 2  # an instance's flags (glsl/trace/scene.glsl)
 
@@ -32,7 +39,8 @@ FLAG_COLORS, FLAG_ONE_SIDED = 1, 2  # an instance's flags (glsl/trace/scene.glsl
 def layout_defines() -> dict:
     """The layout's constants for the GLSL that reads it (glsl/trace/data.glsl)."""
     return {"TEX_SHIFT": TEX_SHIFT, "NODE_TEXELS": NODE_TEXELS,
-            "INSTANCE_TEXELS": INSTANCE_TEXELS, "FLAG_COLORS": FLAG_COLORS,
+            "VERTEX_TEXELS": VERTEX_TEXELS, "INSTANCE_TEXELS": INSTANCE_TEXELS,
+            "MATERIAL_ROW": MATERIAL_ROW, "SLOT_ROW": SLOT_ROW, "SLOT_TEXELS": SLOT_TEXELS, "FLAG_COLORS": FLAG_COLORS,
             "FLAG_ONE_SIDED": FLAG_ONE_SIDED,
             **{f"KIND_{name.upper()}": kind for name, kind in KINDS.items()}}
 MAX_REFERENCE = 1 << 24  # node and triangle indices are exact in float32 up to here
@@ -45,9 +53,10 @@ class MeshData:
 
     tris: np.ndarray  # (N, 3, 4) float32
     index: np.ndarray  # (N, 4) int32
-    vertices: np.ndarray  # (V, 2, 4) float32
+    vertices: np.ndarray  # (V, VERTEX_TEXELS, 4) float32
     nodes: np.ndarray  # (K, 4, 4) float32
     has_colors: bool
+    has_tangents: bool
 
 
 def pack_nodes(bvh) -> np.ndarray:
@@ -69,8 +78,9 @@ def pack_nodes(bvh) -> np.ndarray:
     return out
 
 
-def mesh_data(mesh) -> MeshData:
-    """The tracer's arrays for ``mesh`` (module docstring)."""
+def mesh_data(mesh, tangents: bool = False) -> MeshData:
+    """The tracer's arrays for ``mesh`` (module docstring); its tangent frames when it has
+    them or ``tangents`` (a normal map needs them: computed from the uvs, once per mesh)."""
     faces = mesh.faces.astype(np.int64)
     tri = mesh.positions[faces].astype(np.float32)  # (N, 3, 3) object space
     bvh = build_bvh(tri.min(axis=1), tri.max(axis=1))
@@ -82,13 +92,19 @@ def mesh_data(mesh) -> MeshData:
     index = np.zeros((len(faces), 4), np.int32)
     index[:, :3] = faces
     n = len(mesh.positions)
-    vertices = np.ones((n, 2, 4), np.float32)
+    vertices = np.zeros((n, VERTEX_TEXELS, 4), np.float32)
     vertices[:, 0, :3] = mesh.normals
     uvs = mesh.uvs if mesh.uvs is not None else np.zeros((n, 2), np.float32)
     vertices[:, 0, 3], vertices[:, 1, 0] = uvs[:, 0], uvs[:, 1]
-    if mesh.colors is not None:
-        vertices[:, 1, 1:] = mesh.colors[:, :3]
-    return MeshData(tris, index, vertices, pack_nodes(bvh), mesh.colors is not None)
+    vertices[:, 1, 1:] = 1.0 if mesh.colors is None else mesh.colors[:, :3]
+    frames = mesh.tangents if tangents or mesh._tangents is not None else None
+    if frames is not None:
+        vertices[:, 2] = frames
+    if mesh.uvs1 is not None:
+        vertices[:, 3, :2] = mesh.uvs1
+    vertices[:, 3, 2] = 1.0 if mesh.colors is None else mesh.colors[:, 3]
+    return MeshData(tris, index, vertices, pack_nodes(bvh), mesh.colors is not None,
+                    frames is not None)
 
 
 def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
@@ -106,7 +122,7 @@ def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
     out = {"tris": np.concatenate([m.tris for m in meshes]).reshape(-1, 4),
            "index": index.astype(np.int32),
            "vertices": np.concatenate([m.vertices for m in meshes]).reshape(-1, 4),
-           "nodes": nodes.reshape(-1, 4), "root": node_off[:-1]}
+           "nodes": nodes.reshape(-1, 4), "root": node_off[:-1], "first_tri": tri_off[:-1]}
     if tri_off[-1] > MAX_REFERENCE or node_off[-1] > MAX_REFERENCE:
         raise InputError(f"the scene has {int(tri_off[-1]):,} triangles; the ray tracer "
                          f"holds at most {MAX_REFERENCE:,} (its references are float32); "
@@ -121,8 +137,9 @@ def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
 
 
 def pack_instances(objects, mesh_root: dict, material_color, layers: dict):
-    """(instances (n, INSTANCE_TEXELS, 4) float32, top-level nodes or None, unbounded count)
-    for the scene's ``objects``: infinite planes first, then the rest in top-level order
+    """(instances (n, INSTANCE_TEXELS, 4) float32, top-level nodes or None, unbounded count,
+    the objects in instance order) for the scene's ``objects``: infinite planes first, then
+    the rest in top-level order
     (one bounded object needs no top level: the tracer tests it directly).
     ``mesh_root``: id(mesh) -> its root node; ``layers``: id(texture) -> texture layer."""
     unbounded = [o for o in objects if o.infinite]
@@ -139,7 +156,7 @@ def pack_instances(objects, mesh_root: dict, material_color, layers: dict):
     rows = np.zeros((len(ordered), INSTANCE_TEXELS, 4), np.float32)
     for i, o in enumerate(ordered):  # one row per placed object, not per triangle
         rows[i] = _instance(o, mesh_root, material_color, layers)
-    return rows, tlas, len(unbounded)
+    return rows, tlas, len(unbounded), ordered
 
 
 def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
@@ -159,15 +176,31 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
     row[6] = (kind, root, obj.id, flags)
     row[8] = (*material_color(mat), mat.ka)
     row[9] = (mat.kd, mat.ks, mat.shininess, mat.opacity)
-    layer = layers.get(id(mat.texture), -1) if mat.texture is not None else -1
+    layer = layers.get((id(mat.texture), True), -1) if mat.texture is not None else -1
     row[10] = (mat.reflectivity, mat.ior, mat.gloss, layer)
-    # The metallic-roughness model (the path tracer's; a Phong material through the
-    # rasterizer's mapping, facet.render.materials.as_pbr): linear base colour, metallic,
-    # emitted radiance, roughness.
-    pbr = as_pbr(mat)
-    row[11] = (*pbr.base_color[:3], pbr.metallic)
-    row[12] = (*(pbr.emissive * pbr.emissive_strength), pbr.roughness)
+    material_rows(row, as_pbr(mat), layers)
     return row
+
+
+def material_rows(row: np.ndarray, m, layers: dict) -> None:
+    """Fill the metallic-roughness texels of an instance ``row`` for PbrMaterial ``m`` (a
+    Phong material through the rasterizer's mapping, facet.render.materials.as_pbr), in the
+    layout glsl/trace/material.glsl reads; ``layers``: (id(texture), colour) -> layer."""
+    r = MATERIAL_ROW
+    row[r] = (*m.base_color[:3], m.metallic)
+    row[r + 1] = (*(m.emissive * m.emissive_strength), m.roughness)
+    row[r + 2] = (m.base_color[3], ALPHA_MODES[m.alpha_mode], m.alpha_cutoff, m.normal_scale)
+    row[r + 7] = (0.0, 0.0, float(m.unlit), 0.0)
+    for k, name in enumerate(PATH_SLOTS):
+        slot = getattr(m, f"{name}_texture")
+        at = SLOT_ROW + SLOT_TEXELS * k
+        row[at, 3] = row[at + 1, 3] = -1.0
+        if slot is None:
+            continue
+        colour = name in ("base_color", "emissive")
+        row[at, :3], row[at + 1, :3] = slot.transform[0], slot.transform[1]
+        row[at, 3] = layers.get((id(slot.texture), colour), -1)
+        row[at + 1, 3] = slot.texcoord + 2 * (WRAPS[slot.wrap[0]] + 3 * WRAPS[slot.wrap[1]])
 
 
 def _world_box(obj) -> np.ndarray:

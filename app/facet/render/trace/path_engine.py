@@ -19,17 +19,27 @@ import numpy as np
 from ...scene.option_values import DEFAULT_MAX_DEPTH
 from ...scene.pbr import PbrMaterial
 from ...srgb import srgb_to_linear
+from ..materials import as_pbr
+from . import pack
+from .emitters import pack_emitters
 from .engine import TraceEngine, feature_lines
 
 DEFAULT_BOUNCES = 8
+STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag
+EMITTERS_UNIT = 21  # after facet.render.materials.IBL_UNITS
 
 
 class PathEngine(TraceEngine):
-    """The path tracer of one renderer (module docstring)."""
+    """The path tracer of one renderer (module docstring). ``strategy``: how emitters and
+    the environment are found, "mis" (light and BSDF sampling, power heuristic), "light"
+    or "bsdf" alone (the same picture, noisier: for tests of the estimator)."""
 
     name = "path"
     radiance = True
+    strategy = "mis"
     _sample = 0  # the supersample being drawn (sample_state)
+    _emitter_count = 0
+    _emitters_key = None
 
     def sample_state(self, scene, scene_k, state, opts, k: int, plain: bool):
         self._sample = k
@@ -39,9 +49,51 @@ class PathEngine(TraceEngine):
         bounces = DEFAULT_BOUNCES if opts.max_depth == DEFAULT_MAX_DEPTH else opts.max_depth
         if not state.srgb:  # a display value here; the output is encoded (Engine.radiance)
             background = (*srgb_to_linear(np.asarray(background[:3])), background[3])
-        self.draw_colour(scene, state, self._program("path", state, False),
-                         u_background=background, u_max_depth=int(bounces),
-                         u_sample=self._sample, u_seed=0)
+        materials = [as_pbr(o.material) for o in scene.objects]
+        alpha = any(m.alpha_mode != "OPAQUE" for m in materials)
+        program = self._program("path", state, False,
+                                extra=("PBR_SLOTS",) + (("HAS_ALPHA",) if alpha else ()))
+        self.draw_colour(scene, state, program, u_background=background,
+                         u_max_depth=int(bounces), u_sample=self._sample, u_seed=0,
+                         u_strategy=STRATEGIES[self.strategy],
+                         u_emitter_count=self._emitter_count)
+
+    # -- what differs from the tracer's upload ---------------------------------------------
+    def _tangents(self, obj) -> bool:
+        return as_pbr(obj.material).normal_texture is not None
+
+    def _layer_requests(self, scene) -> list:
+        """Every image of the materials' slots (facet.render.trace.pack.PATH_SLOTS)."""
+        out = []
+        for obj in scene.objects:
+            m = as_pbr(obj.material)
+            for name in pack.PATH_SLOTS:
+                slot = getattr(m, f"{name}_texture")
+                if slot is not None:
+                    out.append((slot.texture, name in ("base_color", "emissive")))
+        return out
+
+    def _more_textures(self) -> dict:
+        return {"u_emitters": (self._textures["emitters"], EMITTERS_UNIT)}
+
+    def _decoded(self, srgb: bool) -> bool:
+        return True  # linear radiance whatever the colour mode
+
+    def _more_rows(self, rows, ordered) -> None:
+        """The emitters' table (facet.render.trace.emitters) and their densities."""
+        key = tuple((i, id(o.mesh), np.asarray(o.transform).tobytes(),
+                     tuple(as_pbr(o.material).emissive * as_pbr(o.material).emissive_strength))
+                    for i, o in enumerate(ordered) if o.shape is None)
+        if key != self._emitters_key or "emitters" not in self._textures:
+            tris = {id(o.mesh): self._meshes[o.mesh].tris for o in ordered
+                    if o.shape is None}
+            table, pdf = pack_emitters(ordered, lambda o: as_pbr(o.material), tris,
+                                       self._first_tri)
+            self._upload("emitters", table)
+            self._emitter_count = len(table) if pdf.any() else 0
+            self._emitter_pdf = pdf
+            self._emitters_key = key
+        rows[:, pack.MATERIAL_ROW + 7, 0] = self._emitter_pdf
 
     def unsupported(self, opts, scene) -> list[str]:
         """What the path tracer does not draw as asked (each a warning line)."""
@@ -56,11 +108,16 @@ class PathEngine(TraceEngine):
                          "single-sided glTF materials lose theirs)")
         if not opts.shadows_on:
             lines.append("the path tracer always traces shadows (shadows = off ignored)")
+        mapped = sum(1 for o in scene.objects if o.shape is not None
+                     and as_pbr(o.material).normal_texture is not None)
+        if mapped:
+            lines.append(f"the path tracer ignores normal maps on analytic shapes ({mapped} "
+                         f"of {len(scene.objects)} objects)")
         return lines + feature_lines(scene, _dropped, "the path tracer")
 
 
 def _dropped(m) -> list[str]:
-    """The material features of ``m`` the path tracer does not draw yet."""
+    """The material features of ``m`` the path tracer does not draw."""
     out = []
     if m.shader is not None:
         out.append("users' mesh shaders")
@@ -68,23 +125,10 @@ def _dropped(m) -> list[str]:
         if m.reflectivity > 0:
             out.append("Phong reflectivity (mirrors: traced as the metallic-roughness "
                        "mapping of the Phong terms)")
-        if m.opacity < 1 or m.ior > 0:
-            out.append("Phong opacity and ior (traced opaque)")
+        if m.ior > 0:
+            out.append("Phong ior (refraction: traced as a transparent surface that does "
+                       "not bend light)")
         return out
-    if m.unlit:
-        out.append("KHR_materials_unlit")
-    slots = m.slots
-    for slot, what in (("metallic_roughness", "metallic-roughness textures"),
-                       ("normal", "normal maps"), ("emissive", "emissive textures")):
-        if slot in slots:
-            out.append(what)
-    if any(not np.array_equal(s.transform, np.eye(3)) for s in slots.values()):
-        out.append("texture transforms (KHR_texture_transform)")
-    if any(s.texcoord != 0 for s in slots.values()):
-        out.append("second texture coordinate sets")
-    if m.alpha_mode != "OPAQUE":
-        out.append(f"alpha {m.alpha_mode} (traced opaque)")
+    if any(s.filter[1] == "nearest" for s in m.slots.values()):
+        out.append("nearest texture filtering (sampled linearly)")
     return out
-
-
-

@@ -1,0 +1,59 @@
+"""The path tracer's emitting triangles as a table for light sampling (numpy, no GL).
+
+Every triangle of a mesh whose material emits (emissive factor x strength, as
+facet.render.trace.pack lays it out) is a light. glsl/trace/path.frag picks one by its
+share of the emitted power, area x luminance of the factor (a binary search in the
+cumulative shares), then a point uniformly on it; the density of that point per unit area is
+then luminance / total power, the same for every point of an instance: the ``emit_pdf`` the
+instance row carries, which also weights the emitters that BSDF sampling finds (multiple
+importance sampling). An emissive texture varies what is emitted, not the density (still
+unbiased). Emitting analytic shapes are found by BSDF sampling alone (their ``emit_pdf`` is
+0): exact, only noisier.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+
+
+def emitted_luminance(material) -> float:
+    """The luminance of ``material``'s emitted radiance factor (a PbrMaterial)."""
+    return float(LUMINANCE @ (material.emissive * material.emissive_strength))
+
+
+def pack_emitters(objects, pbr_of, mesh_tris: dict, tri_offset: dict):
+    """(table (n, 4) float32 of (instance, triangle, cumulative power share, 0), emit_pdf
+    (len(objects),) float32) for the placed ``objects`` in instance order. ``pbr_of``:
+    object -> its PbrMaterial; ``mesh_tris``: id(mesh) -> (N, 3, 4) triangles (v0, e1, e2)
+    in object space, hierarchy order; ``tri_offset``: id(mesh) -> its first triangle."""
+    pdf = np.zeros(len(objects), np.float32)
+    parts, powers = [], []
+    for i, obj in enumerate(objects):
+        if obj.shape is not None:
+            continue
+        lum = emitted_luminance(pbr_of(obj))
+        if lum <= 0.0:
+            continue
+        tris = mesh_tris[id(obj.mesh)]
+        m = np.asarray(obj.transform, dtype=np.float64)[:3, :3]
+        e1, e2 = tris[:, 1, :3] @ m.T, tris[:, 2, :3] @ m.T
+        area = 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
+        keep = np.flatnonzero(area > 0)
+        if keep.size == 0:
+            continue
+        part = np.zeros((keep.size, 4), np.float64)
+        part[:, 0] = i
+        part[:, 1] = tri_offset[id(obj.mesh)] + keep
+        parts.append(part)
+        powers.append(area[keep] * lum)
+        pdf[i] = lum  # divided by the total power below
+    if not parts:
+        return np.zeros((1, 4), np.float32), pdf
+    table = np.concatenate(parts)
+    power = np.concatenate(powers)
+    total = power.sum()
+    table[:, 2] = np.cumsum(power) / total
+    table[-1, 2] = 1.0 + 1e-6  # the last share catches every u < 1
+    return table.astype(np.float32), (pdf / total).astype(np.float32)
