@@ -4,6 +4,9 @@
 // (facet.gl.targets): linear depth along the camera axis, object id + 1, the normal facing
 // the viewer, the world position and the texture coordinates; 0 where nothing is hit.
 #include "trace/shade.glsl"
+#ifdef PBR_SLOTS
+#include "trace/material.glsl"
+#endif
 
 uniform mat4 u_inv_view_projection;
 uniform vec2 u_viewport;
@@ -32,7 +35,24 @@ void main() {
     vec3 o = near.xyz / near.w;
     vec3 span = far.xyz / far.w - o;
     vec3 d = normalize(span);
-    Hit h = trace_scene(o, d, length(span), true);
+    float t_max = length(span);
+    Hit h;
+    for (int k = 0; k < 64; ++k) {  // one call site: each inlines a whole traversal
+        h = trace_scene(o, d, t_max, true);
+#ifdef PBR_SLOTS
+        // The path tracer's materials: cut-outs (alpha MASK) are not there, as rasterized.
+        if (h.inst < 0) break;
+        Surface c = surface_at(h, o, d);
+        int mode;
+        float cutoff;
+        float a = coverage(h.inst, c, mode, cutoff);
+        if (mode != ALPHA_MASK || a >= cutoff) break;
+        o = offset_ray(c.p, -c.ng);
+        t_max -= h.t;
+#else
+        break;
+#endif
+    }
     if (h.inst < 0) discard;  // the targets were cleared to 0
     f_color = vec4(0.0);
 #if defined(OUT_NORMALS) || defined(OUT_POSITION) || defined(OUT_UV) || defined(OUT_DEPTH_IDS)

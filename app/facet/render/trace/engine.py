@@ -191,6 +191,10 @@ class TraceEngine(Engine):
         single = unbounded if tlas is None and len(rows) > unbounded else -1
         return unbounded, tlas is not None, single
 
+    def _material_defines(self, scene) -> tuple:
+        """Defines of how materials are read (the tracer: by their Phong terms, none)."""
+        return ()
+
     def _more_rows(self, rows: np.ndarray, ordered: list) -> None:
         """Add to the instance ``rows`` of the ``ordered`` objects (the tracer: nothing)."""
 
@@ -273,7 +277,8 @@ class TraceEngine(Engine):
 
     def draw_exact(self, scene, state: FrameState, aux) -> None:
         """The exact channels ``aux`` at pixel centres into the bound target (cleared)."""
-        program = self._program("primary", state, False, aux)
+        program = self._program("primary", state, False, aux,
+                                extra=self._material_defines(scene))
         self._bind(scene, state, program)
         prog = program.program
         camera = state.camera

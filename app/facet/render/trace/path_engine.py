@@ -49,16 +49,18 @@ class PathEngine(TraceEngine):
         bounces = DEFAULT_BOUNCES if opts.max_depth == DEFAULT_MAX_DEPTH else opts.max_depth
         if not state.srgb:  # a display value here; the output is encoded (Engine.radiance)
             background = (*srgb_to_linear(np.asarray(background[:3])), background[3])
-        materials = [as_pbr(o.material) for o in scene.objects]
-        alpha = any(m.alpha_mode != "OPAQUE" for m in materials)
-        program = self._program("path", state, False,
-                                extra=("PBR_SLOTS",) + (("HAS_ALPHA",) if alpha else ()))
+        program = self._program("path", state, False, extra=self._material_defines(scene))
         self.draw_colour(scene, state, program, u_background=background,
                          u_max_depth=int(bounces), u_sample=self._sample, u_seed=0,
                          u_strategy=STRATEGIES[self.strategy],
                          u_emitter_count=self._emitter_count)
 
     # -- what differs from the tracer's upload ---------------------------------------------
+    def _material_defines(self, scene) -> tuple:
+        """The material's own slots (PBR_SLOTS); HAS_ALPHA when some are not opaque."""
+        alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" for o in scene.objects)
+        return ("PBR_SLOTS",) + (("HAS_ALPHA",) if alpha else ())
+
     def _tangents(self, obj) -> bool:
         return as_pbr(obj.material).normal_texture is not None
 
