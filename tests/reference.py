@@ -205,10 +205,41 @@ def _pbr_brdf_cos(N, V, L, base, metallic, roughness):
     fc = ((1 - vh) ** 5)[..., None]
     f_dielectric = 0.04 + 0.96 * fc
     f_metal = base + (1 - base) * fc
+    # The lobe's multiple-scattering scale 1 + F0 (1 - E) / E (lib/pbr.glsl), E the lobe's
+    # albedo with F = 1 at this N.V, integrated here (facet tabulates it).
+    f0 = 0.04 * (1 - metallic) + base * metallic
+    spec = spec * (1 + f0 * (1 / ggx_albedo(nv, roughness)[..., None] - 1))
     dielectric = f_dielectric * spec + (1 - f_dielectric) * base / np.pi
     metal = f_metal * spec
     f = (1 - metallic) * dielectric + metallic * metal
     return np.where((nl > 0)[..., None], np.pi * f * np.maximum(nl, 0)[..., None], 0.0)
+
+
+def ggx_albedo(n_dot_v, roughness, steps=200):
+    """E = int D Vis cos dw (F = 1) of the GGX lobe, per element of ``n_dot_v``: by midpoint
+    quadrature in (cos theta, phi) at 48 angles, interpolated linearly in N.V."""
+    key = (float(roughness), steps)
+    if key not in _ALBEDO:
+        a2 = max(roughness * roughness, 1e-3) ** 2
+        ct = (np.arange(steps) + 0.5) / steps
+        ph = (np.arange(2 * steps) + 0.5) / (2 * steps) * 2 * np.pi
+        ct, ph = np.meshgrid(ct, ph, indexing="ij")
+        st = np.sqrt(1 - ct * ct)
+        grid = np.linspace(1e-4, 1.0, 48)
+        values = []
+        for nv in grid:
+            v = np.array([np.sqrt(1 - nv * nv), 0.0, nv])
+            h = np.stack([st * np.cos(ph) + v[0], st * np.sin(ph), ct + v[2]], -1)
+            nh = h[..., 2] / np.linalg.norm(h, axis=-1)
+            d = a2 / (np.pi * (nh * nh * (a2 - 1) + 1) ** 2)
+            g = ct * np.sqrt(nv * nv * (1 - a2) + a2) + nv * np.sqrt(ct * ct * (1 - a2) + a2)
+            values.append((d * 0.5 / g * ct).sum() / steps * (2 * np.pi / (2 * steps)))
+        _ALBEDO[key] = (grid, np.array(values))
+    grid, values = _ALBEDO[key]
+    return np.interp(np.asarray(n_dot_v, dtype=float), grid, values)
+
+
+_ALBEDO: dict = {}
 
 
 def pbr_directional(N, V, direction, intensity, base, metallic, roughness):

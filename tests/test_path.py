@@ -40,10 +40,14 @@ def _albedo(base, metallic, roughness, n_dot_v, n=400):
     fc = (1 - vh) ** 5
     f0 = (1 - metallic) * F0_DIELECTRIC + metallic * base
     c_diff = (1 - metallic) * base
-    spec = (d * vis)[..., None] * (f0 + (1 - f0) * fc[..., None])
+    # The lobe with the multiple-scattering scale 1 + F0 (1 - E) / E, E = int D Vis cos
+    # (F = 1) integrated here too (facet.render.energy tabulates it for the shaders).
+    cell = np.sin(t) * (np.pi / 2 / n) * (2 * np.pi / (4 * n))
+    e = (d * vis * nl * cell).sum()
+    spec = (d * vis)[..., None] * (f0 + (1 - f0) * fc[..., None]) * (1 + f0 * (1 - e) / e)
     diff = (1 - F0_DIELECTRIC) * (1 - fc)[..., None] * c_diff / np.pi
-    integrand = (spec + diff) * nl[..., None] * np.sin(t)[..., None]
-    return integrand.sum(axis=(0, 1)) * (np.pi / 2 / n) * (2 * np.pi / (4 * n))
+    integrand = (spec + diff) * nl[..., None] * cell[..., None]
+    return integrand.sum(axis=(0, 1))
 
 
 def _sphere_scene(material, ambient=0.0):
@@ -62,7 +66,8 @@ def _normals_and_colour(material, **kw):
 @pytest.mark.parametrize("base, metallic, roughness", [
     ((0.8, 0.8, 0.8), 0.0, 1.0),    # a rough dielectric
     ((0.8, 0.5, 0.2), 0.0, 0.4),    # coloured, glossier
-    ((1.0, 1.0, 1.0), 1.0, 0.5),    # a rough white metal (single scattering loses energy)
+    ((1.0, 1.0, 1.0), 1.0, 0.5),    # a rough white metal: 1 (multiple scattering kept)
+    ((1.0, 1.0, 1.0), 1.0, 1.0),    # the roughest: single scattering alone keeps 31%
     ((0.9, 0.6, 0.3), 1.0, 0.15),   # gold-like, nearly a mirror
 ])
 def test_furnace_shows_the_brdf_albedo(base, metallic, roughness):
@@ -135,3 +140,64 @@ def test_what_the_path_tracer_ignores_is_one_warning_line():
     with facet.Renderer(16, 16) as r, pytest.warns(FacetWarning,
                                                    match="path tracer ignores Phong ior"):
         r.render(_sphere_scene(mat), CAMERA, engine="path", spp=1)
+
+
+def test_the_albedo_table_is_what_the_generator_writes_and_the_integral_says():
+    """glsl/lib/ggx_albedo.glsl is facet.render.energy's output (regenerate it with
+    ``python -m facet.render.energy``), and its values are the midpoint-rule integral of
+    the lobe at a few points (an independent quadrature)."""
+    from facet.render import energy
+
+    assert energy.table_path().read_text() == energy.glsl_table()
+    for mu, r in ((1.0, 0.5), (1.0, 1.0), (0.25, 0.7), (0.04, 1.0)):
+        alpha = r * r
+        n = 300
+        t = (np.arange(n) + 0.5) / n * (np.pi / 2)
+        p = (np.arange(4 * n) + 0.5) / (4 * n) * (2 * np.pi)
+        t, p = np.meshgrid(t, p, indexing="ij")
+        L = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1)
+        V = np.array([np.sqrt(1 - mu * mu), 0, mu])
+        H = (L + V) / np.linalg.norm(L + V, axis=-1, keepdims=True)
+        a2 = alpha * alpha
+        d = a2 / (np.pi * (H[..., 2] ** 2 * (a2 - 1) + 1) ** 2)
+        nl = L[..., 2]
+        g = nl * np.sqrt(mu * mu * (1 - a2) + a2) + mu * np.sqrt(nl * nl * (1 - a2) + a2)
+        e = (d * 0.5 / g * nl * np.sin(t)).sum() * (np.pi / 2 / n) * (2 * np.pi / (4 * n))
+        assert energy.ggx_albedo(mu, r) == pytest.approx(e, rel=0.01), (mu, r)
+
+
+def test_a_white_rough_metal_in_a_white_furnace_keeps_its_energy():
+    """The issue's goal: base colour 1, metallic 1, rough: at most 2% lost (single
+    scattering alone loses 10% at roughness 0.5 and 69% at 1)."""
+    for roughness in (0.5, 1.0):
+        mat = PbrMaterial(base_color=(1, 1, 1, 1), metallic=1.0, roughness=roughness)
+        color, normals = _normals_and_colour(mat, environment={"color": [1, 1, 1]}, spp=256)
+        centre = normals[..., 2] > 0.9
+        assert color[centre][:, :3].mean() == pytest.approx(1.0, abs=0.02), roughness
+
+
+def test_float_colour_is_radiance_unclamped_and_8_bit_is_clamped():
+    """An emitter of radiance 4 reads 4 in float colour (the finishing pass clamped it to 1
+    before), and white in 8-bit colour."""
+    mat = PbrMaterial(base_color=(0, 0, 0, 1), metallic=0.0, emissive=(1, 0.5, 0.25),
+                      emissive_strength=4.0)
+    with facet.Renderer(16, 16) as r:
+        hdr = r.render(_sphere_scene(mat), CAMERA, engine="path", spp=2, float_color=True,
+                       lights="scene")
+        ldr = r.render(_sphere_scene(mat), CAMERA, engine="path", spp=2)
+    np.testing.assert_allclose(hdr.color[8, 8], (4.0, 2.0, 1.0, 1.0), rtol=1e-5)
+    assert tuple(ldr.color[8, 8]) == (255, 255, 255, 255)
+
+
+def test_the_rasterizer_keeps_a_rough_metals_energy_too():
+    """The same lobe scale in the rasterizer's image-based light (split sum) and in its
+    direct light: a white rough metal in a white constant environment reads 1."""
+    for roughness in (0.5, 1.0):
+        mat = PbrMaterial(base_color=(1, 1, 1, 1), metallic=1.0, roughness=roughness)
+        with facet.Renderer(SIZE, SIZE) as r:
+            frame = r.render(_sphere_scene(mat), CAMERA, engine="raster", lights="scene",
+                             environment={"color": [1, 1, 1]}, float_color=True,
+                             outputs=("color", "normals"))
+        centre = frame.normals[..., 2] > 0.9
+        linear = srgb_to_linear(frame.color[centre][:, :3])  # see the direct-light test
+        assert linear.mean() == pytest.approx(1.0, abs=0.02), roughness

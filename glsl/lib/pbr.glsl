@@ -7,7 +7,12 @@
 // facet's lights of intensity I give irradiance pi I (facet.scene.pbr), so a light adds
 // pi f I (N.L); the pi cancels f_diffuse's.
 
+// The lobe is scaled by 1 + F0 (1 - E) / E, E its directional albedo with F = 1
+// (lib/ggx_albedo.glsl, facet.render.energy): light that bounces between microfacets,
+// which the single-bounce model loses (a rough white metal then reflects all it receives).
+
 #include "lib/constants.glsl"
+#include "lib/ggx_albedo.glsl"
 const float DIELECTRIC_F0 = 0.04;  // ior 1.5
 const float MIN_ALPHA = 1e-3;  // keeps D finite for a perfect mirror
 
@@ -40,11 +45,27 @@ struct PbrSurface {
     vec3 f0;        // reflectance at normal incidence
     float alpha;    // roughness^2
     float n_dot_v;
+    vec3 ms;        // the lobe's multiple-scattering scale, 1 + f0 (1 - E) / E
 };
 
+// E: the GGX lobe's directional albedo (F = 1), bilinear in the table.
+float ggx_albedo(float n_dot_v, float roughness) {
+    vec2 c = vec2(sqrt(clamp(n_dot_v, 0.0, 1.0)), clamp(roughness, 0.0, 1.0))
+           * float(GGX_ALBEDO_SIZE - 1);
+    ivec2 i = min(ivec2(c), ivec2(GGX_ALBEDO_SIZE - 2));
+    vec2 f = c - vec2(i);
+    int k = i.y * GGX_ALBEDO_SIZE + i.x;
+    return mix(mix(GGX_ALBEDO[k], GGX_ALBEDO[k + 1], f.x),
+               mix(GGX_ALBEDO[k + GGX_ALBEDO_SIZE], GGX_ALBEDO[k + GGX_ALBEDO_SIZE + 1], f.x),
+               f.y);
+}
+
 PbrSurface pbr_surface(vec3 base, float metallic, float roughness, float n_dot_v) {
-    return PbrSurface((1.0 - metallic) * base, mix(vec3(DIELECTRIC_F0), base, metallic),
-                      max(roughness * roughness, MIN_ALPHA), max(n_dot_v, 1e-4));
+    vec3 f0 = mix(vec3(DIELECTRIC_F0), base, metallic);
+    n_dot_v = max(n_dot_v, 1e-4);
+    float e = ggx_albedo(n_dot_v, roughness);
+    return PbrSurface((1.0 - metallic) * base, f0, max(roughness * roughness, MIN_ALPHA),
+                      n_dot_v, 1.0 + f0 * ((1.0 - e) / e));
 }
 
 // pi f(L, V) (N.L): what a light of intensity 1 from direction L adds (module comment).
@@ -56,7 +77,7 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
     float fc = schlick_weight(max(dot(V, H), 0.0));
     float spec = ggx_d(max(dot(N, H), 0.0), s.alpha) * smith_vis(n_dot_l, s.n_dot_v, s.alpha);
     vec3 F = s.f0 + (1.0 - s.f0) * fc;
-    return n_dot_l * (PI * spec * F + (1.0 - DIELECTRIC_F0) * (1.0 - fc) * s.c_diff);
+    return n_dot_l * (PI * spec * F * s.ms + (1.0 - DIELECTRIC_F0) * (1.0 - fc) * s.c_diff);
 }
 
 // The same BRDF under light arriving from everywhere, by the split sum: ``lut`` holds, for
@@ -66,5 +87,6 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
 // environment prefiltered by the GGX lobe around the mirror direction. Exact for a uniform
 // environment.
 vec3 pbr_ambient(PbrSurface s, vec3 diffuse, vec3 specular, vec3 lut) {
-    return (1.0 - DIELECTRIC_F0) * lut.z * s.c_diff * diffuse + (s.f0 * lut.x + lut.y) * specular;
+    return (1.0 - DIELECTRIC_F0) * lut.z * s.c_diff * diffuse
+         + (s.f0 * lut.x + lut.y) * s.ms * specular;
 }

@@ -25,18 +25,20 @@ class Finish:
     scale: float = 1.0  # 1 / samples accumulated
     srgb: bool = False
     empty: tuple[float, float, float] | None = None  # unpremultiply; empty pixels' colour
+    clamp: bool = True  # colour to [0, 1]; False: radiance kept (float output of radiance)
 
     @property
     def needed(self) -> bool:
         return self.scale != 1.0 or self.srgb or self.empty is not None
 
 
-def finish_for(background, srgb: bool, samples: int = 1) -> Finish:
+def finish_for(background, srgb: bool, samples: int = 1, clamp: bool = True) -> Finish:
     """The finishing of a render over ``background`` (straight RGBA, linear; alpha < 1:
-    transparent) that summed ``samples`` pictures."""
+    transparent) that summed ``samples`` pictures; ``clamp`` False keeps colour above 1
+    (linear radiance into float output)."""
     bg = np.asarray(background, dtype=np.float64)
     empty = tuple(float(c) for c in bg[:3]) if bg[3] < 1.0 else None
-    return Finish(1.0 / samples, srgb, empty)
+    return Finish(1.0 / samples, srgb, empty, clamp)
 
 
 class Finisher:
@@ -53,7 +55,8 @@ class Finisher:
         ctx.disable(ctx.DEPTH_TEST | ctx.BLEND)
         self.pass_.draw({"u_source": (source, UNITS["post"])}, u_scale=float(finish.scale),
                         u_unpremultiply=finish.empty is not None,
-                        u_empty=finish.empty or (0.0, 0.0, 0.0), u_encode_srgb=finish.srgb)
+                        u_empty=finish.empty or (0.0, 0.0, 0.0), u_encode_srgb=finish.srgb,
+                        u_clamp=finish.clamp)
         ctx.enable(ctx.DEPTH_TEST)
 
     def release(self) -> None:

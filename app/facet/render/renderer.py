@@ -247,9 +247,10 @@ class Renderer:
                                   dest.preview)
         # An engine whose colour is linear radiance (the path tracer) is encoded for 8-bit
         # output (a window is 8-bit) and left linear in float colour, whatever srgb says.
-        encode = (not opts.float_color or dest.window is not None) if engine.radiance \
-            else opts.srgb
-        finish = finish_for(bg, encode, samples.stop)
+        eight_bit = not opts.float_color or dest.window is not None
+        encode = eight_bit if engine.radiance else opts.srgb
+        # Radiance into float output is kept as it is: unclamped (and untonemapped).
+        finish = finish_for(bg, encode, samples.stop, clamp=eight_bit or not engine.radiance)
         return self._finish(source, None, finish, opts, dest, surf), samples.stop
 
     def _exact(self, engine, scene, state: FrameState, aux, surf) -> dict:
