@@ -18,6 +18,8 @@ from facet.scene.pbr import PbrMaterial, TextureSlot, texture_transform
 from facet.scene.texture import Texture
 from facet.srgb import srgb_to_linear
 
+from reference import _pbr_brdf_cos as pbr_f_cos
+
 SIZE = 48
 FRONT = Camera.look_at((0, 0, 3.2), (0, 0, 0), fov_y=40, near=0.5, far=10)
 
@@ -160,24 +162,6 @@ def _lamp_scene(floor=FLOOR, lamp=LAMP_RADIANCE, one_sided=True, flip=False):
     return scene
 
 
-def _brdf_cos(base, metallic, roughness, n, v, l):
-    """f(l, v) (n.l) of glTF's BRDF as lib/pbr.glsl writes it, for (k, 3) directions l."""
-    base = np.asarray(base, float)
-    alpha = max(roughness ** 2, 1e-3)
-    h = l + v
-    h /= np.linalg.norm(h, axis=-1, keepdims=True)
-    nl, nv, nh, vh = np.clip(l @ n, 0, 1), float(v @ n), np.clip(h @ n, 0, 1), np.clip(h @ v, 0, 1)
-    a2 = alpha * alpha
-    d = a2 / (np.pi * (nh * nh * (a2 - 1) + 1) ** 2)
-    g = nl * np.sqrt(nv ** 2 * (1 - a2) + a2) + nv * np.sqrt(nl * nl * (1 - a2) + a2)
-    vis = np.where(g > 0, 0.5 / np.where(g > 0, g, 1), 0.0)
-    fc = (1 - vh) ** 5
-    f0 = 0.04 * (1 - metallic) + base * metallic
-    spec = (d * vis)[:, None] * (f0 + (1 - f0) * fc[:, None])
-    diff = (1 - 0.04) * (1 - fc)[:, None] * (1 - metallic) * base / np.pi
-    return (spec + diff) * nl[:, None]
-
-
 def _lamp_on_floor_centre(n=400):
     """The radiance the floor's centre sends to SIDE_CAMERA in the light of the lamp: the
     BRDF integrated over the rectangle (midpoint rule, n x n cells)."""
@@ -185,11 +169,12 @@ def _lamp_on_floor_centre(n=400):
     x, z = np.meshgrid(s * LAMP_SIDE, s * LAMP_SIDE)
     p = np.stack([x.ravel(), np.full(x.size, LAMP_HEIGHT), z.ravel()], -1)
     r2 = (p ** 2).sum(-1)
-    l = p / np.sqrt(r2)[:, None]
-    cos_lamp = l[:, 1]  # the lamp faces straight down
+    to_lamp = p / np.sqrt(r2)[:, None]
+    cos_lamp = to_lamp[:, 1]  # the lamp faces straight down
     v = np.array([0.0, 1.0, 3.0]) / np.sqrt(10.0)
-    f = _brdf_cos(FLOOR["base_color"][:3], FLOOR["metallic"], FLOOR["roughness"],
-                  np.array([0.0, 1.0, 0.0]), v, l)
+    n = np.broadcast_to([0.0, 1.0, 0.0], to_lamp.shape)
+    f = pbr_f_cos(n, np.broadcast_to(v, to_lamp.shape), to_lamp, FLOOR["base_color"][:3],
+                  FLOOR["metallic"], FLOOR["roughness"]) / np.pi
     d_area = (LAMP_SIDE / n) ** 2
     return LAMP_RADIANCE * (f * (cos_lamp / r2)[:, None]).sum(0) * d_area
 

@@ -2,8 +2,9 @@
 
 Per mesh, once (``mesh_data``, cached by facet.render.trace.engine while the mesh lives):
 its triangles in hierarchy order as (v0, e1, e2), their vertex indices, the vertices'
-normal, uv sets, colour and tangent frame (``VERTEX_TEXELS`` each), and its hierarchy (facet.geometry.bvh) in object space, with both
-children's boxes in each node. Moving or instancing a mesh never rebuilds this.
+normal, uv sets, colour and tangent frame (``VERTEX_TEXELS`` each), and its hierarchy
+(facet.geometry.bvh) in object space, with both children's boxes in each node. Moving or
+instancing a mesh never rebuilds this.
 
 Per scene (``pack_geometry``): every mesh's arrays concatenated, references shifted by
 their offsets. Per frame, or per supersample when objects move (``pack_instances``): one
@@ -40,8 +41,8 @@ def layout_defines() -> dict:
     """The layout's constants for the GLSL that reads it (glsl/trace/data.glsl)."""
     return {"TEX_SHIFT": TEX_SHIFT, "NODE_TEXELS": NODE_TEXELS,
             "VERTEX_TEXELS": VERTEX_TEXELS, "INSTANCE_TEXELS": INSTANCE_TEXELS,
-            "MATERIAL_ROW": MATERIAL_ROW, "SLOT_ROW": SLOT_ROW, "SLOT_TEXELS": SLOT_TEXELS, "FLAG_COLORS": FLAG_COLORS,
-            "FLAG_ONE_SIDED": FLAG_ONE_SIDED,
+            "MATERIAL_ROW": MATERIAL_ROW, "SLOT_ROW": SLOT_ROW, "SLOT_TEXELS": SLOT_TEXELS,
+            "FLAG_COLORS": FLAG_COLORS, "FLAG_ONE_SIDED": FLAG_ONE_SIDED,
             **{f"KIND_{name.upper()}": kind for name, kind in KINDS.items()}}
 MAX_REFERENCE = 1 << 24  # node and triangle indices are exact in float32 up to here
 EMPTY_CHILD = ((1e30, 1e30, 1e30, -1.0), (-1e30, -1e30, -1e30, 0.0))  # lo > hi: never hit
