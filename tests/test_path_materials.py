@@ -172,8 +172,8 @@ def _lamp_on_floor_centre(n=400):
     to_lamp = p / np.sqrt(r2)[:, None]
     cos_lamp = to_lamp[:, 1]  # the lamp faces straight down
     v = np.array([0.0, 1.0, 3.0]) / np.sqrt(10.0)
-    n = np.broadcast_to([0.0, 1.0, 0.0], to_lamp.shape)
-    f = pbr_f_cos(n, np.broadcast_to(v, to_lamp.shape), to_lamp, FLOOR["base_color"][:3],
+    up = np.broadcast_to([0.0, 1.0, 0.0], to_lamp.shape)
+    f = pbr_f_cos(up, np.broadcast_to(v, to_lamp.shape), to_lamp, FLOOR["base_color"][:3],
                   FLOOR["metallic"], FLOOR["roughness"]) / np.pi
     d_area = (LAMP_SIDE / n) ** 2
     return LAMP_RADIANCE * (f * (cos_lamp / r2)[:, None]).sum(0) * d_area
