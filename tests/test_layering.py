@@ -60,8 +60,14 @@ def test_the_every_key_file_covers_every_key():
     assert set(data) == set(sf.TOP)
     # msaa and spp are sugar for aa and may not share a table with it (test_options.py)
     assert set(data["render"]) | {"msaa", "spp"} == set(sf.RENDER)
-    materials = set().union(*(m for m in data["materials"].values()))
-    assert materials == set(sf.MATERIAL)
+    from facet.scene import scenefile_materials as sm
+
+    tables = data["materials"].values()
+    assert set().union(*(m for m in tables if not sm.is_pbr(m))) == set(sf.MATERIAL)
+    assert set().union(*(m for m in tables if sm.is_pbr(m))) == set(sm.PBR + sm.SHARED)
+    slots = [v for m in tables for k, v in m.items() if k.endswith("_texture")
+             and isinstance(v, dict)]
+    assert set().union(*slots) == set(sm.SLOT_KEYS)
     objects = set().union(*data["objects"])
     assert objects == set(sf.OBJECT)
     steps = {op for o in data["objects"] for s in o.get("transform", []) for op in s}

@@ -1,9 +1,11 @@
 // glTF 2.0's metallic-roughness BRDF (the specification's Appendix B), pure functions.
 // World space; all colours linear. alpha = roughness^2.
 //   f = mix(f_dielectric, f_metal, metallic)
-//   f_dielectric = F(0.04) f_specular + (1 - F(0.04)) f_diffuse,  f_diffuse = base / pi
-//   f_metal = F(base) f_specular,   F(f0) = f0 + (1 - f0) (1 - |V.H|)^5
+//   f_dielectric = F_d f_specular + (1 - F_d) f_diffuse,  f_diffuse = base / pi
+//   f_metal = F(base, 1) f_specular,   F(f0, f90) = f0 + (f90 - f0) (1 - |V.H|)^5
 //   f_specular = D(alpha) Vis(alpha): GGX / Trowbridge-Reitz and height-correlated Smith.
+// F_d = F(f0_d, specular): KHR_materials_ior and _specular (facet.scene.pbr.PbrMaterial
+// .dielectric_f0; 0.04 and 1 without them, glTF's core model; specular 0: Lambert).
 // facet's lights of intensity I give irradiance pi I (facet.scene.pbr), so a light adds
 // pi f I (N.L); the pi cancels f_diffuse's.
 
@@ -42,7 +44,10 @@ float schlick_weight(float v_dot_h) {
 // f0 = mix(0.04, base, metallic); the diffuse part keeps (1 - metallic) (1 - F(0.04)).
 struct PbrSurface {
     vec3 c_diff;    // (1 - metallic) base
-    vec3 f0;        // reflectance at normal incidence
+    vec3 f0;        // reflectance at normal incidence, dielectric and metal mixed
+    float f90;      // at grazing incidence
+    vec3 f0_d;      // the dielectric's alone, and at grazing: its diffuse part is what
+    float f90_d;    // its Fresnel leaves, (1 - F_d)
     float alpha;    // roughness^2
     float n_dot_v;
     vec3 ms;        // the lobe's multiple-scattering scale, 1 + f0 (1 - E) / E
@@ -60,12 +65,20 @@ float ggx_albedo(float n_dot_v, float roughness) {
                f.y);
 }
 
-PbrSurface pbr_surface(vec3 base, float metallic, float roughness, float n_dot_v) {
-    vec3 f0 = mix(vec3(DIELECTRIC_F0), base, metallic);
+// A surface with the dielectric's lobe f0_d at normal incidence and f90_d at grazing.
+PbrSurface pbr_surface_full(vec3 base, float metallic, float roughness, float n_dot_v,
+                            vec3 f0_d, float f90_d) {
+    vec3 f0 = mix(f0_d, base, metallic);
     n_dot_v = max(n_dot_v, 1e-4);
     float e = ggx_albedo(n_dot_v, roughness);
-    return PbrSurface((1.0 - metallic) * base, f0, max(roughness * roughness, MIN_ALPHA),
-                      n_dot_v, 1.0 + f0 * ((1.0 - e) / e));
+    return PbrSurface((1.0 - metallic) * base, f0, mix(f90_d, 1.0, metallic), f0_d, f90_d,
+                      max(roughness * roughness, MIN_ALPHA), n_dot_v,
+                      1.0 + f0 * ((1.0 - e) / e));
+}
+
+// glTF's core model: the dielectric of ior 1.5.
+PbrSurface pbr_surface(vec3 base, float metallic, float roughness, float n_dot_v) {
+    return pbr_surface_full(base, metallic, roughness, n_dot_v, vec3(DIELECTRIC_F0), 1.0);
 }
 
 // pi f(L, V) (N.L): what a light of intensity 1 from direction L adds (module comment).
@@ -76,17 +89,20 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
     vec3 H = (L + V) * inversesqrt(max(dot(L + V, L + V), 1e-12));
     float fc = schlick_weight(max(dot(V, H), 0.0));
     float spec = ggx_d(max(dot(N, H), 0.0), s.alpha) * smith_vis(n_dot_l, s.n_dot_v, s.alpha);
-    vec3 F = s.f0 + (1.0 - s.f0) * fc;
-    return n_dot_l * (PI * spec * F * s.ms + (1.0 - DIELECTRIC_F0) * (1.0 - fc) * s.c_diff);
+    vec3 F = s.f0 + (s.f90 - s.f0) * fc;
+    vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * fc;
+    return n_dot_l * (PI * spec * F * s.ms + (1.0 - F_d) * s.c_diff);
 }
 
 // The same BRDF under light arriving from everywhere, by the split sum: ``lut`` holds, for
 // this N.V and roughness, A = int f_spec (1 - Fc) cos, B = int f_spec Fc cos and
-// C = int (1 - Fc) cos / pi over the hemisphere (glsl/ibl/lut.frag). ``diffuse`` is
+// C = int (1 - Fc) cos / pi over the hemisphere (glsl/ibl/lut.frag); so int F f_spec cos
+// = f0 A + f90 B and int (1 - F_d) cos / pi = (1 - f0_d) - (f90_d - f0_d) (1 - C).
+// ``diffuse`` is
 // the irradiance / pi around N (radiance L everywhere gives L), ``specular`` the
 // environment prefiltered by the GGX lobe around the mirror direction. Exact for a uniform
 // environment.
 vec3 pbr_ambient(PbrSurface s, vec3 diffuse, vec3 specular, vec3 lut) {
-    return (1.0 - DIELECTRIC_F0) * lut.z * s.c_diff * diffuse
-         + (s.f0 * lut.x + lut.y) * s.ms * specular;
+    vec3 kept = 1.0 - s.f0_d - (s.f90_d - s.f0_d) * (1.0 - lut.z);
+    return kept * s.c_diff * diffuse + (s.f0 * lut.x + s.f90 * lut.y) * s.ms * specular;
 }

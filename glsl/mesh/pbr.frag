@@ -35,6 +35,8 @@ uniform vec3 u_eye_world;  // eye, or with VIEW_ORTHOGRAPHIC the direction to th
 uniform vec4 u_base_color;  // linear RGBA factor
 uniform float u_metallic;
 uniform float u_roughness;
+uniform vec3 u_dielectric_f0;    // the dielectric's lobe (facet.scene.pbr.PbrMaterial
+uniform float u_dielectric_f90;  // .dielectric_f0, and its specular factor)
 uniform vec3 u_emissive;  // factor x strength
 uniform float u_normal_scale;
 uniform float u_occlusion_strength;
@@ -98,7 +100,8 @@ void main() {
         rgb = base.rgb;
     } else {
         float n_dot_v = clamp(dot(N, V), 0.0, 1.0);
-        PbrSurface s = pbr_surface(base.rgb, metallic, roughness, n_dot_v);
+        PbrSurface s = pbr_surface_full(base.rgb, metallic, roughness, n_dot_v,
+                                        u_dielectric_f0, u_dielectric_f90);
         rgb = vec3(0.0);
         for (int i = 0; i < LIGHTS_IN_USE; ++i) {
             vec3 L;

@@ -5,6 +5,7 @@
 // the vertex colour. Texels from MATERIAL_ROW of the instance:
 //   +0 (base colour rgb, metallic)             +1 (emitted radiance rgb, roughness)
 //   +2 (base alpha, alpha mode, cutoff, normal scale)
+//   +3 (the dielectric's reflectance at normal incidence rgb, at grazing incidence)
 //   +7 (emitter density factor: luminance / total emitted power, or 0; unlit, -, -)
 // From SLOT_ROW, SLOT_TEXELS per slot (SLOT_BASE, SLOT_MR, SLOT_NORMAL, SLOT_EMISSIVE):
 //   (the uv transform's first row, layer or -1), (its second row, set + 2 (wrap s + 3 wrap t))
@@ -19,6 +20,8 @@ struct Material {
     float cutoff;     // MASK: covered where alpha >= cutoff
     float metallic;
     float roughness;
+    vec3 f0_d;        // the dielectric's lobe: reflectance at normal incidence
+    float f90_d;      // and at grazing incidence (KHR_materials_ior, _specular)
     vec3 emission;    // emitted radiance
     vec3 n;           // the shading normal, normal map applied, on the side of Surface.n
     bool unlit;       // KHR_materials_unlit: shows its base colour, reflects nothing
@@ -88,6 +91,9 @@ Material material_at(int inst, Surface s) {
     m.metallic = m0.w * mr.b;
     m.roughness = m1.w * mr.g;
     m.emission = m1.rgb * slot_texel(inst, SLOT_EMISSIVE, s).rgb;
+    vec4 m3 = material_texel(inst, 3);
+    m.f0_d = m3.rgb;
+    m.f90_d = m3.w;
     m.n = s.n;
     if (s.tangent.w != 0.0 && has_slot(inst, SLOT_NORMAL)) {
         // The tangent frame turns with the shading normal when seen from behind (as the

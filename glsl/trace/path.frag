@@ -78,8 +78,10 @@ vec3 bsdf_cos(PbrSurface m, vec3 N, vec3 V, vec3 L) {
 // The probability of drawing from the specular lobe: its share of the reflected energy,
 // roughly (the Fresnel reflectance at this angle against the diffuse albedo).
 float specular_share(PbrSurface m) {
-    float spec = luminance(m.f0 + (1.0 - m.f0) * schlick_weight(m.n_dot_v));
-    float diff = luminance(m.c_diff) * (1.0 - DIELECTRIC_F0);
+    float fc = schlick_weight(m.n_dot_v);
+    float spec = luminance(m.f0 + (m.f90 - m.f0) * fc);
+    float diff = luminance(m.c_diff * (1.0 - m.f0_d - (m.f90_d - m.f0_d) * fc));
+    if (spec <= 0.0) return 0.0;  // no lobe (KHR_materials_specular's factor 0)
     return diff <= 0.0 ? 1.0 : clamp(spec / (spec + diff), 0.1, 0.9);
 }
 
@@ -209,7 +211,8 @@ void main() {
         }
         if (bounce > u_max_depth) break;  // this bounce only gathered what it hit
         vec3 V = -d, N = valid_normal(mat.n, s.ng, V);
-        PbrSurface m = pbr_surface(mat.base, mat.metallic, mat.roughness, dot(N, V));
+        PbrSurface m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V),
+                                        mat.f0_d, mat.f90_d);
         float p_spec = specular_share(m);
         vec3 from = offset_ray(s.p, s.ng);
         // Direct light from the scene's lights (delta lights: one shadow ray each).

@@ -27,7 +27,8 @@ from .gltf_data import GltfData
 from .pbr import PbrMaterial, TextureSlot, texture_transform
 
 SUPPORTED = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
-             "KHR_materials_emissive_strength", "KHR_materials_unlit"}
+             "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
+             "KHR_materials_specular"}
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
 WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
@@ -265,8 +266,43 @@ class _Reader:
                 kw["normal_scale"] = abs(float(m.normalTexture.scale))
             if m.occlusionTexture is not None and m.occlusionTexture.strength is not None:
                 kw["occlusion_strength"] = float(np.clip(m.occlusionTexture.strength, 0, 1))
+            kw.update(self._dielectric(ext, kw["name"]))
             self.materials[index] = PbrMaterial(**kw)
         return self.materials[index]
+
+    def _dielectric(self, ext: dict, name: str) -> dict:
+        """The dielectric's lobe from KHR_materials_ior and KHR_materials_specular."""
+        out = {}
+        ior = ext.get("KHR_materials_ior")
+        if isinstance(ior, dict) and "ior" in ior:
+            value = self._factor(ior["ior"], f"material {name!r} ior")
+            if value != 0 and value < 1:
+                self.data.fail(f"material {name!r}: ior must be >= 1 (or 0), got {value}")
+            out["ior"] = value
+        spec = ext.get("KHR_materials_specular")
+        if isinstance(spec, dict):
+            if "specularFactor" in spec:
+                out["specular"] = float(np.clip(self._factor(
+                    spec["specularFactor"], f"material {name!r} specularFactor"), 0, 1))
+            if "specularColorFactor" in spec:
+                c = spec["specularColorFactor"]
+                if not (isinstance(c, list) and len(c) == 3):
+                    self.data.fail(f"material {name!r}: specularColorFactor must be 3 "
+                                   f"numbers, got {c!r}")
+                out["specular_color"] = [max(self._factor(v, f"material {name!r} "
+                                                          "specularColorFactor"), 0.0)
+                                         for v in c]
+            for key in ("specularTexture", "specularColorTexture"):
+                if key in spec:
+                    self.warn(f"ignores KHR_materials_specular's {key} (material {name!r}: "
+                              "its factors are used)")
+        return out
+
+    def _factor(self, value, what: str) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or \
+                not np.isfinite(value):
+            self.data.fail(f"{what} must be a finite number, got {value!r}")
+        return float(value)
 
     def _slot(self, info) -> TextureSlot | None:
         """A TextureSlot of a textureInfo (None when absent or its image is missing)."""

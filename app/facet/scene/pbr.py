@@ -84,7 +84,12 @@ class PbrMaterial:
     in by ``occlusion_strength``), ``emissive_texture`` (sRGB). ``alpha_mode``: OPAQUE
     (alpha ignored), MASK (drawn where alpha >= ``alpha_cutoff``) or BLEND (transparent);
     ``double_sided`` False culls back faces; ``unlit`` shows the base colour only
-    (KHR_materials_unlit). Vertex colours multiply the base colour."""
+    (KHR_materials_unlit). Vertex colours multiply the base colour.
+
+    The dielectric's specular lobe (KHR_materials_ior and _specular): reflectance at normal
+    incidence ((ior - 1) / (ior + 1))^2 (0.04 at the default ``ior`` 1.5) times
+    ``specular_color`` (3,) linear, clipped to 1, times ``specular``; at grazing angles
+    ``specular``. ``specular`` 0 leaves a Lambertian surface of the base colour."""
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
     metallic: float = 1.0
@@ -103,11 +108,13 @@ class PbrMaterial:
     double_sided: bool = False
     unlit: bool = False
     name: str = ""
+    ior: float = 1.5
+    specular: float = 1.0
+    specular_color: np.ndarray = field(default_factory=lambda: np.ones(3))
 
     # Not used by this model; present so that every material answers the same questions.
     shader = None
     reflectivity = 0.0
-    ior = 0.0
     gloss = 0.0
     mirror = False
     ka = 1.0
@@ -117,11 +124,22 @@ class PbrMaterial:
             if np.size(self.base_color) == 4 else \
             np.append(as_color(self.base_color, "base color"), 1.0)
         self.emissive = as_color(self.emissive, "emissive")
-        for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff"):
+        for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff", "specular"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and 0.0 <= v <= 1.0):
                 raise InputError(f"material {key} must be a number in [0, 1], got {v!r}")
             setattr(self, key, float(v))
+        c = np.asarray(self.specular_color, dtype=np.float64).reshape(-1)
+        if c.shape != (3,) or not np.all(np.isfinite(c)) or c.min() < 0:
+            raise InputError(f"material specular_color must be 3 numbers >= 0, got "
+                             f"{self.specular_color!r}")
+        self.specular_color = c
+        v = self.ior
+        if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and
+                (v == 0 or v >= 1)):
+            raise InputError(f"material ior must be a number >= 1 (or 0: a perfect "
+                             f"reflector, as glTF allows), got {v!r}")
+        self.ior = float(v)
         for key in ("emissive_strength", "normal_scale"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
@@ -135,6 +153,12 @@ class PbrMaterial:
             if value is not None and not isinstance(value, TextureSlot):
                 raise InputError(f"material {slot}_texture must be a TextureSlot, got "
                                  f"{type(value).__name__}")
+
+    @property
+    def dielectric_f0(self) -> np.ndarray:
+        """(3,) the dielectric's reflectance at normal incidence (see the class)."""
+        r = ((self.ior - 1) / (self.ior + 1)) ** 2 if self.ior > 0 else 1.0
+        return np.minimum(r * self.specular_color, 1.0) * self.specular
 
     @property
     def transparent(self) -> bool:

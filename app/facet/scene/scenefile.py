@@ -24,6 +24,7 @@ from .options import AA_KEYS, PARSERS, ParsedLayer, check_one_aa, parse_option
 from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
 from .scene import Scene
 from .scenefile_lights import read_camera, read_lights
+from .scenefile_materials import PBR, is_pbr, read_pbr
 from .shapes import SHAPES
 from .validate import AnyKey as _Any
 from .validate import Reader as _Reader
@@ -110,7 +111,9 @@ class _SceneBuilder:
 
     def material(self, t, where: str) -> Material:
         r = self.r
-        r.table(t, where, MATERIAL)
+        if isinstance(t, dict) and is_pbr(t):
+            return read_pbr(r, t, where, MATERIAL, self.texture)
+        r.table(t, where, MATERIAL + PBR)  # (PBR: for "did you mean" only)
         kw = {"color": r.color(t["color"], f"{where}.color")} if "color" in t else {}
         for key in ("ka", "kd", "ks", "shininess"):
             if key in t:

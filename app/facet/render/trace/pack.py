@@ -20,6 +20,7 @@ import numpy as np
 
 from ...errors import InputError
 from ...geometry.bvh import build_bvh
+from ...scene.pbr import PbrMaterial
 from ..materials import as_pbr
 
 TEX_SHIFT = 12
@@ -178,7 +179,8 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
     row[8] = (*material_color(mat), mat.ka)
     row[9] = (mat.kd, mat.ks, mat.shininess, mat.opacity)
     layer = layers.get((id(mat.texture), True), -1) if mat.texture is not None else -1
-    row[10] = (mat.reflectivity, mat.ior, mat.gloss, layer)
+    phong_ior = 0.0 if isinstance(mat, PbrMaterial) else mat.ior  # refraction: Phong's
+    row[10] = (mat.reflectivity, phong_ior, mat.gloss, layer)
     material_rows(row, as_pbr(mat), layers)
     return row
 
@@ -191,6 +193,7 @@ def material_rows(row: np.ndarray, m, layers: dict) -> None:
     row[r] = (*m.base_color[:3], m.metallic)
     row[r + 1] = (*(m.emissive * m.emissive_strength), m.roughness)
     row[r + 2] = (m.base_color[3], ALPHA_MODES[m.alpha_mode], m.alpha_cutoff, m.normal_scale)
+    row[r + 3] = (*m.dielectric_f0, m.specular)
     row[r + 7] = (0.0, 0.0, float(m.unlit), 0.0)
     for k, name in enumerate(PATH_SLOTS):
         slot = getattr(m, f"{name}_texture")

@@ -1,0 +1,118 @@
+"""Scene files: metallic-roughness materials (facet.scene.scenefile reads the rest).
+
+A material table (``[materials.NAME]`` or an object's inline ``material = {...}``) that
+holds any of ``PBR`` keys is a glTF metallic-roughness ``PbrMaterial``; one with only
+Phong keys stays a Phong ``Material``; the two kinds of key do not mix (one line says
+which key belongs to which). Colours here are linear, as glTF's factors are:
+
+    [materials.gold]
+    base_color = [1.0, 0.77, 0.34]     # 3 or 4 (alpha) numbers in [0, 1]
+    metallic = 1.0
+    roughness = 0.3
+    specular = 1.0                     # KHR_materials_specular: 0 leaves Lambert
+    specular_color = [1, 1, 1]
+    ior = 1.5                          # KHR_materials_ior
+    emissive = [0, 0, 0]
+    emissive_strength = 1.0
+    alpha_mode = "OPAQUE"              # or MASK (with alpha_cutoff) or BLEND
+    double_sided = false
+    base_color_texture = "albedo.png"  # or a table: image, texcoord, wrap, filter,
+                                       # offset, rotation (degrees), scale: as
+                                       # KHR_texture_transform
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import FacetError
+from .pbr import ALPHA_MODES, FILTERS, SLOTS, WRAP_MODES, PbrMaterial, TextureSlot
+from .pbr import texture_transform as _uv_transform
+from .validate import show
+
+PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emissive",
+       "emissive_strength", "alpha_mode", "alpha_cutoff", "double_sided", "normal_scale",
+       "occlusion_strength", "unlit", *(f"{s}_texture" for s in SLOTS))
+SHARED = ("ior",)  # a Phong material's refraction, a metallic-roughness one's dielectric
+SLOT_KEYS = ("image", "texcoord", "wrap", "filter", "offset", "rotation", "scale")
+UNIT_KEYS = ("metallic", "roughness", "specular", "alpha_cutoff", "occlusion_strength")
+
+
+def is_pbr(t: dict) -> bool:
+    """Whether the material table ``t`` describes a metallic-roughness material."""
+    return any(key in t for key in PBR)
+
+
+def read_pbr(r, t: dict, where: str, phong_keys, texture) -> PbrMaterial:
+    """The PbrMaterial of table ``t``. ``phong_keys``: the Phong material's keys (refused
+    here with a pointer); ``texture(value, where)``: an image loaded like a Phong texture."""
+    for key in t:
+        if key in phong_keys and key not in SHARED:
+            r.fail(f"{where}.{key}", f"a Phong key in a metallic-roughness material (it has "
+                   f"{next(k for k in t if k in PBR)}); use base_color, metallic, roughness, "
+                   "... or only Phong keys")
+    r.table(t, where, PBR + SHARED)
+    kw = {}
+    if "base_color" in t:
+        kw["base_color"] = r.color(t["base_color"], f"{where}.base_color", channels=(3, 4))
+    for key in ("emissive", "specular_color"):
+        if key in t:
+            kw[key] = r.vector(t[key], f"{where}.{key}")
+            if kw[key].min() < 0:
+                r.fail(f"{where}.{key}", f"expected numbers >= 0, got {show(t[key])}")
+    for key in UNIT_KEYS:
+        if key in t:
+            kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+            if kw[key] > 1:
+                r.fail(f"{where}.{key}", f"expected a number in [0, 1], got {show(t[key])}")
+    for key in ("emissive_strength", "normal_scale"):
+        if key in t:
+            kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+    if "ior" in t:
+        kw["ior"] = r.number(t["ior"], f"{where}.ior", minimum=0)
+        if 0 < kw["ior"] < 1:
+            r.fail(f"{where}.ior", f"expected a number >= 1 (or 0), got {show(t['ior'])}")
+    if "alpha_mode" in t:
+        kw["alpha_mode"] = r.choice(t["alpha_mode"], f"{where}.alpha_mode", ALPHA_MODES)
+    for key in ("double_sided", "unlit"):
+        if key in t:
+            if not isinstance(t[key], bool):
+                r.fail(f"{where}.{key}", f"expected true or false, got {show(t[key])}")
+            kw[key] = t[key]
+    for slot in SLOTS:
+        key = f"{slot}_texture"
+        if key in t:
+            kw[key] = _slot(r, t[key], f"{where}.{key}", texture)
+    try:
+        return PbrMaterial(**kw, name=where.rsplit(".", 1)[-1])
+    except FacetError as exc:
+        r.fail(where, str(exc))
+
+
+def _slot(r, value, where: str, texture) -> TextureSlot:
+    """A texture slot: an image path, or a table of SLOT_KEYS."""
+    if not isinstance(value, dict):
+        return TextureSlot(texture(value, where))
+    r.table(value, where, SLOT_KEYS)
+    if "image" not in value:
+        r.fail(where, "a texture table needs image = \"path\"")
+    kw = {}
+    if "texcoord" in value:
+        if value["texcoord"] not in (0, 1) or isinstance(value["texcoord"], bool):
+            r.fail(f"{where}.texcoord", f"expected 0 or 1, got {show(value['texcoord'])}")
+        kw["texcoord"] = int(value["texcoord"])
+    for key, allowed in (("wrap", WRAP_MODES), ("filter", FILTERS)):
+        if key in value:
+            v = value[key]
+            pair = [v, v] if isinstance(v, str) else v
+            if not (isinstance(pair, list) and len(pair) == 2):
+                r.fail(f"{where}.{key}", f"expected one or two of {', '.join(allowed)}, "
+                       f"got {show(v)}")
+            kw[key] = tuple(r.choice(p, f"{where}.{key}", allowed) for p in pair)
+    offset = r.vector(value["offset"], f"{where}.offset", 2) if "offset" in value \
+        else (0.0, 0.0)
+    scale = r.vector(value["scale"], f"{where}.scale", 2) if "scale" in value else (1.0, 1.0)
+    rotation = r.number(value["rotation"], f"{where}.rotation") if "rotation" in value \
+        else 0.0
+    kw["transform"] = _uv_transform(offset, np.radians(rotation), scale)
+    return TextureSlot(texture(value["image"], f"{where}.image"), **kw)
