@@ -21,7 +21,14 @@ ior = 1.33
 emissive = [0.1, 0.0, 0.0]
 emissive_strength = 3.0
 double_sided = true
-base_color_texture = {{ image = "checker", texcoord = 1, wrap = ["clamp", "mirror"], offset = [0.25, 0.0], rotation = 90, scale = [2, 2] }}
+
+[materials.gold.base_color_texture]
+image = "checker"
+texcoord = 1
+wrap = ["clamp", "mirror"]
+offset = [0.25, 0.0]
+rotation = 90
+scale = [2, 2]
 
 [[objects]]
 primitive = "sphere"
