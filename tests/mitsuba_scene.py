@@ -1,0 +1,117 @@
+"""An independent reference: a facet scene rendered by Mitsuba 3 (the ``mitsuba`` package,
+variant scalar_rgb; llvm_ad_rgb crashes on this CPU), for the path tracer's tests and
+benchmarks. Every object goes over as its triangle mesh (a PLY with its vertex normals),
+so both renderers see the same geometry; the materials Mitsuba can match exactly are
+translated and any other is refused:
+
+- a Lambertian metallic-roughness material (metallic 0, specular 0): ``diffuse``;
+- a perfect mirror (metallic 1, roughness 0, base colour c): ``conductor`` with
+  specular_reflectance c (Schlick's F with f0 = c is c at every angle only for c = 1, so
+  c must be grey and close to 1; checked);
+- emission: an ``area`` emitter (one-sided unless double-sided: Mitsuba's emitters are).
+
+facet's ``max_depth`` counts bounces after the eye ray, Mitsuba's the path's segments:
+theirs = ours + 2. Mitsuba's box pixel filter matches facet's jittered supersampling.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from facet.scene.pbr import PbrMaterial
+
+
+def available() -> bool:
+    try:
+        import mitsuba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _bsdf(m) -> dict:
+    if not isinstance(m, PbrMaterial):
+        raise ValueError("only metallic-roughness materials translate to Mitsuba")
+    base = [float(c) for c in m.base_color[:3]]
+    if m.metallic == 0 and m.specular == 0:
+        return {"type": "diffuse", "reflectance": {"type": "rgb", "value": base}}
+    if m.metallic == 1 and m.roughness == 0 and min(base) > 0.94 and np.ptp(base) == 0:
+        return {"type": "conductor", "material": "none",
+                "specular_reflectance": {"type": "rgb", "value": base}}
+    raise ValueError(f"material {m.name!r} has no exact Mitsuba counterpart here")
+
+
+def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
+           seed: int = 0) -> np.ndarray:
+    """(height, width, 3) float32 linear radiance of ``scene`` seen by ``camera``."""
+    import mitsuba as mi
+    import trimesh
+
+    mi.set_variant("scalar_rgb")
+    with tempfile.TemporaryDirectory() as tmp:
+        desc = {"type": "scene",
+                "integrator": {"type": "path", "max_depth": max_depth + 2},
+                "sensor": _sensor(camera, width, height, spp, seed)}
+        for i, obj in enumerate(scene.objects):
+            mesh = obj.mesh
+            m = np.asarray(obj.transform, dtype=np.float64)
+            pos = mesh.positions @ m[:3, :3].T + m[:3, 3]
+            nrm = mesh.normals @ np.linalg.inv(m[:3, :3])
+            nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
+            faces = mesh.faces
+            if np.linalg.det(m[:3, :3]) < 0:
+                faces = faces[:, ::-1]
+            path = Path(tmp) / f"object{i}.ply"
+            trimesh.Trimesh(pos, faces, vertex_normals=nrm, process=False).export(path)
+            shape = {"type": "ply", "filename": str(path), "face_normals": False,
+                     "bsdf": _bsdf(obj.material)}
+            mat = obj.material
+            if np.any(mat.emissive * mat.emissive_strength > 0):
+                radiance = [float(c) for c in mat.emissive * mat.emissive_strength]
+                if mat.double_sided:
+                    raise ValueError("Mitsuba's area emitters are one-sided")
+                shape["emitter"] = {"type": "area",
+                                    "radiance": {"type": "rgb", "value": radiance}}
+            desc[f"object{i}"] = shape
+        image = mi.render(mi.load_dict(desc), spp=spp, seed=seed)
+    return np.array(image, dtype=np.float32)[..., :3]
+
+
+def _sensor(camera, width, height, spp, seed) -> dict:
+    import mitsuba as mi
+
+    to_world = np.linalg.inv(np.asarray(camera.view, dtype=np.float64))
+    eye, forward = to_world[:3, 3], -to_world[:3, 2]
+    up = to_world[:3, 1]
+    return {"type": "perspective", "fov": float(camera.fov_y), "fov_axis": "y",
+            "near_clip": float(camera.near), "far_clip": float(camera.far),
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=[float(v) for v in eye], target=[float(v) for v in eye + forward],
+                up=[float(v) for v in up]),
+            "sampler": {"type": "independent", "sample_count": spp, "seed": seed},
+            "film": {"type": "hdrfilm", "width": width, "height": height,
+                     "rfilter": {"type": "box"}, "pixel_format": "rgb"}}
+
+
+CORNELL_REFERENCE = Path(__file__).resolve().parent / "data" / "cornell-mitsuba.npy"
+CORNELL_SIZE, CORNELL_SPP = 48, 4096
+
+
+def cornell_reference() -> np.ndarray:
+    """(48, 48, 3) Mitsuba's picture of models/cornell.toml at 4096 paths per pixel
+    (cached in tests/data; ``python tests/mitsuba_scene.py`` renders it again)."""
+    return np.load(CORNELL_REFERENCE)
+
+
+if __name__ == "__main__":
+    import facet
+
+    root = Path(__file__).resolve().parents[1]
+    cornell = facet.load(root / "models" / "cornell.toml")
+    image = render(cornell, cornell.cameras["front"], CORNELL_SIZE, CORNELL_SIZE,
+                   CORNELL_SPP)
+    np.save(CORNELL_REFERENCE, image.astype(np.float32))
+    print(CORNELL_REFERENCE, image.mean(axis=(0, 1)))
