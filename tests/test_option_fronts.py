@@ -42,6 +42,7 @@ SAMPLES = {
     "time": (1.5, None, "soon", None),
     "engine": ("trace", "trace", "photon", "photon"),
     "max_depth": (3, "3", 99, "99"),
+    "seed": (7, "7", -1, "-1"),
     "up": ("-z", "-z", "w", "w"),
     "cull": ("off", "off", "maybe", "maybe"),
 }

@@ -201,3 +201,15 @@ def test_the_rasterizer_keeps_a_rough_metals_energy_too():
         centre = frame.normals[..., 2] > 0.9
         linear = srgb_to_linear(frame.color[centre][:, :3])  # see the direct-light test
         assert linear.mean() == pytest.approx(1.0, abs=0.02), roughness
+
+
+def test_the_seed_picks_the_random_stream():
+    """The same seed, the same picture; another seed, other paths (and the same mean)."""
+    scene = _sphere_scene(PbrMaterial(base_color=(0.8, 0.8, 0.8, 1), metallic=0.0))
+    with facet.Renderer(24, 24) as r:
+        def draw(seed):
+            return r.render(scene, CAMERA, engine="path", spp=4, float_color=True,
+                            environment={"color": [1, 1, 1]}, seed=seed).color
+        a, b, c = draw(3), draw(3), draw(4)
+    assert np.array_equal(a, b) and not np.array_equal(a, c)
+    assert a.mean() == pytest.approx(c.mean(), rel=0.02)

@@ -299,7 +299,7 @@ class Renderer:
                 sample, scene_k = state, point_lights_for(scene)
             else:
                 cam_k, scene_k = distributed_sample(state.camera, scene, k, aa)
-                dx, dy = pattern(aa.pattern, aa.samples)[k]
+                dx, dy = pattern(aa.pattern, aa.samples, opts.seed)[k]
                 sample = state.with_(camera=cam_k, lights=tuple(scene_k.lights),
                                      jitter=jitter_matrix(dx, dy, opts.width, opts.height),
                                      gloss_jitter=gloss_jitter(k, aa.samples))

@@ -341,6 +341,7 @@ PARSERS = {
     "time": _number(),
     "engine": _choice(ENGINES, "engine"),
     "max_depth": _integer(minimum=0, maximum=MAX_RAY_DEPTH),
+    "seed": _integer(minimum=0, maximum=2 ** 31 - 1),
     "up": _up,
     "cull": _choice(CULL, "culling mode"),
 }

@@ -79,6 +79,8 @@ class RenderOptions:
     time : seconds (users' shaders' u_time)  engine : one of ENGINES (facet.render.engine)
     max_depth : the ray tracer's reflection/refraction recursion (1: the notes' one
                 reflection and one transmission ray; default DEFAULT_MAX_DEPTH)
+    seed : the random stream: the path tracer's paths and the jittered / random / poisson
+           pixel patterns (the same seed, the same picture)
     up : the world's up axis: default cameras frame the scene and turntables orbit
          around it (CAD and scanner files are often z-up)
     cull : back-face culling: "auto" (where it cannot change the picture), "on", "off"
@@ -102,6 +104,7 @@ class RenderOptions:
     time: float = 0.0
     engine: str = "raster"
     max_depth: int = DEFAULT_MAX_DEPTH
+    seed: int = 0
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
     cull: str = "auto"
 
