@@ -8,7 +8,10 @@ translated and any other is refused:
 - a perfect mirror (metallic 1, roughness 0, base colour c): ``conductor`` with
   specular_reflectance c (Schlick's F with f0 = c is c at every angle only for c = 1, so
   c must be grey and close to 1; checked);
-- emission: an ``area`` emitter (one-sided unless double-sided: Mitsuba's emitters are).
+- smooth clear glass (transmission 1, metallic 0, roughness 0, a volume: thickness > 0,
+  no absorption, base colour 1): ``dielectric`` of the same ior;
+- emission: an ``area`` emitter (one-sided unless double-sided: Mitsuba's emitters are);
+- a constant environment: a ``constant`` emitter.
 
 facet's ``max_depth`` counts bounces after the eye ray, Mitsuba's the path's segments:
 theirs = ours + 2. Mitsuba's box pixel filter matches facet's jittered supersampling.
@@ -38,6 +41,9 @@ def _bsdf(m) -> dict:
     base = [float(c) for c in m.base_color[:3]]
     if m.metallic == 0 and m.specular == 0:
         return {"type": "diffuse", "reflectance": {"type": "rgb", "value": base}}
+    if (m.transmission == 1 and m.metallic == 0 and m.roughness == 0 and m.thickness > 0
+            and min(base) == 1 and not np.any(m.absorption) and m.specular == 1):
+        return {"type": "dielectric", "int_ior": float(m.ior), "ext_ior": 1.0}
     if m.metallic == 1 and m.roughness == 0 and min(base) > 0.94 and np.ptp(base) == 0:
         return {"type": "conductor", "material": "none",
                 "specular_reflectance": {"type": "rgb", "value": base}}
@@ -45,8 +51,9 @@ def _bsdf(m) -> dict:
 
 
 def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
-           seed: int = 0) -> np.ndarray:
-    """(height, width, 3) float32 linear radiance of ``scene`` seen by ``camera``."""
+           seed: int = 0, environment=None) -> np.ndarray:
+    """(height, width, 3) float32 linear radiance of ``scene`` seen by ``camera``;
+    ``environment``: the radiance (3,) of a constant sky, or None."""
     import mitsuba as mi
     import trimesh
 
@@ -55,6 +62,9 @@ def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
         desc = {"type": "scene",
                 "integrator": {"type": "path", "max_depth": max_depth + 2},
                 "sensor": _sensor(camera, width, height, spp, seed)}
+        if environment is not None:
+            desc["sky"] = {"type": "constant", "radiance": {
+                "type": "rgb", "value": [float(c) for c in environment]}}
         for i, obj in enumerate(scene.objects):
             mesh = obj.mesh
             m = np.asarray(obj.transform, dtype=np.float64)
@@ -96,8 +106,33 @@ def _sensor(camera, width, height, spp, seed) -> dict:
                      "rfilter": {"type": "box"}, "pixel_format": "rgb"}}
 
 
-CORNELL_REFERENCE = Path(__file__).resolve().parent / "data" / "cornell-mitsuba.npy"
+DATA = Path(__file__).resolve().parent / "data"
+CORNELL_REFERENCE = DATA / "cornell-mitsuba.npy"
 CORNELL_SIZE, CORNELL_SPP = 48, 4096
+GLASS_REFERENCE = DATA / "glass-mitsuba.npy"
+GLASS_SKY = (1.0, 0.9, 0.8)
+
+
+def glass_scene():
+    """A glass ball (ior 1.5), a mirror ball and a red box on a grey floor under a
+    constant sky: (scene, camera)."""
+    import facet
+    from facet.geometry.camera import Camera
+
+    scene = facet.Scene(ambient=0.0)
+    lambert = dict(metallic=0.0, specular=0.0)
+    scene.add(facet.primitives.plane(6.0), PbrMaterial(base_color=(0.5, 0.5, 0.5), **lambert))
+    scene.add(facet.primitives.cube(0.5), PbrMaterial(base_color=(0.8, 0.1, 0.1), **lambert),
+              facet.transforms.translate((-0.2, 0.25, -1.0)))
+    glass = PbrMaterial(base_color=(1, 1, 1), metallic=0.0, roughness=0.0, transmission=1.0,
+                        thickness=1.0, ior=1.5)
+    scene.add(facet.primitives.sphere(0.5, segments=96, rings=48), glass,
+              facet.transforms.translate((-0.6, 0.5, 0.0)))
+    mirror = PbrMaterial(base_color=(1, 1, 1), metallic=1.0, roughness=0.0)
+    scene.add(facet.primitives.sphere(0.5, segments=96, rings=48), mirror,
+              facet.transforms.translate((0.6, 0.5, 0.0)))
+    camera = Camera.look_at((0, 1.4, 3.2), (0, 0.4, 0), fov_y=35, near=0.5, far=20)
+    return scene, camera
 
 
 def cornell_reference() -> np.ndarray:
@@ -115,3 +150,8 @@ if __name__ == "__main__":
                    CORNELL_SPP)
     np.save(CORNELL_REFERENCE, image.astype(np.float32))
     print(CORNELL_REFERENCE, image.mean(axis=(0, 1)))
+    glass, camera = glass_scene()
+    image = render(glass, camera, CORNELL_SIZE, CORNELL_SIZE, CORNELL_SPP,
+                   environment=GLASS_SKY)
+    np.save(GLASS_REFERENCE, image.astype(np.float32))
+    print(GLASS_REFERENCE, image.mean(axis=(0, 1)))

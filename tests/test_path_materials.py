@@ -227,3 +227,50 @@ def test_two_sided_emitters_light_both_ways(strategy):
     a = _render_lamp(strategy, spp=64, one_sided=False)
     b = _render_lamp(strategy, spp=64, one_sided=False, flip=True)
     np.testing.assert_allclose(a[..., :3].mean(), b[..., :3].mean(), rtol=0.05)
+
+
+def test_a_coloured_glass_block_absorbs_by_beer_lambert():
+    """Through a cube of clear-coloured glass seen face on, against a sky of radiance 1:
+    the front's reflection R, and sum over k of (1 - R)^2 e^(-sigma d) (R^2 e^(-2 sigma
+    d))^k through it plus (1 - R)^2 R e^(-2 sigma d) (...)^k back out of the front, with
+    R = ((n - 1) / (n + 1))^2 (the exact Fresnel factor at normal incidence)."""
+    colour, distance, side, ior = np.array([0.9, 0.5, 0.2]), 0.8, 1.0, 1.5
+    glass = PbrMaterial(base_color=(1, 1, 1), metallic=0.0, roughness=0.0, transmission=1.0,
+                        thickness=side, ior=ior, attenuation_color=colour,
+                        attenuation_distance=distance)
+    scene = facet.Scene(ambient=0.0)
+    scene.add(facet.primitives.cube(side), glass)
+    camera = Camera.look_at((0, 0, 6), (0, 0, 0), fov_y=4, near=1, far=20)
+    with facet.Renderer(16, 16) as r:
+        img = r.render(scene, camera, engine="path", spp=1024, float_color=True,
+                       lights="scene", environment={"color": [1, 1, 1]}).color[..., :3]
+    # Each path reflects or passes at random (the front's 4% of reflection: a bright
+    # outlier): 36 pixels x 1024 paths put the mean's noise near 0.5%.
+    sigma = -np.log(colour) / distance
+    R = ((ior - 1) / (ior + 1)) ** 2
+    through = np.exp(-sigma * side)
+    series = (1 - R) ** 2 / (1 - R ** 2 * through ** 2)
+    expected = R + series * through + series * R * through ** 2
+    np.testing.assert_allclose(img[5:11, 5:11].reshape(-1, 3).mean(axis=0), expected,
+                               rtol=0.02)
+
+
+@pytest.mark.parametrize("thickness", [1.0, 0.0])
+def test_clear_glass_in_a_white_furnace_disappears(thickness):
+    """Smooth clear glass, a volume or thin-walled, neither makes nor loses light: in a
+    constant sky every path ends in the sky with weight 1 (reflected or let through).
+    At the silhouette a path may run out of bounces inside (total internal reflection):
+    there only the picture's mean is held to it."""
+    glass = PbrMaterial(base_color=(1, 1, 1), metallic=0.0, roughness=0.0, transmission=1.0,
+                        thickness=thickness, ior=1.5, double_sided=True)
+    scene = facet.Scene(ambient=0.0)
+    scene.add(facet.primitives.sphere(1.0), glass)
+    with facet.Renderer(16, 16) as r:
+        frame = r.render(scene, FRONT, engine="path", spp=16, float_color=True,
+                         lights="scene", environment={"color": [1, 1, 1]},
+                         outputs=("color", "normals"))
+    img = frame.color[..., :3]
+    facing = frame.normals[..., 2] > 0.5
+    assert facing.sum() > 60
+    np.testing.assert_allclose(img[facing], 1.0, atol=1e-3)
+    assert img.mean() == pytest.approx(1.0, abs=0.005)

@@ -57,3 +57,19 @@ def test_the_cached_reference_is_what_mitsuba_renders():
                                  mitsuba_scene.CORNELL_SIZE, 256, seed=7)
     a, b = _blocks(fresh), _blocks(mitsuba_scene.cornell_reference())
     assert (np.abs(a - b) <= np.maximum(0.1 * b, 0.01)).all()
+
+
+def test_glass_and_a_mirror_under_a_sky_match_mitsuba():
+    """A smooth glass ball (Snell's refraction, the exact Fresnel factor), a mirror ball
+    and a box on a floor under a constant sky (tests/mitsuba_scene.glass_scene)."""
+    scene, camera = mitsuba_scene.glass_scene()
+    size = mitsuba_scene.CORNELL_SIZE
+    with facet.Renderer(size, size) as r:
+        ours = r.render(scene, camera, engine="path", spp=256, float_color=True,
+                        lights="scene",
+                        environment={"color": list(mitsuba_scene.GLASS_SKY)}).color[..., :3]
+    ref = np.load(mitsuba_scene.GLASS_REFERENCE)
+    np.testing.assert_allclose(ours.mean(axis=(0, 1)), ref.mean(axis=(0, 1)), rtol=0.02)
+    a, b = _blocks(ours), _blocks(ref)
+    bad = np.abs(a - b) > np.maximum(0.05 * b, 0.01)
+    assert bad.sum() == 0, (np.argwhere(bad), a[bad], b[bad])

@@ -6,6 +6,7 @@
 //   +0 (base colour rgb, metallic)             +1 (emitted radiance rgb, roughness)
 //   +2 (base alpha, alpha mode, cutoff, normal scale)
 //   +3 (the dielectric's reflectance at normal incidence rgb, at grazing incidence)
+//   +4 (transmission, thickness: 0 thin-walled, ior, -)   +5 (absorption per length rgb, -)
 //   +7 (emitter density factor: luminance / total emitted power, or 0; unlit, -, -)
 // From SLOT_ROW, SLOT_TEXELS per slot (SLOT_BASE, SLOT_MR, SLOT_NORMAL, SLOT_EMISSIVE):
 //   (the uv transform's first row, layer or -1), (its second row, set + 2 (wrap s + 3 wrap t))
@@ -22,6 +23,10 @@ struct Material {
     float roughness;
     vec3 f0_d;        // the dielectric's lobe: reflectance at normal incidence
     float f90_d;      // and at grazing incidence (KHR_materials_ior, _specular)
+    float transmission;  // KHR_materials_transmission: share of the diffuse part let through
+    bool thin;        // thin-walled (thickness 0): transmitted rays go on unbent
+    float ior;
+    vec3 absorption;  // inside the volume, per unit length (KHR_materials_volume)
     vec3 emission;    // emitted radiance
     vec3 n;           // the shading normal, normal map applied, on the side of Surface.n
     bool unlit;       // KHR_materials_unlit: shows its base colour, reflects nothing
@@ -94,6 +99,11 @@ Material material_at(int inst, Surface s) {
     vec4 m3 = material_texel(inst, 3);
     m.f0_d = m3.rgb;
     m.f90_d = m3.w;
+    vec4 m4 = material_texel(inst, 4);
+    m.transmission = m4.x;
+    m.thin = m4.y <= 0.0;
+    m.ior = m4.z;
+    m.absorption = material_texel(inst, 5).rgb;
     m.n = s.n;
     if (s.tangent.w != 0.0 && has_slot(inst, SLOT_NORMAL)) {
         // The tangent frame turns with the shading normal when seen from behind (as the

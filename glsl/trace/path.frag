@@ -13,12 +13,12 @@
 // heuristic (Veach's multiple importance sampling, beta = 2), or u_strategy keeps only
 // one of them (for tests). Cut-outs (alpha MASK) and BLEND surfaces (with probability
 // 1 - alpha) let the ray by; shadow rays pass cut-outs and take 1 - alpha of each BLEND
-// surface. Russian roulette after the third bounce; u_max_depth bounces after the eye ray
+// surface. Russian roulette after the third bounce (paths carrying less than 1 survive
+// with that probability); u_max_depth bounces after the eye ray
 // at most (the last only gathers what it hits). Colour is linear radiance.
 #include "trace/shade.glsl"
 #include "trace/material.glsl"
-#include "lib/pbr.glsl"
-#include "lib/sampling.glsl"
+#include "trace/bsdf.glsl"
 
 uniform mat4 u_inv_view_projection;  // window NDC -> world, this sample's camera and shift
 uniform vec2 u_viewport;
@@ -62,37 +62,10 @@ vec3 escaped(vec3 d) {
 #endif
 }
 
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 // The power heuristic's weight of a sample of density a against the other strategy's b.
 float power_weight(float a, float b) {
     float a2 = a * a;
     return a2 > 0.0 ? a2 / (a2 + b * b) : 0.0;
-}
-
-// f cos for light arriving from L (lib/pbr.glsl's pbr_light is pi f cos).
-vec3 bsdf_cos(PbrSurface m, vec3 N, vec3 V, vec3 L) {
-    return pbr_light(m, N, V, L) * (1.0 / PI);
-}
-
-// The probability of drawing from the specular lobe: its share of the reflected energy,
-// roughly (the Fresnel reflectance at this angle against the diffuse albedo).
-float specular_share(PbrSurface m) {
-    float fc = schlick_weight(m.n_dot_v);
-    float spec = luminance(m.f0 + (m.f90 - m.f0) * fc);
-    float diff = luminance(m.c_diff * (1.0 - m.f0_d - (m.f90_d - m.f0_d) * fc));
-    if (spec <= 0.0) return 0.0;  // no lobe (KHR_materials_specular's factor 0)
-    return diff <= 0.0 ? 1.0 : clamp(spec / (spec + diff), 0.1, 0.9);
-}
-
-// The mixture's density of direction L (solid angle).
-float bsdf_pdf(PbrSurface m, float p_spec, vec3 N, vec3 V, vec3 L) {
-    float n_dot_l = dot(N, L);
-    if (n_dot_l <= 0.0) return 0.0;
-    vec3 H = normalize(L + V);
-    float n_dot_h = max(dot(N, H), 0.0), v_dot_h = max(dot(V, H), 1e-6);
-    float spec = ggx_d(n_dot_h, m.alpha) * n_dot_h / (4.0 * v_dot_h);
-    return p_spec * spec + (1.0 - p_spec) * n_dot_l / PI;
 }
 
 // The light that gets from o along d within t_max: 0 behind an opaque surface; cut-outs
@@ -160,7 +133,10 @@ void main() {
     float t_max = length(span);  // the eye ray stops at the far plane, as rasterized
     vec3 radiance = vec3(0.0), throughput = vec3(1.0);
     float alpha = 1.0;
-    float prev_pdf = 0.0;  // the BSDF's density of d (0 for the eye ray: no MIS)
+    float prev_pdf = 0.0;  // the BSDF's density of d (0: the eye ray, a delta or
+                           // transmission lobe: not weighed against light sampling)
+    vec3 sigma = vec3(0.0);  // absorption of the volume the ray is in (KHR_materials_volume)
+    float eta_scale = 1.0;   // undoes refraction's radiance scale for Russian roulette
     bool light_nee = u_strategy != STRATEGY_BSDF, bsdf_hits = u_strategy != STRATEGY_LIGHT;
 #ifdef HAS_ENVIRONMENT
     bool sample_environment = light_nee;
@@ -170,6 +146,7 @@ void main() {
     int bounce = 0;
     for (int step = 0; step < u_max_depth + 2 + MAX_PASSES; ++step) {
         Hit h = trace_scene(o, d, t_max, false);
+        if (sigma != vec3(0.0)) throughput *= exp(-sigma * min(h.t, 1e6));  // Beer-Lambert
         if (h.inst < 0) {
             if (bounce == 0) {
 #ifdef HAS_ENVIRONMENT
@@ -178,10 +155,11 @@ void main() {
                 radiance = u_background.rgb * u_background.a;
                 alpha = u_background.a;
 #endif
-            } else if (!sample_environment) {
+            } else if (!sample_environment || prev_pdf == 0.0) {
                 radiance += throughput * escaped(d);
             } else if (bsdf_hits) {
-                radiance += throughput * escaped(d) * power_weight(prev_pdf, UNIFORM_SPHERE_PDF);
+                radiance += throughput * escaped(d)
+                          * power_weight(prev_pdf, UNIFORM_SPHERE_PDF);
             }
             break;
         }
@@ -199,7 +177,7 @@ void main() {
                           & FLAG_ONE_SIDED) != 0;
         if ((s.front || !one_sided) && mat.emission != vec3(0.0)) {
             float w = 1.0;
-            if (bounce > 0 && mat.emit_pdf > 0.0 && u_emitter_count > 0) {
+            if (prev_pdf > 0.0 && mat.emit_pdf > 0.0 && u_emitter_count > 0) {
                 float pdf_light = mat.emit_pdf * h.t * h.t / max(abs(dot(s.ng, d)), 1e-12);
                 w = !light_nee ? 1.0 : bsdf_hits ? power_weight(prev_pdf, pdf_light) : 0.0;
             }
@@ -211,9 +189,7 @@ void main() {
         }
         if (bounce > u_max_depth) break;  // this bounce only gathered what it hit
         vec3 V = -d, N = valid_normal(mat.n, s.ng, V);
-        PbrSurface m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V),
-                                        mat.f0_d, mat.f90_d);
-        float p_spec = specular_share(m);
+        Bsdf b = make_bsdf(mat, s.front, N, V);
         vec3 from = offset_ray(s.p, s.ng);
         // Direct light from the scene's lights (delta lights: one shadow ray each).
         for (int i = 0; i < u_light_count.x; ++i) {
@@ -223,7 +199,7 @@ void main() {
             float dist = LIGHT_KIND(i) == LIGHT_DIRECTIONAL
                        ? INF : length(u_lights[i].position.xyz - s.p);
             radiance += throughput * visibility(from, L, dist) * falloff
-                      * u_lights[i].color.rgb * pbr_light(m, N, V, L);
+                      * u_lights[i].color.rgb * (PI * bsdf_eval(b, N, V, L));
         }
         // One point on the emitting triangles.
         if (light_nee && u_emitter_count > 0) {
@@ -231,9 +207,8 @@ void main() {
             float dist, pdf_light;
             vec3 Le = sample_emitter(s.p, L, dist, pdf_light);
             if (pdf_light > 0.0 && Le != vec3(0.0) && dot(N, L) > 0.0 && dot(s.ng, L) > 0.0) {
-                float w = bsdf_hits ? power_weight(pdf_light, bsdf_pdf(m, p_spec, N, V, L))
-                                    : 1.0;
-                radiance += throughput * Le * bsdf_cos(m, N, V, L) * (w / pdf_light)
+                float w = bsdf_hits ? power_weight(pdf_light, bsdf_pdf(b, N, V, L)) : 1.0;
+                radiance += throughput * Le * bsdf_eval(b, N, V, L) * (w / pdf_light)
                           * visibility(from, L, dist * (1.0 - 1e-4));
             }
         }
@@ -244,32 +219,37 @@ void main() {
             vec3 L = vec3(r * cos(TWO_PI * xi.y), r * sin(TWO_PI * xi.y), z);
             if (dot(N, L) > 0.0 && dot(s.ng, L) > 0.0) {
                 float w = bsdf_hits
-                        ? power_weight(UNIFORM_SPHERE_PDF, bsdf_pdf(m, p_spec, N, V, L)) : 1.0;
-                radiance += throughput * escaped(L) * bsdf_cos(m, N, V, L)
+                        ? power_weight(UNIFORM_SPHERE_PDF, bsdf_pdf(b, N, V, L)) : 1.0;
+                radiance += throughput * escaped(L) * bsdf_eval(b, N, V, L)
                           * (w / UNIFORM_SPHERE_PDF) * visibility(from, L, INF);
             }
         }
         // The next direction, from the BSDF.
-        vec3 L;
-        if (random01() < p_spec) {
-            vec3 H = around(ggx_sample(random2(), m.alpha), N);
-            L = reflect(-V, H);
-        } else {
-            L = around(cosine_sample(random2()), N);
+        float u = random01();
+        BsdfSample next = bsdf_sample(b, N, V, u, random2());
+        // Absorbed: no direction, or one on the wrong side of the geometric surface.
+        if (!next.ok || (next.through ? dot(s.ng, next.L) >= 0.0 : dot(s.ng, next.L) <= 0.0))
+            break;
+        throughput *= next.weight;
+        prev_pdf = next.pdf;  // 0: a delta or transmission lobe, not weighed against lights
+        if (next.through) {
+            from = offset_ray(s.p, -s.ng);
+            if (!b.thin) sigma = s.front ? mat.absorption : vec3(0.0);  // in or out
+            eta_scale *= b.eta * b.eta;
         }
-        float pdf = bsdf_pdf(m, p_spec, N, V, L);
-        if (pdf <= 0.0 || dot(s.ng, L) <= 0.0) break;  // below the surface: absorbed
-        throughput *= bsdf_cos(m, N, V, L) / pdf;
-        prev_pdf = pdf;
         ++bounce;
         if (bounce > ROULETTE_AFTER) {
-            float survive = clamp(max(throughput.r, max(throughput.g, throughput.b)), 0.05,
-                                  0.95);
-            if (random01() >= survive) break;
-            throughput /= survive;
+            // Paths that carry little go on with that probability (pbrt's rule; through
+            // glass by what they carry before the 1 / eta^2 of refraction).
+            float survive = clamp(max(throughput.r, max(throughput.g, throughput.b))
+                                  * eta_scale, 0.05, 1.0);
+            if (survive < 1.0) {
+                if (random01() >= survive) break;
+                throughput /= survive;
+            }
         }
         o = from;
-        d = L;
+        d = next.L;
         t_max = INF;
     }
     f_color = vec4(radiance, alpha);

@@ -143,3 +143,15 @@ def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> lis
         prog.set_array("u_slot_set", np.array(sets, dtype=np.float32), strict=False)
         prog.set_array("u_slot_mirror", np.array(mirrors), strict=False)
     return bound
+
+
+def feature_lines(scene, dropped, engine: str) -> list[str]:
+    """One line per material feature that ``dropped(material)`` names, with how many of
+    the scene's objects use it."""
+    counts: dict[str, int] = {}
+    for obj in scene.objects:
+        for feature in dropped(obj.material):
+            counts[feature] = counts.get(feature, 0) + 1
+    total = len(scene.objects)
+    return [f"{engine} ignores {feature} ({n} of {total} objects)"
+            for feature, n in counts.items()]

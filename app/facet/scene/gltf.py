@@ -28,7 +28,7 @@ from .pbr import PbrMaterial, TextureSlot, texture_transform
 
 SUPPORTED = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
              "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
-             "KHR_materials_specular"}
+             "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume"}
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
 WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
@@ -296,6 +296,34 @@ class _Reader:
                 if key in spec:
                     self.warn(f"ignores KHR_materials_specular's {key} (material {name!r}: "
                               "its factors are used)")
+        trans = ext.get("KHR_materials_transmission")
+        if isinstance(trans, dict):
+            out["transmission"] = float(np.clip(self._factor(
+                trans.get("transmissionFactor", 0.0), f"material {name!r} transmissionFactor"),
+                0, 1))
+            if "transmissionTexture" in trans:
+                self.warn(f"ignores KHR_materials_transmission's transmissionTexture "
+                          f"(material {name!r}: its factor is used)")
+        volume = ext.get("KHR_materials_volume")
+        if isinstance(volume, dict):
+            out["thickness"] = max(self._factor(volume.get("thicknessFactor", 0.0),
+                                                f"material {name!r} thicknessFactor"), 0.0)
+            if "attenuationDistance" in volume:
+                d = self._factor(volume["attenuationDistance"],
+                                 f"material {name!r} attenuationDistance")
+                if d <= 0:
+                    self.data.fail(f"material {name!r}: attenuationDistance must be > 0, "
+                                   f"got {d}")
+                out["attenuation_distance"] = d
+            if "attenuationColor" in volume:
+                c = volume["attenuationColor"]
+                if not (isinstance(c, list) and len(c) == 3):
+                    self.data.fail(f"material {name!r}: attenuationColor must be 3 numbers, "
+                                   f"got {c!r}")
+                out["attenuation_color"] = [float(np.clip(self._factor(
+                    v, f"material {name!r} attenuationColor"), 0, 1)) for v in c]
+            # thicknessTexture scales the thickness the rasterizer's refraction assumes; the
+            # path tracer measures the volume itself: nothing is lost without it.
         return out
 
     def _factor(self, value, what: str) -> float:

@@ -89,7 +89,14 @@ class PbrMaterial:
     The dielectric's specular lobe (KHR_materials_ior and _specular): reflectance at normal
     incidence ((ior - 1) / (ior + 1))^2 (0.04 at the default ``ior`` 1.5) times
     ``specular_color`` (3,) linear, clipped to 1, times ``specular``; at grazing angles
-    ``specular``. ``specular`` 0 leaves a Lambertian surface of the base colour."""
+    ``specular``. ``specular`` 0 leaves a Lambertian surface of the base colour.
+
+    ``transmission`` (KHR_materials_transmission): the share of the dielectric's diffuse
+    part that passes through instead, tinted by the base colour (smooth: Snell's
+    refraction; rough: GGX microfacet transmission). ``thickness`` 0 is thin-walled (rays
+    go on unbent); above 0 the mesh bounds a volume (KHR_materials_volume) of index
+    ``ior`` that absorbs by Beer-Lambert: ``attenuation_color`` (3,) is what is left after
+    ``attenuation_distance`` (inf: clear)."""
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
     metallic: float = 1.0
@@ -111,6 +118,10 @@ class PbrMaterial:
     ior: float = 1.5
     specular: float = 1.0
     specular_color: np.ndarray = field(default_factory=lambda: np.ones(3))
+    transmission: float = 0.0
+    thickness: float = 0.0
+    attenuation_color: np.ndarray = field(default_factory=lambda: np.ones(3))
+    attenuation_distance: float = float("inf")
 
     # Not used by this model; present so that every material answers the same questions.
     shader = None
@@ -124,7 +135,8 @@ class PbrMaterial:
             if np.size(self.base_color) == 4 else \
             np.append(as_color(self.base_color, "base color"), 1.0)
         self.emissive = as_color(self.emissive, "emissive")
-        for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff", "specular"):
+        for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff", "specular",
+                    "transmission"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and 0.0 <= v <= 1.0):
                 raise InputError(f"material {key} must be a number in [0, 1], got {v!r}")
@@ -140,7 +152,13 @@ class PbrMaterial:
             raise InputError(f"material ior must be a number >= 1 (or 0: a perfect "
                              f"reflector, as glTF allows), got {v!r}")
         self.ior = float(v)
-        for key in ("emissive_strength", "normal_scale"):
+        self.attenuation_color = as_color(self.attenuation_color, "attenuation color")
+        d = self.attenuation_distance
+        if not (isinstance(d, (int, float, np.floating)) and d > 0):
+            raise InputError(f"material attenuation_distance must be a number > 0 (inf: "
+                             f"clear), got {d!r}")
+        self.attenuation_distance = float(d)
+        for key in ("emissive_strength", "normal_scale", "thickness"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
                 raise InputError(f"material {key} must be a number >= 0, got {v!r}")
@@ -159,6 +177,14 @@ class PbrMaterial:
         """(3,) the dielectric's reflectance at normal incidence (see the class)."""
         r = ((self.ior - 1) / (self.ior + 1)) ** 2 if self.ior > 0 else 1.0
         return np.minimum(r * self.specular_color, 1.0) * self.specular
+
+    @property
+    def absorption(self) -> np.ndarray:
+        """(3,) sigma_a per unit length inside the volume: -ln(attenuation_color) /
+        attenuation_distance (0: clear)."""
+        if not np.isfinite(self.attenuation_distance):
+            return np.zeros(3)
+        return -np.log(np.maximum(self.attenuation_color, 1e-6)) / self.attenuation_distance
 
     @property
     def transparent(self) -> bool:

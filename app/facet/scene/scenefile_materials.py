@@ -14,6 +14,10 @@ which key belongs to which). Colours here are linear, as glTF's factors are:
     ior = 1.5                          # KHR_materials_ior
     emissive = [0, 0, 0]
     emissive_strength = 1.0
+    transmission = 0.0                 # KHR_materials_transmission: glass is 1
+    thickness = 0.0                    # 0: thin-walled; > 0: a volume (KHR_materials_volume)
+    attenuation_color = [1, 1, 1]      # what is left after attenuation_distance inside
+    attenuation_distance = 1e30
     alpha_mode = "OPAQUE"              # or MASK (with alpha_cutoff) or BLEND
     double_sided = false
     base_color_texture = "albedo.png"  # or a table: image, texcoord, wrap, filter,
@@ -32,10 +36,12 @@ from .validate import show
 
 PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emissive",
        "emissive_strength", "alpha_mode", "alpha_cutoff", "double_sided", "normal_scale",
-       "occlusion_strength", "unlit", *(f"{s}_texture" for s in SLOTS))
+       "occlusion_strength", "unlit", "transmission", "thickness", "attenuation_color",
+       "attenuation_distance", *(f"{s}_texture" for s in SLOTS))
 SHARED = ("ior",)  # a Phong material's refraction, a metallic-roughness one's dielectric
 SLOT_KEYS = ("image", "texcoord", "wrap", "filter", "offset", "rotation", "scale")
-UNIT_KEYS = ("metallic", "roughness", "specular", "alpha_cutoff", "occlusion_strength")
+UNIT_KEYS = ("metallic", "roughness", "specular", "alpha_cutoff", "occlusion_strength",
+             "transmission")
 
 
 def is_pbr(t: dict) -> bool:
@@ -55,6 +61,11 @@ def read_pbr(r, t: dict, where: str, phong_keys, texture) -> PbrMaterial:
     kw = {}
     if "base_color" in t:
         kw["base_color"] = r.color(t["base_color"], f"{where}.base_color", channels=(3, 4))
+    if "attenuation_color" in t:
+        kw["attenuation_color"] = r.color(t["attenuation_color"], f"{where}.attenuation_color")
+    if "attenuation_distance" in t:
+        kw["attenuation_distance"] = r.number(t["attenuation_distance"],
+                                              f"{where}.attenuation_distance", above=0)
     for key in ("emissive", "specular_color"):
         if key in t:
             kw[key] = r.vector(t[key], f"{where}.{key}")
@@ -65,7 +76,7 @@ def read_pbr(r, t: dict, where: str, phong_keys, texture) -> PbrMaterial:
             kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
             if kw[key] > 1:
                 r.fail(f"{where}.{key}", f"expected a number in [0, 1], got {show(t[key])}")
-    for key in ("emissive_strength", "normal_scale"):
+    for key in ("emissive_strength", "normal_scale", "thickness"):
         if key in t:
             kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
     if "ior" in t:

@@ -7,10 +7,14 @@ channels from the opaque objects in a single-sample pass, drawn when first read.
 
 from __future__ import annotations
 
+import numpy as np
+
 from ...gl.targets import clear_frame
 from ...scene.options import DEFAULT_MAX_DEPTH
+from ...scene.pbr import PbrMaterial
 from ..antialias import has_area_lights, point_lights_for
 from ..engine import Engine
+from ..materials import feature_lines
 from .forward import ForwardPass
 from .overlay import wireframe_overlay
 from .shadow import ShadowMaps
@@ -100,11 +104,24 @@ class RasterEngine(Engine):
                           aux=aux, colour_pass=False)
 
     def unsupported(self, opts, scene) -> list[str]:
+        lines = []
         if opts.max_depth != DEFAULT_MAX_DEPTH:
-            return ["max_depth sets the ray tracer's bounces; the rasterizer ignores it"]
-        return []
+            lines.append("max_depth sets the ray tracer's bounces; the rasterizer ignores it")
+        return lines + feature_lines(scene, _dropped, "the rasterizer")
 
     def release(self) -> None:
         if self._shadows is not None:
             self._shadows.release()
         self.forward.release()
+
+
+def _dropped(m) -> list[str]:
+    """The material features of ``m`` the rasterizer does not draw."""
+    if not isinstance(m, PbrMaterial):
+        return []
+    out = []
+    if m.transmission > 0:
+        out.append("KHR_materials_transmission (drawn as its diffuse part, opaque)")
+    if m.thickness > 0 and np.any(m.absorption > 0):
+        out.append("KHR_materials_volume's attenuation")
+    return out

@@ -26,7 +26,7 @@ from ...scene.pbr import PbrMaterial
 from ...scene.scene import MAX_LIGHTS
 from ..antialias import accumulation
 from ..engine import Engine, grid_or_jittered
-from ..materials import phong_color
+from ..materials import feature_lines, phong_color
 from ..shading import SHADING_MODELS
 from ..state import UNITS, FrameState, pack_lights
 from . import pack
@@ -298,18 +298,6 @@ class TraceEngine(Engine):
         self.lights_ubo.release()
 
 
-def feature_lines(scene, dropped, engine: str) -> list[str]:
-    """One line per material feature that ``dropped(material)`` names, with how many of
-    the scene's objects use it."""
-    counts: dict[str, int] = {}
-    for obj in scene.objects:
-        for feature in dropped(obj.material):
-            counts[feature] = counts.get(feature, 0) + 1
-    total = len(scene.objects)
-    return [f"{engine} ignores {feature} ({n} of {total} objects)"
-            for feature, n in counts.items()]
-
-
 def _dropped(m) -> list[str]:
     """The material features of ``m`` the tracer does not draw (it shades every material
     by Phong terms: a glTF material by its Phong stand-ins, facet.scene.pbr)."""
@@ -337,4 +325,6 @@ def _dropped(m) -> list[str]:
         out.append("alpha MASK cut-outs")
     if m.alpha_mode == "BLEND" and "base_color" in slots:
         out.append("base-colour texture alpha")
+    if m.transmission > 0:
+        out.append("KHR_materials_transmission (traced opaque)")
     return out

@@ -173,15 +173,19 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
         row[7, :len(params)] = np.where(np.isinf(params), 1e30, params)
     else:
         kind, root = KINDS["mesh"], mesh_root[id(obj.mesh)]
+    # A single-sided material's back faces are not there, but for a transmitting volume's
+    # (its inside is seen through them).
+    pbr = as_pbr(mat)
+    one_sided = not pbr.double_sided and not (pbr.transmission > 0 and pbr.thickness > 0)
     flags = (FLAG_COLORS if obj.mesh.colors is not None and obj.shape is None else 0) | \
-        (0 if getattr(mat, "double_sided", True) else FLAG_ONE_SIDED)
+        (FLAG_ONE_SIDED if one_sided else 0)
     row[6] = (kind, root, obj.id, flags)
     row[8] = (*material_color(mat), mat.ka)
     row[9] = (mat.kd, mat.ks, mat.shininess, mat.opacity)
     layer = layers.get((id(mat.texture), True), -1) if mat.texture is not None else -1
     phong_ior = 0.0 if isinstance(mat, PbrMaterial) else mat.ior  # refraction: Phong's
     row[10] = (mat.reflectivity, phong_ior, mat.gloss, layer)
-    material_rows(row, as_pbr(mat), layers)
+    material_rows(row, pbr, layers)
     return row
 
 
@@ -194,6 +198,8 @@ def material_rows(row: np.ndarray, m, layers: dict) -> None:
     row[r + 1] = (*(m.emissive * m.emissive_strength), m.roughness)
     row[r + 2] = (m.base_color[3], ALPHA_MODES[m.alpha_mode], m.alpha_cutoff, m.normal_scale)
     row[r + 3] = (*m.dielectric_f0, m.specular)
+    row[r + 4] = (m.transmission, m.thickness, m.ior, 0.0)
+    row[r + 5] = (*m.absorption, 0.0)
     row[r + 7] = (0.0, 0.0, float(m.unlit), 0.0)
     for k, name in enumerate(PATH_SLOTS):
         slot = getattr(m, f"{name}_texture")

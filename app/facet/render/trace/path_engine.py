@@ -19,10 +19,10 @@ import numpy as np
 from ...scene.option_values import DEFAULT_MAX_DEPTH
 from ...scene.pbr import PbrMaterial
 from ...srgb import srgb_to_linear
-from ..materials import as_pbr
+from ..materials import as_pbr, feature_lines
 from . import pack
 from .emitters import pack_emitters
-from .engine import TraceEngine, feature_lines
+from .engine import TraceEngine
 
 DEFAULT_BOUNCES = 8
 STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag

@@ -1,0 +1,156 @@
+// The path tracer's BSDF at a hit (glsl/trace/path.frag): the glTF metallic-roughness
+// model of lib/pbr.glsl (the rasterizer's, with its dielectric lobe and multiple-scattering
+// scale) plus KHR_materials_transmission and _volume. Its lobes:
+//   reflection    GGX with Schlick's F (F0 from ior, specular and metal)
+//   diffuse       (1 - F_d) (1 - transmission) (1 - metallic) base / pi
+//   transmission  (1 - F_d) transmission (1 - metallic) base, through the surface:
+//                 thin-walled (thickness 0): on unbent, mirrored GGX when rough;
+//                 a volume: Snell's refraction, GGX microfacet transmission when rough
+//                 (Walter et al. 2007), radiance scaled by 1 / eta^2.
+// A transmitting dielectric smoother than SMOOTH_ROUGHNESS is perfectly smooth: delta
+// reflection and refraction split by the exact dielectric Fresnel factor. Sampling picks
+// a lobe by its estimated share, then a direction from it; the reflection side's density
+// (GGX and cosine mixture) is what multiple importance sampling weighs against light
+// sampling; delta lobes and transmission (which light sampling never reaches through the
+// opaque shadow rays) are not weighed.
+#include "lib/pbr.glsl"
+#include "lib/sampling.glsl"
+
+const float SMOOTH_ROUGHNESS = 0.03;
+
+struct Bsdf {
+    PbrSurface m;    // the reflection lobes (c_diff without the transmitted share)
+    vec3 c_trans;    // what the transmission lobe passes: (1 - metallic) transmission base
+    float eta;       // index beyond the surface / index on the ray's side (thin: 1)
+    float fresnel;   // smooth: the exact dielectric Fresnel factor at this angle
+    bool thin;
+    bool polished;  // perfectly smooth (delta lobes)
+    float p_spec;    // the lobes' probabilities (diffuse: the rest)
+    float p_trans;
+};
+
+struct BsdfSample {
+    vec3 L;
+    vec3 weight;     // f |cos| / pdf
+    float pdf;       // the reflection side's mixture density (0 for delta and transmission)
+    bool through;    // L leaves on the far side
+    bool ok;
+};
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// The unpolarised Fresnel reflectance of a smooth dielectric interface; eta = n_t / n_i.
+float fresnel_dielectric(float cos_i, float eta) {
+    float sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if (sin2_t >= 1.0) return 1.0;  // total internal reflection
+    float cos_t = sqrt(1.0 - sin2_t);
+    float rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    float rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
+    Bsdf b;
+    b.m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V), mat.f0_d,
+                           mat.f90_d);
+    b.c_trans = b.m.c_diff * mat.transmission;
+    b.m.c_diff *= 1.0 - mat.transmission;
+    b.thin = mat.thin;
+    float ior = max(mat.ior, 1.0);
+    b.eta = mat.thin ? 1.0 : (front ? ior : 1.0 / ior);
+    b.polished = mat.transmission > 0.0 && mat.metallic <= 0.0 &&
+               mat.roughness < SMOOTH_ROUGHNESS;
+    float fc = schlick_weight(b.m.n_dot_v);
+    vec3 kept = 1.0 - b.m.f0_d - (b.m.f90_d - b.m.f0_d) * fc;
+    float spec;
+    if (b.polished) {
+        b.fresnel = (b.thin ? fresnel_dielectric(b.m.n_dot_v, ior)
+                            : fresnel_dielectric(b.m.n_dot_v, b.eta)) * mat.f90_d;
+        spec = b.fresnel;
+        kept = vec3(1.0 - b.fresnel);
+    } else {
+        b.fresnel = 0.0;
+        spec = luminance(b.m.f0 + (b.m.f90 - b.m.f0) * fc);
+    }
+    float diff = luminance(b.m.c_diff * kept), trans = luminance(b.c_trans * kept);
+    float rest = diff + trans;
+    if (spec <= 0.0) b.p_spec = 0.0;
+    else if (rest <= 0.0) b.p_spec = 1.0;
+    else if (b.polished) b.p_spec = spec / (spec + rest);  // delta lobes: exactly by weight
+    else b.p_spec = clamp(spec / (spec + rest), 0.1, 0.9);
+    b.p_trans = rest <= 0.0 ? 0.0 : (1.0 - b.p_spec) * trans / rest;
+    return b;
+}
+
+// f cos on the reflection side (delta lobes excluded): what light sampling evaluates.
+vec3 bsdf_eval(Bsdf b, vec3 N, vec3 V, vec3 L) {
+    if (!b.polished) return pbr_light(b.m, N, V, L) * (1.0 / PI);
+    float n_dot_l = max(dot(N, L), 0.0);
+    return (1.0 - b.fresnel) * b.m.c_diff * (n_dot_l / PI);
+}
+
+// The density of the sampling mixture for L on the reflection side (solid angle).
+float bsdf_pdf(Bsdf b, vec3 N, vec3 V, vec3 L) {
+    float n_dot_l = dot(N, L);
+    if (n_dot_l <= 0.0) return 0.0;
+    float p_diff = 1.0 - b.p_spec - b.p_trans;
+    float pdf = p_diff * n_dot_l / PI;
+    if (!b.polished) {
+        vec3 H = normalize(L + V);
+        float n_dot_h = max(dot(N, H), 0.0), v_dot_h = max(dot(V, H), 1e-6);
+        pdf += b.p_spec * ggx_d(n_dot_h, b.m.alpha) * n_dot_h / (4.0 * v_dot_h);
+    }
+    return pdf;
+}
+
+// One direction from the BSDF: lobe by u, direction by xi.
+BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, float u, vec2 xi) {
+    BsdfSample s = BsdfSample(vec3(0.0), vec3(0.0), 0.0, false, false);
+    if (u < b.p_spec) {  // reflection
+        if (b.polished) {
+            s.L = reflect(-V, N);
+            s.weight = vec3(b.fresnel / b.p_spec);
+            s.ok = true;
+            return s;
+        }
+        s.L = reflect(-V, around(ggx_sample(xi, b.m.alpha), N));
+    } else if (u < b.p_spec + b.p_trans) {  // transmission
+        s.through = true;
+        float n_dot_v = b.m.n_dot_v;
+        if (b.polished) {
+            s.L = b.thin ? -V : refract(-V, N, 1.0 / b.eta);
+            if (dot(s.L, s.L) == 0.0) return s;  // total internal reflection: F was 1
+            s.weight = (1.0 - b.fresnel) * b.c_trans / (b.p_trans * b.eta * b.eta);
+            s.ok = true;
+            return s;
+        }
+        vec3 H = around(ggx_sample(xi, b.m.alpha), N);
+        float v_dot_h = dot(V, H), n_dot_h = dot(N, H);
+        if (v_dot_h <= 0.0) return s;
+        if (b.thin) {
+            vec3 R = reflect(-V, H);
+            s.L = R - 2.0 * dot(R, N) * N;  // mirrored through the surface: on unbent
+        } else {
+            s.L = refract(-V, H, 1.0 / b.eta);
+            if (dot(s.L, s.L) == 0.0) return s;  // total internal reflection
+        }
+        float n_dot_l = -dot(N, s.L);
+        if (n_dot_l <= 0.0) return s;
+        float fc = schlick_weight(v_dot_h);
+        vec3 F_d = b.m.f0_d + (b.m.f90_d - b.m.f0_d) * fc;
+        // f |cos| / pdf of GGX transmission: |V.H| (1 - F) G2 / (|N.V| N.H), the same
+        // form as reflection's; G2 = 4 Vis |N.L| |N.V|.
+        float g = 4.0 * smith_vis(n_dot_l, n_dot_v, b.m.alpha) * n_dot_l * n_dot_v;
+        s.weight = (1.0 - F_d) * b.c_trans * (v_dot_h * g / (n_dot_v * n_dot_h))
+                 / (b.p_trans * b.eta * b.eta);
+        s.ok = true;
+        return s;
+    } else {  // diffuse
+        s.L = around(cosine_sample(xi), N);
+    }
+    s.pdf = bsdf_pdf(b, N, V, s.L);
+    if (s.pdf <= 0.0) return s;
+    s.weight = bsdf_eval(b, N, V, s.L) / s.pdf;
+    s.ok = true;
+    return s;
+}
