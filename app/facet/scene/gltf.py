@@ -6,7 +6,8 @@ colours) with its own ``PbrMaterial``, placed by the node's world matrix; a mesh
 several nodes is decoded once. Triangle strips and fans become triangles; points and lines
 are left out with a warning. Cameras become named cameras. Supported extensions:
 KHR_draco_mesh_compression (through DracoPy), KHR_mesh_quantization, KHR_texture_transform,
-KHR_materials_emissive_strength, KHR_materials_unlit; a file that *requires* another one is
+KHR_materials_emissive_strength, _unlit, _ior, _specular, _transmission, _volume,
+KHR_lights_punctual (facet.scene.gltf_lights); a file that *requires* another one is
 refused by name, one that only uses another one gets a warning that it is ignored.
 
 glTF is y-up, right-handed, metres, cameras looking down -z: facet's own conventions.
@@ -24,11 +25,13 @@ from ..errors import FacetWarning, MeshError
 from ..srgb import linear_to_srgb
 from .gltf_check import check_gltf
 from .gltf_data import GltfData
+from .gltf_lights import document_lights, facet_light, node_light
 from .pbr import PbrMaterial, TextureSlot, texture_transform
 
 SUPPORTED = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
              "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
-             "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume"}
+             "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume",
+             "KHR_lights_punctual"}
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
 WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
@@ -36,8 +39,9 @@ NEAREST = {9728, 9984, 9986}  # NEAREST, NEAREST_MIPMAP_*
 NO_MIPS = {9728, 9729}
 
 
-def read_gltf(path: Path, check_mesh) -> tuple[list, dict]:
-    """(parts as (name, mesh arguments, 4x4 node -> file), {camera name: Camera}).
+def read_gltf(path: Path, check_mesh) -> tuple[list, dict, list]:
+    """(parts as (name, mesh arguments, 4x4 node -> file), {camera name: Camera}, lights:
+    KHR_lights_punctual's as facet lights, facet.scene.gltf_lights).
     ``check_mesh(arrays, where)`` finishes a primitive's arrays into ``Mesh`` arguments.
     The document is checked (facet.scene.gltf_check) as JSON, before pygltflib builds it."""
     from pygltflib import GLTF2
@@ -124,7 +128,8 @@ class _Reader:
         if not g.scenes and not g.nodes:
             self.data.fail("holds no scene and no nodes; nothing to render")
         roots = g.scenes[g.scene or 0].nodes if g.scenes else self._roots()
-        parts, cameras = [], {}
+        parts, cameras, lights = [], {}, []
+        light_defs = document_lights(g, self.data.fail)
         stack = [(int(n), np.eye(4)) for n in reversed(roots or [])]
         while stack:
             index, parent = stack.pop()
@@ -139,6 +144,12 @@ class _Reader:
                     if args is not None:
                         suffix = f"/{p}" if len(prims) > 1 else ""
                         parts.append((f"{label}{suffix}", args, world))
+            light = node_light(node, light_defs, self.data.fail)
+            if light is not None:
+                lights.append(facet_light(light_defs[light], world))
+                if "range" in light_defs[light]:
+                    self.skipped.add("KHR_lights_punctual's range (lights fall off with the "
+                                     "inverse square of the distance, without end)")
             if node.camera is not None:
                 name = g.cameras[node.camera].name or label
                 cameras[name if name not in cameras else f"{name}{len(cameras)}"] = (
@@ -155,7 +166,7 @@ class _Reader:
         for what in sorted(self.skipped):
             self.warn(f"leaves out {what}")
         return parts, {name: self._camera(c, world, parts) for name, (c, world)
-                       in cameras.items()}
+                       in cameras.items()}, lights
 
     def warn(self, message: str) -> None:
         warnings.warn(f"{self.path.name}: {message}", FacetWarning, stacklevel=4)

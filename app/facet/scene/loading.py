@@ -51,10 +51,10 @@ def _check_path(path) -> Path:
     return p
 
 
-def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict]:
-    """``(parts, cameras)`` of a mesh file: parts as (name, ``Mesh`` keyword arguments,
-    4x4 node -> file transform), a part's arguments shared by every node that uses the
-    same mesh; cameras as {name: Camera} (glTF only)."""
+def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict, list]:
+    """``(parts, cameras, lights)`` of a mesh file: parts as (name, ``Mesh`` keyword
+    arguments, 4x4 node -> file transform), a part's arguments shared by every node that
+    uses the same mesh; cameras as {name: Camera} and lights (glTF only)."""
     p = _check_path(path)
     crease = _check_crease(crease)
 
@@ -65,7 +65,7 @@ def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict]:
         from .gltf import read_gltf
 
         return read_gltf(p, finish)
-    return _trimesh_parts(p, finish), {}
+    return _trimesh_parts(p, finish), {}, []
 
 
 def _check_crease(crease) -> float:

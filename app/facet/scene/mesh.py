@@ -180,17 +180,23 @@ class Mesh:
     @classmethod
     def load_file(cls, path, *, crease: float | None = None) -> tuple[list, dict]:
         """``(load_parts(path), {name: Camera})``: the parts and the file's cameras."""
+        return cls.load_contents(path, crease=crease)[:2]
+
+    @classmethod
+    def load_contents(cls, path, *, crease: float | None = None) -> tuple[list, dict, list]:
+        """``(load_parts(path), {name: Camera}, lights)``: the parts, the file's cameras
+        and its lights (glTF's KHR_lights_punctual)."""
         from .loading import load_file
         from .normals import DEFAULT_CREASE
 
-        raw, cameras = load_file(path, DEFAULT_CREASE if crease is None else crease)
+        raw, cameras, lights = load_file(path, DEFAULT_CREASE if crease is None else crease)
         made: dict[int, Mesh] = {}
         parts = []
         for name, data, matrix in raw:
             if id(data) not in made:
                 made[id(data)] = cls._from_file(data)
             parts.append((name, made[id(data)], matrix))
-        return parts, cameras
+        return parts, cameras, lights
 
     @classmethod
     def _from_file(cls, data: dict) -> Mesh:

@@ -16,7 +16,8 @@ def is_scene_file(path) -> bool:
 def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
     """A scene file read with its settings, or a mesh file as a scene of its parts (each
     with its own material and node transform; a glTF's cameras become named cameras, the
-    default view stays framed on the model). ``crease``: the angle at which vertices
+    default view stays framed on the model; its KHR_lights_punctual lights become the
+    scene's lights). ``crease``: the angle at which vertices
     without normals in the file are split (facet.scene.normals). ``confine``: a folder
     outside which no file is read (facet.guard.confined)."""
     if confine is not None:
@@ -28,10 +29,12 @@ def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
         from .scenefile import load_scene
 
         return load_scene(path, crease=crease)
-    parts, cameras = Mesh.load_file(path, crease=crease)
+    parts, cameras, lights = Mesh.load_contents(path, crease=crease)
     scene = Scene()
     for name, mesh, matrix in parts:
         scene.add(mesh, transform=matrix, name=name)
+    for light in lights:
+        scene.add_light(light)
     for name, camera in cameras.items():
         scene.add_camera(name, camera)
     scene.frame_by_default = True
