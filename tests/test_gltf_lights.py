@@ -9,6 +9,7 @@ import facet
 from facet.errors import MeshError
 from facet.scene.light import DirectionalLight, PointLight, SpotLight
 from facet.srgb import srgb_to_linear
+
 from gltf_files import GltfBuilder, quad
 
 
