@@ -274,3 +274,21 @@ def test_clear_glass_in_a_white_furnace_disappears(thickness):
     assert facing.sum() > 60
     np.testing.assert_allclose(img[facing], 1.0, atol=1e-3)
     assert img.mean() == pytest.approx(1.0, abs=0.005)
+
+
+def test_an_area_light_is_an_emitting_rectangle():
+    """facet.AreaLight in the path tracer: the rectangle of radiance pi I / A (area_lights):
+    the floor below shows the same integral as under the emitting plane above."""
+    from facet.scene.light import AreaLight
+
+    scene = facet.Scene(ambient=0.0)
+    scene.add(facet.primitives.plane(8.0), material=PbrMaterial(**FLOOR))
+    area = LAMP_SIDE * LAMP_SIDE
+    scene.add_light(AreaLight(position=(0, LAMP_HEIGHT, 0), normal=(0, -1, 0),
+                              size=(LAMP_SIDE, LAMP_SIDE), attenuation=(0, 0, 1),
+                              intensity=LAMP_RADIANCE * area / np.pi))
+    with facet.Renderer(32, 32) as r:
+        colour = r.render(scene, SIDE_CAMERA, engine="path", spp=512, max_depth=0,
+                          float_color=True, lights="scene").color
+    measured = colour[15:17, 15:17, :3].reshape(-1, 3).mean(axis=0)
+    np.testing.assert_allclose(measured, _lamp_on_floor_centre(), rtol=0.02)

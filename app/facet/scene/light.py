@@ -122,12 +122,23 @@ class AreaLight:
         self.intensity = _intensity(self.intensity)
         self.attenuation = _attenuation(self.attenuation)
 
-    def point_light(self, u: float = 0.0, v: float = 0.0) -> PointLight:
-        """The point light at (u, v) in [-0.5, 0.5]^2 of the rectangle."""
+    def axes(self) -> tuple[np.ndarray, np.ndarray]:
+        """The rectangle's unit edge directions (a, b), a x b = normal."""
         n = self.normal
         a = np.cross(n, (0.0, 1.0, 0.0) if abs(n[1]) < 0.99 else (1.0, 0.0, 0.0))
         a /= np.linalg.norm(a)
-        b = np.cross(n, a)
+        return a, np.cross(n, a)
+
+    def corners(self) -> np.ndarray:
+        """(4, 3) the rectangle's corners, counter-clockwise seen from its lit side."""
+        a, b = self.axes()
+        w, h = self.size
+        return np.array([self.position + a * u * w + b * v * h
+                         for u, v in ((-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5))])
+
+    def point_light(self, u: float = 0.0, v: float = 0.0) -> PointLight:
+        """The point light at (u, v) in [-0.5, 0.5]^2 of the rectangle."""
+        a, b = self.axes()
         p = self.position + a * u * self.size[0] + b * v * self.size[1]
         return PointLight(p, self.color, self.intensity, self.attenuation,
                           cast_shadows=self.cast_shadows)

@@ -21,6 +21,8 @@ from ...scene.pbr import PbrMaterial
 from ...srgb import srgb_to_linear
 from ..materials import as_pbr, feature_lines
 from . import pack
+from ...scene.light import AreaLight
+from .area_lights import AreaEmitters, strip_area_points
 from .emitters import pack_emitters
 from .engine import TraceEngine
 
@@ -41,11 +43,30 @@ class PathEngine(TraceEngine):
     _emitter_count = 0
     _emitters_key = None
 
+    def __init__(self, ctx, cache):
+        super().__init__(ctx, cache)
+        self._areas = AreaEmitters()
+        self._lit_by = None  # the frame's scene, whose area lights are rectangles here
+
+    def prepare(self, scene, state, opts=None, aa=None):
+        """The tracer's upload, with the area lights' rectangles (area_lights)."""
+        self._lit_by = scene
+        return super().prepare(self._areas.with_rectangles(scene), state, opts, aa)
+
     def sample_state(self, scene, scene_k, state, opts, k: int, plain: bool):
+        """Sample k's stream; the points that stand in for area lights elsewhere go (their
+        rectangles emit instead)."""
         self._sample = k
+        self._lit_by = scene
+        if any(isinstance(x, AreaLight) for x in scene.lights):
+            return state.with_(lights=strip_area_points(scene, scene_k, state.lights))
         return state
 
     def draw_sample(self, scene, state, opts, surf, background) -> None:
+        if self._lit_by is not None:
+            rectangles = self._areas.objects(self._lit_by)
+            if rectangles:
+                scene = scene.view(objects=scene.objects + rectangles)
         bounces = DEFAULT_BOUNCES if opts.max_depth == DEFAULT_MAX_DEPTH else opts.max_depth
         if not state.srgb:  # a display value here; the output is encoded (Engine.radiance)
             background = (*srgb_to_linear(np.asarray(background[:3])), background[3])
@@ -111,6 +132,11 @@ class PathEngine(TraceEngine):
                          "single-sided glTF materials lose theirs)")
         if not opts.shadows_on:
             lines.append("the path tracer always traces shadows (shadows = off ignored)")
+        areas = [x for x in scene.lights if isinstance(x, AreaLight)]
+        if any(not np.array_equal(x.attenuation, (0.0, 0.0, 1.0)) for x in areas):
+            lines.append("the path tracer's area lights are emitting rectangles: they fall "
+                         "off with the inverse square of the distance (their attenuation "
+                         "is ignored)")
         mapped = sum(1 for o in scene.objects if o.shape is not None
                      and as_pbr(o.material).normal_texture is not None)
         if mapped:

@@ -1,0 +1,67 @@
+"""Area lights as the path tracer sees them: emitting rectangles (no GL).
+
+The rasterizer and the Whitted tracer draw an ``AreaLight`` as a point light at another
+point of its rectangle in each supersample (facet.render.antialias). The path tracer makes
+it what it stands for: a one-sided rectangle that emits on its ``normal`` side, sampled as
+a light like every emitting surface (facet.render.trace.emitters) and seen where a camera
+ray or a reflection meets it. Its radiance keeps the light's strength: seen from far along
+its normal, a rectangle of area A and radiance L is a point source of intensity L A, which
+gives irradiance L A / d^2; facet's point light of intensity I gives pi I / d^2 (with
+inverse-square attenuation), so L = pi I / A, in the light's colour. The rectangle falls off
+with the inverse square of the distance whatever the light's ``attenuation`` says.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...scene.light import AreaLight
+from ...scene.mesh import Mesh
+from ...scene.pbr import PbrMaterial
+from ...scene.scene import SceneObject
+
+
+class AreaEmitters:
+    """Per engine: the rectangles of a scene's area lights, made once per light."""
+
+    def __init__(self):
+        self._made: dict[tuple, SceneObject] = {}
+
+    def objects(self, scene) -> list[SceneObject]:
+        """The emitting rectangles of ``scene``'s area lights (ids after its objects)."""
+        out = []
+        for light in scene.lights:
+            if not isinstance(light, AreaLight):
+                continue
+            key = (light.position.tobytes(), light.normal.tobytes(), light.size,
+                   light.color.tobytes(), light.intensity)
+            if key not in self._made:
+                self._made[key] = _rectangle(light)
+            obj = self._made[key]
+            obj.id = len(scene.objects) + len(out)
+            out.append(obj)
+        return out
+
+    def with_rectangles(self, scene):
+        """``scene`` with its area lights' rectangles added to its objects."""
+        extra = self.objects(scene)
+        return scene.view(objects=scene.objects + extra) if extra else scene
+
+
+def _rectangle(light: AreaLight) -> SceneObject:
+    corners = light.corners()
+    mesh = Mesh(corners, [[0, 1, 2], [0, 2, 3]], [light.normal] * 4, name="area light")
+    area = light.size[0] * light.size[1]
+    material = PbrMaterial(base_color=(0, 0, 0, 1), metallic=0.0, specular=0.0,
+                           emissive=light.color, emissive_strength=np.pi * light.intensity / area,
+                           name="area light")
+    return SceneObject(0, mesh, material, np.eye(4), "area light")
+
+
+def strip_area_points(scene, scene_k, lights) -> tuple:
+    """``lights`` (a sample's, where each of ``scene``'s area lights became a point light
+    of ``scene_k``) without those points."""
+    if len(scene.lights) != len(lights):
+        return tuple(lights)
+    return tuple(x for x, orig in zip(lights, scene.lights, strict=True)
+                 if not isinstance(orig, AreaLight))
