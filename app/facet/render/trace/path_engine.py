@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...scene.light import AreaLight
 from ...scene.option_values import DEFAULT_MAX_DEPTH
 from ...scene.pbr import PbrMaterial
 from ...srgb import srgb_to_linear
 from ..materials import as_pbr, feature_lines
 from . import pack
-from ...scene.light import AreaLight
 from .area_lights import AreaEmitters, strip_area_points
 from .emitters import pack_emitters
 from .engine import TraceEngine
