@@ -215,6 +215,7 @@ def main() -> None:
     import antialias
     import batch
     import gltf
+    import pathtrace
     import raytrace
     import shaderlab
     import shadows
@@ -231,6 +232,7 @@ def main() -> None:
     shaderlab.main()
     raytrace.table(a.quick)
     raytrace.frame(a.quick)
+    pathtrace.main(a.quick)
     batch.table(20 if a.quick else 200)
 
 

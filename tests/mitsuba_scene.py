@@ -11,6 +11,8 @@ translated and any other is refused:
 - smooth clear glass (transmission 1, metallic 0, roughness 0, a volume: thickness > 0,
   no absorption, base colour 1): ``dielectric`` of the same ior;
 - emission: an ``area`` emitter (one-sided unless double-sided: Mitsuba's emitters are);
+- an area light: the emitting rectangle facet's path tracer makes of it
+  (facet.render.trace.area_lights), an ``area`` emitter on a black rectangle;
 - a constant environment: a ``constant`` emitter.
 
 facet's ``max_depth`` counts bounces after the eye ray, Mitsuba's the path's segments:
@@ -65,7 +67,9 @@ def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
         if environment is not None:
             desc["sky"] = {"type": "constant", "radiance": {
                 "type": "rgb", "value": [float(c) for c in environment]}}
-        for i, obj in enumerate(scene.objects):
+        from facet.render.trace.area_lights import AreaEmitters
+
+        for i, obj in enumerate(scene.objects + AreaEmitters().objects(scene)):
             mesh = obj.mesh
             m = np.asarray(obj.transform, dtype=np.float64)
             pos = mesh.positions @ m[:3, :3].T + m[:3, 3]

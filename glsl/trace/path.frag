@@ -13,7 +13,7 @@
 // heuristic (Veach's multiple importance sampling, beta = 2), or u_strategy keeps only
 // one of them (for tests). Cut-outs (alpha MASK) and BLEND surfaces (with probability
 // 1 - alpha) let the ray by; shadow rays pass cut-outs and take 1 - alpha of each BLEND
-// surface. Russian roulette after the third bounce (paths carrying less than 1 survive
+// surface. Russian roulette after the fifth bounce (paths carrying less than 1 survive
 // with that probability); u_max_depth bounces after the eye ray
 // at most (the last only gathers what it hits). Colour is linear radiance.
 #include "trace/shade.glsl"
@@ -35,7 +35,7 @@ uniform samplerCube u_environment;
 out vec4 f_color;  // premultiplied colour and coverage of this sample
 
 const int STRATEGY_MIS = 0, STRATEGY_LIGHT = 1, STRATEGY_BSDF = 2;
-const int ROULETTE_AFTER = 3;  // bounces before Russian roulette may end a path
+const int ROULETTE_AFTER = 5;  // bounces before Russian roulette may end a path (Mitsuba's)
 const int MAX_PASSES = 64;     // surfaces a ray may pass by (cut-outs, BLEND) in all
 const float UNIFORM_SPHERE_PDF = 1.0 / (4.0 * PI);
 

@@ -1,0 +1,141 @@
+"""Path tracing benchmark: facet's path tracer (glsl/trace/path.frag, on whatever GL the
+machine has) next to Mitsuba 3 (scalar_rgb, the CPU variant that works here) on the same
+cores in the same run, and facet's sample rate against the size of the scene.
+
+    python benchmarks/pathtrace.py [--quick]
+
+Efficiency: on two scenes both renderers draw alike (tests/mitsuba_scene.py translates
+them: models/cornell.toml, and the glass scene of glass and mirror balls under a constant
+sky), each renders at a few sample counts; the error is the RMSE of linear radiance against
+Mitsuba at many samples. For an unbiased estimator error^2 x time is about constant, so
+"efficiency" is 1 / (RMSE^2 x seconds), and the ratio facet / Mitsuba says who reaches a
+given error sooner (>= 1: facet). The table also gives the error each reaches in the same
+wall time (interpolated in log-log). Sample rate: paths per second (256 x 256, 4 paths per
+pixel, 3 bounces, under a sky) on icospheres of 20k to 1.3M triangles. Prints tables;
+asserts nothing.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(ROOT / "tests"))
+
+
+def _scenes():
+    import facet
+    import mitsuba_scene
+
+    cornell = facet.load(ROOT / "models" / "cornell.toml")
+    glass, camera = mitsuba_scene.glass_scene()
+    return [("Cornell box", cornell, cornell.cameras["front"], None),
+            ("glass + mirror, sky", glass, camera, mitsuba_scene.GLASS_SKY)]
+
+
+def _facet(scene, camera, size, spp, sky):
+    import facet
+
+    kw = {"environment": {"color": list(sky)}} if sky is not None else {}
+    with facet.Renderer(size, size) as r:
+        r.render(scene, camera, engine="path", spp=1, float_color=True, lights="scene", **kw)
+        start = time.perf_counter()
+        image = r.render(scene, camera, engine="path", spp=spp, float_color=True,
+                         lights="scene", **kw).color[..., :3]
+        return image, time.perf_counter() - start
+
+
+def _mitsuba(scene, camera, size, spp, sky, seed=1):
+    import mitsuba_scene
+
+    start = time.perf_counter()
+    image = mitsuba_scene.render(scene, camera, size, size, spp, seed=seed, environment=sky)
+    return image, time.perf_counter() - start
+
+
+def _error_at(times, errors, budget):
+    """The error reached in ``budget`` seconds, interpolated in log-log."""
+    lt, le = np.log(times), np.log(errors)
+    slope, icpt = np.polyfit(lt, le, 1)
+    return float(np.exp(icpt + slope * np.log(budget)))
+
+
+def efficiency_table(quick: bool) -> None:
+    import mitsuba_scene
+
+    if not mitsuba_scene.available():
+        print("(mitsuba is not installed: pip install mitsuba; efficiency table skipped)")
+        return
+    size = 64 if quick else 128
+    ref_spp = 512 if quick else 2048
+    facet_spp = (4, 16) if quick else (4, 16, 64)
+    mitsuba_spp = (16, 64) if quick else (16, 64, 256)
+    print(f"\nPath tracing against Mitsuba 3 scalar_rgb, {size}x{size}, max_depth 8 "
+          f"(Mitsuba's 10); error: RMSE of linear radiance against Mitsuba at {ref_spp} spp")
+    print(f"{'scene':>22} | {'renderer':>8} {'spp':>5} {'seconds':>8} {'RMSE':>8} "
+          f"{'1/(RMSE^2 s)':>13}")
+    for name, scene, camera, sky in _scenes():
+        ref, _ = _mitsuba(scene, camera, size, ref_spp, sky, seed=99)
+        rows = {}
+        for who, fn, counts in (("facet", _facet, facet_spp),
+                                ("Mitsuba", _mitsuba, mitsuba_spp)):
+            rows[who] = []
+            for spp in counts:
+                image, seconds = fn(scene, camera, size, spp, sky)
+                rmse = float(np.sqrt(((image - ref) ** 2).mean()))
+                rows[who].append((seconds, rmse))
+                print(f"{name:>22} | {who:>8} {spp:>5} {seconds:>8.3f} {rmse:>8.4f} "
+                      f"{1 / (rmse ** 2 * seconds):>13.1f}")
+        eff = {who: np.median([1 / (e * e * t) for t, e in r]) for who, r in rows.items()}
+        budget = float(np.median([t for t, _ in rows["Mitsuba"]]))
+        at = {who: _error_at(*zip(*r, strict=True), budget) for who, r in rows.items()}
+        print(f"{name:>22} | efficiency facet / Mitsuba: {eff['facet'] / eff['Mitsuba']:.3f}; "
+              f"in {budget:.2f} s facet reaches RMSE {at['facet']:.4f}, Mitsuba "
+              f"{at['Mitsuba']:.4f}")
+
+
+def rate_table(quick: bool) -> None:
+    import trimesh
+
+    import facet
+    from facet.geometry.camera import Camera
+    from facet.scene.pbr import PbrMaterial
+
+    size, spp = 256, 4
+    print(f"\nPath tracer sample rate against triangles ({size}x{size}, {spp} paths per "
+          "pixel, 3 bounces, a grey rough sphere on a floor under a sky)")
+    print(f"{'triangles':>10} | {'seconds':>8} {'paths/s':>12} {'vs smallest':>12}")
+    first = None
+    for sub in ((5, 7) if quick else (5, 7, 8)):
+        ico = trimesh.creation.icosphere(subdivisions=sub)
+        scene = facet.Scene(ambient=0.0)
+        scene.add(facet.Mesh(np.asarray(ico.vertices), np.asarray(ico.faces)),
+                  PbrMaterial(base_color=(0.7, 0.7, 0.7), metallic=0.0, roughness=0.6),
+                  facet.transforms.translate((0, 1, 0)))
+        scene.add(facet.primitives.plane(6.0), PbrMaterial(base_color=(0.5, 0.5, 0.5),
+                                                           metallic=0.0))
+        camera = Camera.look_at((0, 1.5, 4), (0, 0.8, 0), fov_y=40, near=0.5, far=20)
+        with facet.Renderer(size, size) as r:
+            kw = dict(engine="path", max_depth=3, float_color=True, lights="scene",
+                      environment={"color": [1, 1, 1]})
+            r.render(scene, camera, spp=1, **kw)  # upload and compile
+            start = time.perf_counter()
+            r.render(scene, camera, spp=spp, **kw)
+            seconds = time.perf_counter() - start
+        rate = size * size * spp / seconds
+        first = first or rate
+        print(f"{len(ico.faces):>10,} | {seconds:>8.3f} {rate:>12,.0f} {first / rate:>11.2f}x")
+
+
+def main(quick: bool = False) -> None:
+    efficiency_table(quick)
+    rate_table(quick)
+
+
+if __name__ == "__main__":
+    main("--quick" in sys.argv)
