@@ -7,7 +7,8 @@
 //   +2 (base alpha, alpha mode, cutoff, normal scale)
 //   +3 (the dielectric's reflectance at normal incidence rgb, at grazing incidence)
 //   +4 (transmission, thickness: 0 thin-walled, ior, -)   +5 (absorption per length rgb, -)
-//   +7 (emitter density factor: luminance / total emitted power, or 0; unlit, -, -)
+//   +7 (emitter density factor: luminance / total emitted power, or 0; unlit; 1 for an
+//       object whose own material is metallic-roughness (the Whitted tracer's choice), -)
 // From SLOT_ROW, SLOT_TEXELS per slot (SLOT_BASE, SLOT_MR, SLOT_NORMAL, SLOT_EMISSIVE):
 //   (the uv transform's first row, layer or -1), (its second row, set + 2 (wrap s + 3 wrap t))
 // with wrap 0 repeat (the sampler's), 1 clamp to the edge, 2 mirrored repeat.
@@ -81,6 +82,14 @@ bool passes(int inst, Surface s, float u) {
     float cutoff;
     float a = coverage(inst, s, mode, cutoff);
     return mode == ALPHA_MASK ? a < cutoff : mode == ALPHA_BLEND && u >= a;
+}
+
+// A MASK material's cut-out at s: the surface is not there.
+bool cut_out(int inst, Surface s) {
+    int mode;
+    float cutoff;
+    float a = coverage(inst, s, mode, cutoff);
+    return mode == ALPHA_MASK && a < cutoff;
 }
 
 Material material_at(int inst, Surface s) {

@@ -21,6 +21,7 @@ struct Surface {
     vec4 k;       // k_a, k_d, k_s, shininess
     vec4 fx;      // opacity, reflectivity, ior, gloss
     int id;       // object id
+    int inst;     // the instance hit
 };
 
 // The surface at hit h of the ray o + t d (d unit). The position is rebuilt from the
@@ -50,8 +51,12 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
         uv = vec2(a0.w, b0.x) * w.x + vec2(a1.w, b1.x) * w.y + vec2(a2.w, b2.x) * w.z;
         if ((int(info.w) & FLAG_COLORS) != 0) {
             vec3 c = b0.yzw * w.x + b1.yzw * w.y + b2.yzw * w.z;
-#if defined(COLOR_SRGB) || defined(PBR_SLOTS)
+            // Vertex colours are stored sRGB-encoded: decoded in the sRGB mode, and
+            // always for the metallic-roughness model (linear).
+#if defined(COLOR_SRGB) || defined(PATH_TRACER)
             c = srgb_to_linear(c);
+#elif defined(PBR_SLOTS)
+            if (fetch(u_instances, base + MATERIAL_ROW + 7).z > 0.5) c = srgb_to_linear(c);
 #endif
             albedo = c;
         }
@@ -87,6 +92,9 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     float hand = (tangent.w < 0.0 ? -1.0 : 1.0) * (determinant(m_rows) < 0.0 ? -1.0 : 1.0);
     s.tangent = dot(tangent.xyz, tangent.xyz) > 0.0 ? vec4(normalize(t_world), hand)
                                                     : vec4(0.0);
+    // A Phong material's image (the metallic-roughness model reads its own slots).
+    if (m2.w >= 0.0 && fetch(u_instances, base + MATERIAL_ROW + 7).z < 0.5)
+        albedo *= textureLod(u_textures, vec3(uv, m2.w), 0.0).rgb;
 #else
     s.tangent = vec4(0.0);
     if (m2.w >= 0.0) albedo *= textureLod(u_textures, vec3(uv, m2.w), 0.0).rgb;
@@ -99,6 +107,7 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     s.k = vec4(m0.w, m1.xyz);
     s.fx = vec4(m1.w, m2.xyz);
     s.id = int(info.z);
+    s.inst = h.inst;
     return s;
 }
 
@@ -146,8 +155,46 @@ float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff) {
 #endif
 }
 
+#ifdef PBR_SLOTS
+#include "trace/material.glsl"
+#include "lib/pbr.glsl"
+
+// A metallic-roughness surface by the rasterizer's BRDF (lib/pbr.glsl): each light with
+// its shadow ray, the ambient light as a uniform sky (its split sum by the lobe's albedo),
+// emission; encoded for display outside the sRGB mode, as glsl/mesh/pbr.frag writes it.
+vec3 shade_pbr(Surface s, vec3 V) {
+    Material mat = material_at(s.inst, s);
+    vec3 rgb = mat.base;
+    if (!mat.unlit) {
+        vec3 N = valid_normal(mat.n, s.ng, V);
+        PbrSurface m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V),
+                                        mat.f0_d, mat.f90_d);
+        g_ng = s.ng;
+        rgb = vec3(0.0);
+        for (int i = 0; i < u_light_count.x; ++i) {
+            vec3 L;
+            float falloff = incident_light(i, s.p, L);
+            falloff *= light_visibility(i, s.p, N, L, falloff);
+            rgb += falloff * u_lights[i].color.rgb * pbr_light(m, N, V, L);
+        }
+        float fc = schlick_weight(m.n_dot_v);
+        vec3 F = m.f0 + (m.f90 - m.f0) * fc, F_d = m.f0_d + (m.f90_d - m.f0_d) * fc;
+        rgb += (F * ggx_albedo(m.n_dot_v, mat.roughness) * m.ms + (1.0 - F_d) * m.c_diff)
+             * u_ambient.rgb;
+    }
+    rgb += mat.emission;
+#ifndef COLOR_SRGB
+    rgb = linear_to_srgb(clamp(rgb, 0.0, 1.0));
+#endif
+    return rgb;
+}
+#endif
+
 // The local colour of a surface seen from direction V (towards the viewer).
 vec3 shade_surface(Surface s, vec3 V) {
+#ifdef PBR_SLOTS
+    if (material_texel(s.inst, 7).z > 0.5) return shade_pbr(s, V);
+#endif
     vec3 c = s.color;
     g_ambient_term = u_ambient.rgb * s.k.x * c;
     g_kd_c = s.k.y * c;

@@ -92,6 +92,17 @@ void main() {
             continue;
         }
         Surface s = surface_at(h, o, d);
+#ifdef PBR_SLOTS
+        if (cut_out(h.inst, s)) {  // a cut-out (alpha MASK): on through, unchanged
+            if (sp < RAY_STACK) {
+                ray_o[sp] = vec4(offset_ray(s.p, -s.ng), 0.0);
+                ray_d[sp] = vec4(d, eye ? 1.0 : 0.0);
+                ray_w[sp] = vec4(w, depth);
+                ray_end[sp++] = eye ? end - h.t : INF;
+            }
+            continue;
+        }
+#endif
         float opacity = s.fx.x, reflectivity = s.fx.y, ior = s.fx.z, gloss = s.fx.w;
         vec3 local = shade_surface(s, -d);
         color += w * opacity * (1.0 - reflectivity) * local;

@@ -93,26 +93,32 @@ class TraceEngine(Engine):
         self._geometry_key, self._geometry_refs = key, meshes
 
     def _tangents(self, obj) -> bool:
-        """Whether ``obj``'s mesh needs tangent frames here (the tracer: never)."""
-        return False
+        """Whether ``obj``'s mesh needs tangent frames here: for a normal map."""
+        m = obj.material
+        return isinstance(m, PbrMaterial) and m.normal_texture is not None
 
-    def _layer_requests(self, scene) -> list:
-        """(texture, colour) for each image the tracer samples: the materials' base images
-        (colour images, sRGB-encoded: decoded in the sRGB mode, ``_decoded``)."""
-        return [(o.material.texture, True) for o in scene.objects
-                if o.material.texture is not None]
+    def _layer_requests(self, scene, pbr_shading: bool) -> list:
+        """(texture, mode) for each image the tracer samples (modes: facet.render.trace
+        .pack): a Phong material's image as given, a metallic-roughness material's slots
+        (colour decoded to linear, data as stored) when it is shaded by that model
+        (``pbr_shading``), else its base colour image as its Phong stand-in's."""
+        out = []
+        for obj in scene.objects:
+            m = obj.material
+            if isinstance(m, PbrMaterial) and pbr_shading:
+                out += [(slot.texture, pack.slot_mode(name)) for name, slot in m.slots.items()
+                        if name in pack.PATH_SLOTS]
+            elif m.texture is not None:
+                out.append((m.texture, pack.AS_GIVEN))
+        return out
 
-    def _decoded(self, srgb: bool) -> bool:
-        """Whether colour images are decoded to linear for the colour mode ``srgb``."""
-        return srgb
-
-    def _texture_layers(self, scene, srgb: bool) -> None:
+    def _texture_layers(self, scene, srgb: bool, pbr_shading: bool = True) -> None:
         """The materials' images as layers of one texture array (resized to one size),
-        keyed (id(texture), colour): a colour image decoded (``_decoded``), a data image
-        (metallic-roughness, normals) as stored."""
-        requests = list({(id(t), c): (t, c) for t, c in self._layer_requests(scene)}.values())
-        decode = self._decoded(srgb)
-        key = (tuple((id(t), c) for t, c in requests), decode)
+        keyed (id(texture), mode): decoded to linear for LINEAR, and for AS_GIVEN in the
+        sRGB colour mode; DATA as stored."""
+        requests = list({(id(t), c): (t, c)
+                         for t, c in self._layer_requests(scene, pbr_shading)}.values())
+        key = (tuple((id(t), c) for t, c in requests), srgb)
         if key == self._layers_key:
             return
         old = self._textures.pop("textures", None)
@@ -131,7 +137,8 @@ class TraceEngine(Engine):
         else:
             side, data = 1, np.full((1, 1, 1, 4), 255, np.uint8)
         dtype = "f1"
-        colour = np.array([c and decode for _, c in requests] or [False])
+        colour = np.array([c == pack.LINEAR or (c == pack.AS_GIVEN and srgb)
+                           for _, c in requests] or [False])
         if colour.any():  # decoded here (moderngl makes no sRGB texture arrays); half
             from ...image.colorspace import srgb_to_linear  # floats keep the dark tones
 
@@ -159,7 +166,7 @@ class TraceEngine(Engine):
     def prepare(self, scene, state: FrameState, opts=None, aa=None) -> FrameState:
         """Geometry and textures for this scene (uploaded only when they changed)."""
         self._geometry(scene)
-        self._texture_layers(scene, state.srgb)
+        self._texture_layers(scene, state.srgb, _pbr_shading(state))
         return state
 
     def draw_sample(self, scene, state, opts, surf, background) -> None:
@@ -191,9 +198,13 @@ class TraceEngine(Engine):
         single = unbounded if tlas is None and len(rows) > unbounded else -1
         return unbounded, tlas is not None, single
 
-    def _material_defines(self, scene) -> tuple:
-        """Defines of how materials are read (the tracer: by their Phong terms, none)."""
-        return ()
+    def _material_defines(self, scene, state) -> tuple:
+        """Defines of how materials are read: PBR_SLOTS when some are metallic-roughness
+        and shaded by that model (glsl/trace/shade.glsl's shade_pbr; shading "auto" or
+        "pbr"; by their Phong stand-ins otherwise)."""
+        pbr = _pbr_shading(state) and any(isinstance(o.material, PbrMaterial)
+                                          for o in scene.objects)
+        return ("PBR_SLOTS",) if pbr else ()
 
     def _more_rows(self, rows: np.ndarray, ordered: list) -> None:
         """Add to the instance ``rows`` of the ``ordered`` objects (the tracer: nothing)."""
@@ -252,9 +263,11 @@ class TraceEngine(Engine):
         bound target: premultiplied colour and coverage."""
         # Reflection, refraction and transparency need the ray stack; without them a
         # simpler program runs (glsl/trace/trace.frag, SECONDARY).
-        secondary = any(o.material.reflectivity > 0 or o.material.opacity < 1
+        secondary = any(o.material.reflectivity > 0 or o.material.opacity < 1 or
+                        getattr(o.material, "alpha_mode", "") == "MASK"
                         for o in scene.objects)
-        program = self._program("trace", state, shadows, secondary=secondary)
+        program = self._program("trace", state, shadows, secondary=secondary,
+                                extra=self._material_defines(scene, state))
         self.draw_colour(scene, state, program, u_background=background,
                          u_max_depth=int(max_depth), u_gloss_jitter=state.gloss_jitter)
 
@@ -278,7 +291,7 @@ class TraceEngine(Engine):
     def draw_exact(self, scene, state: FrameState, aux) -> None:
         """The exact channels ``aux`` at pixel centres into the bound target (cleared)."""
         program = self._program("primary", state, False, aux,
-                                extra=self._material_defines(scene))
+                                extra=self._material_defines(scene, state))
         self._bind(scene, state, program)
         prog = program.program
         camera = state.camera
@@ -298,33 +311,28 @@ class TraceEngine(Engine):
         self.lights_ubo.release()
 
 
+def _pbr_shading(state) -> bool:
+    """Whether metallic-roughness materials are shaded by their model (else by their
+    Phong stand-ins, as the rasterizer's phong model draws them)."""
+    return state.shading in ("auto", "pbr")
+
+
 def _dropped(m) -> list[str]:
-    """The material features of ``m`` the tracer does not draw (it shades every material
-    by Phong terms: a glTF material by its Phong stand-ins, facet.scene.pbr)."""
+    """The material features of ``m`` the tracer does not draw (a glTF material is shaded
+    by the rasterizer's BRDF with its texture slots, glsl/trace/shade.glsl's shade_pbr; its
+    surroundings reach it only as the ambient term and shadows)."""
     out = []
     if m.shader is not None:
         out.append("users' mesh shaders (the material's Phong terms are traced)")
     if not isinstance(m, PbrMaterial):
         return out
-    if not m.unlit:
-        out.append("the metallic-roughness BRDF (traced by Phong stand-ins)")
-    else:
-        out.append("KHR_materials_unlit")
-    slots = m.slots
-    for slot, what in (("metallic_roughness", "metallic-roughness textures"),
-                       ("normal", "normal maps"), ("emissive", "emissive textures")):
-        if slot in slots:
-            out.append(what)
-    if np.any(m.emissive > 0):
-        out.append("emission")
-    if any(not np.array_equal(s.transform, np.eye(3)) for s in slots.values()):
-        out.append("texture transforms (KHR_texture_transform)")
-    if any(s.texcoord != 0 for s in slots.values()):
-        out.append("second texture coordinate sets")
-    if m.alpha_mode == "MASK":
-        out.append("alpha MASK cut-outs")
-    if m.alpha_mode == "BLEND" and "base_color" in slots:
+    if m.metallic > 0:
+        out.append("reflections of the scene in metallic-roughness surfaces (the path "
+                   "tracer traces them)")
+    if m.alpha_mode == "BLEND" and "base_color" in m.slots:
         out.append("base-colour texture alpha")
     if m.transmission > 0:
         out.append("KHR_materials_transmission (traced opaque)")
+    if any(s.filter[1] == "nearest" for s in m.slots.values()):
+        out.append("nearest texture filtering (sampled linearly)")
     return out

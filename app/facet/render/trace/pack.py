@@ -33,6 +33,9 @@ SLOT_ROW = 19  # its texture slots, SLOT_TEXELS each, in PATH_SLOTS order
 SLOT_TEXELS = 2
 PATH_SLOTS = ("base_color", "metallic_roughness", "normal", "emissive")
 ALPHA_MODES = {"OPAQUE": 0, "MASK": 1, "BLEND": 2}
+# How an image is stored in the texture array: a colour image decoded to linear, one
+# decoded only in the sRGB colour mode (a Phong material's: values "as given"), data as is.
+LINEAR, AS_GIVEN, DATA = "linear", "as given", "data"
 WRAPS = {"repeat": 0, "clamp": 1, "mirror": 2}
 KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
 FLAG_COLORS, FLAG_ONE_SIDED = 1, 2  # an instance's flags (glsl/trace/scene.glsl)
@@ -182,17 +185,24 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
     row[6] = (kind, root, obj.id, flags)
     row[8] = (*material_color(mat), mat.ka)
     row[9] = (mat.kd, mat.ks, mat.shininess, mat.opacity)
-    layer = layers.get((id(mat.texture), True), -1) if mat.texture is not None else -1
+    layer = layers.get((id(mat.texture), AS_GIVEN), -1) if mat.texture is not None else -1
     phong_ior = 0.0 if isinstance(mat, PbrMaterial) else mat.ior  # refraction: Phong's
     row[10] = (mat.reflectivity, phong_ior, mat.gloss, layer)
-    material_rows(row, pbr, layers)
+    material_rows(row, pbr, layers, isinstance(mat, PbrMaterial))
     return row
 
 
-def material_rows(row: np.ndarray, m, layers: dict) -> None:
+def slot_mode(slot: str) -> str:
+    """How a texture slot's image is stored: colour images decoded to linear, data as is."""
+    return LINEAR if slot in ("base_color", "emissive") else DATA
+
+
+def material_rows(row: np.ndarray, m, layers: dict, pbr: bool = True) -> None:
     """Fill the metallic-roughness texels of an instance ``row`` for PbrMaterial ``m`` (a
     Phong material through the rasterizer's mapping, facet.render.materials.as_pbr), in the
-    layout glsl/trace/material.glsl reads; ``layers``: (id(texture), colour) -> layer."""
+    layout glsl/trace/material.glsl reads; ``layers``: (id(texture), mode) -> layer;
+    ``pbr``: the object's own material is metallic-roughness (the Whitted tracer shades it
+    by this model then, by its Phong terms otherwise)."""
     r = MATERIAL_ROW
     row[r] = (*m.base_color[:3], m.metallic)
     row[r + 1] = (*(m.emissive * m.emissive_strength), m.roughness)
@@ -200,16 +210,15 @@ def material_rows(row: np.ndarray, m, layers: dict) -> None:
     row[r + 3] = (*m.dielectric_f0, m.specular)
     row[r + 4] = (m.transmission, m.thickness, m.ior, 0.0)
     row[r + 5] = (*m.absorption, 0.0)
-    row[r + 7] = (0.0, 0.0, float(m.unlit), 0.0)
+    row[r + 7] = (0.0, float(m.unlit), float(pbr), 0.0)
     for k, name in enumerate(PATH_SLOTS):
         slot = getattr(m, f"{name}_texture")
         at = SLOT_ROW + SLOT_TEXELS * k
         row[at, 3] = row[at + 1, 3] = -1.0
         if slot is None:
             continue
-        colour = name in ("base_color", "emissive")
         row[at, :3], row[at + 1, :3] = slot.transform[0], slot.transform[1]
-        row[at, 3] = layers.get((id(slot.texture), colour), -1)
+        row[at, 3] = layers.get((id(slot.texture), slot_mode(name)), -1)
         row[at + 1, 3] = slot.texcoord + 2 * (WRAPS[slot.wrap[0]] + 3 * WRAPS[slot.wrap[1]])
 
 

@@ -78,30 +78,26 @@ class PathEngine(TraceEngine):
                          u_emitter_count=self._emitter_count)
 
     # -- what differs from the tracer's upload ---------------------------------------------
-    def _material_defines(self, scene) -> tuple:
+    def _material_defines(self, scene, state=None) -> tuple:
         """The material's own slots (PBR_SLOTS); HAS_ALPHA when some are not opaque."""
         alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" for o in scene.objects)
-        return ("PBR_SLOTS",) + (("HAS_ALPHA",) if alpha else ())
+        return ("PBR_SLOTS", "PATH_TRACER") + (("HAS_ALPHA",) if alpha else ())
 
     def _tangents(self, obj) -> bool:
         return as_pbr(obj.material).normal_texture is not None
 
-    def _layer_requests(self, scene) -> list:
-        """Every image of the materials' slots (facet.render.trace.pack.PATH_SLOTS)."""
+    def _layer_requests(self, scene, pbr_shading: bool = True) -> list:
+        """Every image of the materials' slots (facet.render.trace.pack.PATH_SLOTS), a
+        Phong material's as the slot of its metallic-roughness mapping: all linear."""
         out = []
         for obj in scene.objects:
             m = as_pbr(obj.material)
-            for name in pack.PATH_SLOTS:
-                slot = getattr(m, f"{name}_texture")
-                if slot is not None:
-                    out.append((slot.texture, name in ("base_color", "emissive")))
+            out += [(slot.texture, pack.slot_mode(name)) for name, slot in m.slots.items()
+                    if name in pack.PATH_SLOTS]
         return out
 
     def _more_textures(self) -> dict:
         return {"u_emitters": (self._textures["emitters"], EMITTERS_UNIT)}
-
-    def _decoded(self, srgb: bool) -> bool:
-        return True  # linear radiance whatever the colour mode
 
     def _more_rows(self, rows, ordered) -> None:
         """The emitters' table (facet.render.trace.emitters) and their densities."""
