@@ -310,3 +310,19 @@ def test_the_whitted_tracer_shades_gltf_materials_as_the_rasterizer_does():
     diff = np.abs(traced.color[..., :3].astype(int) - raster.color[..., :3])[inside]
     assert inside.sum() > 900
     assert diff.mean() < 1.5 and np.percentile(diff, 99) <= 6, (diff.mean(), diff.max())
+
+
+@pytest.mark.parametrize("engine", ["path", "trace"])
+def test_unlit_materials_show_their_base_colour(engine):
+    """KHR_materials_unlit: the base colour as it is, whatever the lights (the flag was
+    packed where the shaders did not read it)."""
+    scene = facet.Scene(ambient=0.3)
+    scene.add(_quad(), material=PbrMaterial(base_color=(0.3, 0.6, 0.9), unlit=True))
+    scene.add_light(DirectionalLight(direction=(-0.3, -0.4, -1.0), intensity=0.9))
+    with facet.Renderer(16, 16) as r:
+        img = r.render(scene, FRONT, engine=engine, float_color=True, srgb=True,
+                       lights="scene", aa="none" if engine == "trace" else "ssaa:grid:1")
+    linear = img.color[8, 8, :3]
+    if engine == "trace":  # the sRGB mode encodes the tracer's float colour (see test_path)
+        linear = srgb_to_linear(linear)
+    np.testing.assert_allclose(linear, (0.3, 0.6, 0.9), atol=2e-3)

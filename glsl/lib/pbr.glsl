@@ -6,6 +6,8 @@
 //   f_specular = D(alpha) Vis(alpha): GGX / Trowbridge-Reitz and height-correlated Smith.
 // F_d = F(f0_d, specular): KHR_materials_ior and _specular (facet.scene.pbr.PbrMaterial
 // .dielectric_f0; 0.04 and 1 without them, glTF's core model; specular 0: Lambert).
+// KHR_materials_clearcoat (pbr_coat): f = (1 - c F_c(N.V)) f + c F_c(V.H) f_specular(alpha_c),
+// F_c with f0 = 0.04, on the same shading normal.
 // facet's lights of intensity I give irradiance pi I (facet.scene.pbr), so a light adds
 // pi f I (N.L); the pi cancels f_diffuse's.
 
@@ -51,6 +53,9 @@ struct PbrSurface {
     float alpha;    // roughness^2
     float n_dot_v;
     vec3 ms;        // the lobe's multiple-scattering scale, 1 + f0 (1 - E) / E
+    float cc;       // clearcoat: its factor, roughness^2, and the Fresnel factor at N.V
+    float cc_alpha;
+    float cc_fresnel;
 };
 
 // E: the GGX lobe's directional albedo (F = 1), bilinear in the table.
@@ -73,7 +78,14 @@ PbrSurface pbr_surface_full(vec3 base, float metallic, float roughness, float n_
     float e = ggx_albedo(n_dot_v, roughness);
     return PbrSurface((1.0 - metallic) * base, f0, mix(f90_d, 1.0, metallic), f0_d, f90_d,
                       max(roughness * roughness, MIN_ALPHA), n_dot_v,
-                      1.0 + f0 * ((1.0 - e) / e));
+                      1.0 + f0 * ((1.0 - e) / e), 0.0, 1.0, 0.0);
+}
+
+// A clear coat of factor ``clearcoat`` and ``roughness`` on the surface.
+void pbr_coat(inout PbrSurface s, float clearcoat, float roughness) {
+    s.cc = clearcoat;
+    s.cc_alpha = max(roughness * roughness, MIN_ALPHA);
+    s.cc_fresnel = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(s.n_dot_v);
 }
 
 // glTF's core model: the dielectric of ior 1.5.
@@ -91,7 +103,14 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
     float spec = ggx_d(max(dot(N, H), 0.0), s.alpha) * smith_vis(n_dot_l, s.n_dot_v, s.alpha);
     vec3 F = s.f0 + (s.f90 - s.f0) * fc;
     vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * fc;
-    return n_dot_l * (PI * spec * F * s.ms + (1.0 - F_d) * s.c_diff);
+    vec3 f = n_dot_l * (PI * spec * F * s.ms + (1.0 - F_d) * s.c_diff);
+    if (s.cc > 0.0) {
+        float n_dot_h = max(dot(N, H), 0.0);
+        float coat = ggx_d(n_dot_h, s.cc_alpha) * smith_vis(n_dot_l, s.n_dot_v, s.cc_alpha)
+                   * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * fc);
+        f = f * (1.0 - s.cc * s.cc_fresnel) + n_dot_l * PI * s.cc * coat;
+    }
+    return f;
 }
 
 // The same BRDF under light arriving from everywhere, by the split sum: ``lut`` holds, for
@@ -105,4 +124,11 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
 vec3 pbr_ambient(PbrSurface s, vec3 diffuse, vec3 specular, vec3 lut) {
     vec3 kept = 1.0 - s.f0_d - (s.f90_d - s.f0_d) * (1.0 - lut.z);
     return kept * s.c_diff * diffuse + (s.f0 * lut.x + s.f90 * lut.y) * s.ms * specular;
+}
+
+// The clear coat over ``ambient`` (pbr_ambient's): ``specular`` the environment along
+// the mirror direction prefiltered for the coat's roughness, ``lut`` the table there.
+vec3 pbr_ambient_coat(PbrSurface s, vec3 ambient, vec3 specular, vec3 lut) {
+    return ambient * (1.0 - s.cc * s.cc_fresnel)
+         + s.cc * (DIELECTRIC_F0 * lut.x + lut.y) * specular;
 }

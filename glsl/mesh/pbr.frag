@@ -37,6 +37,7 @@ uniform float u_metallic;
 uniform float u_roughness;
 uniform vec3 u_dielectric_f0;    // the dielectric's lobe (facet.scene.pbr.PbrMaterial
 uniform float u_dielectric_f90;  // .dielectric_f0, and its specular factor)
+uniform vec2 u_clearcoat;        // KHR_materials_clearcoat: factor, roughness
 uniform vec3 u_emissive;  // factor x strength
 uniform float u_normal_scale;
 uniform float u_occlusion_strength;
@@ -102,6 +103,7 @@ void main() {
         float n_dot_v = clamp(dot(N, V), 0.0, 1.0);
         PbrSurface s = pbr_surface_full(base.rgb, metallic, roughness, n_dot_v,
                                         u_dielectric_f0, u_dielectric_f90);
+        pbr_coat(s, u_clearcoat.x, u_clearcoat.y);
         rgb = vec3(0.0);
         for (int i = 0; i < LIGHTS_IN_USE; ++i) {
             vec3 L;
@@ -120,6 +122,16 @@ void main() {
         vec3 diffuse = u_ambient.rgb, specular = u_ambient.rgb;
 #endif
         vec3 ambient = pbr_ambient(s, diffuse, specular, lut);
+        if (u_clearcoat.x > 0.0) {  // the coat's own lobe, at its roughness
+            vec2 at_cc = (vec2(n_dot_v, u_clearcoat.y) * (LUT_SIZE - 1.0) + 0.5) / LUT_SIZE;
+#ifdef HAS_ENVIRONMENT
+            vec3 specular_cc = textureLod(u_prefiltered, octahedral_uv(reflect(-V, N)),
+                                          u_clearcoat.y * (u_prefiltered_levels - 1.0)).rgb;
+#else
+            vec3 specular_cc = u_ambient.rgb;
+#endif
+            ambient = pbr_ambient_coat(s, ambient, specular_cc, texture(u_ibl_lut, at_cc).rgb);
+        }
 #if defined(ORM_PACKED)
         ambient *= 1.0 + u_occlusion_strength * (mr.r - 1.0);  // the same image's red
 #elif defined(TEX_OCCLUSION)

@@ -1,6 +1,8 @@
 // The path tracer's BSDF at a hit (glsl/trace/path.frag): the glTF metallic-roughness
 // model of lib/pbr.glsl (the rasterizer's, with its dielectric lobe and multiple-scattering
 // scale) plus KHR_materials_transmission and _volume. Its lobes:
+//   clear coat    GGX of the coat's roughness, its Fresnel factor (KHR_materials_clearcoat;
+//                 the lobes below are dimmed by 1 - clearcoat F_c(N.V))
 //   reflection    GGX with Schlick's F (F0 from ior, specular and metal)
 //   diffuse       (1 - F_d) (1 - transmission) (1 - metallic) base / pi
 //   transmission  (1 - F_d) transmission (1 - metallic) base, through the surface:
@@ -27,6 +29,7 @@ struct Bsdf {
     bool polished;  // perfectly smooth (delta lobes)
     float p_spec;    // the lobes' probabilities (diffuse: the rest)
     float p_trans;
+    float p_coat;
 };
 
 struct BsdfSample {
@@ -53,6 +56,7 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
     Bsdf b;
     b.m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V), mat.f0_d,
                            mat.f90_d);
+    pbr_coat(b.m, mat.clearcoat, mat.clearcoat_roughness);
     b.c_trans = b.m.c_diff * mat.transmission;
     b.m.c_diff *= 1.0 - mat.transmission;
     b.thin = mat.thin;
@@ -74,11 +78,17 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
     }
     float diff = luminance(b.m.c_diff * kept), trans = luminance(b.c_trans * kept);
     float rest = diff + trans;
+    // The coat's share first (exactly by its weight), the rest below it as before.
+    float coat = b.polished ? 0.0 : b.m.cc * b.m.cc_fresnel;
+    float under = (spec + rest) * (1.0 - coat);
+    b.p_coat = coat <= 0.0 ? 0.0 : coat / (coat + under);
     if (spec <= 0.0) b.p_spec = 0.0;
     else if (rest <= 0.0) b.p_spec = 1.0;
     else if (b.polished) b.p_spec = spec / (spec + rest);  // delta lobes: exactly by weight
     else b.p_spec = clamp(spec / (spec + rest), 0.1, 0.9);
     b.p_trans = rest <= 0.0 ? 0.0 : (1.0 - b.p_spec) * trans / rest;
+    b.p_spec *= 1.0 - b.p_coat;
+    b.p_trans *= 1.0 - b.p_coat;
     return b;
 }
 
@@ -93,12 +103,13 @@ vec3 bsdf_eval(Bsdf b, vec3 N, vec3 V, vec3 L) {
 float bsdf_pdf(Bsdf b, vec3 N, vec3 V, vec3 L) {
     float n_dot_l = dot(N, L);
     if (n_dot_l <= 0.0) return 0.0;
-    float p_diff = 1.0 - b.p_spec - b.p_trans;
+    float p_diff = 1.0 - b.p_spec - b.p_trans - b.p_coat;
     float pdf = p_diff * n_dot_l / PI;
     if (!b.polished) {
         vec3 H = normalize(L + V);
         float n_dot_h = max(dot(N, H), 0.0), v_dot_h = max(dot(V, H), 1e-6);
-        pdf += b.p_spec * ggx_d(n_dot_h, b.m.alpha) * n_dot_h / (4.0 * v_dot_h);
+        pdf += (b.p_spec * ggx_d(n_dot_h, b.m.alpha) + b.p_coat * ggx_d(n_dot_h, b.m.cc_alpha))
+             * n_dot_h / (4.0 * v_dot_h);
     }
     return pdf;
 }
@@ -106,6 +117,15 @@ float bsdf_pdf(Bsdf b, vec3 N, vec3 V, vec3 L) {
 // One direction from the BSDF: lobe by u, direction by xi.
 BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, float u, vec2 xi) {
     BsdfSample s = BsdfSample(vec3(0.0), vec3(0.0), 0.0, false, false);
+    if (u < b.p_coat) {  // the clear coat
+        s.L = reflect(-V, around(ggx_sample(xi, b.m.cc_alpha), N));
+        s.pdf = bsdf_pdf(b, N, V, s.L);
+        if (s.pdf <= 0.0) return s;
+        s.weight = bsdf_eval(b, N, V, s.L) / s.pdf;
+        s.ok = true;
+        return s;
+    }
+    u -= b.p_coat;
     if (u < b.p_spec) {  // reflection
         if (b.polished) {
             s.L = reflect(-V, N);

@@ -6,7 +6,7 @@ colours) with its own ``PbrMaterial``, placed by the node's world matrix; a mesh
 several nodes is decoded once. Triangle strips and fans become triangles; points and lines
 are left out with a warning. Cameras become named cameras. Supported extensions:
 KHR_draco_mesh_compression (through DracoPy), KHR_mesh_quantization, KHR_texture_transform,
-KHR_materials_emissive_strength, _unlit, _ior, _specular, _transmission, _volume,
+KHR_materials_emissive_strength, _unlit, _ior, _specular, _transmission, _volume, _clearcoat,
 KHR_lights_punctual (facet.scene.gltf_lights); a file that *requires* another one is
 refused by name, one that only uses another one gets a warning that it is ignored.
 
@@ -31,7 +31,7 @@ from .pbr import PbrMaterial, TextureSlot, texture_transform
 SUPPORTED = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
              "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
              "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume",
-             "KHR_lights_punctual"}
+             "KHR_lights_punctual", "KHR_materials_clearcoat"}
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
 WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
@@ -315,6 +315,18 @@ class _Reader:
             if "transmissionTexture" in trans:
                 self.warn(f"ignores KHR_materials_transmission's transmissionTexture "
                           f"(material {name!r}: its factor is used)")
+        coat = ext.get("KHR_materials_clearcoat")
+        if isinstance(coat, dict):
+            for key, field in (("clearcoatFactor", "clearcoat"),
+                               ("clearcoatRoughnessFactor", "clearcoat_roughness")):
+                if key in coat:
+                    out[field] = float(np.clip(self._factor(
+                        coat[key], f"material {name!r} {key}"), 0, 1))
+            for key in ("clearcoatTexture", "clearcoatRoughnessTexture",
+                        "clearcoatNormalTexture"):
+                if key in coat:
+                    self.warn(f"ignores KHR_materials_clearcoat's {key} (material {name!r}: "
+                              "its factors are used, on the base's normal)")
         volume = ext.get("KHR_materials_volume")
         if isinstance(volume, dict):
             out["thickness"] = max(self._factor(volume.get("thicknessFactor", 0.0),

@@ -96,7 +96,11 @@ class PbrMaterial:
     refraction; rough: GGX microfacet transmission). ``thickness`` 0 is thin-walled (rays
     go on unbent); above 0 the mesh bounds a volume (KHR_materials_volume) of index
     ``ior`` that absorbs by Beer-Lambert: ``attenuation_color`` (3,) is what is left after
-    ``attenuation_distance`` (inf: clear)."""
+    ``attenuation_distance`` (inf: clear).
+
+    ``clearcoat`` (KHR_materials_clearcoat): a clear dielectric layer (ior 1.5) on top, of
+    ``clearcoat_roughness``: a second GGX lobe weighted by the layer's Fresnel factor, the
+    base beneath it dimmed by what that reflects."""
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
     metallic: float = 1.0
@@ -122,6 +126,8 @@ class PbrMaterial:
     thickness: float = 0.0
     attenuation_color: np.ndarray = field(default_factory=lambda: np.ones(3))
     attenuation_distance: float = float("inf")
+    clearcoat: float = 0.0
+    clearcoat_roughness: float = 0.0
 
     # Not used by this model; present so that every material answers the same questions.
     shader = None
@@ -136,7 +142,7 @@ class PbrMaterial:
             np.append(as_color(self.base_color, "base color"), 1.0)
         self.emissive = as_color(self.emissive, "emissive")
         for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff", "specular",
-                    "transmission"):
+                    "transmission", "clearcoat", "clearcoat_roughness"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and 0.0 <= v <= 1.0):
                 raise InputError(f"material {key} must be a number in [0, 1], got {v!r}")

@@ -18,6 +18,8 @@ which key belongs to which). Colours here are linear, as glTF's factors are:
     thickness = 0.0                    # 0: thin-walled; > 0: a volume (KHR_materials_volume)
     attenuation_color = [1, 1, 1]      # what is left after attenuation_distance inside
     attenuation_distance = 1e30
+    clearcoat = 0.0                    # KHR_materials_clearcoat: a clear layer on top
+    clearcoat_roughness = 0.0
     alpha_mode = "OPAQUE"              # or MASK (with alpha_cutoff) or BLEND
     double_sided = false
     base_color_texture = "albedo.png"  # or a table: image, texcoord, wrap, filter,
@@ -37,11 +39,12 @@ from .validate import show
 PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emissive",
        "emissive_strength", "alpha_mode", "alpha_cutoff", "double_sided", "normal_scale",
        "occlusion_strength", "unlit", "transmission", "thickness", "attenuation_color",
-       "attenuation_distance", *(f"{s}_texture" for s in SLOTS))
+       "attenuation_distance", "clearcoat", "clearcoat_roughness",
+       *(f"{s}_texture" for s in SLOTS))
 SHARED = ("ior",)  # a Phong material's refraction, a metallic-roughness one's dielectric
 SLOT_KEYS = ("image", "texcoord", "wrap", "filter", "offset", "rotation", "scale")
 UNIT_KEYS = ("metallic", "roughness", "specular", "alpha_cutoff", "occlusion_strength",
-             "transmission")
+             "transmission", "clearcoat", "clearcoat_roughness")
 
 
 def is_pbr(t: dict) -> bool:

@@ -208,8 +208,8 @@ def material_rows(row: np.ndarray, m, layers: dict, pbr: bool = True) -> None:
     row[r + 1] = (*(m.emissive * m.emissive_strength), m.roughness)
     row[r + 2] = (m.base_color[3], ALPHA_MODES[m.alpha_mode], m.alpha_cutoff, m.normal_scale)
     row[r + 3] = (*m.dielectric_f0, m.specular)
-    row[r + 4] = (m.transmission, m.thickness, m.ior, 0.0)
-    row[r + 5] = (*m.absorption, 0.0)
+    row[r + 4] = (m.transmission, m.thickness, m.ior, m.clearcoat)
+    row[r + 5] = (*m.absorption, m.clearcoat_roughness)
     row[r + 7] = (0.0, float(m.unlit), float(pbr), 0.0)
     for k, name in enumerate(PATH_SLOTS):
         slot = getattr(m, f"{name}_texture")
