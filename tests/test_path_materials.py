@@ -326,3 +326,33 @@ def test_unlit_materials_show_their_base_colour(engine):
     if engine == "trace":  # the sRGB mode encodes the tracer's float colour (see test_path)
         linear = srgb_to_linear(linear)
     np.testing.assert_allclose(linear, (0.3, 0.6, 0.9), atol=2e-3)
+
+
+@pytest.mark.parametrize("engine", ["trace", "path"])
+def test_colour_images_are_decoded_before_they_are_filtered(engine):
+    """A 2-texel emissive image, black and white, stretched over a quad (glTF's
+    TextureLinearInterpolationTest): in between, linear light blends to 0.5, as the
+    rasterizer's sRGB textures do. The tracers resize images to one layer size; they did it
+    on the encoded bytes, which gave srgb_to_linear(0.5) = 0.21 there."""
+    glow = Texture(np.array([[[0, 0, 0, 255], [255, 255, 255, 255]]], np.uint8))
+    mat = PbrMaterial(base_color=(0, 0, 0, 1), metallic=0.0, specular=0.0,
+                      emissive=(1, 1, 1), emissive_texture=TextureSlot(glow),
+                      double_sided=True)
+    scene = facet.Scene(ambient=0.0)
+    scene.add(_quad(), material=mat)
+    # A second, larger image makes the layers bigger than this one: it is resized.
+    scene.add(_quad(0.1), material=PbrMaterial(base_color_texture=TextureSlot(
+        _image(lambda x, y: np.stack([x, y, x, x * 0 + 1], -1), n=64))),
+        transform=facet.transforms.translate((5, 5, 0)))
+    with facet.Renderer(SIZE, SIZE) as r:
+        kw = dict(lights="scene", srgb=True, float_color=True)
+        img = r.render(scene, FRONT, engine=engine, aa="none" if engine == "trace" else
+                       "ssaa:grid:1", **kw).color
+        ref = r.render(scene, FRONT, engine="raster", aa="none", **kw).color
+    row = img[SIZE // 2, :, 0]
+    if engine == "trace":  # the sRGB mode encodes the tracer's float colour (see test_path)
+        row = srgb_to_linear(row)
+    ref_row = srgb_to_linear(ref[SIZE // 2, :, 0])
+    c = SIZE // 2
+    assert row[c] == pytest.approx(0.5, abs=0.06) and ref_row[c] == pytest.approx(0.5, abs=0.06)
+    np.testing.assert_allclose(row[c - 8:c + 8], ref_row[c - 8:c + 8], atol=0.04)

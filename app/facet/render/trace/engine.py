@@ -124,29 +124,19 @@ class TraceEngine(Engine):
         old = self._textures.pop("textures", None)
         if old is not None:
             old.release()
-        images = [t for t, _ in requests]
-        if images:
-            from PIL import Image
-
-            side = min(max(max(t.pixels.shape[:2]) for t in images), MAX_TEXTURE_LAYER)
-            layers = [np.asarray(Image.fromarray(t.pixels).resize((side, side),
-                                                                  Image.Resampling.LANCZOS))
-                      for t in images]
+        colour = [c == pack.LINEAR or (c == pack.AS_GIVEN and srgb) for _, c in requests]
+        if requests:
+            side = min(max(max(t.pixels.shape[:2]) for t, _ in requests), MAX_TEXTURE_LAYER)
+            layers = [_layer(t.pixels, side, decode) for (t, _), decode in zip(
+                requests, colour, strict=True)]
+            if any(x.dtype == np.float16 for x in layers):  # one array, one type
+                layers = [x if x.dtype == np.float16 else (x / 255.0).astype(np.float16)
+                          for x in layers]
             # Rows flipped: GL's first row is v = 0, the image's bottom (as gl.resources).
             data = np.ascontiguousarray(np.stack(layers)[:, ::-1])
+            dtype = "f2" if data.dtype == np.float16 else "f1"
         else:
-            side, data = 1, np.full((1, 1, 1, 4), 255, np.uint8)
-        dtype = "f1"
-        colour = np.array([c == pack.LINEAR or (c == pack.AS_GIVEN and srgb)
-                           for _, c in requests] or [False])
-        if colour.any():  # decoded here (moderngl makes no sRGB texture arrays); half
-            from ...image.colorspace import srgb_to_linear  # floats keep the dark tones
-
-            plain = (np.arange(256) / 255.0).astype(np.float16)
-            decoded = srgb_to_linear(np.arange(256) / 255.0).astype(np.float16)
-            values = plain[data]  # by table lookup: 8-bit values have 256 codes
-            values[colour, ..., :3] = decoded[data[colour, ..., :3]]
-            data, dtype = values, "f2"
+            side, data, dtype = 1, np.full((1, 1, 1, 4), 255, np.uint8), "f1"
         tex = self.ctx.texture_array((side, side, len(data)), 4, data.tobytes(), dtype=dtype)
         tex.build_mipmaps()
         tex.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
@@ -311,6 +301,28 @@ class TraceEngine(Engine):
         self.lights_ubo.release()
 
 
+def _layer(pixels: np.ndarray, side: int, decode: bool) -> np.ndarray:
+    """(side, side, 4) one layer of the texture array: uint8 as stored, or, for an image
+    decoded to linear, float16 decoded *before* it is resized (filtering sRGB-encoded bytes
+    would darken fine patterns: glTF's TextureLinearInterpolationTest)."""
+    from PIL import Image
+
+    from ...image.colorspace import srgb_to_linear
+
+    if not decode:
+        if pixels.shape[:2] == (side, side):
+            return pixels
+        return np.asarray(Image.fromarray(pixels).resize((side, side),
+                                                         Image.Resampling.LANCZOS))
+    values = (np.arange(256) / 255.0).astype(np.float32)[pixels]
+    values[..., :3] = srgb_to_linear(np.arange(256) / 255.0).astype(np.float32)[
+        pixels[..., :3]]
+    if pixels.shape[:2] != (side, side):
+        values = np.stack([np.asarray(Image.fromarray(values[..., k], "F").resize(
+            (side, side), Image.Resampling.LANCZOS)) for k in range(4)], -1)
+    return np.clip(values, 0.0, None).astype(np.float16)
+
+
 def _pbr_shading(state) -> bool:
     """Whether metallic-roughness materials are shaded by their model (else by their
     Phong stand-ins, as the rasterizer's phong model draws them)."""
@@ -326,7 +338,7 @@ def _dropped(m) -> list[str]:
         out.append("users' mesh shaders (the material's Phong terms are traced)")
     if not isinstance(m, PbrMaterial):
         return out
-    if m.metallic > 0:
+    if m.metallic > 0 and m.roughness < 1:  # (the roughest reflect only a blur: ambient)
         out.append("reflections of the scene in metallic-roughness surfaces (the path "
                    "tracer traces them)")
     if m.alpha_mode == "BLEND" and "base_color" in m.slots:
