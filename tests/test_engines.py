@@ -62,7 +62,7 @@ def test_the_tracer_names_what_it_does_not_draw_once(renderer):
         # The tracer shades glTF materials by their model, slots and cut-outs included:
         # nothing to say; what it does not do (transmission, reflections in metals) it says.
         assert _warnings(r, _scene(gltf), engine="trace") == []
-        glass = PbrMaterial(metallic=1.0, transmission=0.5)
+        glass = PbrMaterial(metallic=1.0, roughness=0.3, transmission=0.5)
         said = " | ".join(_warnings(r, _scene(glass), engine="trace"))
         for feature in ("KHR_materials_transmission", "reflections of the scene"):
             assert feature in said, (feature, said)
