@@ -94,3 +94,13 @@ def test_engines_agree_where_both_honour_the_scene(renderer, shading):
     assert both.sum() > 600 and (raster.object_ids != traced.object_ids).mean() < 0.01
     diff = np.abs(raster.color[..., :3] - traced.color[..., :3]).max(-1)[both]
     assert np.percentile(diff, 99) < 2 / 255, np.percentile(diff, 99)
+
+
+def test_the_tracer_says_it_lights_gltf_materials_by_the_ambient_term():
+    from facet.render.renderer import Renderer
+
+    scene = Scene()
+    scene.add(sphere_mesh(), PbrMaterial(roughness=0.3))
+    with Renderer(16, 16) as r:
+        said = _warnings(r, scene, engine="trace", environment="sky")
+    assert any("by the ambient term, not by the environment" in x for x in said), said

@@ -174,6 +174,11 @@ class TraceEngine(Engine):
                          "single-sided glTF materials lose theirs)")
         if opts.pcf != RenderOptions.pcf:  # given: the default filters nothing here
             lines.append("pcf filters shadow maps; the ray tracer's shadow rays are exact")
+        if opts.environment is not None and opts.shading in ("auto", "pbr") and any(
+                isinstance(o.material, PbrMaterial) for o in scene.objects):
+            lines.append("the ray tracer lights metallic-roughness materials by the ambient "
+                         "term, not by the environment (the rasterizer and the path tracer "
+                         "do)")
         return lines + feature_lines(scene, _dropped, "the ray tracer")
 
     def _instances(self, scene, state: FrameState) -> tuple[int, bool, int]:
