@@ -212,10 +212,11 @@ def main() -> None:
         trimesh.creation.icosphere(subdivisions=sub).export(ply)
         models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
         cold_table(2 if a.quick else 5, models)
+    import pathtrace
+
     import antialias
     import batch
     import gltf
-    import pathtrace
     import raytrace
     import shaderlab
     import shadows
