@@ -625,3 +625,56 @@ def test_windows_draw_only_when_something_changes(window, tmp_path, command, ani
         share = min(w.cpu_share(2.0), w.cpu_share(2.0))
         assert share < 0.05, f"an idle window used {share:.1%} of a core"
     assert w.quit() == 0
+
+
+def test_the_engine_key_refines_the_path_traced_picture(window, tmp_path):
+    """`e` twice: the path tracer. With the camera still the window refines to the headless
+    path-traced render of the same camera (its paths are the same: one random stream per
+    pixel and sample index), and the picture is not the Whitted tracer's."""
+    from facet.render.renderer import Renderer
+    from facet.scene import Mesh, Scene
+    from test_golden import CHANNEL_TOL, MAX_DIFFERING
+
+    w = window()
+    w.key("e")
+    w.wait_title(lambda t: "4/4 samples" in t)
+    w.key("e")
+    w.wait_title(lambda t: "engine path" in t and "4/4 samples" in t, timeout=60)
+    w.key("s")
+    shots = files(tmp_path, "facet-*.png")
+    assert w.quit() == 0 and "engine: path" in w.proc.stdout.read()
+    info = json.loads(shots[0].with_suffix(".json").read_text())
+    from facet.geometry.camera import Camera
+
+    camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
+                    far=info["far"])
+    scene = Scene()
+    scene.add(Mesh.load(ROOT / "models" / "default.obj"))
+    with Renderer(W, H) as r:
+        path = r.render(scene, camera, engine="path", outputs=("color",)).color[..., :3]
+        traced = r.render(scene, camera, engine="trace", outputs=("color",)).color[..., :3]
+    shot = np.asarray(Image.open(shots[0])).astype(int)
+    diff = np.abs(shot - path).max(axis=2)
+    assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()
+    assert (np.abs(path.astype(int) - traced).max(axis=2) > 30).mean() > 0.01
+
+
+def test_a_refined_path_traced_view_is_the_offscreen_picture(display):
+    """In-process: the viewer's refined path-traced frame equals the offscreen render of
+    the same camera and options (each pixel's random stream counted from the picture's top
+    row, whichever way the target is drawn), and frames drawn after it is refined do not
+    add the last sample again (they weighed it twice)."""
+    os.environ["DISPLAY"] = display
+    import facet
+
+    with facet.Viewer(ROOT / "models" / "default.obj", size=(W, H),
+                      options={"engine": "path"}) as v:
+        for _ in range(9):  # a preview, 4 samples, then 4 frames of a refined view
+            v.draw()
+        shown = v.grab()[..., :3].astype(int)
+        with facet.Renderer(W, H) as r:
+            offscreen = r.render(v.shown_scene(), v.camera(), v.options()).color[..., :3]
+    # The same paths: a few pixels round differently (float sums in other targets); a
+    # sample weighed twice, or other random streams, change a fifth of them.
+    diff = np.abs(shown - offscreen).max(axis=2)
+    assert diff.max() <= 4 and (diff > 1).mean() < 1e-3, ((diff > 1).mean(), diff.max())

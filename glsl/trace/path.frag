@@ -26,6 +26,7 @@ uniform vec4 u_background;  // straight RGB (linear) and alpha, for eye rays tha
 uniform int u_max_depth;    // bounces after the eye ray
 uniform int u_sample;       // this supersample's index: with the pixel, the random stream
 uniform int u_seed;
+uniform bool u_flip_y;      // offscreen targets are drawn upside down (facet.gl.targets)
 uniform int u_strategy;     // STRATEGY_*
 uniform sampler2D u_emitters;  // per emitting triangle: (instance, triangle, cumulative
 uniform int u_emitter_count;   // share of the emitted power, -), facet.render.trace.emitters
@@ -122,7 +123,10 @@ vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
 }
 
 void main() {
-    g_rng = pcg_hash(uint(gl_FragCoord.x) + pcg_hash(uint(gl_FragCoord.y) +
+    // The stream of this pixel of the picture (its row counted from the top whichever way
+    // the target is drawn: a window refines to the offscreen picture), sample and seed.
+    float row = u_flip_y ? gl_FragCoord.y : u_viewport.y - gl_FragCoord.y;
+    g_rng = pcg_hash(uint(gl_FragCoord.x) + pcg_hash(uint(row) +
                      pcg_hash(uint(u_sample) + pcg_hash(uint(u_seed)))));
     vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
     vec4 near = u_inv_view_projection * vec4(ndc, -1.0, 1.0);

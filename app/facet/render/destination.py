@@ -70,8 +70,12 @@ class Destination:
         return self.window is not None or "color" in opts.outputs
 
     def samples(self, n: int) -> range:
-        """Which of ``n`` supersamples to draw now: all offscreen, one more in a window."""
+        """Which of ``n`` supersamples to draw now: all offscreen, one more in a window
+        (none once all n are in: the sum is shown as it is; adding the last one again
+        would weigh it twice)."""
         if self.window is None:
             return range(n)
-        k = 0 if self.sample is None else min(self.sample, n - 1)  # a preview: one
+        if self.sample is not None and self.sample >= n:
+            return range(n, n)
+        k = 0 if self.sample is None else self.sample  # a preview: one
         return range(k, k + 1)

@@ -175,6 +175,9 @@ class Viewer(ViewerActions):
     def _update_title(self) -> None:
         name = self.path.name if self.path else "scene"
         title = f"facet - {name} - {self.triangles:,} triangles - {self._fps:.0f} fps"
+        engine = self.keys.get("engine") or "raster"
+        if engine != "raster":
+            title += f" - engine {engine}"
         if self._sample_count:  # progressive supersampling: how far it has refined
             title += f" - {self._samples}/{self._sample_count} samples"
         self.win.set_title(f"{title} - error: {self.error}" if self.error else title)
