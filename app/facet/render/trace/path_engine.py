@@ -72,7 +72,8 @@ class PathEngine(TraceEngine):
             background = (*srgb_to_linear(np.asarray(background[:3])), background[3])
         program = self._program("path", state, False, extra=self._material_defines(scene))
         self.draw_colour(scene, state, program, u_background=background,
-                         u_max_depth=int(bounces), u_sample=self._sample, u_flip_y=int(state.flip_y),
+                         u_max_depth=int(bounces), u_sample=self._sample,
+                         u_flip_y=int(state.flip_y),
                          u_seed=int(opts.seed),
                          u_strategy=STRATEGIES[self.strategy],
                          u_emitter_count=self._emitter_count)
