@@ -5,8 +5,8 @@
 // with its texture slots) adds what it emits and the direct light of
 //   - the scene's point, spot and directional lights (delta lights: a shadow ray each),
 //   - the emitting triangles (one point, chosen by power, then uniformly by area),
-//   - the environment, or the scene's ambient light as a constant one (one direction,
-//     uniform on the sphere),
+//   - the environment, or the scene's ambient light as a constant one (one direction: by
+//     the environment image's luminance, or uniform on the sphere),
 // then the path goes on in a direction drawn from the BSDF (lib/pbr.glsl, the rasterizer's:
 // a mixture of cosine-weighted diffuse and GGX half-vector sampling). Light sampling and
 // BSDF sampling both find emitters and the environment; each is weighted by the power
@@ -33,6 +33,13 @@ uniform int u_emitter_count;   // share of the emitted power, -), facet.render.t
 #ifdef HAS_ENVIRONMENT
 uniform samplerCube u_environment;
 #endif
+#ifdef SKY_DISTRIBUTION
+// The environment's luminance distribution (facet.render.trace.env_sampling): cumulative
+// shares per row (and of the rows, in column W), densities over the unit square.
+uniform sampler2D u_sky_cdf;
+uniform sampler2D u_sky_pdf;
+uniform ivec2 u_sky_size;  // W, H
+#endif
 out vec4 f_color;  // premultiplied colour and coverage of this sample
 
 const int STRATEGY_MIS = 0, STRATEGY_LIGHT = 1, STRATEGY_BSDF = 2;
@@ -57,9 +64,54 @@ vec2 random2() { return vec2(random01(), random01()); }
 // ambient light as a constant sky (the rasterizer's pbr model lights by it the same way).
 vec3 escaped(vec3 d) {
 #ifdef HAS_ENVIRONMENT
-    return texture(u_environment, d).rgb;
+    // The finest level: neighbouring pixels' random directions are no footprint (texture()
+    // would pick a blurred level from their differences, dimming a small bright sun).
+    return textureLod(u_environment, d, 0.0).rgb;
 #else
     return u_ambient.rgb;
+#endif
+}
+
+// The sky's density of direction d for light sampling (solid angle).
+float sky_pdf(vec3 d) {
+#ifdef SKY_DISTRIBUTION
+    float u = 0.5 + atan(d.x, -d.z) / TWO_PI, v = acos(clamp(d.y, -1.0, 1.0)) / PI;
+    ivec2 at = clamp(ivec2(vec2(u, v) * vec2(u_sky_size)), ivec2(0), u_sky_size - 1);
+    float sin_t = sqrt(max(1.0 - d.y * d.y, 0.0));
+    return sin_t > 0.0 ? texelFetch(u_sky_pdf, at, 0).r / (2.0 * PI * PI * sin_t) : 0.0;
+#else
+    return UNIFORM_SPHERE_PDF;
+#endif
+}
+
+// A sky direction for light sampling, and its density: by luminance (a texel by two
+// binary searches, then a point in it), or uniform on the sphere.
+vec3 sample_sky(out float pdf) {
+#ifdef SKY_DISTRIBUTION
+    int w = u_sky_size.x;
+    float r = random01(), c = random01();
+    int lo = 0, hi = u_sky_size.y - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (texelFetch(u_sky_cdf, ivec2(w, mid), 0).r > r) hi = mid; else lo = mid + 1;
+    }
+    int y = lo;
+    lo = 0;
+    hi = w - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (texelFetch(u_sky_cdf, ivec2(mid, y), 0).r > c) hi = mid; else lo = mid + 1;
+    }
+    vec2 uv = (vec2(lo, y) + random2()) / vec2(u_sky_size);
+    float phi = (uv.x - 0.5) * TWO_PI, theta = uv.y * PI;
+    vec3 d = vec3(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
+    pdf = sky_pdf(d);
+    return d;
+#else
+    vec2 xi = random2();
+    float z = 1.0 - 2.0 * xi.x, r = sqrt(max(1.0 - z * z, 0.0));
+    pdf = UNIFORM_SPHERE_PDF;
+    return vec3(r * cos(TWO_PI * xi.y), r * sin(TWO_PI * xi.y), z);
 #endif
 }
 
@@ -162,8 +214,7 @@ void main() {
             } else if (!sample_environment || prev_pdf == 0.0) {
                 radiance += throughput * escaped(d);
             } else if (bsdf_hits) {
-                radiance += throughput * escaped(d)
-                          * power_weight(prev_pdf, UNIFORM_SPHERE_PDF);
+                radiance += throughput * escaped(d) * power_weight(prev_pdf, sky_pdf(d));
             }
             break;
         }
@@ -218,14 +269,12 @@ void main() {
         }
         // One direction of the environment.
         if (sample_environment) {
-            vec2 xi = random2();
-            float z = 1.0 - 2.0 * xi.x, r = sqrt(max(1.0 - z * z, 0.0));
-            vec3 L = vec3(r * cos(TWO_PI * xi.y), r * sin(TWO_PI * xi.y), z);
-            if (dot(N, L) > 0.0 && dot(s.ng, L) > 0.0) {
-                float w = bsdf_hits
-                        ? power_weight(UNIFORM_SPHERE_PDF, bsdf_pdf(b, N, V, L)) : 1.0;
+            float pdf_sky;
+            vec3 L = sample_sky(pdf_sky);
+            if (pdf_sky > 0.0 && dot(N, L) > 0.0 && dot(s.ng, L) > 0.0) {
+                float w = bsdf_hits ? power_weight(pdf_sky, bsdf_pdf(b, N, V, L)) : 1.0;
                 radiance += throughput * escaped(L) * bsdf_eval(b, N, V, L)
-                          * (w / UNIFORM_SPHERE_PDF) * visibility(from, L, INF);
+                          * (w / pdf_sky) * visibility(from, L, INF);
             }
         }
         // The next direction, from the BSDF.

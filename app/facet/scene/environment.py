@@ -30,6 +30,15 @@ def face_directions(size: int) -> np.ndarray:
     return dirs / np.linalg.norm(dirs, axis=-1, keepdims=True)
 
 
+def equirect_directions(width: int, height: int) -> np.ndarray:
+    """(height, width, 3) unit directions of a latitude-longitude image's texel centres
+    (row 0 at the zenith; u = 0.5 + atan2(x, -z) / 2 pi, as ``from_equirect`` reads)."""
+    phi = ((np.arange(width) + 0.5) / width - 0.5) * 2 * np.pi
+    theta = (np.arange(height) + 0.5) / height * np.pi
+    t, p = np.meshgrid(theta, phi, indexing="ij")
+    return np.stack([np.sin(t) * np.sin(p), np.cos(t), -np.sin(t) * np.cos(p)], -1)
+
+
 def sky_color(directions, zenith, horizon, ground) -> np.ndarray:
     """The generated sky: horizon -> zenith above, a darker ground below (smooth in y)."""
     d = np.asarray(directions, dtype=np.float64)
@@ -42,22 +51,30 @@ def sky_color(directions, zenith, horizon, ground) -> np.ndarray:
 
 
 class Environment:
-    """``faces``: (6, S, S, 3) float32 in [0, 1], OpenGL cube-map order."""
+    """``faces``: (6, S, S, 3) float32 >= 0 (radiance: above 1 from HDR images), OpenGL
+    cube-map order. ``equirect``: (H, W, 3) the same radiance as a latitude-longitude image
+    (row 0 the zenith, u = 0.5 + atan2(x, -z) / 2 pi), or None: what the path tracer
+    importance-samples (facet.render.trace.env_sampling)."""
 
     SKY = ((0.25, 0.45, 0.85), (0.85, 0.9, 1.0), (0.3, 0.28, 0.25))
 
-    def __init__(self, faces, name: str = "environment"):
+    def __init__(self, faces, name: str = "environment", equirect=None):
         f = np.asarray(faces, dtype=np.float32)
         if f.ndim != 4 or f.shape[0] != 6 or f.shape[1] != f.shape[2] or f.shape[3] != 3:
             raise InputError(f"{name}: a cube map needs 6 square RGB faces of one size, got "
                              f"{f.shape}")
-        self.faces = np.ascontiguousarray(np.clip(f, 0.0, 1.0))
+        if not np.all(np.isfinite(f)):
+            raise InputError(f"{name}: the environment holds NaN or infinite values")
+        self.faces = np.ascontiguousarray(np.maximum(f, 0.0))
+        self.equirect = None if equirect is None else \
+            np.ascontiguousarray(np.maximum(np.asarray(equirect, np.float32), 0.0))
         self.name = name
 
     @classmethod
     def sky(cls, zenith=SKY[0], horizon=SKY[1], ground=SKY[2], size: int = 128) -> Environment:
         """A generated sky gradient."""
-        return cls(sky_color(face_directions(size), zenith, horizon, ground), "sky")
+        grid = sky_color(equirect_directions(256, 128), zenith, horizon, ground)
+        return cls(sky_color(face_directions(size), zenith, horizon, ground), "sky", grid)
 
     @classmethod
     def constant(cls, color) -> Environment:
@@ -86,17 +103,25 @@ class Environment:
     @classmethod
     def from_equirect(cls, path, size: int = 256) -> Environment:
         """An equirectangular (latitude-longitude) image resampled onto the cube (its
-        bytes sampled where they are: no float copy of the whole image)."""
+        texels sampled where they are: no float copy of a whole 8-bit image). HDR files
+        (.hdr, .exr: facet.scene.hdr_image) keep their linear radiance, above 1 too; 8-bit
+        images are values in [0, 1]."""
+        from .hdr_image import is_hdr, read_hdr_image
         from .texture import Texture
 
-        img = Texture.load(path).pixels
+        if is_hdr(path):
+            img, scale = read_hdr_image(path), 1.0
+        else:
+            img, scale = Texture.load(path).pixels, 1.0 / 255.0
         d = face_directions(size)
         u = 0.5 + np.arctan2(d[..., 0], -d[..., 2]) / (2 * np.pi)
         v = np.arccos(np.clip(d[..., 1], -1, 1)) / np.pi  # 0 at the zenith (image top)
         h, w = img.shape[:2]
         x = np.clip((u * w).astype(int), 0, w - 1)
         y = np.clip((v * h).astype(int), 0, h - 1)
-        return cls(img[y, x, :3].astype(np.float32) / 255.0, Path(path).name)
+        step = max(1, w // 512)  # the sampling distribution needs no more than this
+        grid = img[::step, ::step, :3].astype(np.float32) * scale
+        return cls(img[y, x, :3].astype(np.float32) * scale, Path(path).name, grid)
 
     @property
     def size(self) -> int:

@@ -272,8 +272,8 @@ class TraceEngine(Engine):
         the bound target, with the environment and ``uniforms`` (those it lacks skipped)."""
         self._bind(scene, state, program)
         for name, value in uniforms.items():
-            if not isinstance(value, int):
-                value = tuple(float(v) for v in value)
+            if not isinstance(value, int):  # a vector: ints stay ints (ivec uniforms)
+                value = tuple(v if isinstance(v, int) else float(v) for v in value)
             program.program.set(name, value, strict=False)
         textures = self._more_textures()
         if state.environment is not None:

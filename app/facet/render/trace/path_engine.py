@@ -14,6 +14,8 @@ ray; left at facet's default (the Whitted tracer's 5) the path tracer takes
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from ...scene.light import AreaLight
@@ -25,10 +27,12 @@ from . import pack
 from .area_lights import AreaEmitters, strip_area_points
 from .emitters import pack_emitters
 from .engine import TraceEngine
+from .env_sampling import distribution
 
 DEFAULT_BOUNCES = 8
 STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag
 EMITTERS_UNIT = 21  # after facet.render.materials.IBL_UNITS
+SKY_UNITS = (22, 23)
 
 
 class PathEngine(TraceEngine):
@@ -42,6 +46,7 @@ class PathEngine(TraceEngine):
     _sample = 0  # the supersample being drawn (sample_state)
     _emitter_count = 0
     _emitters_key = None
+    _sky_entry = None  # (weakref to the environment, its textures or None)
 
     def __init__(self, ctx, cache):
         super().__init__(ctx, cache)
@@ -70,13 +75,16 @@ class PathEngine(TraceEngine):
         bounces = DEFAULT_BOUNCES if opts.max_depth == DEFAULT_MAX_DEPTH else opts.max_depth
         if not state.srgb:  # a display value here; the output is encoded (Engine.radiance)
             background = (*srgb_to_linear(np.asarray(background[:3])), background[3])
-        program = self._program("path", state, False, extra=self._material_defines(scene))
+        sky = self._sky(state.environment)
+        program = self._program("path", state, False, extra=self._material_defines(scene) + (
+            ("SKY_DISTRIBUTION",) if sky is not None else ()))
         self.draw_colour(scene, state, program, u_background=background,
                          u_max_depth=int(bounces), u_sample=self._sample,
                          u_flip_y=int(state.flip_y),
                          u_seed=int(opts.seed),
                          u_strategy=STRATEGIES[self.strategy],
-                         u_emitter_count=self._emitter_count)
+                         u_emitter_count=self._emitter_count,
+                         u_sky_size=sky[2] if sky is not None else (1, 1))
 
     # -- what differs from the tracer's upload ---------------------------------------------
     def _material_defines(self, scene, state=None) -> tuple:
@@ -98,7 +106,45 @@ class PathEngine(TraceEngine):
         return out
 
     def _more_textures(self) -> dict:
-        return {"u_emitters": (self._textures["emitters"], EMITTERS_UNIT)}
+        out = {"u_emitters": (self._textures["emitters"], EMITTERS_UNIT)}
+        if self._sky_entry is not None and self._sky_entry[1] is not None:
+            cdf, pdf, _ = self._sky_entry[1]
+            out.update(u_sky_cdf=(cdf, SKY_UNITS[0]), u_sky_pdf=(pdf, SKY_UNITS[1]))
+        return out
+
+    def _sky(self, environment):
+        """The environment's luminance distribution as textures (cdf, pdf, (W, H)), made
+        once per environment (facet.render.trace.env_sampling); None without one."""
+        equirect = getattr(environment, "equirect", None)
+        if equirect is None:
+            self._release_sky()
+            return None
+        entry = self._sky_entry
+        if entry is None or entry[0]() is not environment:
+            self._release_sky()
+            made = distribution(equirect)
+            textures = None
+            if made is not None:
+                cdf, pdf = made
+                textures = []
+                for array in (cdf, pdf):
+                    tex = self.ctx.texture((array.shape[1], array.shape[0]), 1,
+                                           array.tobytes(), dtype="f4")
+                    tex.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
+                    textures.append(tex)
+                textures.append((pdf.shape[1], pdf.shape[0]))
+            self._sky_entry = (weakref.ref(environment), textures)
+        return self._sky_entry[1]
+
+    def _release_sky(self) -> None:
+        if self._sky_entry is not None and self._sky_entry[1] is not None:
+            for tex in self._sky_entry[1][:2]:
+                tex.release()
+        self._sky_entry = None
+
+    def release(self) -> None:
+        self._release_sky()
+        super().release()
 
     def _more_rows(self, rows, ordered) -> None:
         """The emitters' table (facet.render.trace.emitters) and their densities."""

@@ -1,0 +1,121 @@
+"""High-dynamic-range images for environments (no GL): linear radiance as float32.
+
+- Radiance RGBE (``.hdr``, ``.pic``): read here (Pillow does not read it): the header, then
+  flat or run-length-encoded scanlines (the "new" RLE: four channel runs per line);
+  RGBE -> RGB is mantissa x 2^(exponent - 136).
+- OpenEXR (``.exr``): through the OpenEXR package (``pip install facet[exr]``).
+
+``write_hdr`` writes flat RGBE files (tests and tools).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+HDR_SUFFIXES = (".hdr", ".pic", ".exr")
+
+
+def is_hdr(path) -> bool:
+    return Path(path).suffix.lower() in HDR_SUFFIXES
+
+
+def read_hdr_image(path) -> np.ndarray:
+    """(H, W, 3) float32 linear radiance of a .hdr/.pic or .exr file; InputError (one
+    line, naming the file) when it cannot be read."""
+    p = Path(path)
+    if p.suffix.lower() == ".exr":
+        return _read_exr(p)
+    try:
+        data = p.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+    try:
+        return _decode_rgbe(data)
+    except (ValueError, IndexError) as exc:
+        raise InputError(f"{p}: not a readable Radiance HDR file ({exc})") from None
+
+
+def _decode_rgbe(data: bytes) -> np.ndarray:
+    if not (data.startswith(b"#?RADIANCE") or data.startswith(b"#?RGBE")):
+        raise ValueError("no #?RADIANCE header")
+    end = data.find(b"\n\n")
+    if end < 0:
+        raise ValueError("the header does not end")
+    header = data[:end].decode("ascii", "replace")
+    if "FORMAT=" in header and "32-bit_rle_rgbe" not in header:
+        raise ValueError("only 32-bit_rle_rgbe is supported (not XYZE)")
+    line_end = data.find(b"\n", end + 2)
+    size = data[end + 2:line_end].decode("ascii", "replace").split()
+    if len(size) != 4 or size[0] != "-Y" or size[2] != "+X":
+        raise ValueError(f"unsupported orientation {' '.join(size)!r} (expected -Y H +X W)")
+    height, width = int(size[1]), int(size[3])
+    if not (0 < width <= 1 << 15 and 0 < height <= 1 << 15):
+        raise ValueError(f"image size {width}x{height}")
+    body = np.frombuffer(data, np.uint8, offset=line_end + 1)
+    out = np.empty((height, width, 4), np.uint8)
+    pos = 0
+    for y in range(height):  # per scanline, and per run within one: never per pixel
+        head = body[pos:pos + 4]
+        if width < 8 or width > 0x7FFF or head[0] != 2 or head[1] != 2 or head[2] & 0x80:
+            out[y] = body[pos:pos + 4 * width].reshape(width, 4)  # flat
+            pos += 4 * width
+            continue
+        pos += 4
+        for c in range(4):
+            x = 0
+            while x < width:
+                n = int(body[pos])
+                if n > 128:
+                    out[y, x:x + n - 128, c] = body[pos + 1]
+                    x, pos = x + n - 128, pos + 2
+                else:
+                    if n == 0:
+                        raise ValueError("a run of length 0")
+                    out[y, x:x + n, c] = body[pos + 1:pos + 1 + n]
+                    x, pos = x + n, pos + 1 + n
+            if x != width:
+                raise ValueError(f"scanline {y} overruns its width")
+    e = out[..., 3].astype(np.int32)
+    scale = np.where(e > 0, np.ldexp(1.0, e - 136), 0.0)
+    return (out[..., :3] * scale[..., None]).astype(np.float32)
+
+
+def _read_exr(p: Path) -> np.ndarray:
+    try:
+        import OpenEXR
+    except ImportError:
+        raise InputError(f"{p}: reading OpenEXR needs the OpenEXR package (pip install "
+                         "'facet[exr]')") from None
+    try:
+        with OpenEXR.File(str(p)) as f:
+            channels = f.channels()
+            if "RGB" in channels:
+                rgb = np.asarray(channels["RGB"].pixels, dtype=np.float32)
+            else:
+                rgb = np.stack([np.asarray(channels[c].pixels, dtype=np.float32)
+                                for c in "RGB"], -1)
+    except InputError:
+        raise
+    except Exception as exc:  # OpenEXR raises plain exceptions on bad files
+        raise InputError(f"{p}: not a readable OpenEXR file with R, G, B channels "
+                         f"({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})"
+                         ) from None
+    return np.ascontiguousarray(rgb[..., :3])
+
+
+def write_hdr(path, rgb: np.ndarray) -> None:
+    """Write (H, W, 3) linear radiance as a flat Radiance RGBE file."""
+    rgb = np.maximum(np.asarray(rgb, dtype=np.float64), 0.0)
+    peak = rgb.max(axis=-1)
+    mantissa, exponent = np.frexp(peak)
+    scale = np.where(peak > 1e-32, mantissa * 256.0 / np.where(peak > 0, peak, 1), 0.0)
+    rgbe = np.zeros(rgb.shape[:2] + (4,), np.uint8)
+    rgbe[..., :3] = np.clip(rgb * scale[..., None], 0, 255).astype(np.uint8)
+    rgbe[..., 3] = np.where(peak > 1e-32, exponent + 128, 0).astype(np.uint8)
+    h, w = rgb.shape[:2]
+    header = f"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {h} +X {w}\n".encode()
+    Path(path).write_bytes(header + rgbe.tobytes())

@@ -1,0 +1,99 @@
+"""Skies for the path tracer: HDR environment images (.hdr read here, radiance above 1
+kept), importance sampling by luminance (a small bright sun) against a numpy integral of
+the same image, and the lowest error with both light and BSDF sampling."""
+
+import numpy as np
+import pytest
+
+import facet
+from facet.geometry.camera import Camera
+from facet.render.trace.path_engine import PathEngine
+from facet.scene.environment import equirect_directions, load_environment
+from facet.scene.hdr_image import read_hdr_image, write_hdr
+from facet.scene.pbr import PbrMaterial
+
+SUN = np.array([0.5, 0.7071, -0.5]) / np.linalg.norm([0.5, 0.7071, -0.5])
+ALBEDO = 0.8
+
+
+def _sun_sky(path, w=256, h=128):
+    img = np.full((h, w, 3), 0.2, np.float32)
+    img[(equirect_directions(w, h) @ SUN) > np.cos(np.radians(3))] = (200.0, 180.0, 150.0)
+    write_hdr(path, img)
+    return img
+
+
+def test_hdr_files_round_trip_and_run_length_lines_decode(tmp_path):
+    img = np.random.default_rng(1).uniform(0, 50, (5, 9, 3)).astype(np.float32)
+    write_hdr(tmp_path / "a.hdr", img)
+    # RGBE keeps 8 bits of mantissa for the brightest channel: others err by its 1/256.
+    err = np.abs(read_hdr_image(tmp_path / "a.hdr") - img)
+    assert (err <= img.max(axis=-1, keepdims=True) / 128).all()
+    # One 8-pixel line in the run-length form: R a run of 128, G 8 literal values, B a run
+    # of 64, E a run of 129 (x 2^(129 - 136)).
+    line = bytes([2, 2, 0, 8, 136, 128, 8, *range(10, 90, 10), 136, 64, 136, 129])
+    (tmp_path / "b.hdr").write_bytes(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 8\n"
+                                     + line)
+    got = read_hdr_image(tmp_path / "b.hdr")[0]
+    np.testing.assert_allclose(got[:, 0], 1.0)
+    np.testing.assert_allclose(got[:, 1], np.arange(10, 90, 10) / 128)
+    np.testing.assert_allclose(got[:, 2], 0.5)
+
+
+def test_a_bad_hdr_file_is_one_line(tmp_path):
+    (tmp_path / "bad.hdr").write_bytes(b"#?RADIANCE\n\n-Y 4 +X 4\n\x02\x02")
+    with pytest.raises(facet.FacetError, match="bad.hdr: not a readable Radiance HDR") as e:
+        load_environment(str(tmp_path / "bad.hdr"))
+    assert "\n" not in str(e.value)
+
+
+def test_radiance_above_one_is_kept(tmp_path):
+    """A constant HDR sky of radiance 3: a white Lambertian sphere shows 3 (it was clipped
+    to 1 when environments were 8-bit values)."""
+    write_hdr(tmp_path / "bright.hdr", np.full((16, 32, 3), 3.0, np.float32))
+    scene = facet.Scene(ambient=0.0)
+    scene.add(facet.primitives.sphere(1.0), PbrMaterial(base_color=(1, 1, 1), metallic=0.0,
+                                                        specular=0.0))
+    camera = Camera.look_at((0, 0, 4), (0, 0, 0), fov_y=20, near=1, far=10)
+    with facet.Renderer(16, 16) as r:
+        img = r.render(scene, camera, engine="path", spp=256, float_color=True,
+                       lights="scene", environment=str(tmp_path / "bright.hdr")).color
+    assert img[6:10, 6:10, :3].mean() == pytest.approx(3.0, rel=0.01)
+    assert img[..., :3].min() > 2.5  # every pixel, the sky behind too: nothing clipped
+
+
+def _floor(tmp_path, strategy, spp):
+    _sun_sky(tmp_path / "sun.hdr")
+    scene = facet.Scene(ambient=0.0)
+    scene.add(facet.primitives.plane(4), PbrMaterial(base_color=(ALBEDO,) * 3, metallic=0.0,
+                                                     specular=0.0))
+    camera = Camera.look_at((0, 3, 0.01), (0, 0, 0), fov_y=20, near=0.5, far=20)
+    PathEngine.strategy = strategy
+    try:
+        with facet.Renderer(32, 32) as r:
+            return r.render(scene, camera, engine="path", spp=spp, max_depth=0,
+                            float_color=True, lights="scene",
+                            environment=str(tmp_path / "sun.hdr")).color[..., :3]
+    finally:
+        PathEngine.strategy = "mis"
+
+
+def test_a_sun_in_the_sky_lights_a_floor_as_the_integral_says(tmp_path):
+    """A Lambertian floor under the sky image: albedo / pi x sum over the image's texels of
+    radiance x cos x solid angle (the upper half), within 3%."""
+    img = _sun_sky(tmp_path / "ref.hdr")
+    h, w = img.shape[:2]
+    d = equirect_directions(w, h)
+    theta = (np.arange(h) + 0.5) / h * np.pi
+    solid = (2 * np.pi / w) * (np.pi / h) * np.sin(theta)[:, None]
+    irradiance = (img * (np.clip(d[..., 1], 0, None) * solid)[..., None]).sum(axis=(0, 1))
+    expected = ALBEDO / np.pi * irradiance
+    got = _floor(tmp_path, "mis", 256).reshape(-1, 3).mean(axis=0)
+    np.testing.assert_allclose(got, expected, rtol=0.03)
+
+
+def test_importance_sampling_the_sun_beats_bsdf_sampling(tmp_path):
+    reference = _floor(tmp_path, "mis", 1024)
+    errors = {s: np.sqrt(((_floor(tmp_path, s, 16) - reference) ** 2).mean())
+              for s in ("mis", "bsdf")}
+    assert errors["mis"] < 0.5 * errors["bsdf"], errors
