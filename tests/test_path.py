@@ -149,6 +149,7 @@ def test_the_albedo_table_is_what_the_generator_writes_and_the_integral_says():
     from facet.render import energy
 
     assert energy.table_path().read_text() == energy.glsl_table()
+    assert energy.table_path("sheen_albedo").read_text() == energy.glsl_sheen_table()
     for mu, r in ((1.0, 0.5), (1.0, 1.0), (0.25, 0.7), (0.04, 1.0)):
         alpha = r * r
         n = 300
@@ -267,3 +268,35 @@ def test_a_clear_coat_under_direct_light_matches_the_rasterizer():
     diff = np.abs(path.color[lit][:, :3] - srgb_to_linear(raster.color[lit][:, :3]))
     assert diff.mean() < 0.005 and np.percentile(diff, 99) < 0.02, (diff.mean(), diff.max())
     assert np.abs(raster.color - plain.color).max() > 0.1  # the coat shows
+
+
+def test_a_sheen_in_a_furnace_shows_its_lobes_albedo():
+    """A black Lambertian base under a white sheen of roughness 1 (KHR_materials_sheen) in
+    a white furnace: the sheen lobe's albedo at normal incidence (facet.render.energy's
+    quadrature of the Charlie lobe), about 0.16."""
+    from facet.render.energy import sheen_albedo
+
+    mat = PbrMaterial(base_color=(0, 0, 0, 1), metallic=0.0, specular=0.0,
+                      sheen_color=(1, 1, 1), sheen_roughness=1.0)
+    color, normals = _normals_and_colour(mat, environment={"color": [1, 1, 1]}, spp=256)
+    centre = normals[..., 2] > 0.97
+    expected = np.mean([sheen_albedo(n, 1.0, 128) for n in normals[..., 2][centre]])
+    assert 0.1 < expected < 0.25
+    assert color[centre][:, :3].mean() == pytest.approx(expected, rel=0.03)
+
+
+def test_a_sheen_under_direct_light_matches_the_rasterizer():
+    mat = PbrMaterial(base_color=(0.3, 0.1, 0.1, 1), metallic=0.0, roughness=0.8,
+                      sheen_color=(0.9, 0.8, 0.2), sheen_roughness=0.4)
+    scene = _sphere_scene(mat)
+    scene.add_light(DirectionalLight(direction=(0.6, -0.2, -0.5)))  # a rim from behind
+    with facet.Renderer(SIZE, SIZE) as r:
+        path = r.render(scene, CAMERA, engine="path", max_depth=0, float_color=True,
+                        aa="none", outputs=("color", "normals"))
+        raster = r.render(scene, CAMERA, engine="raster", shading="pbr", float_color=True,
+                          aa="none")
+    lit = (path.normals[..., 2] > 0.2) & (raster.color[..., :3].max(axis=-1) < 1) & \
+        (path.color[..., 0] > 0.01)
+    assert lit.sum() > 100
+    diff = np.abs(path.color[lit][:, :3] - srgb_to_linear(raster.color[lit][:, :3]))
+    assert diff.mean() < 0.005 and np.percentile(diff, 99) < 0.02, (diff.mean(), diff.max())

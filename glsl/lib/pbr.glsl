@@ -6,6 +6,9 @@
 //   f_specular = D(alpha) Vis(alpha): GGX / Trowbridge-Reitz and height-correlated Smith.
 // F_d = F(f0_d, specular): KHR_materials_ior and _specular (facet.scene.pbr.PbrMaterial
 // .dielectric_f0; 0.04 and 1 without them, glTF's core model; specular 0: Lambert).
+// KHR_materials_sheen (pbr_sheen): f = f min(1 - c E_s(N.V), 1 - c E_s(N.L)) + sheen D_c V_c,
+// c = max(sheen colour): the Charlie distribution, Estevez and Kulla's shadowing, E_s its
+// albedo (lib/sheen_albedo.glsl), under the coat.
 // KHR_materials_clearcoat (pbr_coat): f = (1 - c F_c(N.V)) f + c F_c(V.H) f_specular(alpha_c),
 // F_c with f0 = 0.04, on the same shading normal.
 // facet's lights of intensity I give irradiance pi I (facet.scene.pbr), so a light adds
@@ -17,6 +20,7 @@
 
 #include "lib/constants.glsl"
 #include "lib/ggx_albedo.glsl"
+#include "lib/sheen_albedo.glsl"
 const float DIELECTRIC_F0 = 0.04;  // ior 1.5
 const float MIN_ALPHA = 1e-3;  // keeps D finite for a perfect mirror
 
@@ -56,6 +60,9 @@ struct PbrSurface {
     float cc;       // clearcoat: its factor, roughness^2, and the Fresnel factor at N.V
     float cc_alpha;
     float cc_fresnel;
+    vec3 sheen;     // sheen colour (0: none), its roughness, and max(colour) E_s(N.V)
+    float sheen_roughness;
+    float sheen_dim;
 };
 
 // E: the GGX lobe's directional albedo (F = 1), bilinear in the table.
@@ -78,7 +85,42 @@ PbrSurface pbr_surface_full(vec3 base, float metallic, float roughness, float n_
     float e = ggx_albedo(n_dot_v, roughness);
     return PbrSurface((1.0 - metallic) * base, f0, mix(f90_d, 1.0, metallic), f0_d, f90_d,
                       max(roughness * roughness, MIN_ALPHA), n_dot_v,
-                      1.0 + f0 * ((1.0 - e) / e), 0.0, 1.0, 0.0);
+                      1.0 + f0 * ((1.0 - e) / e), 0.0, 1.0, 0.0, vec3(0.0), 1.0, 0.0);
+}
+
+const float SHEEN_MIN_ROUGHNESS = 0.07;  // facet.render.energy's
+
+// E_s: the sheen lobe's directional albedo (colour 1), bilinear in its table.
+float sheen_albedo(float n_dot_v, float roughness) {
+    vec2 c = vec2(sqrt(clamp(n_dot_v, 0.0, 1.0)), clamp(roughness, 0.0, 1.0))
+           * float(SHEEN_ALBEDO_SIZE - 1);
+    ivec2 i = min(ivec2(c), ivec2(SHEEN_ALBEDO_SIZE - 2));
+    vec2 f = c - vec2(i);
+    int k = i.y * SHEEN_ALBEDO_SIZE + i.x;
+    return min(mix(mix(SHEEN_ALBEDO[k], SHEEN_ALBEDO[k + 1], f.x),
+                   mix(SHEEN_ALBEDO[k + SHEEN_ALBEDO_SIZE],
+                       SHEEN_ALBEDO[k + SHEEN_ALBEDO_SIZE + 1], f.x), f.y), 1.0);
+}
+
+// A sheen of ``colour`` and ``roughness`` on the surface (KHR_materials_sheen).
+void pbr_sheen(inout PbrSurface s, vec3 colour, float roughness) {
+    s.sheen = colour;
+    s.sheen_roughness = max(roughness, SHEEN_MIN_ROUGHNESS);
+    s.sheen_dim = max(colour.r, max(colour.g, colour.b))
+                * sheen_albedo(s.n_dot_v, s.sheen_roughness);
+}
+
+// Estevez and Kulla's fit of the Charlie lobe's shadowing (their paper's coefficients).
+float sheen_lambda(float cos_t, float alpha) {
+    float t = (1.0 - alpha) * (1.0 - alpha);
+    float a = mix(21.5473, 25.3245, t), b = mix(3.82987, 3.32435, t);
+    float c = mix(0.19823, 0.16801, t), d = mix(-1.97760, -1.27393, t);
+    float e = mix(-4.32054, -4.85967, t);
+    float x = cos_t < 0.5 ? cos_t : 1.0 - cos_t;
+    float fit = a / (1.0 + b * pow(x, c)) + d * x + e;
+    if (cos_t < 0.5) return exp(fit);
+    float half_fit = a / (1.0 + b * pow(0.5, c)) + d * 0.5 + e;
+    return exp(2.0 * half_fit - fit);
 }
 
 // A clear coat of factor ``clearcoat`` and ``roughness`` on the surface.
@@ -104,6 +146,18 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
     vec3 F = s.f0 + (s.f90 - s.f0) * fc;
     vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * fc;
     vec3 f = n_dot_l * (PI * spec * F * s.ms + (1.0 - F_d) * s.c_diff);
+    if (s.sheen != vec3(0.0) && n_dot_l > 0.0) {
+        float alpha = s.sheen_roughness * s.sheen_roughness;
+        float n_dot_h = max(dot(N, H), 0.0);
+        float sin_h = sqrt(max(1.0 - n_dot_h * n_dot_h, 0.0));
+        float d = (2.0 + 1.0 / alpha) * pow(sin_h, 1.0 / alpha) / (2.0 * PI);
+        float vis = clamp(1.0 / ((1.0 + sheen_lambda(s.n_dot_v, alpha)
+                                  + sheen_lambda(n_dot_l, alpha)) * 4.0 * s.n_dot_v * n_dot_l),
+                          0.0, 1.0);
+        float c = max(s.sheen.r, max(s.sheen.g, s.sheen.b));
+        float dim = min(1.0 - s.sheen_dim, 1.0 - c * sheen_albedo(n_dot_l, s.sheen_roughness));
+        f = f * dim + n_dot_l * PI * s.sheen * d * vis;
+    }
     if (s.cc > 0.0) {
         float n_dot_h = max(dot(N, H), 0.0);
         float coat = ggx_d(n_dot_h, s.cc_alpha) * smith_vis(n_dot_l, s.n_dot_v, s.cc_alpha)
@@ -124,6 +178,14 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
 vec3 pbr_ambient(PbrSurface s, vec3 diffuse, vec3 specular, vec3 lut) {
     vec3 kept = 1.0 - s.f0_d - (s.f90_d - s.f0_d) * (1.0 - lut.z);
     return kept * s.c_diff * diffuse + (s.f0 * lut.x + s.f90 * lut.y) * s.ms * specular;
+}
+
+// The sheen over ``ambient`` (pbr_ambient's): its albedo lights it by ``diffuse`` (the
+// irradiance / pi, as its lobe is broad).
+vec3 pbr_ambient_sheen(PbrSurface s, vec3 ambient, vec3 diffuse) {
+    if (s.sheen == vec3(0.0)) return ambient;
+    return ambient * (1.0 - s.sheen_dim)
+         + s.sheen * sheen_albedo(s.n_dot_v, s.sheen_roughness) * diffuse;
 }
 
 // The clear coat over ``ambient`` (pbr_ambient's): ``specular`` the environment along

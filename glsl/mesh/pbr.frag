@@ -38,6 +38,7 @@ uniform float u_roughness;
 uniform vec3 u_dielectric_f0;    // the dielectric's lobe (facet.scene.pbr.PbrMaterial
 uniform float u_dielectric_f90;  // .dielectric_f0, and its specular factor)
 uniform vec2 u_clearcoat;        // KHR_materials_clearcoat: factor, roughness
+uniform vec4 u_sheen;            // KHR_materials_sheen: colour, roughness
 uniform vec3 u_emissive;  // factor x strength
 uniform float u_normal_scale;
 uniform float u_occlusion_strength;
@@ -103,6 +104,7 @@ void main() {
         float n_dot_v = clamp(dot(N, V), 0.0, 1.0);
         PbrSurface s = pbr_surface_full(base.rgb, metallic, roughness, n_dot_v,
                                         u_dielectric_f0, u_dielectric_f90);
+        pbr_sheen(s, u_sheen.rgb, u_sheen.a);
         pbr_coat(s, u_clearcoat.x, u_clearcoat.y);
         rgb = vec3(0.0);
         for (int i = 0; i < LIGHTS_IN_USE; ++i) {
@@ -121,7 +123,7 @@ void main() {
 #else
         vec3 diffuse = u_ambient.rgb, specular = u_ambient.rgb;
 #endif
-        vec3 ambient = pbr_ambient(s, diffuse, specular, lut);
+        vec3 ambient = pbr_ambient_sheen(s, pbr_ambient(s, diffuse, specular, lut), diffuse);
         if (u_clearcoat.x > 0.0) {  // the coat's own lobe, at its roughness
             vec2 at_cc = (vec2(n_dot_v, u_clearcoat.y) * (LUT_SIZE - 1.0) + 0.5) / LUT_SIZE;
 #ifdef HAS_ENVIRONMENT

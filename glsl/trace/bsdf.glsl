@@ -56,6 +56,7 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
     Bsdf b;
     b.m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V), mat.f0_d,
                            mat.f90_d);
+    pbr_sheen(b.m, mat.sheen, mat.sheen_roughness);
     pbr_coat(b.m, mat.clearcoat, mat.clearcoat_roughness);
     b.c_trans = b.m.c_diff * mat.transmission;
     b.m.c_diff *= 1.0 - mat.transmission;
@@ -76,7 +77,9 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
         b.fresnel = 0.0;
         spec = luminance(b.m.f0 + (b.m.f90 - b.m.f0) * fc);
     }
-    float diff = luminance(b.m.c_diff * kept), trans = luminance(b.c_trans * kept);
+    // (the sheen lobe is broad: the cosine-weighted one samples it too)
+    float diff = luminance(b.m.c_diff * kept) + b.m.sheen_dim,
+          trans = luminance(b.c_trans * kept);
     float rest = diff + trans;
     // The coat's share first (exactly by its weight), the rest below it as before.
     float coat = b.polished ? 0.0 : b.m.cc * b.m.cc_fresnel;

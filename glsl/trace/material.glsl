@@ -7,7 +7,7 @@
 //   +2 (base alpha, alpha mode, cutoff, normal scale)
 //   +3 (the dielectric's reflectance at normal incidence rgb, at grazing incidence)
 //   +4 (transmission, thickness: 0 thin-walled, ior, clearcoat)
-//   +5 (absorption per length rgb, clearcoat roughness)
+//   +5 (absorption per length rgb, clearcoat roughness)   +6 (sheen colour rgb, roughness)
 //   +7 (emitter density factor: luminance / total emitted power, or 0; unlit; 1 for an
 //       object whose own material is metallic-roughness (the Whitted tracer's choice), -)
 // From SLOT_ROW, SLOT_TEXELS per slot (SLOT_BASE, SLOT_MR, SLOT_NORMAL, SLOT_EMISSIVE):
@@ -31,6 +31,8 @@ struct Material {
     vec3 absorption;  // inside the volume, per unit length (KHR_materials_volume)
     float clearcoat;  // KHR_materials_clearcoat: factor and roughness
     float clearcoat_roughness;
+    vec3 sheen;       // KHR_materials_sheen: colour and roughness
+    float sheen_roughness;
     vec3 emission;    // emitted radiance
     vec3 n;           // the shading normal, normal map applied, on the side of Surface.n
     bool unlit;       // KHR_materials_unlit: shows its base colour, reflects nothing
@@ -119,6 +121,9 @@ Material material_at(int inst, Surface s) {
     m.absorption = m5.rgb;
     m.clearcoat = m4.w;
     m.clearcoat_roughness = m5.w;
+    vec4 m6 = material_texel(inst, 6);
+    m.sheen = m6.rgb;
+    m.sheen_roughness = m6.w;
     m.n = s.n;
     if (s.tangent.w != 0.0 && has_slot(inst, SLOT_NORMAL)) {
         // The tangent frame turns with the shading normal when seen from behind (as the

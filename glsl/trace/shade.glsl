@@ -169,6 +169,7 @@ vec3 shade_pbr(Surface s, vec3 V) {
         vec3 N = valid_normal(mat.n, s.ng, V);
         PbrSurface m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V),
                                         mat.f0_d, mat.f90_d);
+        pbr_sheen(m, mat.sheen, mat.sheen_roughness);
         pbr_coat(m, mat.clearcoat, mat.clearcoat_roughness);
         g_ng = s.ng;
         rgb = vec3(0.0);
@@ -180,7 +181,8 @@ vec3 shade_pbr(Surface s, vec3 V) {
         }
         float fc = schlick_weight(m.n_dot_v);
         vec3 F = m.f0 + (m.f90 - m.f0) * fc, F_d = m.f0_d + (m.f90_d - m.f0_d) * fc;
-        vec3 sky = F * ggx_albedo(m.n_dot_v, mat.roughness) * m.ms + (1.0 - F_d) * m.c_diff;
+        vec3 sky = pbr_ambient_sheen(m, F * ggx_albedo(m.n_dot_v, mat.roughness) * m.ms
+                                         + (1.0 - F_d) * m.c_diff, vec3(1.0));
         sky = sky * (1.0 - m.cc * m.cc_fresnel)
             + m.cc * m.cc_fresnel * ggx_albedo(m.n_dot_v, mat.clearcoat_roughness);
         rgb += sky * u_ambient.rgb;

@@ -117,6 +117,7 @@ def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> lis
     prog.set("u_dielectric_f0", tuple(float(c) for c in m.dielectric_f0), strict=False)
     prog.set("u_dielectric_f90", m.specular, strict=False)
     prog.set("u_clearcoat", (m.clearcoat, m.clearcoat_roughness), strict=False)
+    prog.set("u_sheen", (*(float(c) for c in m.sheen_color), m.sheen_roughness), strict=False)
     prog.set("u_emissive", tuple(float(c) for c in m.emissive * m.emissive_strength))
     prog.set("u_unlit", bool(m.unlit))
     prog.set("u_alpha_cutoff", m.alpha_cutoff, strict=False)

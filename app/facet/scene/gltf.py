@@ -7,6 +7,7 @@ several nodes is decoded once. Triangle strips and fans become triangles; points
 are left out with a warning. Cameras become named cameras. Supported extensions:
 KHR_draco_mesh_compression (through DracoPy), KHR_mesh_quantization, KHR_texture_transform,
 KHR_materials_emissive_strength, _unlit, _ior, _specular, _transmission, _volume, _clearcoat,
+_sheen,
 KHR_lights_punctual (facet.scene.gltf_lights); a file that *requires* another one is
 refused by name, one that only uses another one gets a warning that it is ignored.
 
@@ -31,7 +32,7 @@ from .pbr import PbrMaterial, TextureSlot, texture_transform
 SUPPORTED = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
              "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
              "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume",
-             "KHR_lights_punctual", "KHR_materials_clearcoat"}
+             "KHR_lights_punctual", "KHR_materials_clearcoat", "KHR_materials_sheen"}
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
 WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
@@ -327,6 +328,23 @@ class _Reader:
                 if key in coat:
                     self.warn(f"ignores KHR_materials_clearcoat's {key} (material {name!r}: "
                               "its factors are used, on the base's normal)")
+        sheen = ext.get("KHR_materials_sheen")
+        if isinstance(sheen, dict):
+            if "sheenColorFactor" in sheen:
+                c = sheen["sheenColorFactor"]
+                if not (isinstance(c, list) and len(c) == 3):
+                    self.data.fail(f"material {name!r}: sheenColorFactor must be 3 numbers, "
+                                   f"got {c!r}")
+                out["sheen_color"] = [float(np.clip(self._factor(
+                    v, f"material {name!r} sheenColorFactor"), 0, 1)) for v in c]
+            if "sheenRoughnessFactor" in sheen:
+                out["sheen_roughness"] = float(np.clip(self._factor(
+                    sheen["sheenRoughnessFactor"], f"material {name!r} sheenRoughnessFactor"),
+                    0, 1))
+            for key in ("sheenColorTexture", "sheenRoughnessTexture"):
+                if key in sheen:
+                    self.warn(f"ignores KHR_materials_sheen's {key} (material {name!r}: its "
+                              "factors are used)")
         volume = ext.get("KHR_materials_volume")
         if isinstance(volume, dict):
             out["thickness"] = max(self._factor(volume.get("thicknessFactor", 0.0),

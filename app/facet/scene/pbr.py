@@ -100,7 +100,9 @@ class PbrMaterial:
 
     ``clearcoat`` (KHR_materials_clearcoat): a clear dielectric layer (ior 1.5) on top, of
     ``clearcoat_roughness``: a second GGX lobe weighted by the layer's Fresnel factor, the
-    base beneath it dimmed by what that reflects."""
+    base beneath it dimmed by what that reflects. ``sheen_color`` (3,) linear and
+    ``sheen_roughness`` (KHR_materials_sheen): the soft back-scattering of cloth, a lobe
+    under the coat that dims the base by its own albedo."""
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
     metallic: float = 1.0
@@ -128,6 +130,8 @@ class PbrMaterial:
     attenuation_distance: float = float("inf")
     clearcoat: float = 0.0
     clearcoat_roughness: float = 0.0
+    sheen_color: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    sheen_roughness: float = 0.0
 
     # Not used by this model; present so that every material answers the same questions.
     shader = None
@@ -142,7 +146,7 @@ class PbrMaterial:
             np.append(as_color(self.base_color, "base color"), 1.0)
         self.emissive = as_color(self.emissive, "emissive")
         for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff", "specular",
-                    "transmission", "clearcoat", "clearcoat_roughness"):
+                    "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and 0.0 <= v <= 1.0):
                 raise InputError(f"material {key} must be a number in [0, 1], got {v!r}")
@@ -159,6 +163,7 @@ class PbrMaterial:
                              f"reflector, as glTF allows), got {v!r}")
         self.ior = float(v)
         self.attenuation_color = as_color(self.attenuation_color, "attenuation color")
+        self.sheen_color = as_color(self.sheen_color, "sheen color")
         d = self.attenuation_distance
         if not (isinstance(d, (int, float, np.floating)) and d > 0):
             raise InputError(f"material attenuation_distance must be a number > 0 (inf: "

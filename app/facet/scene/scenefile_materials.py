@@ -20,6 +20,8 @@ which key belongs to which). Colours here are linear, as glTF's factors are:
     attenuation_distance = 1e30
     clearcoat = 0.0                    # KHR_materials_clearcoat: a clear layer on top
     clearcoat_roughness = 0.0
+    sheen_color = [0, 0, 0]            # KHR_materials_sheen: cloth's soft rim
+    sheen_roughness = 0.0
     alpha_mode = "OPAQUE"              # or MASK (with alpha_cutoff) or BLEND
     double_sided = false
     base_color_texture = "albedo.png"  # or a table: image, texcoord, wrap, filter,
@@ -39,12 +41,13 @@ from .validate import show
 PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emissive",
        "emissive_strength", "alpha_mode", "alpha_cutoff", "double_sided", "normal_scale",
        "occlusion_strength", "unlit", "transmission", "thickness", "attenuation_color",
-       "attenuation_distance", "clearcoat", "clearcoat_roughness",
+       "attenuation_distance", "clearcoat", "clearcoat_roughness", "sheen_color",
+       "sheen_roughness",
        *(f"{s}_texture" for s in SLOTS))
 SHARED = ("ior",)  # a Phong material's refraction, a metallic-roughness one's dielectric
 SLOT_KEYS = ("image", "texcoord", "wrap", "filter", "offset", "rotation", "scale")
 UNIT_KEYS = ("metallic", "roughness", "specular", "alpha_cutoff", "occlusion_strength",
-             "transmission", "clearcoat", "clearcoat_roughness")
+             "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness")
 
 
 def is_pbr(t: dict) -> bool:
@@ -64,6 +67,8 @@ def read_pbr(r, t: dict, where: str, phong_keys, texture) -> PbrMaterial:
     kw = {}
     if "base_color" in t:
         kw["base_color"] = r.color(t["base_color"], f"{where}.base_color", channels=(3, 4))
+    if "sheen_color" in t:
+        kw["sheen_color"] = r.color(t["sheen_color"], f"{where}.sheen_color")
     if "attenuation_color" in t:
         kw["attenuation_color"] = r.color(t["attenuation_color"], f"{where}.attenuation_color")
     if "attenuation_distance" in t:

@@ -210,6 +210,7 @@ def material_rows(row: np.ndarray, m, layers: dict, pbr: bool = True) -> None:
     row[r + 3] = (*m.dielectric_f0, m.specular)
     row[r + 4] = (m.transmission, m.thickness, m.ior, m.clearcoat)
     row[r + 5] = (*m.absorption, m.clearcoat_roughness)
+    row[r + 6] = (*m.sheen_color, m.sheen_roughness)
     row[r + 7] = (0.0, float(m.unlit), float(pbr), 0.0)
     for k, name in enumerate(PATH_SLOTS):
         slot = getattr(m, f"{name}_texture")
