@@ -94,26 +94,38 @@ def test_a_white_lambert_like_sphere_in_a_white_furnace_is_nearly_invisible():
     np.testing.assert_allclose(color[centre][:, :3].mean(axis=0), expected, rtol=0.02)
 
 
+def _direct_against_raster(material, direction, facing=0.3, least=300):
+    """(path, raster) float colour of a sphere of ``material`` under one directional light
+    without ambient or bounces, and the pixels both light unclipped; asserts that the two
+    engines' linear colour agrees there (they evaluate the same BRDF for the light)."""
+    scene = _sphere_scene(material)
+    scene.add_light(DirectionalLight(direction=direction))
+    with facet.Renderer(SIZE, SIZE) as r:
+        path = r.render(scene, CAMERA, engine="path", max_depth=0, float_color=True,
+                        aa="none", outputs=("color", "normals"))
+        raster = r.render(scene, CAMERA, engine="raster", shading="pbr", float_color=True,
+                          aa="none")
+    lit = (path.normals[..., 2] > facing) & (path.color[..., 0] > 0.01) & \
+        (raster.color[..., :3].max(axis=-1) < 1)  # not clipped
+    assert lit.sum() > least
+    # The rasterizer's pbr model writes sRGB-encoded values in the default colour mode.
+    diff = np.abs(path.color[lit][:, :3] - srgb_to_linear(raster.color[lit][:, :3]))
+    assert diff.mean() < 0.005 and np.percentile(diff, 99) < 0.02, (diff.mean(), diff.max())
+    return path.color, raster.color, lit
+
+
 def test_direct_light_matches_the_rasterizer():
     """No bounces (max_depth 0), one directional light, no ambient: both engines evaluate
     the same BRDF for the same light, exactly. The path tracer's float colour is linear
     radiance; the rasterizer's metallic-roughness model writes sRGB-encoded values in the
     default colour mode, so it is decoded here; 8-bit pictures agree as they are."""
     mat = PbrMaterial(base_color=(0.7, 0.4, 0.2, 1), metallic=0.3, roughness=0.5)
+    _, _, lit = _direct_against_raster(mat, (-0.4, -0.5, -1.0))
     scene = _sphere_scene(mat)
     scene.add_light(DirectionalLight(direction=(-0.4, -0.5, -1.0)))
     with facet.Renderer(SIZE, SIZE) as r:
-        path = r.render(scene, CAMERA, engine="path", max_depth=0, float_color=True,
-                        aa="none", outputs=("color", "normals"))
-        raster = r.render(scene, CAMERA, engine="raster", shading="pbr", float_color=True,
-                          aa="none")
         path8 = r.render(scene, CAMERA, engine="path", max_depth=0, aa="none").color
         raster8 = r.render(scene, CAMERA, engine="raster", shading="pbr", aa="none").color
-    lit = (path.normals[..., 2] > 0.3) & (path.color[..., 0] > 0.02) & \
-        (raster.color[..., :3].max(axis=-1) < 1)  # not clipped
-    assert lit.sum() > 300
-    diff = np.abs(path.color[lit][:, :3] - srgb_to_linear(raster.color[lit][:, :3]))
-    assert diff.mean() < 0.005 and np.percentile(diff, 99) < 0.02, (diff.mean(), diff.max())
     diff8 = np.abs(path8[lit][:, :3].astype(int) - raster8[lit][:, :3])
     assert diff8.mean() < 1.5 and np.percentile(diff8, 99) <= 6, (diff8.mean(), diff8.max())
 
@@ -252,22 +264,14 @@ def test_a_clear_coat_under_direct_light_matches_the_rasterizer():
     """Both engines evaluate the same coated BRDF (lib/pbr.glsl) for one light."""
     mat = PbrMaterial(base_color=(0.2, 0.4, 0.7, 1), metallic=0.0, roughness=0.7,
                       clearcoat=1.0, clearcoat_roughness=0.15)
-    scene = _sphere_scene(mat)
-    uncoated = _sphere_scene(PbrMaterial(base_color=(0.2, 0.4, 0.7, 1), metallic=0.0,
-                                         roughness=0.7))
-    for s in (scene, uncoated):
-        s.add_light(DirectionalLight(direction=(-0.4, -0.5, -1.0)))
+    _, raster, _ = _direct_against_raster(mat, (-0.4, -0.5, -1.0))
+    plain = _sphere_scene(PbrMaterial(base_color=(0.2, 0.4, 0.7, 1), metallic=0.0,
+                                      roughness=0.7))
+    plain.add_light(DirectionalLight(direction=(-0.4, -0.5, -1.0)))
     with facet.Renderer(SIZE, SIZE) as r:
-        path = r.render(scene, CAMERA, engine="path", max_depth=0, float_color=True,
-                        aa="none", outputs=("color", "normals"))
-        raster = r.render(scene, CAMERA, engine="raster", shading="pbr", float_color=True,
-                          aa="none")
-        plain = r.render(uncoated, CAMERA, engine="raster", shading="pbr", float_color=True,
-                         aa="none")
-    lit = (path.normals[..., 2] > 0.3) & (raster.color[..., :3].max(axis=-1) < 1)
-    diff = np.abs(path.color[lit][:, :3] - srgb_to_linear(raster.color[lit][:, :3]))
-    assert diff.mean() < 0.005 and np.percentile(diff, 99) < 0.02, (diff.mean(), diff.max())
-    assert np.abs(raster.color - plain.color).max() > 0.1  # the coat shows
+        uncoated = r.render(plain, CAMERA, engine="raster", shading="pbr", float_color=True,
+                            aa="none").color
+    assert np.abs(raster - uncoated).max() > 0.1  # the coat shows
 
 
 def test_a_sheen_in_a_furnace_shows_its_lobes_albedo():
@@ -288,15 +292,4 @@ def test_a_sheen_in_a_furnace_shows_its_lobes_albedo():
 def test_a_sheen_under_direct_light_matches_the_rasterizer():
     mat = PbrMaterial(base_color=(0.3, 0.1, 0.1, 1), metallic=0.0, roughness=0.8,
                       sheen_color=(0.9, 0.8, 0.2), sheen_roughness=0.4)
-    scene = _sphere_scene(mat)
-    scene.add_light(DirectionalLight(direction=(0.6, -0.2, -0.5)))  # a rim from behind
-    with facet.Renderer(SIZE, SIZE) as r:
-        path = r.render(scene, CAMERA, engine="path", max_depth=0, float_color=True,
-                        aa="none", outputs=("color", "normals"))
-        raster = r.render(scene, CAMERA, engine="raster", shading="pbr", float_color=True,
-                          aa="none")
-    lit = (path.normals[..., 2] > 0.2) & (raster.color[..., :3].max(axis=-1) < 1) & \
-        (path.color[..., 0] > 0.01)
-    assert lit.sum() > 100
-    diff = np.abs(path.color[lit][:, :3] - srgb_to_linear(raster.color[lit][:, :3]))
-    assert diff.mean() < 0.005 and np.percentile(diff, 99) < 0.02, (diff.mean(), diff.max())
+    _direct_against_raster(mat, (0.6, -0.2, -0.5), facing=0.2, least=100)  # a rim light

@@ -517,30 +517,39 @@ def test_shader_window_opens_at_its_documented_size(display, tmp_path):
         proc.wait()
 
 
-def test_the_engine_key_refines_the_traced_picture(window, tmp_path):
-    """`e` switches to the ray tracer: with the camera still the window refines to the
-    headless traced render of the same camera (4 samples for the default msaa:4)."""
+def _refined_engine_view(window, tmp_path, engine: str, presses: int):
+    """`e` pressed ``presses`` times, the view refined (4 samples for the default msaa:4)
+    and screenshotted: (the screenshot, the headless render of ``engine`` from the same
+    camera, the rasterizer's)."""
+    from facet.geometry.camera import Camera
     from facet.render.renderer import Renderer
     from facet.scene import Mesh, Scene
-    from test_golden import CHANNEL_TOL, MAX_DIFFERING
 
     w = window()
-    w.key("e")
-    w.wait_title(lambda t: "4/4 samples" in t)
+    for _ in range(presses):
+        w.key("e")
+    w.wait_title(lambda t: "4/4 samples" in t and
+                 (engine == "trace" or f"engine {engine}" in t), timeout=60)
     w.key("s")
     shots = files(tmp_path, "facet-*.png")
-    assert w.quit() == 0 and "engine: trace" in w.proc.stdout.read()
+    assert w.quit() == 0 and f"engine: {engine}" in w.proc.stdout.read()
     info = json.loads(shots[0].with_suffix(".json").read_text())
-    from facet.geometry.camera import Camera
-
     camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
                     far=info["far"])
     scene = Scene()
     scene.add(Mesh.load(ROOT / "models" / "default.obj"))
     with Renderer(W, H) as r:
-        traced = r.render(scene, camera, engine="trace", outputs=("color",)).color[..., :3]
+        drawn = r.render(scene, camera, engine=engine, outputs=("color",)).color[..., :3]
         raster = r.render(scene, camera, outputs=("color",)).color[..., :3]
-    shot = np.asarray(Image.open(shots[0])).astype(int)
+    return np.asarray(Image.open(shots[0])).astype(int), drawn, raster
+
+
+def test_the_engine_key_refines_the_traced_picture(window, tmp_path):
+    """`e` switches to the ray tracer: with the camera still the window refines to the
+    headless traced render of the same camera."""
+    from test_golden import CHANNEL_TOL, MAX_DIFFERING
+
+    shot, traced, raster = _refined_engine_view(window, tmp_path, "trace", 1)
     diff = np.abs(shot - traced).max(axis=2)
     assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()
     # Really the tracer: its shadow rays darken the knot where it hides itself.
@@ -630,33 +639,13 @@ def test_windows_draw_only_when_something_changes(window, tmp_path, command, ani
 def test_the_engine_key_refines_the_path_traced_picture(window, tmp_path):
     """`e` twice: the path tracer. With the camera still the window refines to the headless
     path-traced render of the same camera (its paths are the same: one random stream per
-    pixel and sample index), and the picture is not the Whitted tracer's."""
-    from facet.render.renderer import Renderer
-    from facet.scene import Mesh, Scene
+    pixel and sample index), and the picture is not the rasterizer's."""
     from test_golden import CHANNEL_TOL, MAX_DIFFERING
 
-    w = window()
-    w.key("e")
-    w.wait_title(lambda t: "4/4 samples" in t)
-    w.key("e")
-    w.wait_title(lambda t: "engine path" in t and "4/4 samples" in t, timeout=60)
-    w.key("s")
-    shots = files(tmp_path, "facet-*.png")
-    assert w.quit() == 0 and "engine: path" in w.proc.stdout.read()
-    info = json.loads(shots[0].with_suffix(".json").read_text())
-    from facet.geometry.camera import Camera
-
-    camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
-                    far=info["far"])
-    scene = Scene()
-    scene.add(Mesh.load(ROOT / "models" / "default.obj"))
-    with Renderer(W, H) as r:
-        path = r.render(scene, camera, engine="path", outputs=("color",)).color[..., :3]
-        traced = r.render(scene, camera, engine="trace", outputs=("color",)).color[..., :3]
-    shot = np.asarray(Image.open(shots[0])).astype(int)
+    shot, path, raster = _refined_engine_view(window, tmp_path, "path", 2)
     diff = np.abs(shot - path).max(axis=2)
     assert (diff > CHANNEL_TOL).mean() <= MAX_DIFFERING, (diff > CHANNEL_TOL).mean()
-    assert (np.abs(path.astype(int) - traced).max(axis=2) > 30).mean() > 0.01
+    assert (np.abs(path.astype(int) - raster).max(axis=2) > 30).mean() > 0.01
 
 
 def test_a_refined_path_traced_view_is_the_offscreen_picture(display):

@@ -27,6 +27,7 @@ from ..srgb import linear_to_srgb
 from .gltf_check import check_gltf
 from .gltf_data import GltfData
 from .gltf_lights import document_lights, facet_light, node_light
+from .gltf_materials import extension_fields
 from .pbr import PbrMaterial, TextureSlot, texture_transform
 
 SUPPORTED = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
@@ -278,100 +279,9 @@ class _Reader:
                 kw["normal_scale"] = abs(float(m.normalTexture.scale))
             if m.occlusionTexture is not None and m.occlusionTexture.strength is not None:
                 kw["occlusion_strength"] = float(np.clip(m.occlusionTexture.strength, 0, 1))
-            kw.update(self._dielectric(ext, kw["name"]))
+            kw.update(extension_fields(ext, kw["name"], self.data.fail, self.warn))
             self.materials[index] = PbrMaterial(**kw)
         return self.materials[index]
-
-    def _dielectric(self, ext: dict, name: str) -> dict:
-        """The dielectric's lobe from KHR_materials_ior and KHR_materials_specular."""
-        out = {}
-        ior = ext.get("KHR_materials_ior")
-        if isinstance(ior, dict) and "ior" in ior:
-            value = self._factor(ior["ior"], f"material {name!r} ior")
-            if value != 0 and value < 1:
-                self.data.fail(f"material {name!r}: ior must be >= 1 (or 0), got {value}")
-            out["ior"] = value
-        spec = ext.get("KHR_materials_specular")
-        if isinstance(spec, dict):
-            if "specularFactor" in spec:
-                out["specular"] = float(np.clip(self._factor(
-                    spec["specularFactor"], f"material {name!r} specularFactor"), 0, 1))
-            if "specularColorFactor" in spec:
-                c = spec["specularColorFactor"]
-                if not (isinstance(c, list) and len(c) == 3):
-                    self.data.fail(f"material {name!r}: specularColorFactor must be 3 "
-                                   f"numbers, got {c!r}")
-                out["specular_color"] = [max(self._factor(v, f"material {name!r} "
-                                                          "specularColorFactor"), 0.0)
-                                         for v in c]
-            for key in ("specularTexture", "specularColorTexture"):
-                if key in spec:
-                    self.warn(f"ignores KHR_materials_specular's {key} (material {name!r}: "
-                              "its factors are used)")
-        trans = ext.get("KHR_materials_transmission")
-        if isinstance(trans, dict):
-            out["transmission"] = float(np.clip(self._factor(
-                trans.get("transmissionFactor", 0.0), f"material {name!r} transmissionFactor"),
-                0, 1))
-            if "transmissionTexture" in trans:
-                self.warn(f"ignores KHR_materials_transmission's transmissionTexture "
-                          f"(material {name!r}: its factor is used)")
-        coat = ext.get("KHR_materials_clearcoat")
-        if isinstance(coat, dict):
-            for key, field in (("clearcoatFactor", "clearcoat"),
-                               ("clearcoatRoughnessFactor", "clearcoat_roughness")):
-                if key in coat:
-                    out[field] = float(np.clip(self._factor(
-                        coat[key], f"material {name!r} {key}"), 0, 1))
-            for key in ("clearcoatTexture", "clearcoatRoughnessTexture",
-                        "clearcoatNormalTexture"):
-                if key in coat:
-                    self.warn(f"ignores KHR_materials_clearcoat's {key} (material {name!r}: "
-                              "its factors are used, on the base's normal)")
-        sheen = ext.get("KHR_materials_sheen")
-        if isinstance(sheen, dict):
-            if "sheenColorFactor" in sheen:
-                c = sheen["sheenColorFactor"]
-                if not (isinstance(c, list) and len(c) == 3):
-                    self.data.fail(f"material {name!r}: sheenColorFactor must be 3 numbers, "
-                                   f"got {c!r}")
-                out["sheen_color"] = [float(np.clip(self._factor(
-                    v, f"material {name!r} sheenColorFactor"), 0, 1)) for v in c]
-            if "sheenRoughnessFactor" in sheen:
-                out["sheen_roughness"] = float(np.clip(self._factor(
-                    sheen["sheenRoughnessFactor"], f"material {name!r} sheenRoughnessFactor"),
-                    0, 1))
-            for key in ("sheenColorTexture", "sheenRoughnessTexture"):
-                if key in sheen:
-                    self.warn(f"ignores KHR_materials_sheen's {key} (material {name!r}: its "
-                              "factors are used)")
-        volume = ext.get("KHR_materials_volume")
-        if isinstance(volume, dict):
-            out["thickness"] = max(self._factor(volume.get("thicknessFactor", 0.0),
-                                                f"material {name!r} thicknessFactor"), 0.0)
-            if "attenuationDistance" in volume:
-                d = self._factor(volume["attenuationDistance"],
-                                 f"material {name!r} attenuationDistance")
-                if d <= 0:
-                    self.data.fail(f"material {name!r}: attenuationDistance must be > 0, "
-                                   f"got {d}")
-                out["attenuation_distance"] = d
-            if "attenuationColor" in volume:
-                c = volume["attenuationColor"]
-                if not (isinstance(c, list) and len(c) == 3):
-                    self.data.fail(f"material {name!r}: attenuationColor must be 3 numbers, "
-                                   f"got {c!r}")
-                out["attenuation_color"] = [float(np.clip(self._factor(
-                    v, f"material {name!r} attenuationColor"), 0, 1)) for v in c]
-            # thicknessTexture scales the thickness the rasterizer's refraction assumes; the
-            # path tracer measures the volume itself: nothing is lost without it.
-        return out
-
-    def _factor(self, value, what: str) -> float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or \
-                not np.isfinite(value):
-            self.data.fail(f"{what} must be a finite number, got {value!r}")
-        return float(value)
 
     def _slot(self, info) -> TextureSlot | None:
         """A TextureSlot of a textureInfo (None when absent or its image is missing)."""
