@@ -8,7 +8,6 @@ import pytest
 import facet
 from facet.errors import MeshError
 from facet.scene.light import DirectionalLight, PointLight, SpotLight
-from facet.srgb import srgb_to_linear
 
 from gltf_files import GltfBuilder, quad
 
@@ -60,9 +59,8 @@ def test_a_point_light_gives_candela_over_distance_squared(tmp_path):
     scene.ambient = np.zeros(3)
     camera = facet.Camera.look_at((0, 2, 0.001), (0, 0, 0), fov_y=10, near=0.5, far=5)
     with facet.Renderer(16, 16) as r:
-        # (The rasterizer's pbr model writes sRGB-encoded values: decoded, see test_path.)
-        raster = srgb_to_linear(r.render(scene, camera, shading="pbr", float_color=True,
-                                         aa="none").color[8, 8, 0])
+        raster = r.render(scene, camera, shading="pbr", float_color=True,
+                          aa="none").color[8, 8, 0]  # float colour: linear in every engine
         path_ = r.render(scene, camera, engine="path", spp=16, max_depth=0,
                          float_color=True).color[8, 8, 0]
     from reference import _pbr_brdf_cos

@@ -12,7 +12,6 @@ from facet.errors import FacetWarning
 from facet.geometry.camera import Camera
 from facet.scene.light import DirectionalLight
 from facet.scene.pbr import PbrMaterial
-from facet.srgb import srgb_to_linear
 
 SIZE = 48
 CAMERA = Camera.look_at((0, 0, 4), (0, 0, 0), fov_y=40, near=1, far=10)
@@ -108,17 +107,15 @@ def _direct_against_raster(material, direction, facing=0.3, least=300):
     lit = (path.normals[..., 2] > facing) & (path.color[..., 0] > 0.01) & \
         (raster.color[..., :3].max(axis=-1) < 1)  # not clipped
     assert lit.sum() > least
-    # The rasterizer's pbr model writes sRGB-encoded values in the default colour mode.
-    diff = np.abs(path.color[lit][:, :3] - srgb_to_linear(raster.color[lit][:, :3]))
+    diff = np.abs(path.color[lit][:, :3] - raster.color[lit][:, :3])  # both linear
     assert diff.mean() < 0.005 and np.percentile(diff, 99) < 0.02, (diff.mean(), diff.max())
     return path.color, raster.color, lit
 
 
 def test_direct_light_matches_the_rasterizer():
     """No bounces (max_depth 0), one directional light, no ambient: both engines evaluate
-    the same BRDF for the same light, exactly. The path tracer's float colour is linear
-    radiance; the rasterizer's metallic-roughness model writes sRGB-encoded values in the
-    default colour mode, so it is decoded here; 8-bit pictures agree as they are."""
+    the same BRDF for the same light, exactly: their float colour (linear light in every
+    engine) and their 8-bit pictures (sRGB-encoded) agree."""
     mat = PbrMaterial(base_color=(0.7, 0.4, 0.2, 1), metallic=0.3, roughness=0.5)
     _, _, lit = _direct_against_raster(mat, (-0.4, -0.5, -1.0))
     scene = _sphere_scene(mat)
@@ -212,7 +209,7 @@ def test_the_rasterizer_keeps_a_rough_metals_energy_too():
                              environment={"color": [1, 1, 1]}, float_color=True,
                              outputs=("color", "normals"))
         centre = frame.normals[..., 2] > 0.9
-        linear = srgb_to_linear(frame.color[centre][:, :3])  # see the direct-light test
+        linear = frame.color[centre][:, :3]  # float colour: linear in every engine
         assert linear.mean() == pytest.approx(1.0, abs=0.02), roughness
 
 

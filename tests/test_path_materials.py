@@ -16,7 +16,6 @@ from facet.scene.light import DirectionalLight
 from facet.scene.mesh import Mesh
 from facet.scene.pbr import PbrMaterial, TextureSlot, texture_transform
 from facet.scene.texture import Texture
-from facet.srgb import srgb_to_linear
 
 from reference import _pbr_brdf_cos as pbr_f_cos
 
@@ -62,8 +61,7 @@ def _direct(scene, engine, **kw):
                             aa="none", lights="scene", **kw)
         frame = r.render(scene, FRONT, engine="raster", shading="pbr", float_color=True,
                          aa="none", lights="scene", **kw)
-        frame.color[..., :3] = srgb_to_linear(frame.color[..., :3])  # see test_path
-        return frame
+        return frame  # float colour: linear in every engine
 
 
 def test_every_texture_slot_matches_the_rasterizer_under_direct_light():
@@ -322,9 +320,7 @@ def test_unlit_materials_show_their_base_colour(engine):
     with facet.Renderer(16, 16) as r:
         img = r.render(scene, FRONT, engine=engine, float_color=True, srgb=True,
                        lights="scene", aa="none" if engine == "trace" else "ssaa:grid:1")
-    linear = img.color[8, 8, :3]
-    if engine == "trace":  # the sRGB mode encodes the tracer's float colour (see test_path)
-        linear = srgb_to_linear(linear)
+    linear = img.color[8, 8, :3]  # float colour: linear in every engine
     np.testing.assert_allclose(linear, (0.3, 0.6, 0.9), atol=2e-3)
 
 
@@ -349,10 +345,8 @@ def test_colour_images_are_decoded_before_they_are_filtered(engine):
         img = r.render(scene, FRONT, engine=engine, aa="none" if engine == "trace" else
                        "ssaa:grid:1", **kw).color
         ref = r.render(scene, FRONT, engine="raster", aa="none", **kw).color
-    row = img[SIZE // 2, :, 0]
-    if engine == "trace":  # the sRGB mode encodes the tracer's float colour (see test_path)
-        row = srgb_to_linear(row)
-    ref_row = srgb_to_linear(ref[SIZE // 2, :, 0])
+    row = img[SIZE // 2, :, 0]  # float colour: linear in every engine
+    ref_row = ref[SIZE // 2, :, 0]
     c = SIZE // 2
     assert row[c] == pytest.approx(0.5, abs=0.06) and ref_row[c] == pytest.approx(0.5, abs=0.06)
     np.testing.assert_allclose(row[c - 8:c + 8], ref_row[c - 8:c + 8], atol=0.04)

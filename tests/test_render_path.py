@@ -105,7 +105,9 @@ def test_the_scene_options_apply_from_python(tmp_path):
 @pytest.mark.parametrize("aa", ["none", "msaa:4", "ssaa:grid:4"])
 def test_colour_finishing_matches_the_equations(renderer, aa):
     """sRGB encoding and straight alpha, done by the finishing pass on the GPU, against
-    numpy: an exact sphere under one light, interior pixels within 2/255."""
+    numpy: an exact sphere under one light, interior pixels within 2/255. Float colour is
+    linear light (the rule for every engine: encoding is for 8-bit output); 8-bit colour is
+    encoded."""
     scene = Scene(ambient=0.1, background=(0.2, 0.4, 0.6, 0.0))
     material = Material(color=(0.8, 0.3, 0.2))
     scene.add(sphere_mesh(6), material)
@@ -113,14 +115,20 @@ def test_colour_finishing_matches_the_equations(renderer, aa):
     scene.add_light(light)
     r = renderer(S, S)
     frame = r.render(scene, CAMERA, aa=aa, srgb=True, float_color=True)
+    eight = r.render(scene, CAMERA, aa=aa, srgb=True).color
     # sRGB mode: the inputs are sRGB-encoded; the equation runs on their linear values.
     linear = Material(color=srgb_to_linear(material.color))
     ref, mask, _ = sphere_reference(CAMERA, S, S, (0, 0, 0), 1.0, linear, [light],
                                     srgb_to_linear(0.1))
     inner = erode(mask, 2)
-    assert np.abs(frame.color[..., :3] - linear_to_srgb(ref))[inner].max() <= 2 / 255
+    assert np.abs(frame.color[..., :3] - ref)[inner].max() <= 2 / 255
+    assert np.abs(eight[..., :3] / 255 - linear_to_srgb(ref))[inner].max() <= 2.5 / 255
     assert np.all(frame.color[..., 3][inner] == 1.0)
     empty = ~erode(~mask, 2)
     # Nothing covers these: alpha 0 and the background's own (straight) colour.
     assert np.all(frame.color[..., 3][~empty] == 0)
-    assert np.allclose(frame.color[..., :3][~empty], [0.2, 0.4, 0.6], atol=2 / 255)
+    # (the background's colour is sRGB-encoded input: linear in float colour, as given in
+    # 8-bit colour)
+    assert np.allclose(frame.color[..., :3][~empty], srgb_to_linear([0.2, 0.4, 0.6]),
+                       atol=2 / 255)
+    assert np.allclose(eight[..., :3][~empty] / 255, [0.2, 0.4, 0.6], atol=2 / 255)

@@ -4,8 +4,9 @@
 // each with its coordinate set, KHR_texture_transform matrix and mirrored axes (repeat and
 // clamp are the sampler's), are enabled by TEX_<SLOT> defines. Image-based light comes from
 // the environment's prefiltered maps (HAS_ENVIRONMENT), else from the ambient intensity
-// as a uniform environment. Without COLOR_SRGB the result is sRGB-encoded here (the other
-// models' inputs and outputs are then display values; this one's inputs are always linear).
+// as a uniform environment. Without COLOR_SRGB the result is sRGB-encoded here for 8-bit
+// output (the other models' inputs and outputs are then display values; this one's inputs
+// are always linear); float output (LINEAR_OUT) is linear light in either mode.
 
 in vec3 v_pos_world;
 in vec3 v_normal_world;
@@ -147,7 +148,7 @@ void main() {
     emissive *= sample_slot(u_tex_emissive, SLOT_EMISSIVE).rgb;
 #endif
     rgb += emissive;
-#ifndef COLOR_SRGB
+#if !defined(COLOR_SRGB) && !defined(LINEAR_OUT)
     rgb = linear_to_srgb_fast(clamp(rgb, 0.0, 1.0));
 #endif
     write_color(rgb, base.a);

@@ -188,7 +188,7 @@ vec3 shade_pbr(Surface s, vec3 V) {
         rgb += sky * u_ambient.rgb;
     }
     rgb += mat.emission;
-#ifndef COLOR_SRGB
+#if !defined(COLOR_SRGB) && !defined(LINEAR_OUT)
     rgb = linear_to_srgb(clamp(rgb, 0.0, 1.0));
 #endif
     return rgb;

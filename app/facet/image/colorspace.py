@@ -8,7 +8,10 @@ facet has two colour modes:
 * sRGB (``--srgb``, ``Renderer(srgb=True)``): inputs are taken to be sRGB-encoded and are
   linearised (textures by the GPU's sRGB sampling, everything else by ``srgb_to_linear``),
   lighting happens in linear space on a float target (so MSAA averages linear light), and
-  the result is encoded back to sRGB for output.
+  the result is encoded back to sRGB for 8-bit output.
+
+Float colour out (``float_color``) is never sRGB-encoded, in any engine and either mode:
+linear light in the sRGB mode (and for glTF materials, whose model is linear, in both).
 """
 
 from __future__ import annotations

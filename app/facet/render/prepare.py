@@ -39,7 +39,8 @@ def prepare_frame(scene, camera, opts, window: bool):
         view.environment = opts.environment
     state = FrameState(camera, opts.width, opts.height, not window, opts.shading, opts.srgb,
                        tuple(point_lights_for(view).lights), view.ambient, view.environment,
-                       time=opts.time, cull=opts.cull)
+                       time=opts.time, cull=opts.cull,
+                       linear_out=bool(opts.float_color) and not window)
     return view, state
 
 

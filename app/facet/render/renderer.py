@@ -236,7 +236,9 @@ class Renderer:
         bg = np.array([*state.to_linear(scene.background[:3]).tolist(), alpha])
         clear = (*(bg[:3] * alpha).tolist(), alpha)  # premultiplied (finishing undoes it)
         if aa is None:
-            finish = finish_for(bg, opts.srgb)
+            # (float colour is linear light: encoded for 8-bit output and windows only)
+            finish = finish_for(bg, opts.srgb and (not opts.float_color or
+                                                  dest.window is not None))
             dtype = "f4" if finish.needed or opts.float_color else "f1"
             fbo = engine.draw_picture(scene, state, opts, surf, clear, dtype, together,
                                       None if finish.needed else dest.window)
@@ -248,7 +250,8 @@ class Renderer:
         # An engine whose colour is linear radiance (the path tracer) is encoded for 8-bit
         # output (a window is 8-bit) and left linear in float colour, whatever srgb says.
         eight_bit = not opts.float_color or dest.window is not None
-        encode = eight_bit if engine.radiance else opts.srgb
+        # Float colour is linear light in every engine: encoding is for 8-bit output only.
+        encode = eight_bit if engine.radiance else opts.srgb and eight_bit
         # Radiance into float output is kept as it is: unclamped (and untonemapped).
         finish = finish_for(bg, encode, samples.stop, clamp=eight_bit or not engine.radiance)
         return self._finish(source, None, finish, opts, dest, surf), samples.stop

@@ -70,6 +70,9 @@ class FrameState:
     gloss_jitter: tuple[float, float] = (0.0, 0.0)
     clip_plane: tuple | None = None  # world (n, d) of the mirror whose reflection is drawn
     cull: str = "auto"  # back-face culling: auto, on, off (facet.render.raster.culling)
+    # Float colour out of an offscreen render: linear light, never sRGB-encoded (the
+    # metallic-roughness model then writes its linear result in the default mode too).
+    linear_out: bool = False
     lights_block: bytes = field(default=b"", compare=False)
 
     def __post_init__(self):

@@ -53,6 +53,7 @@ class Variant:
     texture: bool = False
     vertex_colors: bool = False
     srgb: bool = False  # vertex colours are sRGB-encoded
+    linear_out: bool = False  # float output: the pbr model writes linear light
     shadow_slots: tuple[int, ...] | None = None  # per light: its first shadow tile, or -1
     shadow_tiles: int = 0  # tiles in the shadow atlas
     shadow_pcf: int = 1  # PCF kernel radius in texels
@@ -74,7 +75,7 @@ class Variant:
         return _base_variant(state.shading, state.light_kinds, tuple(aux),
                              state.camera.is_orthographic, state.srgb,
                              s.slots if s else None, s.tiles if s else 0, s.pcf if s else 1,
-                             oit, state.clip_plane is not None)
+                             oit, state.clip_plane is not None, state.linear_out)
 
     def defines(self) -> dict:
         spec = SHADING_MODELS[check_shading(self.shading)]
@@ -99,7 +100,7 @@ class Variant:
                  "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb,
                  "OIT": self.oit, "HAS_ENVIRONMENT": self.environment,
                  "HAS_MIRROR": self.mirror, "CLIP_PLANE": self.clip_plane,
-                 "GREY_TERMS": self.grey}
+                 "GREY_TERMS": self.grey, "LINEAR_OUT": self.linear_out}
         d.update({k: None for k, on in flags.items() if on})
         return d
 
@@ -125,12 +126,13 @@ def grey_terms(terms) -> bool:
 
 @lru_cache(maxsize=64)  # asked for on every draw; a handful of distinct ones in a run
 def _base_variant(shading, light_kinds, aux, orthographic, srgb, slots, tiles, pcf, oit,
-                  clip_plane) -> Variant:
+                  clip_plane, linear_out=False) -> Variant:
     # "auto" picks a model per material (facet.render.materials.model_for); the base
     # variant, which users' shaders see, is phong's.
     return Variant("phong" if shading == "auto" else shading, light_kinds,
                    tuple(aux_locations(aux)), orthographic, srgb=srgb, shadow_slots=slots,
-                   shadow_tiles=tiles, shadow_pcf=pcf, oit=oit, clip_plane=clip_plane)
+                   shadow_tiles=tiles, shadow_pcf=pcf, oit=oit, clip_plane=clip_plane,
+                   linear_out=linear_out)
 
 
 class ForwardPass:

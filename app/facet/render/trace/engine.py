@@ -220,6 +220,7 @@ class TraceEngine(Engine):
         defines = {SHADING_MODELS[model].define: None, "MAX_LIGHTS": MAX_LIGHTS,
                    **pack.layout_defines()}
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
+                 "LINEAR_OUT": state.linear_out,
                  "SECONDARY": secondary and stage == "trace",
                  "HAS_ENVIRONMENT": state.environment is not None and stage != "primary"}
         defines.update({k: None for k, on in flags.items() if on})
