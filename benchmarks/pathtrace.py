@@ -132,8 +132,31 @@ def rate_table(quick: bool) -> None:
         print(f"{len(ico.faces):>10,} | {seconds:>8.3f} {rate:>12,.0f} {first / rate:>11.2f}x")
 
 
+def default_table(quick: bool) -> None:
+    """The call a user makes: models/cornell.toml with its own settings (the path tracer,
+    256 x 256, 64 paths per pixel), next to Mitsuba doing the same work."""
+    import facet
+    import mitsuba_scene
+
+    scene = facet.load(ROOT / "models" / "cornell.toml")
+    camera = scene.cameras["front"]
+    size, spp = (128, 16) if quick else (256, 64)
+    print(f"\nThe default call: facet.Renderer().render(models/cornell.toml) ({size}x{size}, "
+          f"{spp} spp, 8-bit colour), and Mitsuba's equal work (float colour)")
+    print(f"{'call':>32} | {'seconds':>8}")
+    with facet.Renderer(size, size) as r:
+        r.render(scene, spp=1)  # upload and compile
+        start = time.perf_counter()
+        r.render(scene, spp=spp)
+        print(f"{'facet render (scene settings)':>32} | {time.perf_counter() - start:>8.3f}")
+    if mitsuba_scene.available():
+        _, seconds = _mitsuba(scene, camera, size, spp, None)
+        print(f"{'Mitsuba scalar_rgb, same spp':>32} | {seconds:>8.3f}")
+
+
 def main(quick: bool = False) -> None:
     efficiency_table(quick)
+    default_table(quick)
     rate_table(quick)
 
 

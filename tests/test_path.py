@@ -290,3 +290,12 @@ def test_a_sheen_under_direct_light_matches_the_rasterizer():
     mat = PbrMaterial(base_color=(0.3, 0.1, 0.1, 1), metallic=0.0, roughness=0.8,
                       sheen_color=(0.9, 0.8, 0.2), sheen_roughness=0.4)
     _direct_against_raster(mat, (0.6, -0.2, -0.5), facing=0.2, least=100)  # a rim light
+
+
+def test_pcf_given_to_the_path_tracer_is_one_warning_line():
+    """The path tracer's own list of what it ignores replaced the tracer's, which named
+    pcf: given to the path tracer, pcf went unsaid."""
+    mat = PbrMaterial(base_color=(0.5, 0.5, 0.5, 1), metallic=0.0)
+    with facet.Renderer(16, 16) as r, pytest.warns(FacetWarning,
+                                                   match="path tracer's shadow rays are exact"):
+        r.render(_sphere_scene(mat), CAMERA, engine="path", spp=1, pcf=2)

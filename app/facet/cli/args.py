@@ -109,6 +109,7 @@ def add_shader_options(p) -> None:
 def add_render_options(p, size_default: str) -> None:
     """The render options of ``facet render`` and ``facet view``. Each one left out takes
     the scene file's [render] value, else facet's default."""
+    from ..scene.option_values import DEFAULT_BOUNCES
     from ..scene.options import (
         CULL,
         DEFAULT_MAX_DEPTH,
@@ -136,10 +137,13 @@ def add_render_options(p, size_default: str) -> None:
     g.add_argument("--engine", metavar="ENGINE",
                    help=f"{' or '.join(ENGINES)}. raster: the rasterizer (default); trace: "
                    "the GPU ray tracer (shadow rays, reflection and refraction rays, exact "
-                   "shapes)")
+                   "shapes); path: the path tracer (light bounced between surfaces, "
+                   "emitting surfaces, glass; linear radiance)")
     g.add_argument("--max-depth", metavar="N",
-                   help="the ray tracer's reflection/refraction bounces (default "
-                   f"{DEFAULT_MAX_DEPTH}; 1 is one reflection and one transmission ray)")
+                   help="the tracers' bounces: the ray tracer's reflection/refraction "
+                   f"depth (default {DEFAULT_MAX_DEPTH}; 1 is one reflection and one "
+                   "transmission ray), the path tracer's bounces after the eye ray "
+                   f"(default {DEFAULT_BOUNCES})")
     g.add_argument("--seed", metavar="N",
                    help="the random stream (path tracer, jittered patterns): the same seed "
                    "gives the same picture (default 0)")

@@ -37,6 +37,7 @@ ENGINES = ("raster", "trace", "path")  # rasterizer, ray tracer, path tracer (fa
 SHADOWS_BY_DEFAULT = ("trace", "path")
 CULL = ("auto", "on", "off")  # back-face culling (facet.render.raster.culling)
 DEFAULT_MAX_DEPTH = 5  # reflection/refraction bounces of the ray tracer
+DEFAULT_BOUNCES = 8  # the path tracer's max_depth when it is left at DEFAULT_MAX_DEPTH
 DEFAULT_AA = "msaa:4"
 # Files without normals: vertices split where faces meet at more than this many degrees
 # (facet.scene.normals; 180: all smooth).

@@ -19,7 +19,8 @@ import weakref
 import numpy as np
 
 from ...scene.light import AreaLight
-from ...scene.option_values import DEFAULT_MAX_DEPTH
+from ...scene.option_values import DEFAULT_BOUNCES, DEFAULT_MAX_DEPTH
+from ...scene.options import RenderOptions
 from ...scene.pbr import PbrMaterial
 from ...srgb import srgb_to_linear
 from ..materials import as_pbr, feature_lines
@@ -29,7 +30,6 @@ from .emitters import pack_emitters
 from .engine import TraceEngine
 from .env_sampling import distribution
 
-DEFAULT_BOUNCES = 8
 STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag
 EMITTERS_UNIT = 21  # after facet.render.materials.IBL_UNITS
 SKY_UNITS = (22, 23)
@@ -175,6 +175,8 @@ class PathEngine(TraceEngine):
                          "single-sided glTF materials lose theirs)")
         if not opts.shadows_on:
             lines.append("the path tracer always traces shadows (shadows = off ignored)")
+        if opts.pcf != RenderOptions.pcf:  # given: the default filters nothing here
+            lines.append("pcf filters shadow maps; the path tracer's shadow rays are exact")
         areas = [x for x in scene.lights if isinstance(x, AreaLight)]
         if any(not np.array_equal(x.attenuation, (0.0, 0.0, 1.0)) for x in areas):
             lines.append("the path tracer's area lights are emitting rectangles: they fall "
