@@ -9,8 +9,8 @@
 // KHR_materials_sheen (pbr_sheen): f = f min(1 - c E_s(N.V), 1 - c E_s(N.L)) + sheen D_c V_c,
 // c = max(sheen colour): the Charlie distribution, Estevez and Kulla's shadowing, E_s its
 // albedo (lib/sheen_albedo.glsl), under the coat.
-// KHR_materials_clearcoat (pbr_coat): f = (1 - c F_c(N.V)) f + c F_c(V.H) f_specular(alpha_c),
-// F_c with f0 = 0.04, on the same shading normal.
+// KHR_materials_clearcoat (pbr_coat): f = (1 - c F_c(N_c.V)) f + c F_c(V.H) f_specular(alpha_c),
+// F_c with f0 = 0.04, on the coat's own normal N_c (its normal map's, else the surface's).
 // facet's lights of intensity I give irradiance pi I (facet.scene.pbr), so a light adds
 // pi f I (N.L); the pi cancels f_diffuse's.
 
@@ -57,9 +57,11 @@ struct PbrSurface {
     float alpha;    // roughness^2
     float n_dot_v;
     vec3 ms;        // the lobe's multiple-scattering scale, 1 + f0 (1 - E) / E
-    float cc;       // clearcoat: its factor, roughness^2, and the Fresnel factor at N.V
-    float cc_alpha;
+    float cc;       // clearcoat: its factor, roughness^2, the Fresnel factor at N_c.V,
+    float cc_alpha; // its normal N_c and N_c.V
     float cc_fresnel;
+    vec3 cc_n;
+    float cc_n_dot_v;
     vec3 sheen;     // sheen colour (0: none), its roughness, and max(colour) E_s(N.V)
     float sheen_roughness;
     float sheen_dim;
@@ -85,7 +87,8 @@ PbrSurface pbr_surface_full(vec3 base, float metallic, float roughness, float n_
     float e = ggx_albedo(n_dot_v, roughness);
     return PbrSurface((1.0 - metallic) * base, f0, mix(f90_d, 1.0, metallic), f0_d, f90_d,
                       max(roughness * roughness, MIN_ALPHA), n_dot_v,
-                      1.0 + f0 * ((1.0 - e) / e), 0.0, 1.0, 0.0, vec3(0.0), 1.0, 0.0);
+                      1.0 + f0 * ((1.0 - e) / e), 0.0, 1.0, 0.0, vec3(0.0, 0.0, 1.0),
+                      n_dot_v, vec3(0.0), 1.0, 0.0);
 }
 
 const float SHEEN_MIN_ROUGHNESS = 0.07;  // facet.render.energy's
@@ -123,11 +126,14 @@ float sheen_lambda(float cos_t, float alpha) {
     return exp(2.0 * half_fit - fit);
 }
 
-// A clear coat of factor ``clearcoat`` and ``roughness`` on the surface.
-void pbr_coat(inout PbrSurface s, float clearcoat, float roughness) {
+// A clear coat of factor ``clearcoat`` and ``roughness`` with normal ``n`` (unit) on the
+// surface seen from V.
+void pbr_coat(inout PbrSurface s, float clearcoat, float roughness, vec3 n, vec3 V) {
     s.cc = clearcoat;
     s.cc_alpha = max(roughness * roughness, MIN_ALPHA);
-    s.cc_fresnel = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(s.n_dot_v);
+    s.cc_n = n;
+    s.cc_n_dot_v = clamp(dot(n, V), 1e-4, 1.0);
+    s.cc_fresnel = DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * schlick_weight(s.cc_n_dot_v);
 }
 
 // glTF's core model: the dielectric of ior 1.5.
@@ -159,10 +165,11 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
         f = f * dim + n_dot_l * PI * s.sheen * d * vis;
     }
     if (s.cc > 0.0) {
-        float n_dot_h = max(dot(N, H), 0.0);
-        float coat = ggx_d(n_dot_h, s.cc_alpha) * smith_vis(n_dot_l, s.n_dot_v, s.cc_alpha)
+        float n_dot_l_c = max(dot(s.cc_n, L), 0.0);
+        float coat = ggx_d(max(dot(s.cc_n, H), 0.0), s.cc_alpha)
+                   * smith_vis(n_dot_l_c, s.cc_n_dot_v, s.cc_alpha)
                    * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * fc);
-        f = f * (1.0 - s.cc * s.cc_fresnel) + n_dot_l * PI * s.cc * coat;
+        f = f * (1.0 - s.cc * s.cc_fresnel) + n_dot_l_c * PI * s.cc * coat;
     }
     return f;
 }

@@ -36,9 +36,10 @@ uniform vec3 u_eye_world;  // eye, or with VIEW_ORTHOGRAPHIC the direction to th
 uniform vec4 u_base_color;  // linear RGBA factor
 uniform float u_metallic;
 uniform float u_roughness;
-uniform vec3 u_dielectric_f0;    // the dielectric's lobe (facet.scene.pbr.PbrMaterial
-uniform float u_dielectric_f90;  // .dielectric_f0, and its specular factor)
-uniform vec2 u_clearcoat;        // KHR_materials_clearcoat: factor, roughness
+uniform vec3 u_ior_f0;     // the dielectric's lobe: ((ior - 1) / (ior + 1))^2 x specular
+uniform float u_specular;  // colour, and the specular factor (facet.scene.pbr.PbrMaterial)
+uniform vec2 u_clearcoat;  // KHR_materials_clearcoat: factor, roughness; its normal map's
+uniform float u_clearcoat_normal_scale;  // x and y scale
 uniform vec4 u_sheen;            // KHR_materials_sheen: colour, roughness
 uniform vec3 u_emissive;  // factor x strength
 uniform float u_normal_scale;
@@ -83,13 +84,19 @@ void main() {
     write_exact();
     // Seen from behind (double-sided materials), the whole frame turns round.
     float side = gl_FrontFacing ? 1.0 : -1.0;
-    vec3 N = normalize(v_normal_world) * side;
-#if defined(TEX_NORMAL) && defined(HAS_TANGENTS)
-    vec3 T = normalize(v_tangent.xyz - N * dot(N, v_tangent.xyz)) * side;
-    vec3 B = cross(N, T) * v_tangent.w;
+    vec3 Ng = normalize(v_normal_world) * side;
+    vec3 N = Ng, N_coat = Ng;
+#if defined(HAS_TANGENTS) && (defined(TEX_NORMAL) || defined(TEX_CLEARCOAT_NORMAL))
+    vec3 T = normalize(v_tangent.xyz - Ng * dot(Ng, v_tangent.xyz)) * side;
+    mat3 TBN = mat3(T, cross(Ng, T) * v_tangent.w, Ng);
+#ifdef TEX_NORMAL
     vec3 t = sample_slot(u_tex_normal, SLOT_NORMAL).xyz * 2.0 - 1.0;
-    t.xy *= u_normal_scale;
-    N = normalize(mat3(T, B, N) * t);
+    N = normalize(TBN * vec3(t.xy * u_normal_scale, t.z));
+#endif
+#ifdef TEX_CLEARCOAT_NORMAL
+    vec3 tc = sample_slot(u_tex_clearcoat_normal, SLOT_CLEARCOAT_NORMAL).xyz * 2.0 - 1.0;
+    N_coat = normalize(TBN * vec3(tc.xy * u_clearcoat_normal_scale, tc.z));
+#endif
 #endif
     write_normal(N);
     float metallic = u_metallic, roughness = u_roughness;
@@ -98,15 +105,37 @@ void main() {
     roughness *= mr.g;
     metallic *= mr.b;
 #endif
+    // The extensions' factors times their textures (facet.scene.pbr.PbrMaterial).
+    float specular = u_specular, clearcoat = u_clearcoat.x, clearcoat_roughness = u_clearcoat.y;
+    vec3 ior_f0 = u_ior_f0;
+    vec4 sheen = u_sheen;
+#ifdef TEX_SPECULAR
+    specular *= sample_slot(u_tex_specular, SLOT_SPECULAR).a;
+#endif
+#ifdef TEX_SPECULAR_COLOR
+    ior_f0 *= sample_slot(u_tex_specular_color, SLOT_SPECULAR_COLOR).rgb;
+#endif
+#ifdef TEX_CLEARCOAT
+    clearcoat *= sample_slot(u_tex_clearcoat, SLOT_CLEARCOAT).r;
+#endif
+#ifdef TEX_CLEARCOAT_ROUGHNESS
+    clearcoat_roughness *= sample_slot(u_tex_clearcoat_roughness, SLOT_CLEARCOAT_ROUGHNESS).g;
+#endif
+#ifdef TEX_SHEEN_COLOR
+    sheen.rgb *= sample_slot(u_tex_sheen_color, SLOT_SHEEN_COLOR).rgb;
+#endif
+#ifdef TEX_SHEEN_ROUGHNESS
+    sheen.a *= sample_slot(u_tex_sheen_roughness, SLOT_SHEEN_ROUGHNESS).a;
+#endif
     vec3 rgb;
     if (u_unlit) {
         rgb = base.rgb;
     } else {
         float n_dot_v = clamp(dot(N, V), 0.0, 1.0);
         PbrSurface s = pbr_surface_full(base.rgb, metallic, roughness, n_dot_v,
-                                        u_dielectric_f0, u_dielectric_f90);
-        pbr_sheen(s, u_sheen.rgb, u_sheen.a);
-        pbr_coat(s, u_clearcoat.x, u_clearcoat.y);
+                                        min(ior_f0, 1.0) * specular, specular);
+        pbr_sheen(s, sheen.rgb, sheen.a);
+        pbr_coat(s, clearcoat, clearcoat_roughness, N_coat, V);
         rgb = vec3(0.0);
         for (int i = 0; i < LIGHTS_IN_USE; ++i) {
             vec3 L;
@@ -125,11 +154,13 @@ void main() {
         vec3 diffuse = u_ambient.rgb, specular = u_ambient.rgb;
 #endif
         vec3 ambient = pbr_ambient_sheen(s, pbr_ambient(s, diffuse, specular, lut), diffuse);
-        if (u_clearcoat.x > 0.0) {  // the coat's own lobe, at its roughness
-            vec2 at_cc = (vec2(n_dot_v, u_clearcoat.y) * (LUT_SIZE - 1.0) + 0.5) / LUT_SIZE;
+        if (clearcoat > 0.0) {  // the coat's own lobe, at its roughness, on its normal
+            vec2 at_cc = (vec2(s.cc_n_dot_v, clearcoat_roughness) * (LUT_SIZE - 1.0) + 0.5)
+                       / LUT_SIZE;
 #ifdef HAS_ENVIRONMENT
-            vec3 specular_cc = textureLod(u_prefiltered, octahedral_uv(reflect(-V, N)),
-                                          u_clearcoat.y * (u_prefiltered_levels - 1.0)).rgb;
+            vec3 specular_cc = textureLod(u_prefiltered, octahedral_uv(reflect(-V, N_coat)),
+                                          clearcoat_roughness
+                                          * (u_prefiltered_levels - 1.0)).rgb;
 #else
             vec3 specular_cc = u_ambient.rgb;
 #endif

@@ -57,7 +57,7 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
     b.m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V), mat.f0_d,
                            mat.f90_d);
     pbr_sheen(b.m, mat.sheen, mat.sheen_roughness);
-    pbr_coat(b.m, mat.clearcoat, mat.clearcoat_roughness);
+    pbr_coat(b.m, mat.clearcoat, mat.clearcoat_roughness, mat.cc_n, V);
     b.c_trans = b.m.c_diff * mat.transmission;
     b.m.c_diff *= 1.0 - mat.transmission;
     b.thin = mat.thin;
@@ -111,8 +111,9 @@ float bsdf_pdf(Bsdf b, vec3 N, vec3 V, vec3 L) {
     if (!b.polished) {
         vec3 H = normalize(L + V);
         float n_dot_h = max(dot(N, H), 0.0), v_dot_h = max(dot(V, H), 1e-6);
-        pdf += (b.p_spec * ggx_d(n_dot_h, b.m.alpha) + b.p_coat * ggx_d(n_dot_h, b.m.cc_alpha))
-             * n_dot_h / (4.0 * v_dot_h);
+        float n_dot_h_c = max(dot(b.m.cc_n, H), 0.0);
+        pdf += (b.p_spec * ggx_d(n_dot_h, b.m.alpha) * n_dot_h
+                + b.p_coat * ggx_d(n_dot_h_c, b.m.cc_alpha) * n_dot_h_c) / (4.0 * v_dot_h);
     }
     return pdf;
 }
@@ -121,7 +122,7 @@ float bsdf_pdf(Bsdf b, vec3 N, vec3 V, vec3 L) {
 BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, float u, vec2 xi) {
     BsdfSample s = BsdfSample(vec3(0.0), vec3(0.0), 0.0, false, false);
     if (u < b.p_coat) {  // the clear coat
-        s.L = reflect(-V, around(ggx_sample(xi, b.m.cc_alpha), N));
+        s.L = reflect(-V, around(ggx_sample(xi, b.m.cc_alpha), b.m.cc_n));
         s.pdf = bsdf_pdf(b, N, V, s.L);
         if (s.pdf <= 0.0) return s;
         s.weight = bsdf_eval(b, N, V, s.L) / s.pdf;

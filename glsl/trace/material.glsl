@@ -5,15 +5,20 @@
 // the vertex colour. Texels from MATERIAL_ROW of the instance:
 //   +0 (base colour rgb, metallic)             +1 (emitted radiance rgb, roughness)
 //   +2 (base alpha, alpha mode, cutoff, normal scale)
-//   +3 (the dielectric's reflectance at normal incidence rgb, at grazing incidence)
+//   +3 (the bare interface's reflectance at normal incidence x specular colour rgb,
+//       specular: the dielectric's lobe before their textures and the clip to 1)
 //   +4 (transmission, thickness: 0 thin-walled, ior, clearcoat)
 //   +5 (absorption per length rgb, clearcoat roughness)   +6 (sheen colour rgb, roughness)
 //   +7 (emitter density factor: luminance / total emitted power, or 0; unlit; 1 for an
-//       object whose own material is metallic-roughness (the Whitted tracer's choice), -)
-// From SLOT_ROW, SLOT_TEXELS per slot (SLOT_BASE, SLOT_MR, SLOT_NORMAL, SLOT_EMISSIVE):
+//       object whose own material is metallic-roughness (the Whitted tracer's choice),
+//   +7 .w: the clear coat's normal scale
+// From SLOT_ROW, SLOT_TEXELS per slot (SLOT_*: facet.render.trace.pack.PATH_SLOTS' order):
 //   (the uv transform's first row, layer or -1), (its second row, set + 2 (wrap s + 3 wrap t))
 // with wrap 0 repeat (the sampler's), 1 clamp to the edge, 2 mirrored repeat.
-const int SLOT_BASE = 0, SLOT_MR = 1, SLOT_NORMAL = 2, SLOT_EMISSIVE = 3;
+const int SLOT_BASE = 0, SLOT_MR = 1, SLOT_NORMAL = 2, SLOT_EMISSIVE = 3, SLOT_SPECULAR = 4,
+          SLOT_SPECULAR_COLOR = 5, SLOT_TRANSMISSION = 6, SLOT_CLEARCOAT = 7,
+          SLOT_CLEARCOAT_ROUGHNESS = 8, SLOT_CLEARCOAT_NORMAL = 9, SLOT_SHEEN_COLOR = 10,
+          SLOT_SHEEN_ROUGHNESS = 11;
 const int ALPHA_OPAQUE = 0, ALPHA_MASK = 1, ALPHA_BLEND = 2;
 
 struct Material {
@@ -29,8 +34,9 @@ struct Material {
     bool thin;        // thin-walled (thickness 0): transmitted rays go on unbent
     float ior;
     vec3 absorption;  // inside the volume, per unit length (KHR_materials_volume)
-    float clearcoat;  // KHR_materials_clearcoat: factor and roughness
-    float clearcoat_roughness;
+    float clearcoat;  // KHR_materials_clearcoat: factor, roughness and normal (its normal
+    float clearcoat_roughness;  // map's, else the surface's)
+    vec3 cc_n;
     vec3 sheen;       // KHR_materials_sheen: colour and roughness
     float sheen_roughness;
     vec3 emission;    // emitted radiance
@@ -97,6 +103,21 @@ bool cut_out(int inst, Surface s) {
     return mode == ALPHA_MASK && a < cutoff;
 }
 
+// The shading normal at s through the normal map in slot k (x and y scaled by ``scale``);
+// the interpolated normal without one.
+vec3 mapped_normal(int inst, int k, float scale, Surface s) {
+    if (s.tangent.w == 0.0 || !has_slot(inst, k)) return s.n;
+    // The tangent frame turns with the shading normal when seen from behind (as the
+    // rasterizer's glsl/mesh/pbr.frag): T flips with N, so B = w (N x T) stays.
+    vec3 N = s.n;
+    vec3 T = normalize(s.tangent.xyz - N * dot(N, s.tangent.xyz)) * (s.front ? 1.0 : -1.0);
+    vec3 B = cross(N, T) * s.tangent.w;
+    vec3 t = slot_texel(inst, k, s).xyz * 2.0 - 1.0;
+    t.xy *= scale;
+    vec3 n = mat3(T, B, N) * t;
+    return dot(n, n) > 0.0 ? normalize(n) : N;
+}
+
 Material material_at(int inst, Surface s) {
     vec4 m0 = material_texel(inst, 0), m1 = material_texel(inst, 1);
     vec4 m2 = material_texel(inst, 2), m7 = material_texel(inst, 7);
@@ -111,31 +132,21 @@ Material material_at(int inst, Surface s) {
     m.roughness = m1.w * mr.g;
     m.emission = m1.rgb * slot_texel(inst, SLOT_EMISSIVE, s).rgb;
     vec4 m3 = material_texel(inst, 3);
-    m.f0_d = m3.rgb;
-    m.f90_d = m3.w;
+    m.f90_d = m3.w * slot_texel(inst, SLOT_SPECULAR, s).a;
+    m.f0_d = min(m3.rgb * slot_texel(inst, SLOT_SPECULAR_COLOR, s).rgb, 1.0) * m.f90_d;
     vec4 m4 = material_texel(inst, 4);
-    m.transmission = m4.x;
+    m.transmission = m4.x * slot_texel(inst, SLOT_TRANSMISSION, s).r;
     m.thin = m4.y <= 0.0;
     m.ior = m4.z;
     vec4 m5 = material_texel(inst, 5);
     m.absorption = m5.rgb;
-    m.clearcoat = m4.w;
-    m.clearcoat_roughness = m5.w;
+    m.clearcoat = m4.w * slot_texel(inst, SLOT_CLEARCOAT, s).r;
+    m.clearcoat_roughness = m5.w * slot_texel(inst, SLOT_CLEARCOAT_ROUGHNESS, s).g;
     vec4 m6 = material_texel(inst, 6);
-    m.sheen = m6.rgb;
-    m.sheen_roughness = m6.w;
-    m.n = s.n;
-    if (s.tangent.w != 0.0 && has_slot(inst, SLOT_NORMAL)) {
-        // The tangent frame turns with the shading normal when seen from behind (as the
-        // rasterizer's glsl/mesh/pbr.frag): T flips with N, so B = w (N x T) stays.
-        vec3 N = s.n;
-        vec3 T = normalize(s.tangent.xyz - N * dot(N, s.tangent.xyz)) * (s.front ? 1.0 : -1.0);
-        vec3 B = cross(N, T) * s.tangent.w;
-        vec3 t = slot_texel(inst, SLOT_NORMAL, s).xyz * 2.0 - 1.0;
-        t.xy *= m2.w;
-        vec3 n = mat3(T, B, N) * t;
-        if (dot(n, n) > 0.0) m.n = normalize(n);
-    }
+    m.sheen = m6.rgb * slot_texel(inst, SLOT_SHEEN_COLOR, s).rgb;
+    m.sheen_roughness = m6.w * slot_texel(inst, SLOT_SHEEN_ROUGHNESS, s).a;
+    m.n = mapped_normal(inst, SLOT_NORMAL, m2.w, s);
+    m.cc_n = m.clearcoat > 0.0 ? mapped_normal(inst, SLOT_CLEARCOAT_NORMAL, m7.w, s) : s.n;
     m.unlit = m7.y > 0.5;
     m.emit_pdf = m7.x;
     return m;

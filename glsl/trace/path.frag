@@ -244,6 +244,7 @@ void main() {
         }
         if (bounce > u_max_depth) break;  // this bounce only gathered what it hit
         vec3 V = -d, N = valid_normal(mat.n, s.ng, V);
+        mat.cc_n = valid_normal(mat.cc_n, s.ng, V);
         Bsdf b = make_bsdf(mat, s.front, N, V);
         vec3 from = offset_ray(s.p, s.ng);
         // Direct light from the scene's lights (delta lights: one shadow ray each).

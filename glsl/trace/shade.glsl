@@ -170,7 +170,7 @@ vec3 shade_pbr(Surface s, vec3 V) {
         PbrSurface m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V),
                                         mat.f0_d, mat.f90_d);
         pbr_sheen(m, mat.sheen, mat.sheen_roughness);
-        pbr_coat(m, mat.clearcoat, mat.clearcoat_roughness);
+        pbr_coat(m, mat.clearcoat, mat.clearcoat_roughness, valid_normal(mat.cc_n, s.ng, V), V);
         g_ng = s.ng;
         rgb = vec3(0.0);
         for (int i = 0; i < u_light_count.x; ++i) {
@@ -184,7 +184,7 @@ vec3 shade_pbr(Surface s, vec3 V) {
         vec3 sky = pbr_ambient_sheen(m, F * ggx_albedo(m.n_dot_v, mat.roughness) * m.ms
                                          + (1.0 - F_d) * m.c_diff, vec3(1.0));
         sky = sky * (1.0 - m.cc * m.cc_fresnel)
-            + m.cc * m.cc_fresnel * ggx_albedo(m.n_dot_v, mat.clearcoat_roughness);
+            + m.cc * m.cc_fresnel * ggx_albedo(m.cc_n_dot_v, mat.clearcoat_roughness);
         rgb += sky * u_ambient.rgb;
     }
     rgb += mat.emission;

@@ -11,18 +11,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scene.pbr import SLOTS, PbrMaterial
+from ..scene.pbr import COLOR_SLOTS, SLOTS, PbrMaterial
 from ..srgb import linear_to_srgb, srgb_to_linear
 
 PBR_UNITS = {slot: 13 + i for i, slot in enumerate(SLOTS)}  # after facet.render.state.UNITS
-IBL_UNITS = {"lut": 18, "irradiance": 19, "prefiltered": 20}
-SLOT_UNIFORMS = {"base_color": "u_tex_base", "metallic_roughness": "u_tex_mr",
-                 "normal": "u_tex_normal", "occlusion": "u_tex_occlusion",
-                 "emissive": "u_tex_emissive"}
-SLOT_DEFINES = {"base_color": "TEX_BASE", "metallic_roughness": "TEX_MR",
-                "normal": "TEX_NORMAL", "occlusion": "TEX_OCCLUSION",
-                "emissive": "TEX_EMISSIVE"}
-SRGB_SLOTS = ("base_color", "emissive")  # colour images; the others hold data
+IBL_UNITS = {"lut": 27, "irradiance": 28, "prefiltered": 29}  # after PBR_UNITS
+# glsl/mesh/slots.glsl's sampler and define of each slot: u_tex_<short>, TEX_<SHORT>.
+_SHORT = {"base_color": "base", "metallic_roughness": "mr"}
+SLOT_UNIFORMS = {s: f"u_tex_{_SHORT.get(s, s)}" for s in SLOTS}
+SLOT_DEFINES = {s: f"TEX_{_SHORT.get(s, s).upper()}" for s in SLOTS}
+SRGB_SLOTS = COLOR_SLOTS  # colour images; the others hold data
 
 
 def slot_defines(m: PbrMaterial) -> tuple[str, ...]:
@@ -114,9 +112,10 @@ def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> lis
     prog.set("u_base_color", tuple(float(c) for c in m.base_color))
     prog.set("u_metallic", m.metallic)
     prog.set("u_roughness", m.roughness)
-    prog.set("u_dielectric_f0", tuple(float(c) for c in m.dielectric_f0), strict=False)
-    prog.set("u_dielectric_f90", m.specular, strict=False)
+    prog.set("u_ior_f0", tuple(float(c) for c in m.ior_f0 * m.specular_color), strict=False)
+    prog.set("u_specular", m.specular, strict=False)
     prog.set("u_clearcoat", (m.clearcoat, m.clearcoat_roughness), strict=False)
+    prog.set("u_clearcoat_normal_scale", m.clearcoat_normal_scale, strict=False)
     prog.set("u_sheen", (*(float(c) for c in m.sheen_color), m.sheen_roughness), strict=False)
     prog.set("u_emissive", tuple(float(c) for c in m.emissive * m.emissive_strength))
     prog.set("u_unlit", bool(m.unlit))

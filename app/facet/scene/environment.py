@@ -69,6 +69,26 @@ class Environment:
         self.equirect = None if equirect is None else \
             np.ascontiguousarray(np.maximum(np.asarray(equirect, np.float32), 0.0))
         self.name = name
+        # Linear radiance (HDR images, constant colours); else display values, as the
+        # generated sky's and 8-bit images' are (a linear-light engine decodes them where
+        # the rasterizer shows them as given: facet.render.trace.path_engine).
+        self.linear = False
+
+    def decoded(self) -> Environment:
+        """This environment's display values decoded to linear radiance (itself when it
+        is linear); made once."""
+        if self.linear:
+            return self
+        cached = getattr(self, "_decoded", None)
+        if cached is None:
+            from ..srgb import srgb_to_linear
+
+            cached = Environment(srgb_to_linear(self.faces), self.name,
+                                 None if self.equirect is None else
+                                 srgb_to_linear(self.equirect))
+            cached.linear = True
+            self._decoded = cached
+        return cached
 
     @classmethod
     def sky(cls, zenith=SKY[0], horizon=SKY[1], ground=SKY[2], size: int = 128) -> Environment:
@@ -82,7 +102,9 @@ class Environment:
         from .material import as_color
 
         c = as_color(color, "environment color")
-        return cls(np.broadcast_to(c[:3], (6, 1, 1, 3)), "constant environment")
+        env = cls(np.broadcast_to(c[:3], (6, 1, 1, 3)), "constant environment")
+        env.linear = True
+        return env
 
     @classmethod
     def from_faces(cls, paths) -> Environment:
@@ -121,7 +143,9 @@ class Environment:
         y = np.clip((v * h).astype(int), 0, h - 1)
         step = max(1, w // 512)  # the sampling distribution needs no more than this
         grid = img[::step, ::step, :3].astype(np.float32) * scale
-        return cls(img[y, x, :3].astype(np.float32) * scale, Path(path).name, grid)
+        env = cls(img[y, x, :3].astype(np.float32) * scale, Path(path).name, grid)
+        env.linear = is_hdr(path)
+        return env
 
     @property
     def size(self) -> int:

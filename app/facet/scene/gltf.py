@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -279,14 +280,21 @@ class _Reader:
                 kw["normal_scale"] = abs(float(m.normalTexture.scale))
             if m.occlusionTexture is not None and m.occlusionTexture.strength is not None:
                 kw["occlusion_strength"] = float(np.clip(m.occlusionTexture.strength, 0, 1))
-            kw.update(extension_fields(ext, kw["name"], self.data.fail, self.warn))
+            kw.update(extension_fields(ext, kw["name"], self.data.fail, self._slot))
             self.materials[index] = PbrMaterial(**kw)
         return self.materials[index]
 
-    def _slot(self, info) -> TextureSlot | None:
-        """A TextureSlot of a textureInfo (None when absent or its image is missing)."""
+    def _slot(self, info, where: str = "") -> TextureSlot | None:
+        """A TextureSlot of a textureInfo (None when absent or its image is missing); the
+        extensions' come as dicts (``where`` names them in errors)."""
+        if isinstance(info, dict):
+            info = SimpleNamespace(index=info.get("index"), texCoord=info.get("texCoord"),
+                                   extensions=info.get("extensions"))
         if info is None or info.index is None:
             return None
+        if not 0 <= info.index < len(self.gltf.textures):
+            self.data.fail(f"{where or 'a textureInfo'}: texture {info.index} does not exist "
+                           f"(the file has {len(self.gltf.textures)})")
         tex = self.gltf.textures[info.index]
         if tex.source is None:
             return None

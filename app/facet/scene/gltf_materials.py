@@ -1,6 +1,6 @@
 """glTF's KHR material extensions -> PbrMaterial keywords (no GL), checked: a value of the
-wrong type is one line naming the material and the field; a texture of an extension is
-left out with one warning line (its factors are used).
+wrong type is one line naming the material and the field; their textures become the
+material's slots (TEXTURES).
 
     KHR_materials_ior           ior (>= 1, or 0)
     KHR_materials_specular      specularFactor, specularColorFactor
@@ -29,20 +29,23 @@ FIELDS = {
     "KHR_materials_sheen": (("sheenColorFactor", "sheen_color", "colour"),
                             ("sheenRoughnessFactor", "sheen_roughness", "unit")),
 }
-# Textures left out (the volume's thicknessTexture scales the thickness a rasterizer's
-# refraction assumes; the path tracer measures the volume itself: nothing to say).
+# extension -> (glTF textureInfo field, PbrMaterial slot)
 TEXTURES = {
-    "KHR_materials_specular": ("specularTexture", "specularColorTexture"),
-    "KHR_materials_transmission": ("transmissionTexture",),
-    "KHR_materials_clearcoat": ("clearcoatTexture", "clearcoatRoughnessTexture",
-                                "clearcoatNormalTexture"),
-    "KHR_materials_sheen": ("sheenColorTexture", "sheenRoughnessTexture"),
+    "KHR_materials_specular": (("specularTexture", "specular"),
+                               ("specularColorTexture", "specular_color")),
+    "KHR_materials_transmission": (("transmissionTexture", "transmission"),),
+    "KHR_materials_volume": (("thicknessTexture", "thickness"),),
+    "KHR_materials_clearcoat": (("clearcoatTexture", "clearcoat"),
+                                ("clearcoatRoughnessTexture", "clearcoat_roughness"),
+                                ("clearcoatNormalTexture", "clearcoat_normal")),
+    "KHR_materials_sheen": (("sheenColorTexture", "sheen_color"),
+                            ("sheenRoughnessTexture", "sheen_roughness")),
 }
 
 
-def extension_fields(ext: dict, name: str, fail, warn) -> dict:
+def extension_fields(ext: dict, name: str, fail, slot) -> dict:
     """PbrMaterial keywords from a material's ``extensions`` object. ``fail(message)``
-    raises; ``warn(message)`` says one line."""
+    raises; ``slot(info, where)`` makes a TextureSlot of a textureInfo object (or None)."""
     out = {}
     for extension, fields in FIELDS.items():
         values = ext.get(extension)
@@ -51,9 +54,19 @@ def extension_fields(ext: dict, name: str, fail, warn) -> dict:
         for key, keyword, kind in fields:
             if key in values:
                 out[keyword] = _value(values[key], kind, f"material {name!r} {key}", fail)
-        for key in TEXTURES.get(extension, ()):
-            if key in values:
-                warn(f"ignores {extension}'s {key} (material {name!r}: its factors are used)")
+        for key, keyword in TEXTURES.get(extension, ()):
+            info = values.get(key)
+            if info is None:
+                continue
+            where = f"material {name!r} {extension}.{key}"
+            if not isinstance(info, dict) or not isinstance(info.get("index"), int) or \
+                    isinstance(info.get("index"), bool):
+                fail(f"{where} must be a textureInfo object with an integer index, "
+                     f"got {info!r}")
+            out[f"{keyword}_texture"] = slot(info, where)
+            if keyword == "clearcoat_normal" and "scale" in info:
+                out["clearcoat_normal_scale"] = abs(_number(info["scale"], f"{where}.scale",
+                                                            fail))
     return out
 
 

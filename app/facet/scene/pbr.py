@@ -71,7 +71,11 @@ def texture_transform(offset=(0.0, 0.0), rotation: float = 0.0, scale=(1.0, 1.0)
     return t @ r @ np.diag([scale[0], scale[1], 1.0])
 
 
-SLOTS = ("base_color", "metallic_roughness", "normal", "occlusion", "emissive")
+SLOTS = ("base_color", "metallic_roughness", "normal", "occlusion", "emissive",
+         # the KHR extensions' (each multiplies its factor; channels as the extension says)
+         "specular", "specular_color", "transmission", "thickness", "clearcoat",
+         "clearcoat_roughness", "clearcoat_normal", "sheen_color", "sheen_roughness")
+COLOR_SLOTS = ("base_color", "emissive", "specular_color", "sheen_color")  # sRGB images
 
 
 @dataclass
@@ -102,7 +106,14 @@ class PbrMaterial:
     ``clearcoat_roughness``: a second GGX lobe weighted by the layer's Fresnel factor, the
     base beneath it dimmed by what that reflects. ``sheen_color`` (3,) linear and
     ``sheen_roughness`` (KHR_materials_sheen): the soft back-scattering of cloth, a lobe
-    under the coat that dims the base by its own albedo."""
+    under the coat that dims the base by its own albedo.
+
+    The extensions' texture slots multiply their factors: ``specular_texture`` (A),
+    ``specular_color_texture`` (sRGB RGB), ``transmission_texture`` (R),
+    ``thickness_texture`` (G), ``clearcoat_texture`` (R), ``clearcoat_roughness_texture``
+    (G), ``clearcoat_normal_texture`` (the coat's own tangent-space normal, x and y scaled
+    by ``clearcoat_normal_scale``), ``sheen_color_texture`` (sRGB RGB) and
+    ``sheen_roughness_texture`` (A)."""
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
     metallic: float = 1.0
@@ -132,6 +143,16 @@ class PbrMaterial:
     clearcoat_roughness: float = 0.0
     sheen_color: np.ndarray = field(default_factory=lambda: np.zeros(3))
     sheen_roughness: float = 0.0
+    specular_texture: TextureSlot | None = None
+    specular_color_texture: TextureSlot | None = None
+    transmission_texture: TextureSlot | None = None
+    thickness_texture: TextureSlot | None = None
+    clearcoat_texture: TextureSlot | None = None
+    clearcoat_roughness_texture: TextureSlot | None = None
+    clearcoat_normal_texture: TextureSlot | None = None
+    clearcoat_normal_scale: float = 1.0
+    sheen_color_texture: TextureSlot | None = None
+    sheen_roughness_texture: TextureSlot | None = None
 
     # Not used by this model; present so that every material answers the same questions.
     shader = None
@@ -169,7 +190,7 @@ class PbrMaterial:
             raise InputError(f"material attenuation_distance must be a number > 0 (inf: "
                              f"clear), got {d!r}")
         self.attenuation_distance = float(d)
-        for key in ("emissive_strength", "normal_scale", "thickness"):
+        for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
                 raise InputError(f"material {key} must be a number >= 0, got {v!r}")
@@ -186,8 +207,14 @@ class PbrMaterial:
     @property
     def dielectric_f0(self) -> np.ndarray:
         """(3,) the dielectric's reflectance at normal incidence (see the class)."""
-        r = ((self.ior - 1) / (self.ior + 1)) ** 2 if self.ior > 0 else 1.0
-        return np.minimum(r * self.specular_color, 1.0) * self.specular
+        return np.minimum(self.ior_f0 * self.specular_color, 1.0) * self.specular
+
+    @property
+    def ior_f0(self) -> float:
+        """((ior - 1) / (ior + 1))^2: normal incidence on the bare interface (1 for ior 0).
+        The shaders take it and ``specular_color`` apart, as the textures multiply them
+        before the clip to 1."""
+        return ((self.ior - 1) / (self.ior + 1)) ** 2 if self.ior > 0 else 1.0
 
     @property
     def absorption(self) -> np.ndarray:
@@ -196,6 +223,11 @@ class PbrMaterial:
         if not np.isfinite(self.attenuation_distance):
             return np.zeros(3)
         return -np.log(np.maximum(self.attenuation_color, 1e-6)) / self.attenuation_distance
+
+    @property
+    def normal_mapped(self) -> bool:
+        """Whether a normal map (the surface's or the clear coat's) needs tangent frames."""
+        return self.normal_texture is not None or self.clearcoat_normal_texture is not None
 
     @property
     def transparent(self) -> bool:

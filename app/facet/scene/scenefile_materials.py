@@ -27,6 +27,9 @@ which key belongs to which). Colours here are linear, as glTF's factors are:
     base_color_texture = "albedo.png"  # or a table: image, texcoord, wrap, filter,
                                        # offset, rotation (degrees), scale: as
                                        # KHR_texture_transform
+    # and every other slot of facet.scene.pbr.SLOTS as <slot>_texture (normal,
+    # occlusion, emissive, specular, specular_color, transmission, thickness, clearcoat,
+    # clearcoat_roughness, clearcoat_normal, sheen_color, sheen_roughness)
 """
 
 from __future__ import annotations
@@ -42,7 +45,7 @@ PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emi
        "emissive_strength", "alpha_mode", "alpha_cutoff", "double_sided", "normal_scale",
        "occlusion_strength", "unlit", "transmission", "thickness", "attenuation_color",
        "attenuation_distance", "clearcoat", "clearcoat_roughness", "sheen_color",
-       "sheen_roughness",
+       "sheen_roughness", "clearcoat_normal_scale",
        *(f"{s}_texture" for s in SLOTS))
 SHARED = ("ior",)  # a Phong material's refraction, a metallic-roughness one's dielectric
 SLOT_KEYS = ("image", "texcoord", "wrap", "filter", "offset", "rotation", "scale")
@@ -84,7 +87,7 @@ def read_pbr(r, t: dict, where: str, phong_keys, texture) -> PbrMaterial:
             kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
             if kw[key] > 1:
                 r.fail(f"{where}.{key}", f"expected a number in [0, 1], got {show(t[key])}")
-    for key in ("emissive_strength", "normal_scale", "thickness"):
+    for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale"):
         if key in t:
             kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
     if "ior" in t:

@@ -227,7 +227,7 @@ class ForwardPass:
                 prog = self.program(replace(
                     base, shading="pbr", slots=slot_defines(pbr),
                     vertex_colors=mesh.colors is not None, uv1=mesh.uvs1 is not None,
-                    tangents=pbr.normal_texture is not None and mesh.tangents is not None,
+                    tangents=pbr.normal_mapped and mesh.tangents is not None,
                     alpha_mask=pbr.alpha_mode == "MASK",
                     environment=env is not None and colour_pass))
             else:  # a mirror reflects the sky in its reflection

@@ -95,7 +95,7 @@ class TraceEngine(Engine):
     def _tangents(self, obj) -> bool:
         """Whether ``obj``'s mesh needs tangent frames here: for a normal map."""
         m = obj.material
-        return isinstance(m, PbrMaterial) and m.normal_texture is not None
+        return isinstance(m, PbrMaterial) and m.normal_mapped
 
     def _layer_requests(self, scene, pbr_shading: bool) -> list:
         """(texture, mode) for each image the tracer samples (modes: facet.render.trace

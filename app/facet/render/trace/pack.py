@@ -20,18 +20,22 @@ import numpy as np
 
 from ...errors import InputError
 from ...geometry.bvh import build_bvh
-from ...scene.pbr import PbrMaterial
+from ...scene.pbr import COLOR_SLOTS, PbrMaterial
 from ..materials import as_pbr
 
 TEX_SHIFT = 12
 TEX_WIDTH = 1 << TEX_SHIFT  # texels per texture row (glsl/trace/data.glsl)
 NODE_TEXELS = 4
 VERTEX_TEXELS = 4  # (normal, u), (v, colour rgb), (tangent xyz, handedness), (uv1, alpha, 0)
-INSTANCE_TEXELS = 27
 MATERIAL_ROW = 11  # the metallic-roughness model's texels (glsl/trace/material.glsl)
 SLOT_ROW = 19  # its texture slots, SLOT_TEXELS each, in PATH_SLOTS order
 SLOT_TEXELS = 2
-PATH_SLOTS = ("base_color", "metallic_roughness", "normal", "emissive")
+# glsl/trace/material.glsl's SLOT_* (occlusion is a rasterizer's stand-in for what a tracer
+# traces; thickness scales the thickness the rasterizer's refraction assumes)
+PATH_SLOTS = ("base_color", "metallic_roughness", "normal", "emissive", "specular",
+              "specular_color", "transmission", "clearcoat", "clearcoat_roughness",
+              "clearcoat_normal", "sheen_color", "sheen_roughness")
+INSTANCE_TEXELS = SLOT_ROW + SLOT_TEXELS * len(PATH_SLOTS)
 ALPHA_MODES = {"OPAQUE": 0, "MASK": 1, "BLEND": 2}
 # How an image is stored in the texture array: a colour image decoded to linear, one
 # decoded only in the sRGB colour mode (a Phong material's: values "as given"), data as is.
@@ -194,7 +198,7 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
 
 def slot_mode(slot: str) -> str:
     """How a texture slot's image is stored: colour images decoded to linear, data as is."""
-    return LINEAR if slot in ("base_color", "emissive") else DATA
+    return LINEAR if slot in COLOR_SLOTS else DATA
 
 
 def material_rows(row: np.ndarray, m, layers: dict, pbr: bool = True) -> None:
@@ -207,11 +211,11 @@ def material_rows(row: np.ndarray, m, layers: dict, pbr: bool = True) -> None:
     row[r] = (*m.base_color[:3], m.metallic)
     row[r + 1] = (*(m.emissive * m.emissive_strength), m.roughness)
     row[r + 2] = (m.base_color[3], ALPHA_MODES[m.alpha_mode], m.alpha_cutoff, m.normal_scale)
-    row[r + 3] = (*m.dielectric_f0, m.specular)
+    row[r + 3] = (*(m.ior_f0 * m.specular_color), m.specular)
     row[r + 4] = (m.transmission, m.thickness, m.ior, m.clearcoat)
     row[r + 5] = (*m.absorption, m.clearcoat_roughness)
     row[r + 6] = (*m.sheen_color, m.sheen_roughness)
-    row[r + 7] = (0.0, float(m.unlit), float(pbr), 0.0)
+    row[r + 7] = (0.0, float(m.unlit), float(pbr), m.clearcoat_normal_scale)
     for k, name in enumerate(PATH_SLOTS):
         slot = getattr(m, f"{name}_texture")
         at = SLOT_ROW + SLOT_TEXELS * k

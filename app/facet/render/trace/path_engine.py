@@ -15,6 +15,7 @@ ray; left at facet's default (the Whitted tracer's 5) the path tracer takes
 from __future__ import annotations
 
 import weakref
+from dataclasses import replace
 
 import numpy as np
 
@@ -31,8 +32,8 @@ from .engine import TraceEngine
 from .env_sampling import distribution
 
 STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag
-EMITTERS_UNIT = 21  # after facet.render.materials.IBL_UNITS
-SKY_UNITS = (22, 23)
+EMITTERS_UNIT = 30  # after facet.render.materials.IBL_UNITS
+SKY_UNITS = (31, 32)
 
 
 class PathEngine(TraceEngine):
@@ -75,6 +76,10 @@ class PathEngine(TraceEngine):
         bounces = DEFAULT_BOUNCES if opts.max_depth == DEFAULT_MAX_DEPTH else opts.max_depth
         if not state.srgb:  # a display value here; the output is encoded (Engine.radiance)
             background = (*srgb_to_linear(np.asarray(background[:3])), background[3])
+            # So are the generated sky's and 8-bit images' values (the rasterizer shows
+            # them as given): their radiance is what they show once encoded.
+            if state.environment is not None:
+                state = replace(state, environment=state.environment.decoded())
         sky = self._sky(state.environment)
         program = self._program("path", state, False, extra=self._material_defines(scene) + (
             ("SKY_DISTRIBUTION",) if sky is not None else ()))
@@ -93,7 +98,7 @@ class PathEngine(TraceEngine):
         return ("PBR_SLOTS", "PATH_TRACER") + (("HAS_ALPHA",) if alpha else ())
 
     def _tangents(self, obj) -> bool:
-        return as_pbr(obj.material).normal_texture is not None
+        return as_pbr(obj.material).normal_mapped
 
     def _layer_requests(self, scene, pbr_shading: bool = True) -> list:
         """Every image of the materials' slots (facet.render.trace.pack.PATH_SLOTS), a
@@ -183,7 +188,7 @@ class PathEngine(TraceEngine):
                          "off with the inverse square of the distance (their attenuation "
                          "is ignored)")
         mapped = sum(1 for o in scene.objects if o.shape is not None
-                     and as_pbr(o.material).normal_texture is not None)
+                     and as_pbr(o.material).normal_mapped)
         if mapped:
             lines.append(f"the path tracer ignores normal maps on analytic shapes ({mapped} "
                          f"of {len(scene.objects)} objects)")
