@@ -60,7 +60,54 @@ uniform sampler2D u_prefiltered;  // octahedral, mip k: roughness k / (levels - 
 uniform float u_prefiltered_levels;
 #endif
 
+#ifdef TRANSMISSION
+// KHR_materials_transmission and _volume as facet.render.raster.transmission describes.
+uniform sampler2D u_behind;   // the scene without transmitting objects, mipmapped
+uniform float u_behind_width;
+uniform mat4 u_model;
+uniform mat4 u_view_projection;
+uniform vec3 u_transmission;  // factor, thickness (object space; 0: thin-walled), ior
+uniform vec3 u_absorption;    // per unit length inside
+#endif
+
 #include "mesh/outputs.glsl"
+
+#ifdef TRANSMISSION
+// The light a transmitting surface lets through towards V: the picture behind it read
+// where the refracted ray leaves the volume, and each light through a mirrored GGX lobe.
+vec3 transmitted(PbrSurface s, vec3 c_trans, vec3 N, vec3 V, float roughness) {
+    if (c_trans == vec3(0.0)) return vec3(0.0);
+    float ior = u_transmission.z, thickness = u_transmission.y;
+#ifdef TEX_THICKNESS
+    thickness *= sample_slot(u_tex_thickness, SLOT_THICKNESS).g;
+#endif
+    vec3 scale = vec3(length(u_model[0].xyz), length(u_model[1].xyz), length(u_model[2].xyz));
+    vec3 ray = normalize(refract(-V, N, 1.0 / ior)) * thickness * scale;
+    vec4 clip = u_view_projection * vec4(v_pos_world + ray, 1.0);
+    vec2 uv = clamp(clip.xy / clip.w * 0.5 + 0.5, 0.0, 1.0);
+    float rough = roughness * clamp(2.0 * ior - 2.0, 0.0, 1.0);  // rougher with a bigger ior
+    vec3 behind = textureLod(u_behind, uv, log2(u_behind_width) * rough).rgb;
+#if !defined(COLOR_SRGB) && !defined(LINEAR_OUT)
+    behind = srgb_to_linear(max(behind, 0.0));  // the picture holds display values then
+#endif
+    vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * schlick_weight(s.n_dot_v);
+    vec3 through = behind;
+    // Lights behind the surface, seen through it: GGX about the mirrored direction.
+    float alpha = max(rough * rough, MIN_ALPHA);
+    for (int i = 0; i < LIGHTS_IN_USE; ++i) {
+        vec3 L;
+        float falloff = incident_light(i, v_pos_world + ray, L);
+        vec3 L_m = normalize(L - 2.0 * N * dot(N, L));  // on the viewer's side
+        float n_dot_l = max(dot(N, L_m), 0.0);
+        vec3 H = normalize(L_m + V);
+        through += falloff * u_lights[i].color.rgb * PI * n_dot_l
+                 * ggx_d(max(dot(N, H), 0.0), alpha) * smith_vis(n_dot_l, s.n_dot_v, alpha)
+                 * step(dot(N, L), 0.0);
+    }
+    vec3 kept = (1.0 - F_d) * (1.0 - s.cc * s.cc_fresnel) * (1.0 - s.sheen_dim);
+    return kept * c_trans * exp(-u_absorption * length(ray)) * through;
+}
+#endif
 
 void main() {
 #ifdef CLIP_PLANE
@@ -136,6 +183,14 @@ void main() {
                                         min(ior_f0, 1.0) * specular, specular);
         pbr_sheen(s, sheen.rgb, sheen.a);
         pbr_coat(s, clearcoat, clearcoat_roughness, N_coat, V);
+#ifdef TRANSMISSION
+        float transmission = u_transmission.x;
+#ifdef TEX_TRANSMISSION
+        transmission *= sample_slot(u_tex_transmission, SLOT_TRANSMISSION).r;
+#endif
+        vec3 c_trans = s.c_diff * transmission;  // what passes instead of diffusing
+        s.c_diff *= 1.0 - transmission;
+#endif
         rgb = vec3(0.0);
         for (int i = 0; i < LIGHTS_IN_USE; ++i) {
             vec3 L;
@@ -173,6 +228,9 @@ void main() {
                                                              SLOT_OCCLUSION).r - 1.0);
 #endif
         rgb += ambient;
+#ifdef TRANSMISSION
+        rgb += transmitted(s, c_trans, N, V, roughness);
+#endif
     }
     vec3 emissive = u_emissive;
 #ifdef TEX_EMISSIVE

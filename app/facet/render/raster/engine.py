@@ -7,8 +7,6 @@ channels from the opaque objects in a single-sample pass, drawn when first read.
 
 from __future__ import annotations
 
-import numpy as np
-
 from ...gl.targets import clear_frame
 from ...scene.options import DEFAULT_MAX_DEPTH
 from ...scene.pbr import PbrMaterial
@@ -120,8 +118,7 @@ def _dropped(m) -> list[str]:
     if not isinstance(m, PbrMaterial):
         return []
     out = []
-    if m.transmission > 0:
-        out.append("KHR_materials_transmission (drawn as its diffuse part, opaque)")
-    if m.thickness > 0 and np.any(m.absorption > 0):
-        out.append("KHR_materials_volume's attenuation")
+    if m.transmission > 0 and m.alpha_mode == "BLEND":
+        out.append("KHR_materials_transmission in BLEND materials (the transparent pass "
+                   "draws its diffuse part)")
     return out

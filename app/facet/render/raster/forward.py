@@ -36,6 +36,7 @@ from ..state import UNITS, FrameState, pack_lights
 from .culling import Culling, det3
 from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
 from .mirror import MirrorTargets, mirror_plane
+from .transmission import TRANSMISSION_UNIT, TransmissionTarget, transmits
 from .user_shaders import UserPrograms
 
 LIGHTS_BINDING = 0
@@ -67,6 +68,7 @@ class Variant:
     alpha_mask: bool = False  # glTF alphaMode MASK: discard below the cutoff
     exact_only: bool = False  # a pass for the exact channels alone: no colour computed
     grey: bool = False  # every material-light term is grey (see grey_terms)
+    transmission: bool = False  # refracts the picture behind it (raster.transmission)
 
     @classmethod
     def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
@@ -100,7 +102,8 @@ class Variant:
                  "HAS_VERTEX_COLORS": self.vertex_colors, "COLOR_SRGB": self.srgb,
                  "OIT": self.oit, "HAS_ENVIRONMENT": self.environment,
                  "HAS_MIRROR": self.mirror, "CLIP_PLANE": self.clip_plane,
-                 "GREY_TERMS": self.grey, "LINEAR_OUT": self.linear_out}
+                 "GREY_TERMS": self.grey, "LINEAR_OUT": self.linear_out,
+                 "TRANSMISSION": self.transmission}
         d.update({k: None for k, on in flags.items() if on})
         return d
 
@@ -147,6 +150,7 @@ class ForwardPass:
         self.user = UserPrograms(ctx, cache.forget_program)
         self._sky = None  # the environment background program, made on first use
         self.mirrors = MirrorTargets(ctx)  # planar reflection textures, made on first use
+        self.behind = TransmissionTarget(ctx)  # the picture transmission refracts
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights((), np.zeros(3))))
         self._lights_bytes = b""
         self.ibl = ImageLighting(ctx, cache)  # the pbr model's ambient and environment light
@@ -184,6 +188,7 @@ class ForwardPass:
         shows_effects = colour_pass and not oit
         reflections = self._draw_reflections(scene, state) \
             if shows_effects and state.clip_plane is None else {}
+        behind = self._draw_behind(scene, state) if shows_effects else None
         if state.lights_block != self._lights_bytes:
             self.lights_ubo.write(state.lights_block)
             self._lights_bytes = state.lights_block
@@ -229,7 +234,8 @@ class ForwardPass:
                     vertex_colors=mesh.colors is not None, uv1=mesh.uvs1 is not None,
                     tangents=pbr.normal_mapped and mesh.tangents is not None,
                     alpha_mask=pbr.alpha_mode == "MASK",
-                    environment=env is not None and colour_pass))
+                    environment=env is not None and colour_pass,
+                    transmission=behind is not None and transmits(pbr)))
             else:  # a mirror reflects the sky in its reflection
                 exact_only = bool(aux) and not colour_pass
                 terms = phong_terms(m, state, ambient, intensities)
@@ -247,7 +253,8 @@ class ForwardPass:
             self._cull(self.culling.cull(obj, state.cull, state.camera.view,
                                          state.camera.near, det))
             if model == "pbr" and not user:
-                self._draw_pbr(prog, obj, pbr, state, view_projection, env, colour_pass)
+                self._draw_pbr(prog, obj, pbr, state, view_projection, env, colour_pass,
+                               behind if transmits(pbr) else None)
                 continue
             if user:
                 terms = phong_terms(m, state, ambient, intensities)
@@ -315,8 +322,9 @@ class ForwardPass:
             self.ctx.disable(self.ctx.CULL_FACE)
 
     def _draw_pbr(self, prog, obj, m, state: FrameState, view_projection, env,
-                  colour_pass: bool) -> None:
-        """One object by the pbr model (glsl/mesh/pbr.frag)."""
+                  colour_pass: bool, behind=None) -> None:
+        """One object by the pbr model (glsl/mesh/pbr.frag); ``behind``: the picture its
+        transmission refracts (facet.render.raster.transmission)."""
         prog.set("u_model", obj.transform)
         prog.set("u_mvp", view_projection @ obj.transform)
         prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
@@ -333,6 +341,13 @@ class ForwardPass:
             prog.set("u_irradiance", IBL_UNITS["irradiance"], strict=False)
             prog.set("u_prefiltered", IBL_UNITS["prefiltered"], strict=False)
             prog.set("u_prefiltered_levels", float(PREFILTER_LEVELS), strict=False)
+        if behind is not None:
+            behind.use(location=TRANSMISSION_UNIT)
+            prog.set("u_behind", TRANSMISSION_UNIT)
+            prog.set("u_behind_width", float(behind.width))
+            prog.set("u_view_projection", view_projection)
+            prog.set("u_transmission", (m.transmission, m.thickness, max(m.ior, 1.0)))
+            prog.set("u_absorption", tuple(float(c) for c in m.absorption))
         self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
         for unit in bound:  # sampler objects outlive the draw otherwise
             self.ctx.clear_samplers(unit, unit + 1)
@@ -378,6 +393,26 @@ class ForwardPass:
         bound.use()
         return out
 
+    def _draw_behind(self, scene: Scene, state: FrameState):
+        """The picture of ``scene`` without its transmitting objects (those the pbr model
+        draws), mipmapped, for them to refract (facet.render.raster.transmission); None
+        when none transmits. Rebinds the framebuffer that was bound."""
+        through = [o for o in scene.objects if o.material.shader is None and
+                   model_for(state.shading, o.material) == "pbr" and transmits(o.material)]
+        if not through:
+            return None
+        bound = self.ctx.fbo
+        tex, fbo = self.behind.get(state.width, state.height)
+        fbo.use()
+        bg = np.asarray(scene.background, dtype=np.float64)
+        fbo.clear(*(float(c) for c in state.to_linear(bg[:3]) * bg[3]), float(bg[3]),
+                  depth=1.0)
+        skip = {id(o) for o in through}
+        self.draw(scene.view(objects=[o for o in scene.objects if id(o) not in skip]), state)
+        tex.build_mipmaps()
+        bound.use()
+        return tex
+
     def _draw_sky(self, env, view_projection, width: int, height: int) -> None:
         """The environment behind everything: a full-screen pass, no depth test or write."""
         if self._sky is None:
@@ -394,6 +429,7 @@ class ForwardPass:
         self.ibl.release()
         self.samplers.release()
         self.mirrors.release()
+        self.behind.release()
         if self._sky is not None:
             self._sky.release()
         self.user.release()
