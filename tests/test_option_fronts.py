@@ -45,9 +45,10 @@ SAMPLES = {
     "seed": (7, "7", -1, "-1"),
     "up": ("-z", "-z", "w", "w"),
     "cull": ("off", "off", "maybe", "maybe"),
+    "denoise": (True, True, "yes", None),
 }
 FLAGS = {"max_depth": "--max-depth", "environment": "--env"}  # else --KEY
-BOOLEAN_FLAGS = ("shadows", "srgb", "wireframe")  # --KEY / --no-KEY
+BOOLEAN_FLAGS = ("shadows", "srgb", "wireframe", "denoise")  # --KEY / --no-KEY
 NOT_VIEWED = ("outputs",)  # a window shows colour: `facet view` has no --outputs
 SCENE = """
 [[objects]]

@@ -3,6 +3,9 @@
 // pixel's centre (the pinhole camera, no shift), written like the rasterizer's
 // (facet.gl.targets): linear depth along the camera axis, object id + 1, the normal facing
 // the viewer, the world position and the texture coordinates; 0 where nothing is hit.
+// ALBEDO (the path tracer's materials): the first hit's albedo into the colour, the
+// denoiser's guide (facet.render.denoise): the base colour, white where a smooth
+// dielectric lets light through.
 #include "trace/shade.glsl"
 #ifdef PBR_SLOTS
 #include "trace/material.glsl"
@@ -55,8 +58,14 @@ void main() {
     }
     if (h.inst < 0) discard;  // the targets were cleared to 0
     f_color = vec4(0.0);
-#if defined(OUT_NORMALS) || defined(OUT_POSITION) || defined(OUT_UV) || defined(OUT_DEPTH_IDS)
+#if defined(OUT_NORMALS) || defined(OUT_POSITION) || defined(OUT_UV) || \
+    defined(OUT_DEPTH_IDS) || defined(ALBEDO)
     Surface s = surface_at(h, o, d);
+#endif
+#if defined(ALBEDO) && defined(PBR_SLOTS)
+    Material m = material_at(h.inst, s);
+    f_color = vec4(m.unlit ? m.base : mix(m.base, vec3(1.0),
+                                          m.transmission * (1.0 - m.metallic)), 1.0);
 #endif
 #ifdef OUT_DEPTH_IDS
     // Linear depth along the camera axis: (p - eye) . forward; a parallel projection's

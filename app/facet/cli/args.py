@@ -147,6 +147,10 @@ def add_render_options(p, size_default: str) -> None:
     g.add_argument("--seed", metavar="N",
                    help="the random stream (path tracer, jittered patterns): the same seed "
                    "gives the same picture (default 0)")
+    g.add_argument("--denoise", action=argparse.BooleanOptionalAction,
+                   help="the path tracer's picture through Intel Open Image Denoise "
+                   "(fed albedo and normals; pip install 'facet[denoise]'); the exact "
+                   "channels stay as traced (default: off)")
     g.add_argument("--spp", metavar="N",
                    help="samples per pixel, jittered (the same as --aa jittered:N)")
     g.add_argument("--shadows", action=argparse.BooleanOptionalAction,
@@ -203,7 +207,7 @@ def render_layer(args) -> dict:
 
     return text_layer({"size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
             "spp": args.spp, "engine": args.engine, "max_depth": args.max_depth,
-            "seed": args.seed,
+            "seed": args.seed, "denoise": args.denoise,
             "shadows": args.shadows, "pcf": args.pcf, "srgb": args.srgb,
             "background": args.background, "camera": args.camera, "lights": args.lights,
             "wireframe": args.wireframe, "aperture": args.aperture, "focus": args.focus,

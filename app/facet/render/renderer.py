@@ -49,6 +49,7 @@ from ..scene.options import (
 )
 from ..scene.scene import Scene
 from .antialias import distributed_sample, gloss_jitter, jitter_matrix, point_lights_for
+from .denoise import denoise_lines
 from .destination import Destination, Surfaces
 from .engine import engine_for
 from .finish import Finisher, finish_for
@@ -168,6 +169,8 @@ class Renderer:
         engine = self._engine(opts.engine)
         scene, state = prepare_frame(scene, camera, opts, dest.window is not None)  # 1
         self._warn(engine.unsupported(opts, scene))
+        if opts.denoise:
+            self._warn(denoise_lines(engine, dest))
         surf = self._surfaces_for(opts.size)
         aa = engine.sampling(opts, scene, state.camera, dest.preview)
         state = engine.prepare(scene, state, opts, aa)  # 2
@@ -247,6 +250,8 @@ class Renderer:
         samples = dest.samples(aa.samples)
         source = self._accumulate(engine, scene, state, opts, aa, samples, bg, surf,
                                   dest.preview)
+        if opts.denoise and engine.radiance and dest.window is None:
+            self._denoise(engine, scene, state, surf, source, samples.stop)
         # An engine whose colour is linear radiance (the path tracer) is encoded for 8-bit
         # output (a window is 8-bit) and left linear in float colour, whatever srgb says.
         eight_bit = not opts.float_color or dest.window is not None
@@ -312,6 +317,25 @@ class Renderer:
             engine.draw_sample(scene_k, sample, opts, surf, bg)
             acc.add_sample()
         return acc.accum_tex
+
+    def _denoise(self, engine, scene, state, surf, source, samples: int) -> None:
+        """The sum of ``samples`` pictures in ``source`` replaced by its denoised mean times
+        ``samples`` (facet.render.denoise), guided by the engine's albedo and normals
+        (drawn into the colour and normals attachments; the exact channels drawn there are
+        the same normals, and depth and ids are left alone)."""
+        from .denoise import denoise
+
+        w, h = source.size
+        total = np.frombuffer(source.read(), np.float32).reshape(h, w, 4).copy()
+        fbo = surf.targets.aux(("normals",), "f4")
+        fbo.use()
+        with writing(fbo):
+            fbo.clear(0.0, 0.0, 0.0, 0.0)
+            engine.draw_exact(engine.exact_scene(scene), state, ("normals",), albedo=True)
+        albedo = surf.targets.read_color(fbo, "f4")[..., :3]
+        normal = surf.targets.read_aux("normals")
+        total[..., :3] = denoise(total[..., :3] / samples, albedo, normal) * samples
+        source.write(total.tobytes())
 
     def _finish(self, source, source_fbo, finish, opts, dest, surf):
         """Step 5: finished colour read back (offscreen) or shown (window); a sum of

@@ -345,6 +345,7 @@ PARSERS = {
     "seed": _integer(minimum=0, maximum=2 ** 31 - 1),
     "up": _up,
     "cull": _choice(CULL, "culling mode"),
+    "denoise": _bool,
 }
 
 

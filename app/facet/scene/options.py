@@ -84,6 +84,8 @@ class RenderOptions:
     up : the world's up axis: default cameras frame the scene and turntables orbit
          around it (CAD and scanner files are often z-up)
     cull : back-face culling: "auto" (where it cannot change the picture), "on", "off"
+    denoise : the path tracer's picture through Intel Open Image Denoise, fed the first
+              hit's albedo and normal (facet.render.denoise); never the exact channels
     """
 
     size: tuple[int, int] = (800, 600)
@@ -107,6 +109,7 @@ class RenderOptions:
     seed: int = 0
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
     cull: str = "auto"
+    denoise: bool = False
 
     @property
     def shadows_on(self) -> bool:

@@ -284,10 +284,12 @@ class TraceEngine(Engine):
         program.draw(textures)
         self.ctx.enable(self.ctx.DEPTH_TEST)
 
-    def draw_exact(self, scene, state: FrameState, aux) -> None:
-        """The exact channels ``aux`` at pixel centres into the bound target (cleared)."""
+    def draw_exact(self, scene, state: FrameState, aux, albedo: bool = False) -> None:
+        """The exact channels ``aux`` at pixel centres into the bound target (cleared);
+        ``albedo``: the first hit's albedo into its colour too (the denoiser's guide)."""
         program = self._program("primary", state, False, aux,
-                                extra=self._material_defines(scene, state))
+                                extra=self._material_defines(scene, state) +
+                                (("ALBEDO",) if albedo else ()))
         self._bind(scene, state, program)
         prog = program.program
         camera = state.camera
