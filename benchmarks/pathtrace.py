@@ -4,10 +4,13 @@ cores in the same run, and facet's sample rate against the size of the scene.
 
     python benchmarks/pathtrace.py [--quick]
 
-Efficiency: on two scenes both renderers draw alike (tests/mitsuba_scene.py translates
-them: models/cornell.toml, and the glass scene of glass and mirror balls under a constant
-sky), each renders at a few sample counts; the error is the RMSE of linear radiance against
-Mitsuba at many samples. For an unbiased estimator error^2 x time is about constant, so
+Efficiency: on scenes both renderers draw alike (tests/mitsuba_scene.py translates them:
+models/cornell.toml, the glass scene of glass and mirror balls under a constant sky, and
+the glTF model MetalRoughSpheresNoTextures from ../shared/gltf under an HDR sky of a
+bright patch and a gradient), each renders at a few sample counts; the error is the RMSE of linear
+radiance against Mitsuba at many samples (the glTF scene, whose materials go over as
+Mitsuba's principled BSDF, alike but not equal: against each renderer's own picture at
+many samples). For an unbiased estimator error^2 x time is about constant, so
 "efficiency" is 1 / (RMSE^2 x seconds), and the ratio facet / Mitsuba says who reaches a
 given error sooner (>= 1: facet). The table also gives the error each reaches in the same
 wall time (interpolated in log-log). Sample rate: paths per second (256 x 256, 4 paths per
@@ -28,33 +31,66 @@ ROOT = HERE.parent
 sys.path.insert(0, str(ROOT / "tests"))
 
 
-def _scenes():
+SPHERES = ROOT.parent / "shared" / "gltf" / "MetalRoughSpheresNoTextures" / \
+    "MetalRoughSpheresNoTextures.glb"
+
+
+def _hdr_sky(path: Path) -> Path:
+    """A sky for the glTF scene: a gradient and a bright patch 25 degrees from the zenith
+    (radiance 20 over 12 degrees: a small sun would make its mirror spheres' highlights
+    a few pixels' worth of the error), as a Radiance .hdr file."""
+    from facet.scene.environment import equirect_directions
+    from facet.scene.hdr_image import write_hdr
+
+    d = equirect_directions(512, 256)
+    up = np.clip(d[..., 1], 0, 1)[..., None]
+    img = (0.2 + 0.8 * up) * np.array([0.5, 0.7, 1.0]) * (d[..., 1:2] > 0) + \
+        (d[..., 1:2] <= 0) * np.array([0.15, 0.12, 0.1])
+    sun = np.array([np.sin(np.radians(25)), np.cos(np.radians(25)), 0.0])
+    img[(d @ sun) > np.cos(np.radians(12.0))] = (20.0, 19.0, 17.0)
+    write_hdr(path, img.astype(np.float32))
+    return path
+
+
+def _scenes(tmp: Path):
+    """(name, scene, camera, sky, own references): sky None, a constant radiance (3,), or
+    an HDR file's path."""
     import facet
     import mitsuba_scene
 
     cornell = facet.load(ROOT / "models" / "cornell.toml")
     glass, camera = mitsuba_scene.glass_scene()
-    return [("Cornell box", cornell, cornell.cameras["front"], None),
-            ("glass + mirror, sky", glass, camera, mitsuba_scene.GLASS_SKY)]
+    out = [("Cornell box", cornell, cornell.cameras["front"], None, False),
+           ("glass + mirror, sky", glass, camera, mitsuba_scene.GLASS_SKY, False)]
+    if SPHERES.exists():
+        spheres = facet.load(SPHERES)
+        with facet.Renderer(64, 64) as r:
+            view = r.camera(spheres, r.options(spheres))
+        out.append(("glTF spheres, HDR sky", spheres, view, _hdr_sky(tmp / "sky.hdr"), True))
+    else:
+        print(f"({SPHERES} is absent: the glTF scene is skipped)")
+    return out
 
 
-def _facet(scene, camera, size, spp, sky):
+def _facet(scene, camera, size, spp, sky, seed=0):
     import facet
 
-    kw = {"environment": {"color": list(sky)}} if sky is not None else {}
+    kw = {"environment": {"color": list(sky)}} if isinstance(sky, tuple) else \
+        {"environment": str(sky)} if sky is not None else {}
     with facet.Renderer(size, size) as r:
         r.render(scene, camera, engine="path", spp=1, float_color=True, lights="scene", **kw)
         start = time.perf_counter()
         image = r.render(scene, camera, engine="path", spp=spp, float_color=True,
-                         lights="scene", **kw).color[..., :3]
+                         lights="scene", seed=seed, **kw).color[..., :3]
         return image, time.perf_counter() - start
 
 
-def _mitsuba(scene, camera, size, spp, sky, seed=1):
+def _mitsuba(scene, camera, size, spp, sky, seed=1, approximate=False):
     import mitsuba_scene
 
     start = time.perf_counter()
-    image = mitsuba_scene.render(scene, camera, size, size, spp, seed=seed, environment=sky)
+    image = mitsuba_scene.render(scene, camera, size, size, spp, seed=seed, environment=sky,
+                                 approximate=approximate)
     return image, time.perf_counter() - start
 
 
@@ -76,27 +112,40 @@ def efficiency_table(quick: bool) -> None:
     facet_spp = (4, 16) if quick else (4, 16, 64)
     mitsuba_spp = (16, 64) if quick else (16, 64, 256)
     print(f"\nPath tracing against Mitsuba 3 scalar_rgb, {size}x{size}, max_depth 8 "
-          f"(Mitsuba's 10); error: RMSE of linear radiance against Mitsuba at {ref_spp} spp")
+          f"(Mitsuba's 10); error: RMSE of linear radiance against Mitsuba at {ref_spp} spp "
+          "(the glTF scene: against each renderer's own at that count)")
     print(f"{'scene':>22} | {'renderer':>8} {'spp':>5} {'seconds':>8} {'RMSE':>8} "
           f"{'1/(RMSE^2 s)':>13}")
-    for name, scene, camera, sky in _scenes():
-        ref, _ = _mitsuba(scene, camera, size, ref_spp, sky, seed=99)
-        rows = {}
-        for who, fn, counts in (("facet", _facet, facet_spp),
-                                ("Mitsuba", _mitsuba, mitsuba_spp)):
-            rows[who] = []
-            for spp in counts:
-                image, seconds = fn(scene, camera, size, spp, sky)
-                rmse = float(np.sqrt(((image - ref) ** 2).mean()))
-                rows[who].append((seconds, rmse))
-                print(f"{name:>22} | {who:>8} {spp:>5} {seconds:>8.3f} {rmse:>8.4f} "
-                      f"{1 / (rmse ** 2 * seconds):>13.1f}")
-        eff = {who: np.median([1 / (e * e * t) for t, e in r]) for who, r in rows.items()}
-        budget = float(np.median([t for t, _ in rows["Mitsuba"]]))
-        at = {who: _error_at(*zip(*r, strict=True), budget) for who, r in rows.items()}
-        print(f"{name:>22} | efficiency facet / Mitsuba: {eff['facet'] / eff['Mitsuba']:.3f}; "
-              f"in {budget:.2f} s facet reaches RMSE {at['facet']:.4f}, Mitsuba "
-              f"{at['Mitsuba']:.4f}")
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, scene, camera, sky, own in _scenes(Path(tmp)):
+            _efficiency_rows(name, scene, camera, sky, own, size, ref_spp, facet_spp,
+                             mitsuba_spp)
+
+
+def _efficiency_rows(name, scene, camera, sky, own, size, ref_spp, facet_spp, mitsuba_spp):
+    def mitsuba(scene, camera, size, spp, sky, seed=1):
+        return _mitsuba(scene, camera, size, spp, sky, seed, approximate=own)
+
+    ref, _ = mitsuba(scene, camera, size, ref_spp, sky, seed=99)
+    refs = {"Mitsuba": ref, "facet": _facet(scene, camera, size, ref_spp, sky, seed=99)[0]
+            if own else ref}
+    rows = {}
+    for who, fn, counts in (("facet", _facet, facet_spp), ("Mitsuba", mitsuba, mitsuba_spp)):
+        rows[who] = []
+        for spp in counts:
+            image, seconds = fn(scene, camera, size, spp, sky)
+            rmse = float(np.sqrt(((image - refs[who]) ** 2).mean()))
+            rows[who].append((seconds, rmse))
+            print(f"{name:>22} | {who:>8} {spp:>5} {seconds:>8.3f} {rmse:>8.4f} "
+                  f"{1 / (rmse ** 2 * seconds):>13.1f}")
+    eff = {who: np.median([1 / (e * e * t) for t, e in r]) for who, r in rows.items()}
+    budget = float(np.median([t for t, _ in rows["Mitsuba"]]))
+    at = {who: _error_at(*zip(*r, strict=True), budget) for who, r in rows.items()}
+    print(f"{name:>22} | efficiency facet / Mitsuba: {eff['facet'] / eff['Mitsuba']:.3f}; "
+          f"in {budget:.2f} s facet reaches RMSE {at['facet']:.4f}, Mitsuba "
+          f"{at['Mitsuba']:.4f}")
 
 
 def rate_table(quick: bool) -> None:

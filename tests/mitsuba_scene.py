@@ -13,7 +13,12 @@ translated and any other is refused:
 - emission: an ``area`` emitter (one-sided unless double-sided: Mitsuba's emitters are);
 - an area light: the emitting rectangle facet's path tracer makes of it
   (facet.render.trace.area_lights), an ``area`` emitter on a black rectangle;
-- a constant environment: a ``constant`` emitter.
+- a constant environment: a ``constant`` emitter; an HDR image: an ``envmap`` (Y up, row
+  0 at the zenith, as facet reads them).
+
+With ``approximate=True`` (benchmarks, which measure each renderer against its own
+converged picture) any other opaque metallic-roughness material goes over as Mitsuba's
+``principled`` BSDF of the same base colour, metallic and roughness: alike, not equal.
 
 facet's ``max_depth`` counts bounces after the eye ray, Mitsuba's the path's segments:
 theirs = ours + 2. Mitsuba's box pixel filter matches facet's jittered supersampling.
@@ -37,10 +42,14 @@ def available() -> bool:
     return True
 
 
-def _bsdf(m) -> dict:
+def _bsdf(m, approximate: bool = False) -> dict:
     if not isinstance(m, PbrMaterial):
         raise ValueError("only metallic-roughness materials translate to Mitsuba")
     base = [float(c) for c in m.base_color[:3]]
+    if approximate and m.transmission == 0:
+        return {"type": "principled", "base_color": {"type": "rgb", "value": base},
+                "metallic": float(m.metallic), "roughness": float(m.roughness),
+                "specular": 0.5 * float(m.specular)}  # Mitsuba's 0.5: f0 = 0.04
     if m.metallic == 0 and m.specular == 0:
         return {"type": "diffuse", "reflectance": {"type": "rgb", "value": base}}
     if (m.transmission == 1 and m.metallic == 0 and m.roughness == 0 and m.thickness > 0
@@ -53,9 +62,10 @@ def _bsdf(m) -> dict:
 
 
 def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
-           seed: int = 0, environment=None) -> np.ndarray:
+           seed: int = 0, environment=None, approximate: bool = False) -> np.ndarray:
     """(height, width, 3) float32 linear radiance of ``scene`` seen by ``camera``;
-    ``environment``: the radiance (3,) of a constant sky, or None."""
+    ``environment``: the radiance (3,) of a constant sky, the path of an HDR image, or
+    None; ``approximate``: see the module docstring."""
     import mitsuba as mi
     import trimesh
 
@@ -64,7 +74,9 @@ def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
         desc = {"type": "scene",
                 "integrator": {"type": "path", "max_depth": max_depth + 2},
                 "sensor": _sensor(camera, width, height, spp, seed)}
-        if environment is not None:
+        if isinstance(environment, (str, Path)):
+            desc["sky"] = {"type": "envmap", "filename": str(environment)}
+        elif environment is not None:
             desc["sky"] = {"type": "constant", "radiance": {
                 "type": "rgb", "value": [float(c) for c in environment]}}
         from facet.render.trace.area_lights import AreaEmitters
@@ -81,7 +93,7 @@ def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
             path = Path(tmp) / f"object{i}.ply"
             trimesh.Trimesh(pos, faces, vertex_normals=nrm, process=False).export(path)
             shape = {"type": "ply", "filename": str(path), "face_normals": False,
-                     "bsdf": _bsdf(obj.material)}
+                     "bsdf": _bsdf(obj.material, approximate)}
             mat = obj.material
             if np.any(mat.emissive * mat.emissive_strength > 0):
                 radiance = [float(c) for c in mat.emissive * mat.emissive_strength]

@@ -1,14 +1,17 @@
-"""The path tracer's emitting triangles as a table for light sampling (numpy, no GL).
+"""The path tracer's emitters as a table for light sampling (numpy, no GL).
 
 Every triangle of a mesh whose material emits (emissive factor x strength, as
-facet.render.trace.pack lays it out) is a light. glsl/trace/path.frag picks one by its
-share of the emitted power, area x luminance of the factor (a binary search in the
-cumulative shares), then a point uniformly on it; the density of that point per unit area is
-then luminance / total power, the same for every point of an instance: the ``emit_pdf`` the
+facet.render.trace.pack lays it out) is a light, and so is every emitting analytic shape
+(facet.scene.shapes) of finite area. glsl/trace/path.frag picks one by its share of the
+emitted power, area x luminance of the factor (a binary search in the cumulative shares),
+then a point uniformly on it by area; the density of that point per unit area is then
+luminance / total power, the same for every point of an instance: the ``emit_pdf`` the
 instance row carries, which also weights the emitters that BSDF sampling finds (multiple
 importance sampling). An emissive texture varies what is emitted, not the density (still
-unbiased). Emitting analytic shapes are found by BSDF sampling alone (their ``emit_pdf`` is
-0): exact, only noisier.
+unbiased). A shape is sampled in its object space, which is uniform in the world where its
+transform is a similarity (rotation, uniform scale, translation); a shape stretched
+unevenly, or an infinite plane, is found by BSDF sampling alone (its ``emit_pdf`` is 0):
+exact, only noisier.
 """
 
 from __future__ import annotations
@@ -23,6 +26,33 @@ def emitted_luminance(material) -> float:
     return float(LUMINANCE @ (material.emissive * material.emissive_strength))
 
 
+def shape_area(obj) -> float:
+    """The world area of ``obj``'s analytic shape; 0 for one that cannot be sampled
+    uniformly by area in its object space (an infinite plane, an uneven scale)."""
+    m = np.asarray(obj.transform, dtype=np.float64)[:3, :3]
+    scale = np.linalg.svd(m, compute_uv=False)
+    if scale[0] <= 0 or scale[0] - scale[-1] > 1e-6 * scale[0]:
+        return 0.0
+    kind, q = obj.shape.kind, [float(v) for v in obj.shape.params]
+    if not np.all(np.isfinite(q)):
+        return 0.0
+    if kind == "sphere":
+        area = 4 * np.pi * q[0] ** 2
+    elif kind == "disk":
+        area = np.pi * q[0] ** 2
+    elif kind == "plane":
+        area = q[0] * q[1]
+    elif kind == "box":
+        area = 2 * (q[0] * q[1] + q[1] * q[2] + q[0] * q[2])
+    elif kind == "cylinder":
+        area = 2 * np.pi * q[0] * (q[1] + q[0])
+    elif kind == "cone":
+        area = np.pi * q[0] * (np.hypot(q[0], q[1]) + q[0])
+    else:
+        return 0.0
+    return float(area * scale[0] ** 2)
+
+
 def pack_emitters(objects, pbr_of, mesh_tris: dict, tri_offset: dict):
     """(table (n, 4) float32 of (instance, triangle, cumulative power share, 0), emit_pdf
     (len(objects),) float32) for the placed ``objects`` in instance order. ``pbr_of``:
@@ -31,10 +61,15 @@ def pack_emitters(objects, pbr_of, mesh_tris: dict, tri_offset: dict):
     pdf = np.zeros(len(objects), np.float32)
     parts, powers = [], []
     for i, obj in enumerate(objects):
-        if obj.shape is not None:
-            continue
         lum = emitted_luminance(pbr_of(obj))
         if lum <= 0.0:
+            continue
+        if obj.shape is not None:
+            area = shape_area(obj)
+            if area > 0:
+                parts.append(np.array([[i, -1, 0, 0]], np.float64))
+                powers.append(np.array([area * lum]))
+                pdf[i] = lum
             continue
         tris = mesh_tris[id(obj.mesh)]
         m = np.asarray(obj.transform, dtype=np.float64)[:3, :3]

@@ -33,7 +33,7 @@ from .env_sampling import distribution
 
 STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag
 EMITTERS_UNIT = 30  # after facet.render.materials.IBL_UNITS
-SKY_UNITS = (31, 32)
+SKY_UNITS = (31, 32, 34)  # cdf, pdf, radiance (33: facet.render.raster.transmission)
 
 
 class PathEngine(TraceEngine):
@@ -89,7 +89,7 @@ class PathEngine(TraceEngine):
                          u_seed=int(opts.seed),
                          u_strategy=STRATEGIES[self.strategy],
                          u_emitter_count=self._emitter_count,
-                         u_sky_size=sky[2] if sky is not None else (1, 1))
+                         u_sky_size=sky[3] if sky is not None else (1, 1))
 
     # -- what differs from the tracer's upload ---------------------------------------------
     def _material_defines(self, scene, state=None) -> tuple:
@@ -113,13 +113,18 @@ class PathEngine(TraceEngine):
     def _more_textures(self) -> dict:
         out = {"u_emitters": (self._textures["emitters"], EMITTERS_UNIT)}
         if self._sky_entry is not None and self._sky_entry[1] is not None:
-            cdf, pdf, _ = self._sky_entry[1]
-            out.update(u_sky_cdf=(cdf, SKY_UNITS[0]), u_sky_pdf=(pdf, SKY_UNITS[1]))
+            cdf, pdf, radiance, _ = self._sky_entry[1]
+            out.update(u_sky_cdf=(cdf, SKY_UNITS[0]), u_sky_pdf=(pdf, SKY_UNITS[1]),
+                       u_sky_radiance=(radiance, SKY_UNITS[2]))
         return out
 
     def _sky(self, environment):
-        """The environment's luminance distribution as textures (cdf, pdf, (W, H)), made
-        once per environment (facet.render.trace.env_sampling); None without one."""
+        """The environment's luminance distribution as textures (cdf, pdf, the radiance
+        it was made from, (W, H)), made once per environment
+        (facet.render.trace.env_sampling); None without one. Light reaching surfaces from
+        the sky is read from that radiance, texel for texel as the distribution has it: the
+        cube map's filtered texels spread a small sun into neighbours the distribution
+        gives little density, and each such sample was a firefly."""
         equirect = getattr(environment, "equirect", None)
         if equirect is None:
             self._release_sky()
@@ -132,8 +137,10 @@ class PathEngine(TraceEngine):
             if made is not None:
                 cdf, pdf = made
                 textures = []
-                for array in (cdf, pdf):
-                    tex = self.ctx.texture((array.shape[1], array.shape[0]), 1,
+                radiance = np.ascontiguousarray(equirect[..., :3], np.float32)
+                for array in (cdf, pdf, radiance):
+                    tex = self.ctx.texture((array.shape[1], array.shape[0]),
+                                           1 if array.ndim == 2 else 3,
                                            array.tobytes(), dtype="f4")
                     tex.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
                     textures.append(tex)
@@ -143,7 +150,7 @@ class PathEngine(TraceEngine):
 
     def _release_sky(self) -> None:
         if self._sky_entry is not None and self._sky_entry[1] is not None:
-            for tex in self._sky_entry[1][:2]:
+            for tex in self._sky_entry[1][:3]:
                 tex.release()
         self._sky_entry = None
 

@@ -1,0 +1,93 @@
+"""Emitting analytic shapes as lights (facet.render.trace.emitters): a point uniformly by
+area on a sphere, disk, plane, box, cylinder or cone, weighed against BSDF sampling by
+multiple importance sampling. A sphere lamp above a Lambertian floor against the closed
+form (the floor below it shows albedo x L x (R / H)^2); every shape's light the same with
+light sampling only, BSDF sampling only and both, both with less noise than BSDF sampling
+alone (before, these shapes were found by BSDF sampling alone)."""
+
+import numpy as np
+import pytest
+
+import facet
+from facet.geometry.camera import Camera
+from facet.render.trace.path_engine import PathEngine
+from facet.scene.pbr import PbrMaterial
+
+ALBEDO, RADIANCE, HEIGHT = 0.7, 3.0, 1.2
+DOWN = Camera.look_at((0, 0.6, 0.001), (0, 0, 0), fov_y=20, near=0.05, far=10)
+
+
+def _scene(shape, transform=None):
+    scene = facet.Scene(ambient=0.0)
+    scene.add(facet.primitives.plane(8.0),
+              material=PbrMaterial(base_color=(ALBEDO,) * 3, metallic=0.0, specular=0.0))
+    lamp = PbrMaterial(base_color=(0, 0, 0, 1), metallic=0.0, specular=0.0,
+                       emissive=(1, 1, 1), emissive_strength=RADIANCE, double_sided=True)
+    place = facet.transforms.translate((0, HEIGHT, 0))
+    scene.add(shape, material=lamp, transform=place if transform is None else place @ transform)
+    return scene
+
+
+def _render(scene, strategy, spp, camera=DOWN, size=16):
+    PathEngine.strategy = strategy
+    try:
+        with facet.Renderer(size, size) as r:
+            return r.render(scene, camera, engine="path", spp=spp, max_depth=0,
+                            float_color=True, lights="scene").color[..., :3]
+    finally:
+        PathEngine.strategy = "mis"
+
+
+def test_a_sphere_lamp_lights_the_floor_below_as_the_closed_form_says():
+    """A sphere of radius R and radiance L seen from a point H below its centre fills a
+    cap of sin^2 = (R / H)^2 of the projected hemisphere: irradiance pi L (R / H)^2."""
+    radius = 0.3
+    colour = _render(_scene(facet.shapes.Sphere(radius)), "mis", 256, size=8)
+    # the camera sees the floor right under the lamp (its 8 x 8 pixels within 0.1 of it)
+    expected = ALBEDO * RADIANCE * (radius / HEIGHT) ** 2
+    np.testing.assert_allclose(colour.mean(), expected, rtol=0.03)
+
+
+SIDE = Camera.look_at((0, 2.5, 3.5), (0, 0.4, 0), fov_y=45, near=0.1, far=20)
+SHAPES = {
+    "sphere": (facet.shapes.Sphere(0.3), None),
+    "disk": (facet.shapes.Disk(0.4), facet.transforms.rotate_x(180.0)),
+    "plane": (facet.shapes.Plane((0.6, 0.4)), facet.transforms.rotate_x(180.0)),
+    "box": (facet.shapes.Box((0.5, 0.2, 0.3)), facet.transforms.rotate_y(30.0)),
+    "cylinder": (facet.shapes.Cylinder(0.2, 0.5), facet.transforms.rotate_z(60.0)),
+    "cone": (facet.shapes.Cone(0.3, 0.5), facet.transforms.scale(1.5)),
+}
+
+
+@pytest.mark.parametrize("name", list(SHAPES))
+def test_every_shape_is_light_sampled_to_the_same_picture_with_less_noise(name):
+    shape, turn = SHAPES[name]
+    scene = _scene(shape, turn)
+    reference = _render(scene, "mis", 1024, camera=SIDE)
+    floor = reference.mean(axis=-1) < 0.9 * RADIANCE  # not the lamp itself
+    errors = {}
+    for strategy in ("mis", "light", "bsdf"):
+        converged = _render(scene, strategy, 256, camera=SIDE)
+        assert converged[floor].mean() == pytest.approx(reference[floor].mean(), rel=0.03), \
+            strategy
+        picture = _render(scene, strategy, 16, camera=SIDE)
+        errors[strategy] = np.sqrt(((picture - reference)[floor] ** 2).mean())
+    assert errors["mis"] < 0.7 * errors["bsdf"], errors
+
+
+def test_shape_areas_and_what_is_left_to_bsdf_sampling():
+    from facet.render.trace.emitters import shape_area
+
+    def area(shape, transform=None):
+        scene = facet.Scene()
+        scene.add(shape, transform=np.eye(4) if transform is None else transform)
+        return shape_area(scene.objects[0])
+
+    assert area(facet.shapes.Sphere(0.5), facet.transforms.scale(2.0)) == \
+        pytest.approx(4 * np.pi)
+    assert area(facet.shapes.Cone(0.3, 0.4)) == pytest.approx(np.pi * 0.3 * (0.5 + 0.3))
+    assert area(facet.shapes.Box((1, 2, 3))) == pytest.approx(22.0)
+    assert area(facet.shapes.Cylinder(0.5, 2.0)) == pytest.approx(2 * np.pi * 0.5 * 2.5)
+    # not uniform by area in the world: BSDF sampling alone finds them
+    assert area(facet.shapes.Sphere(1.0), facet.transforms.scale((1, 2, 1))) == 0.0
+    assert area(facet.shapes.Plane()) == 0.0
