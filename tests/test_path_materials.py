@@ -350,3 +350,36 @@ def test_colour_images_are_decoded_before_they_are_filtered(engine):
     c = SIZE // 2
     assert row[c] == pytest.approx(0.5, abs=0.06) and ref_row[c] == pytest.approx(0.5, abs=0.06)
     np.testing.assert_allclose(row[c - 8:c + 8], ref_row[c - 8:c + 8], atol=0.04)
+
+
+@pytest.mark.parametrize("engine", ["trace", "path"])
+@pytest.mark.parametrize("wrap", ["repeat", "clamp", "mirror"])
+def test_nearest_filtering_shows_whole_texels_as_the_rasterizer_does(engine, wrap):
+    """A 5 x 3 image of distinct texels, magnified with nearest filtering (and shifted by
+    its transform so that the wrap modes show): each pixel is one texel's value, the
+    rasterizer's, not a blend of neighbours (the tracers sampled it linearly, with a
+    warning). A larger image elsewhere makes the layers bigger than this one."""
+    rng = np.random.default_rng(3)
+    pixels = rng.integers(0, 256, (3, 5, 4)).astype(np.uint8)
+    pixels[..., 3] = 255
+    slot = TextureSlot(Texture(pixels), filter=("nearest", "nearest"), wrap=(wrap, wrap),
+                       transform=texture_transform(offset=(-0.3, -0.2), scale=(1.6, 1.4)))
+    scene = facet.Scene(ambient=0.0)
+    scene.add(_quad(), material=PbrMaterial(base_color_texture=slot, unlit=True))
+    scene.add(_quad(0.1), material=PbrMaterial(base_color_texture=TextureSlot(
+        _image(lambda x, y: np.stack([x, y, x, x * 0 + 1], -1), n=64))),
+        transform=facet.transforms.translate((5, 5, 0)))
+    with facet.Renderer(SIZE, SIZE) as r:
+        kw = dict(lights="scene", float_color=True)
+        img = r.render(scene, FRONT, engine=engine, aa="none" if engine == "trace" else
+                       "ssaa:grid:1", **kw).color[..., :3]
+        ref = r.render(scene, FRONT, engine="raster", aa="none", **kw).color[..., :3]
+    inside = _inside_quad(ref)
+    same = np.abs(img - ref).max(axis=-1)[inside] < 0.02
+    assert same.mean() > 0.93, same.mean()  # all but pixels on texel borders
+
+
+def _inside_quad(picture):
+    inside = picture.max(axis=-1) > 0
+    inside[[0, -1], :] = inside[:, [0, -1]] = False
+    return inside

@@ -13,8 +13,11 @@
 //       object whose own material is metallic-roughness (the Whitted tracer's choice),
 //   +7 .w: the clear coat's normal scale
 // From SLOT_ROW, SLOT_TEXELS per slot (SLOT_*: facet.render.trace.pack.PATH_SLOTS' order):
-//   (the uv transform's first row, layer or -1), (its second row, set + 2 (wrap s + 3 wrap t))
-// with wrap 0 repeat (the sampler's), 1 clamp to the edge, 2 mirrored repeat.
+//   (the uv transform's first row, layer or -1), (its second row, set + 2 (wrap s + 3 wrap t)),
+//   (the image's own width and height, 1 for nearest filtering, -)
+// with wrap 0 repeat (the sampler's), 1 clamp to the edge, 2 mirrored repeat. Nearest
+// filtering reads the layer (resized to the array's size) at the centre of the image's
+// own texel.
 const int SLOT_BASE = 0, SLOT_MR = 1, SLOT_NORMAL = 2, SLOT_EMISSIVE = 3, SLOT_SPECULAR = 4,
           SLOT_SPECULAR_COLOR = 5, SLOT_TRANSMISSION = 6, SLOT_CLEARCOAT = 7,
           SLOT_CLEARCOAT_ROUGHNESS = 8, SLOT_CLEARCOAT_NORMAL = 9, SLOT_SHEEN_COLOR = 10,
@@ -70,6 +73,8 @@ vec4 slot_texel(int inst, int k, Surface s) {
     int code = int(r1.w);
     vec3 uvw = vec3((code & 1) != 0 ? s.uv1 : s.uv, 1.0);
     vec2 uv = vec2(dot(r0.xyz, uvw), dot(r1.xyz, uvw));
+    vec4 r2 = fetch(u_instances, at + 2);
+    if (r2.z > 0.5) uv = (floor(uv * r2.xy) + 0.5) / r2.xy;  // nearest: that texel's centre
     float half_texel = 0.5 / float(textureSize(u_textures, 0).x);
     int wraps = code >> 1;
     uv = vec2(wrap_coordinate(uv.x, wraps % 3, half_texel),

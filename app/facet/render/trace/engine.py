@@ -106,7 +106,7 @@ class TraceEngine(Engine):
         for obj in scene.objects:
             m = obj.material
             if isinstance(m, PbrMaterial) and pbr_shading:
-                out += [(slot.texture, pack.slot_mode(name)) for name, slot in m.slots.items()
+                out += [(slot.texture, pack.slot_mode(name, slot)) for name, slot in m.slots.items()
                         if name in pack.PATH_SLOTS]
             elif m.texture is not None:
                 out.append((m.texture, pack.AS_GIVEN))
@@ -124,11 +124,12 @@ class TraceEngine(Engine):
         old = self._textures.pop("textures", None)
         if old is not None:
             old.release()
-        colour = [c == pack.LINEAR or (c == pack.AS_GIVEN and srgb) for _, c in requests]
+        modes = [c.removesuffix(pack.NEAREST) for _, c in requests]
+        colour = [c == pack.LINEAR or (c == pack.AS_GIVEN and srgb) for c in modes]
         if requests:
             side = min(max(max(t.pixels.shape[:2]) for t, _ in requests), MAX_TEXTURE_LAYER)
-            layers = [_layer(t.pixels, side, decode) for (t, _), decode in zip(
-                requests, colour, strict=True)]
+            layers = [_layer(t.pixels, side, decode, c.endswith(pack.NEAREST))
+                      for (t, c), decode in zip(requests, colour, strict=True)]
             if any(x.dtype == np.float16 for x in layers):  # one array, one type
                 layers = [x if x.dtype == np.float16 else (x / 255.0).astype(np.float16)
                           for x in layers]
@@ -309,25 +310,27 @@ class TraceEngine(Engine):
         self.lights_ubo.release()
 
 
-def _layer(pixels: np.ndarray, side: int, decode: bool) -> np.ndarray:
+def _layer(pixels: np.ndarray, side: int, decode: bool, nearest: bool = False) -> np.ndarray:
     """(side, side, 4) one layer of the texture array: uint8 as stored, or, for an image
     decoded to linear, float16 decoded *before* it is resized (filtering sRGB-encoded bytes
-    would darken fine patterns: glTF's TextureLinearInterpolationTest)."""
+    would darken fine patterns: glTF's TextureLinearInterpolationTest). ``nearest``:
+    resized by repeating texels (a nearest-filtered image: glsl/trace/material.glsl reads
+    its texels' centres)."""
     from PIL import Image
 
     from ...image.colorspace import srgb_to_linear
 
+    resample = Image.Resampling.NEAREST if nearest else Image.Resampling.LANCZOS
     if not decode:
         if pixels.shape[:2] == (side, side):
             return pixels
-        return np.asarray(Image.fromarray(pixels).resize((side, side),
-                                                         Image.Resampling.LANCZOS))
+        return np.asarray(Image.fromarray(pixels).resize((side, side), resample))
     values = (np.arange(256) / 255.0).astype(np.float32)[pixels]
     values[..., :3] = srgb_to_linear(np.arange(256) / 255.0).astype(np.float32)[
         pixels[..., :3]]
     if pixels.shape[:2] != (side, side):
         values = np.stack([np.asarray(Image.fromarray(values[..., k], "F").resize(
-            (side, side), Image.Resampling.LANCZOS)) for k in range(4)], -1)
+            (side, side), resample)) for k in range(4)], -1)
     return np.clip(values, 0.0, None).astype(np.float16)
 
 
@@ -353,6 +356,4 @@ def _dropped(m) -> list[str]:
         out.append("base-colour texture alpha")
     if m.transmission > 0:
         out.append("KHR_materials_transmission (traced opaque)")
-    if any(s.filter[1] == "nearest" for s in m.slots.values()):
-        out.append("nearest texture filtering (sampled linearly)")
     return out

@@ -29,7 +29,7 @@ NODE_TEXELS = 4
 VERTEX_TEXELS = 4  # (normal, u), (v, colour rgb), (tangent xyz, handedness), (uv1, alpha, 0)
 MATERIAL_ROW = 11  # the metallic-roughness model's texels (glsl/trace/material.glsl)
 SLOT_ROW = 19  # its texture slots, SLOT_TEXELS each, in PATH_SLOTS order
-SLOT_TEXELS = 2
+SLOT_TEXELS = 3
 # glsl/trace/material.glsl's SLOT_* (occlusion is a rasterizer's stand-in for what a tracer
 # traces; thickness scales the thickness the rasterizer's refraction assumes)
 PATH_SLOTS = ("base_color", "metallic_roughness", "normal", "emissive", "specular",
@@ -40,6 +40,7 @@ ALPHA_MODES = {"OPAQUE": 0, "MASK": 1, "BLEND": 2}
 # How an image is stored in the texture array: a colour image decoded to linear, one
 # decoded only in the sRGB colour mode (a Phong material's: values "as given"), data as is.
 LINEAR, AS_GIVEN, DATA = "linear", "as given", "data"
+NEAREST = " nearest"  # a suffix of the modes above
 WRAPS = {"repeat": 0, "clamp": 1, "mirror": 2}
 KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
 FLAG_COLORS, FLAG_ONE_SIDED = 1, 2  # an instance's flags (glsl/trace/scene.glsl)
@@ -196,9 +197,12 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
     return row
 
 
-def slot_mode(slot: str) -> str:
-    """How a texture slot's image is stored: colour images decoded to linear, data as is."""
-    return LINEAR if slot in COLOR_SLOTS else DATA
+def slot_mode(name: str, slot) -> str:
+    """How the image of texture slot ``name`` (a TextureSlot) is stored: colour images
+    decoded to linear, data as is; NEAREST added for nearest filtering (resized by
+    repeating texels, so that a texel's centre reads its own value)."""
+    mode = LINEAR if name in COLOR_SLOTS else DATA
+    return mode + NEAREST if slot.filter[1] == "nearest" else mode
 
 
 def material_rows(row: np.ndarray, m, layers: dict, pbr: bool = True) -> None:
@@ -223,8 +227,10 @@ def material_rows(row: np.ndarray, m, layers: dict, pbr: bool = True) -> None:
         if slot is None:
             continue
         row[at, :3], row[at + 1, :3] = slot.transform[0], slot.transform[1]
-        row[at, 3] = layers.get((id(slot.texture), slot_mode(name)), -1)
+        row[at, 3] = layers.get((id(slot.texture), slot_mode(name, slot)), -1)
         row[at + 1, 3] = slot.texcoord + 2 * (WRAPS[slot.wrap[0]] + 3 * WRAPS[slot.wrap[1]])
+        h, w = slot.texture.pixels.shape[:2]
+        row[at + 2] = (w, h, float(slot.filter[1] == "nearest"), 0.0)
 
 
 def _world_box(obj) -> np.ndarray:

@@ -106,7 +106,7 @@ class PathEngine(TraceEngine):
         out = []
         for obj in scene.objects:
             m = as_pbr(obj.material)
-            out += [(slot.texture, pack.slot_mode(name)) for name, slot in m.slots.items()
+            out += [(slot.texture, pack.slot_mode(name, slot)) for name, slot in m.slots.items()
                     if name in pack.PATH_SLOTS]
         return out
 
@@ -215,6 +215,4 @@ def _dropped(m) -> list[str]:
             out.append("Phong ior (refraction: traced as a transparent surface that does "
                        "not bend light)")
         return out
-    if any(s.filter[1] == "nearest" for s in m.slots.values()):
-        out.append("nearest texture filtering (sampled linearly)")
     return out
