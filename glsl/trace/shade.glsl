@@ -73,6 +73,9 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
         uv = h.uv;
         p_obj = onto_shape(int(info.x), fetch(u_instances, base + 7),
                            apply_rows(base, o + h.t * d, 1.0), h.n_obj);
+#ifdef PBR_SLOTS
+        tangent = shape_tangent(int(info.x), p_obj, h.n_obj);
+#endif
     }
     Surface s;
     s.p = apply_rows(base + 3, p_obj, 1.0);

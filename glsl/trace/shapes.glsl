@@ -141,3 +141,29 @@ vec3 onto_shape(int kind, vec4 q, vec3 p, vec3 n) {
     vec2 on = vec2(0.5 * r, 0.0) + dot(vec2(rho - 0.5 * r, p.y), u) * u;
     return vec3(p.x * on.x / rho, on.y, p.z * on.x / rho);
 }
+
+// The tangent frame of a shape at its surface point p with outward normal n, as the
+// rasterizer's tessellation has it (tangents from its uvs): T = dp/du, with the handedness
+// w that turns cross(n, T) w along dp/dv; 0 where the uvs give no frame (the caps and
+// disks, whose v is constant, and a sphere's poles).
+vec4 shape_tangent(int kind, vec3 p, vec3 n) {
+    vec3 T, B;
+    if (kind == KIND_PLANE) {  // u along +x, v along -z
+        T = vec3(1.0, 0.0, 0.0);
+        B = vec3(0.0, 0.0, -1.0);
+    } else if (kind == KIND_BOX) {  // each face: its two other axes (hit_shape's uv)
+        vec3 a = abs(n);
+        if (a.x > 0.5) { T = vec3(0.0, 1.0, 0.0); B = vec3(0.0, 0.0, 1.0); }
+        else if (a.y > 0.5) { T = vec3(0.0, 0.0, 1.0); B = vec3(1.0, 0.0, 0.0); }
+        else { T = vec3(1.0, 0.0, 0.0); B = vec3(0.0, 1.0, 0.0); }
+    } else if (kind == KIND_DISK || abs(n.y) == 1.0) {
+        return vec4(0.0);
+    } else {  // a sphere's, cylinder's or cone's side: u around from +x towards -z, v up
+        T = vec3(p.z, 0.0, -p.x);
+        B = vec3(0.0, 1.0, 0.0) - n * n.y;
+    }
+    T -= n * dot(n, T);
+    if (dot(T, T) < 1e-12 || dot(B, B) < 1e-12) return vec4(0.0);
+    T = normalize(T);
+    return vec4(T, dot(cross(n, T), B) < 0.0 ? -1.0 : 1.0);
+}

@@ -194,11 +194,6 @@ class PathEngine(TraceEngine):
             lines.append("the path tracer's area lights are emitting rectangles: they fall "
                          "off with the inverse square of the distance (their attenuation "
                          "is ignored)")
-        mapped = sum(1 for o in scene.objects if o.shape is not None
-                     and as_pbr(o.material).normal_mapped)
-        if mapped:
-            lines.append(f"the path tracer ignores normal maps on analytic shapes ({mapped} "
-                         f"of {len(scene.objects)} objects)")
         return lines + feature_lines(scene, _dropped, "the path tracer")
 
 
