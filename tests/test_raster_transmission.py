@@ -55,11 +55,12 @@ def _render(scene, engine="raster", **kw):
 CENTRE = (slice(20, 28), slice(20, 28))
 
 
-def test_a_thin_smooth_pane_passes_one_minus_fresnel_of_the_backdrop_tinted():
+@pytest.mark.parametrize("engine", ["raster", "trace"])
+def test_a_thin_smooth_pane_passes_one_minus_fresnel_of_the_backdrop_tinted(engine):
     tint = np.array([0.9, 0.7, 0.5])
     glass = PbrMaterial(base_color=(*tint, 1), metallic=0.0, roughness=0.0, transmission=1.0)
     behind = np.array([0.3, 0.6, 0.9])
-    seen = _render(_scene(glass), aa="none")[CENTRE].reshape(-1, 3)
+    seen = _render(_scene(glass), engine, aa="none")[CENTRE].reshape(-1, 3)
     # Facing the camera (N.V ~ 1 in the middle): F = 0.04, the black sky reflects nothing.
     np.testing.assert_allclose(seen, np.broadcast_to((1 - 0.04) * tint * behind, seen.shape),
                                rtol=0.01)
@@ -74,6 +75,24 @@ def test_a_slab_absorbs_by_beer_lambert_over_its_thickness():
     # 0.5 / 0.25 attenuation distances: the attenuation colour squared.
     expected = (1 - 0.04) * np.array([0.5, 0.8, 0.9]) ** 2 * behind
     np.testing.assert_allclose(seen, np.broadcast_to(expected, seen.shape), rtol=0.01)
+
+
+@pytest.mark.parametrize("engine", ["trace", "path"])
+def test_a_glass_block_absorbs_by_beer_lambert_in_the_tracers(engine):
+    """The tracers measure the volume itself: a block 0.5 deep at normal incidence, two
+    interfaces of (1 - F), the attenuation colour to the power 0.5 / 0.25 (the Whitted
+    tracer drew transmitting materials opaque)."""
+    glass = PbrMaterial(base_color=(1, 1, 1, 1), metallic=0.0, roughness=0.0,
+                        transmission=1.0, thickness=0.5, attenuation_color=(0.5, 0.8, 0.9),
+                        attenuation_distance=0.25)
+    scene = facet.Scene(ambient=0.0)
+    scene.add(_quad(4.0, -1.0, "backdrop"),
+              material=PbrMaterial(base_color=(0.3, 0.6, 0.9, 1), unlit=True))
+    scene.add(facet.shapes.Box((1.2, 1.2, 0.5)), material=glass)
+    kw = dict(aa="none") if engine == "trace" else dict(spp=64)
+    seen = _render(scene, engine, **kw)[CENTRE].reshape(-1, 3).mean(axis=0)
+    expected = (1 - 0.04) ** 2 * np.array([0.5, 0.8, 0.9]) ** 2 * np.array([0.3, 0.6, 0.9])
+    np.testing.assert_allclose(seen, expected, rtol=0.02)
 
 
 def test_the_rasterizer_and_the_path_tracer_see_the_same_through_a_thin_pane():

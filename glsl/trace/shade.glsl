@@ -172,6 +172,7 @@ vec3 shade_pbr(Surface s, vec3 V) {
         vec3 N = valid_normal(mat.n, s.ng, V);
         PbrSurface m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V),
                                         mat.f0_d, mat.f90_d);
+        m.c_diff *= 1.0 - mat.transmission;  // the rest passes: glsl/trace/trace.frag
         pbr_sheen(m, mat.sheen, mat.sheen_roughness);
         pbr_coat(m, mat.clearcoat, mat.clearcoat_roughness, valid_normal(mat.cc_n, s.ng, V), V);
         g_ng = s.ng;

@@ -7,7 +7,11 @@
 // Fresnel, total internal reflection sending all to reflection), and straight on through
 // what is not opaque. Rays are kept on a small stack, each with the weight it carries;
 // reflection and refraction go at most u_max_depth bounces deep, where an unfinished ray
-// takes the environment's colour (black without one).
+// takes the environment's colour (black without one). A glTF material's transmission
+// (KHR_materials_transmission, _volume) is a refraction ray (Snell's law at its ior; on
+// unbent when thin-walled) carrying what the dielectric's Fresnel factor lets through,
+// tinted by the base colour, tilted by the roughness across supersamples, and absorbed by
+// Beer-Lambert on its way out of the volume.
 #include "trace/shade.glsl"
 #include "lib/gloss.glsl"
 
@@ -104,6 +108,35 @@ void main() {
         }
 #endif
         float opacity = s.fx.x, reflectivity = s.fx.y, ior = s.fx.z, gloss = s.fx.w;
+#ifdef PBR_SLOTS
+        if (fetch(u_instances, h.inst * INSTANCE_TEXELS + MATERIAL_ROW + 7).z > 0.5) {
+            Material mat = material_at(h.inst, s);
+            float trans = mat.transmission * (1.0 - mat.metallic);
+            if (trans > 0.0) {
+                // Leaving a volume through its far side: what it absorbed on the way.
+                if (!s.front && !mat.thin) w *= exp(-mat.absorption * h.t);
+                float eta = mat.thin ? 1.0 : (s.front ? 1.0 / max(mat.ior, 1.0)
+                                                      : max(mat.ior, 1.0));
+                vec3 t_dir = mat.thin ? d : refract(d, s.n, eta);
+                float cos_v = clamp(-dot(d, s.n), 0.0, 1.0);
+                vec3 f_d = mat.f0_d + (mat.f90_d - mat.f0_d) * pow(1.0 - cos_v, 5.0);
+                vec3 passed = w * trans * mat.base * (1.0 - f_d);
+                bool inward = dot(t_dir, t_dir) > 0.0;
+                if (!inward) {  // total internal reflection: all of it back inside
+                    t_dir = reflect(d, s.n);
+                    passed = w * trans * mat.base;
+                }
+                if (depth < u_max_depth && sp < RAY_STACK &&
+                    max(passed.r, max(passed.g, passed.b)) > MIN_WEIGHT) {
+                    ray_o[sp] = vec4(offset_ray(s.p, inward ? -s.ng : s.ng), 0.0);
+                    ray_d[sp] = vec4(gloss_tilt(normalize(t_dir), mat.roughness * mat.roughness,
+                                                u_gloss_jitter), 0.0);
+                    ray_w[sp] = vec4(passed, depth + 1);
+                    ray_end[sp++] = INF;
+                }
+            }
+        }
+#endif
         vec3 local = shade_surface(s, -d);
         color += w * opacity * (1.0 - reflectivity) * local;
         if (eye) alpha += w.x * opacity;

@@ -261,7 +261,8 @@ class TraceEngine(Engine):
         # Reflection, refraction and transparency need the ray stack; without them a
         # simpler program runs (glsl/trace/trace.frag, SECONDARY).
         secondary = any(o.material.reflectivity > 0 or o.material.opacity < 1 or
-                        getattr(o.material, "alpha_mode", "") == "MASK"
+                        getattr(o.material, "alpha_mode", "") == "MASK" or
+                        getattr(o.material, "transmission", 0.0) > 0
                         for o in scene.objects)
         program = self._program("trace", state, shadows, secondary=secondary,
                                 extra=self._material_defines(scene, state))
@@ -354,6 +355,4 @@ def _dropped(m) -> list[str]:
                    "tracer traces them)")
     if m.alpha_mode == "BLEND" and "base_color" in m.slots:
         out.append("base-colour texture alpha")
-    if m.transmission > 0:
-        out.append("KHR_materials_transmission (traced opaque)")
     return out
