@@ -426,3 +426,24 @@ def test_normal_maps_on_analytic_shapes_bend_as_on_the_tessellation(shape):
     assert diff.mean() < 0.012, diff.mean()
     flat_path = results[False][0]
     assert np.abs(path - flat_path)[inside].mean() > 0.01  # the map does bend the light
+
+
+@pytest.mark.parametrize("roughness", [0.0, 0.2])
+def test_the_whitted_tracer_reflects_the_scene_in_gltf_metals_as_the_path_tracer(roughness):
+    """A metal ball before a red wall (behind the camera, lit by nothing: unlit): what the
+    ball shows is the wall reflected, which the Whitted tracer traced as the ambient
+    light's split sum alone (black here, with a warning). Against the path tracer, block
+    means over the ball."""
+    scene = facet.Scene(ambient=0.0)
+    scene.add(facet.shapes.Sphere(0.8), material=PbrMaterial(
+        base_color=(0.9, 0.85, 0.8), metallic=1.0, roughness=roughness))
+    scene.add(_quad(12.0), material=PbrMaterial(base_color=(0.8, 0.1, 0.1), unlit=True),
+              transform=facet.transforms.translate((0, 0, 5)) @ facet.transforms.rotate_y(180))
+    with facet.Renderer(SIZE, SIZE) as r:
+        kw = dict(lights="scene", float_color=True)
+        traced = r.render(scene, FRONT, engine="trace", **kw).color[..., :3]
+        path = r.render(scene, FRONT, engine="path", spp=64, max_depth=2, **kw).color[..., :3]
+    ball = (slice(16, 32), slice(16, 32))
+    a, b = traced[ball].mean(axis=(0, 1)), path[ball].mean(axis=(0, 1))
+    assert b[0] > 0.3  # the wall is there
+    np.testing.assert_allclose(a, b, rtol=0.05, atol=0.01)

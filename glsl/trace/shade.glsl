@@ -162,6 +162,12 @@ float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff) {
 #include "trace/material.glsl"
 #include "lib/pbr.glsl"
 
+// Below this roughness the Whitted tracer traces the scene's reflection in a glTF material
+// (glsl/trace/trace.frag), and g_traced_specular of the ambient light's specular part is
+// left to that ray.
+const float TRACED_ROUGHNESS = 0.6;
+float g_traced_specular = 0.0;
+
 // A metallic-roughness surface by the rasterizer's BRDF (lib/pbr.glsl): each light with
 // its shadow ray, the ambient light as a uniform sky (its split sum by the lobe's albedo),
 // emission; encoded for display outside the sRGB mode, as glsl/mesh/pbr.frag writes it.
@@ -186,6 +192,7 @@ vec3 shade_pbr(Surface s, vec3 V) {
         float fc = schlick_weight(m.n_dot_v);
         vec3 F = m.f0 + (m.f90 - m.f0) * fc, F_d = m.f0_d + (m.f90_d - m.f0_d) * fc;
         vec3 sky = pbr_ambient_sheen(m, F * ggx_albedo(m.n_dot_v, mat.roughness) * m.ms
+                                         * (1.0 - g_traced_specular)
                                          + (1.0 - F_d) * m.c_diff, vec3(1.0));
         sky = sky * (1.0 - m.cc * m.cc_fresnel)
             + m.cc * m.cc_fresnel * ggx_albedo(m.cc_n_dot_v, mat.clearcoat_roughness);

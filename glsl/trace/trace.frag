@@ -77,7 +77,8 @@ void main() {
     for (int segment = 0; segment < MAX_SEGMENTS && sp > 0; ++segment) {
         --sp;
         vec3 o = ray_o[sp].xyz, d = ray_d[sp].xyz, w = ray_w[sp].xyz;
-        bool eye = ray_d[sp].w > 0.0;
+        float kind = ray_d[sp].w;  // 1: the eye ray (or on through it), 2: a reflection
+        bool eye = kind == 1.0;    // of the scene in a glTF material, 0: the rest
         int depth = int(ray_w[sp].w);
         float end = ray_end[sp];
         Hit h = trace_scene(o, d, end, false);
@@ -91,6 +92,10 @@ void main() {
                 alpha += w.x * u_background.a;
 #endif
             } else {
+#ifndef HAS_ENVIRONMENT
+                // A glTF material's sky is the ambient light (glsl/trace/shade.glsl).
+                if (kind == 2.0) { color += w * u_ambient.rgb; continue; }
+#endif
                 color += w * escaped(d);
             }
             continue;
@@ -100,7 +105,7 @@ void main() {
         if (cut_out(h.inst, s)) {  // a cut-out (alpha MASK): on through, unchanged
             if (sp < RAY_STACK) {
                 ray_o[sp] = vec4(offset_ray(s.p, -s.ng), 0.0);
-                ray_d[sp] = vec4(d, eye ? 1.0 : 0.0);
+                ray_d[sp] = vec4(d, kind);
                 ray_w[sp] = vec4(w, depth);
                 ray_end[sp++] = eye ? end - h.t : INF;
             }
@@ -109,8 +114,33 @@ void main() {
 #endif
         float opacity = s.fx.x, reflectivity = s.fx.y, ior = s.fx.z, gloss = s.fx.w;
 #ifdef PBR_SLOTS
+        g_traced_specular = 0.0;
         if (fetch(u_instances, h.inst * INSTANCE_TEXELS + MATERIAL_ROW + 7).z > 0.5) {
             Material mat = material_at(h.inst, s);
+            // The scene reflected in a glossy surface: a ray carrying the specular lobe's
+            // albedo (F at N.V times its directional albedo, multiple scattering kept),
+            // tilted by the roughness across supersamples; it takes over from the
+            // ambient split sum's specular part (g_traced_specular) as the roughness
+            // falls from TRACED_ROUGHNESS to half of it.
+            float traced = clamp(2.0 - 2.0 * mat.roughness / TRACED_ROUGHNESS, 0.0, 1.0);
+            if (!mat.unlit && traced > 0.0 && depth < u_max_depth && sp < RAY_STACK) {
+                vec3 N = valid_normal(mat.n, s.ng, -d);
+                float n_dot_v = max(dot(N, -d), 1e-4);
+                vec3 f0 = mix(mat.f0_d, mat.base, mat.metallic);
+                float f90 = mix(mat.f90_d, 1.0, mat.metallic);
+                float e = ggx_albedo(n_dot_v, mat.roughness);
+                vec3 spec = (f0 + (f90 - f0) * schlick_weight(n_dot_v)) * e
+                          * (1.0 + f0 * ((1.0 - e) / e));
+                vec3 mirrored = w * opacity * traced * spec;
+                if (max(mirrored.r, max(mirrored.g, mirrored.b)) > MIN_WEIGHT) {
+                    ray_o[sp] = vec4(offset_ray(s.p, s.ng), 0.0);
+                    ray_d[sp] = vec4(gloss_tilt(reflect(d, N), mat.roughness * mat.roughness,
+                                                u_gloss_jitter), 2.0);
+                    ray_w[sp] = vec4(mirrored, depth + 1);
+                    ray_end[sp++] = INF;
+                    g_traced_specular = traced;
+                }
+            }
             float trans = mat.transmission * (1.0 - mat.metallic);
             if (trans > 0.0) {
                 // Leaving a volume through its far side: what it absorbed on the way.
@@ -176,7 +206,7 @@ void main() {
         if (opacity < 1.0 && max(through.r, max(through.g, through.b)) > MIN_WEIGHT &&
             sp < RAY_STACK) {
             ray_o[sp] = vec4(offset_ray(s.p, -s.ng), 0.0);
-            ray_d[sp] = vec4(d, eye ? 1.0 : 0.0);
+            ray_d[sp] = vec4(d, kind);
             ray_w[sp] = vec4(through, depth);
             ray_end[sp++] = eye ? end - h.t : INF;
         }

@@ -21,6 +21,7 @@ from ...gl.fullscreen import FullScreenPass
 from ...gl.glsl_source import glsl_root
 from ...gl.shaders import compile_program
 from ...gl.targets import aux_locations
+from ...scene.option_values import DISTRIBUTED_AA
 from ...scene.options import RenderOptions, parse_aa
 from ...scene.pbr import PbrMaterial
 from ...scene.scene import MAX_LIGHTS
@@ -30,6 +31,9 @@ from ..materials import feature_lines, phong_color
 from ..shading import SHADING_MODELS
 from ..state import UNITS, FrameState, pack_lights
 from . import pack
+
+# Below this roughness a glTF material reflects the scene (glsl/trace/shade.glsl's).
+TRACED_ROUGHNESS = 0.6
 
 MAX_TEXTURE_LAYER = 2048  # materials' images are resized to at most this square
 
@@ -152,7 +156,17 @@ class TraceEngine(Engine):
         if preview:
             return parse_aa("ssaa:grid:1")
         aa = accumulation(opts.aa, scene, camera, opts.shadows_on)
+        if aa is None and self.name == "trace" and self.glossy_reflections(scene, opts.shading):
+            aa = parse_aa(DISTRIBUTED_AA)  # the reflections' tilts are a sum over samples
         return aa if aa is not None else grid_or_jittered(opts.aa.msaa or 1)
+
+    @staticmethod
+    def glossy_reflections(scene, shading: str) -> bool:
+        """Whether a glTF material traces a blurred reflection of the scene
+        (glsl/trace/trace.frag: roughness below TRACED_ROUGHNESS, above 0)."""
+        return shading in ("auto", "pbr") and any(
+            isinstance(o.material, PbrMaterial) and 0 < o.material.roughness < TRACED_ROUGHNESS
+            and not o.material.unlit for o in scene.objects)
 
     def prepare(self, scene, state: FrameState, opts=None, aa=None) -> FrameState:
         """Geometry and textures for this scene (uploaded only when they changed)."""
@@ -262,7 +276,8 @@ class TraceEngine(Engine):
         # simpler program runs (glsl/trace/trace.frag, SECONDARY).
         secondary = any(o.material.reflectivity > 0 or o.material.opacity < 1 or
                         getattr(o.material, "alpha_mode", "") == "MASK" or
-                        getattr(o.material, "transmission", 0.0) > 0
+                        getattr(o.material, "transmission", 0.0) > 0 or
+                        getattr(o.material, "roughness", 1.0) < TRACED_ROUGHNESS
                         for o in scene.objects)
         program = self._program("trace", state, shadows, secondary=secondary,
                                 extra=self._material_defines(scene, state))
@@ -350,9 +365,6 @@ def _dropped(m) -> list[str]:
         out.append("users' mesh shaders (the material's Phong terms are traced)")
     if not isinstance(m, PbrMaterial):
         return out
-    if m.metallic > 0 and m.roughness < 1:  # (the roughest reflect only a blur: ambient)
-        out.append("reflections of the scene in metallic-roughness surfaces (the path "
-                   "tracer traces them)")
     if m.alpha_mode == "BLEND" and "base_color" in m.slots:
         out.append("base-colour texture alpha")
     return out
