@@ -447,3 +447,55 @@ def test_the_whitted_tracer_reflects_the_scene_in_gltf_metals_as_the_path_tracer
     a, b = traced[ball].mean(axis=(0, 1)), path[ball].mean(axis=(0, 1))
     assert b[0] > 0.3  # the wall is there
     np.testing.assert_allclose(a, b, rtol=0.05, atol=0.01)
+
+
+@pytest.mark.parametrize("engine", ["trace", "path"])
+def test_blend_coverage_follows_the_texture_alpha_as_rasterized(engine):
+    """A BLEND pane whose base-colour texture fades from clear to opaque across it, over a
+    backdrop: each tracer mixes front and back by the texel's alpha, as the rasterizer's
+    transparent pass does (the Whitted tracer used the factor's alpha alone, with a
+    warning)."""
+    fade = _image(lambda x, y: np.stack([np.ones_like(x), 0.2 + 0 * x, 0.2 + 0 * x, x], -1))
+    scene = facet.Scene(ambient=0.0)
+    scene.add(_quad(4.0), material=PbrMaterial(base_color=(0.1, 0.3, 0.9), unlit=True),
+              transform=facet.transforms.translate((0, 0, -1)))
+    scene.add(_quad(), material=PbrMaterial(base_color_texture=TextureSlot(fade), unlit=True,
+                                            alpha_mode="BLEND"))
+    with facet.Renderer(SIZE, SIZE) as r:
+        kw = dict(lights="scene", float_color=True)
+        # (the path tracer's coverage is stochastic: many samples)
+        aa = "ssaa:grid:4" if engine == "trace" else "ssaa:jittered:256"
+        traced = r.render(scene, FRONT, engine=engine, aa=aa, **kw).color[..., :3]
+        raster = r.render(scene, FRONT, engine="raster", aa="ssaa:grid:4", **kw).color[..., :3]
+    row = (slice(20, 28), slice(10, 38))  # across the fade
+    a, b = traced[row].mean(axis=0), raster[row].mean(axis=0)
+    assert np.ptp(b[:, 0]) > 0.5  # the fade is there
+    np.testing.assert_allclose(a, b, atol=0.03)
+
+
+def test_whitted_shadow_rays_pass_blend_coverage_and_cut_outs():
+    """A pane between a light and a floor: BLEND with texture alpha 0.25 lets 0.75 of the
+    light through, a MASK cut-out (alpha below its cutoff) all of it (the Whitted tracer's
+    shadow rays took the factor's alpha: a full shadow under both)."""
+    quarter = _image(lambda x, y: np.stack([x * 0 + 1, x * 0 + 1, x * 0 + 1, x * 0 + 0.25], -1))
+    down = Camera.look_at((0, 3, 0.001), (0, 0, 0), fov_y=20, near=0.5, far=10)
+    seen = {}
+    for name, pane in (("none", None),
+                       ("blend", PbrMaterial(base_color_texture=TextureSlot(quarter),
+                                             alpha_mode="BLEND", double_sided=True)),
+                       ("mask", PbrMaterial(base_color_texture=TextureSlot(quarter),
+                                            alpha_mode="MASK", alpha_cutoff=0.5,
+                                            double_sided=True))):
+        scene = facet.Scene(ambient=0.0)
+        scene.add(facet.primitives.plane(4.0), material=PbrMaterial(
+            base_color=(0.8, 0.8, 0.8), metallic=0.0, specular=0.0))
+        if pane is not None:  # above the floor, out of the camera's view below it
+            scene.add(facet.primitives.plane(8.0), material=pane,
+                      transform=facet.transforms.translate((0, 3.5, 0)))
+        scene.add_light(DirectionalLight(direction=(0, -1, 0), intensity=1.0))
+        with facet.Renderer(16, 16) as r:
+            seen[name] = r.render(scene, down, engine="trace", float_color=True, aa="none",
+                                  lights="scene").color[8, 8, :3]
+    assert seen["none"][0] > 0.5
+    np.testing.assert_allclose(seen["blend"], 0.75 * seen["none"], rtol=0.02)
+    np.testing.assert_allclose(seen["mask"], seen["none"], rtol=0.02)

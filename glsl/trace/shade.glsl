@@ -136,6 +136,9 @@ vec3 g_ambient_term, g_kd_c, g_ks;
 float g_shininess;
 vec3 g_ng;  // its geometric normal, for the shadow rays' offset
 float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff);
+#ifdef ALPHA_SHADOWS
+float alpha_shadow(vec3 o, vec3 d, float t_max);
+#endif
 #define AMBIENT_TERM g_ambient_term
 #define LIGHT_DIFFUSE(i) (u_lights[i].color.rgb * g_kd_c)
 #define LIGHT_SPECULAR(i) (u_lights[i].color.rgb * g_ks)
@@ -152,7 +155,11 @@ float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff) {
     float dist = LIGHT_KIND(i) == LIGHT_DIRECTIONAL ? INF
                                                     : length(u_lights[i].position.xyz - p);
     vec3 side = dot(g_ng, L) >= 0.0 ? g_ng : -g_ng;
+#ifdef ALPHA_SHADOWS
+    return alpha_shadow(offset_ray(p, side), L, dist);
+#else
     return trace_shadow(offset_ray(p, side), L, dist);
+#endif
 #else
     return 1.0;
 #endif
@@ -167,6 +174,29 @@ float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff) {
 // left to that ray.
 const float TRACED_ROUGHNESS = 0.6;
 float g_traced_specular = 0.0;
+
+#ifdef ALPHA_SHADOWS
+// A shadow ray through what is not opaque, nearest first: a BLEND surface lets 1 - its
+// coverage (factor x texture x vertex alpha) through, a MASK cut-out all, anything else
+// nothing (the path tracer's visibility, without its random choices).
+float alpha_shadow(vec3 o, vec3 d, float t_max) {
+    float through = 1.0;
+    for (int k = 0; k < 8; ++k) {
+        Hit h = trace_scene(o, d, t_max, false);
+        if (h.inst < 0) return through;
+        Surface s = surface_at(h, o, d);
+        int mode;
+        float cutoff;
+        float a = coverage(h.inst, s, mode, cutoff);
+        if (mode == ALPHA_OPAQUE || (mode == ALPHA_MASK && a >= cutoff)) return 0.0;
+        if (mode == ALPHA_BLEND) through *= 1.0 - a;
+        if (through <= 0.0) return 0.0;
+        o = offset_ray(s.p, -s.ng);
+        t_max -= h.t;
+    }
+    return 0.0;
+}
+#endif
 
 // A metallic-roughness surface by the rasterizer's BRDF (lib/pbr.glsl): each light with
 // its shadow ray, the ambient light as a uniform sky (its split sum by the lobe's albedo),

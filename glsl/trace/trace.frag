@@ -117,6 +117,8 @@ void main() {
         g_traced_specular = 0.0;
         if (fetch(u_instances, h.inst * INSTANCE_TEXELS + MATERIAL_ROW + 7).z > 0.5) {
             Material mat = material_at(h.inst, s);
+            // BLEND: covered by the factor x texture x vertex alpha here, not the factor's.
+            if (mat.alpha_mode == ALPHA_BLEND) opacity = mat.alpha;
             // The scene reflected in a glossy surface: a ray carrying the specular lobe's
             // albedo (F at N.V times its directional albedo, multiple scattering kept),
             // tilted by the roughness across supersamples; it takes over from the

@@ -27,7 +27,7 @@ from ...scene.pbr import PbrMaterial
 from ...scene.scene import MAX_LIGHTS
 from ..antialias import accumulation
 from ..engine import Engine, grid_or_jittered
-from ..materials import feature_lines, phong_color
+from ..materials import as_pbr, feature_lines, phong_color
 from ..shading import SHADING_MODELS
 from ..state import UNITS, FrameState, pack_lights
 from . import pack
@@ -214,7 +214,11 @@ class TraceEngine(Engine):
         "pbr"; by their Phong stand-ins otherwise)."""
         pbr = _pbr_shading(state) and any(isinstance(o.material, PbrMaterial)
                                           for o in scene.objects)
-        return ("PBR_SLOTS",) if pbr else ()
+        if not pbr:
+            return ()
+        # shadow rays through BLEND coverage and MASK cut-outs, texel by texel
+        alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" for o in scene.objects)
+        return ("PBR_SLOTS",) + (("ALPHA_SHADOWS",) if alpha else ())
 
     def _more_rows(self, rows: np.ndarray, ordered: list) -> None:
         """Add to the instance ``rows`` of the ``ordered`` objects (the tracer: nothing)."""
@@ -275,7 +279,7 @@ class TraceEngine(Engine):
         # Reflection, refraction and transparency need the ray stack; without them a
         # simpler program runs (glsl/trace/trace.frag, SECONDARY).
         secondary = any(o.material.reflectivity > 0 or o.material.opacity < 1 or
-                        getattr(o.material, "alpha_mode", "") == "MASK" or
+                        getattr(o.material, "alpha_mode", "") in ("MASK", "BLEND") or
                         getattr(o.material, "transmission", 0.0) > 0 or
                         getattr(o.material, "roughness", 1.0) < TRACED_ROUGHNESS
                         for o in scene.objects)
@@ -365,6 +369,4 @@ def _dropped(m) -> list[str]:
         out.append("users' mesh shaders (the material's Phong terms are traced)")
     if not isinstance(m, PbrMaterial):
         return out
-    if m.alpha_mode == "BLEND" and "base_color" in m.slots:
-        out.append("base-colour texture alpha")
     return out
