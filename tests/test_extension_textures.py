@@ -139,9 +139,10 @@ def test_gltf_extension_textures_become_slots(tmp_path):
 
 
 @pytest.mark.parametrize("info, message", [
-    ({"index": 7}, "texture 7 does not exist"),
-    ({"index": "0"}, "textureInfo object with an integer index"),
-    ([0], "textureInfo object with an integer index"),
+    ({"index": 7}, "index"),
+    ({"index": "0"}, "index"),
+    ({"index": 0, "texCoord": -1}, "texCoord"),
+    ([0], "expected an object"),
 ])
 def test_a_bad_extension_texture_is_one_error(tmp_path, info, message):
     b = GltfBuilder()

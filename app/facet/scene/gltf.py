@@ -284,17 +284,14 @@ class _Reader:
             self.materials[index] = PbrMaterial(**kw)
         return self.materials[index]
 
-    def _slot(self, info, where: str = "") -> TextureSlot | None:
+    def _slot(self, info) -> TextureSlot | None:
         """A TextureSlot of a textureInfo (None when absent or its image is missing); the
-        extensions' come as dicts (``where`` names them in errors)."""
+        extensions' come as dicts (checked as the core's: facet.scene.gltf_check)."""
         if isinstance(info, dict):
             info = SimpleNamespace(index=info.get("index"), texCoord=info.get("texCoord"),
                                    extensions=info.get("extensions"))
         if info is None or info.index is None:
             return None
-        if not 0 <= info.index < len(self.gltf.textures):
-            self.data.fail(f"{where or 'a textureInfo'}: texture {info.index} does not exist "
-                           f"(the file has {len(self.gltf.textures)})")
         tex = self.gltf.textures[info.index]
         if tex.source is None:
             return None

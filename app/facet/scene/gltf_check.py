@@ -16,6 +16,7 @@ import numbers
 
 from ..budgets import budget
 from ..errors import MeshError
+from .gltf_materials import TEXTURES as EXTENSION_TEXTURES
 from .option_values import number_problem
 
 COMPONENTS = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}  # componentType: bytes
@@ -174,6 +175,8 @@ class GltfCheck:
     def _texture_info(self, info, path):
         if info is None:
             return
+        if not hasattr(info, "texCoord"):  # not pygltflib's: the extensions' must be objects
+            self.table(info, path)
         self.ref(get(info, "index"), "textures", f"{path}.index", optional=False)
         self.integer(get(info, "texCoord"), f"{path}.texCoord", 0, 7)
         self.number(get(info, "scale"), f"{path}.scale")
@@ -208,6 +211,10 @@ class GltfCheck:
         if double is not None and not isinstance(double, bool):
             self.fail(f"{path}.doubleSided", f"expected true or false, got {double!r}")
         ext = self.table(get(m, "extensions"), f"{path}.extensions")
+        for extension, fields in EXTENSION_TEXTURES.items():
+            values = self.table(ext.get(extension), f"{path}.extensions.{extension}")
+            for key, _ in fields:
+                self._texture_info(values.get(key), f"{path}.extensions.{extension}.{key}")
         strength = self.table(ext.get("KHR_materials_emissive_strength"),
                               f"{path}.extensions.KHR_materials_emissive_strength")
         self.number(strength.get("emissiveStrength"), f"{path}.extensions."

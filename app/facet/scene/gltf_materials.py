@@ -45,7 +45,7 @@ TEXTURES = {
 
 def extension_fields(ext: dict, name: str, fail, slot) -> dict:
     """PbrMaterial keywords from a material's ``extensions`` object. ``fail(message)``
-    raises; ``slot(info, where)`` makes a TextureSlot of a textureInfo object (or None)."""
+    raises; ``slot(info)`` makes a TextureSlot of a textureInfo object (or None)."""
     out = {}
     for extension, fields in FIELDS.items():
         values = ext.get(extension)
@@ -55,18 +55,12 @@ def extension_fields(ext: dict, name: str, fail, slot) -> dict:
             if key in values:
                 out[keyword] = _value(values[key], kind, f"material {name!r} {key}", fail)
         for key, keyword in TEXTURES.get(extension, ()):
-            info = values.get(key)
+            info = values.get(key)  # checked by facet.scene.gltf_check with the core's
             if info is None:
                 continue
-            where = f"material {name!r} {extension}.{key}"
-            if not isinstance(info, dict) or not isinstance(info.get("index"), int) or \
-                    isinstance(info.get("index"), bool):
-                fail(f"{where} must be a textureInfo object with an integer index, "
-                     f"got {info!r}")
-            out[f"{keyword}_texture"] = slot(info, where)
+            out[f"{keyword}_texture"] = slot(info)
             if keyword == "clearcoat_normal" and "scale" in info:
-                out["clearcoat_normal_scale"] = abs(_number(info["scale"], f"{where}.scale",
-                                                            fail))
+                out["clearcoat_normal_scale"] = abs(float(info["scale"]))
     return out
 
 
