@@ -185,6 +185,14 @@ def add_render_options(p, size_default: str) -> None:
                    help="the world's up axis: the default camera frames the model and "
                    "turntables orbit around it (default y; CAD and scanner files are often "
                    "z: --up z)")
+    g.add_argument("--time", metavar="T|A:B",
+                   help="seconds: where the model's animations stand (and users' shaders' "
+                   "u_time; default 0). A:B plays them from A to B: 'facet render' writes a "
+                   "sequence of (B - A) x --fps frames (GIF, MP4 or a PNG pattern), or "
+                   "spreads A..B over a --turntable's frames; 'facet view' loops A..B")
+    g.add_argument("--animation", metavar="NAME|INDEX",
+                   help="which of the model's animations plays (default: all of them; "
+                   "'facet info' lists them)")
     g.add_argument("--env", metavar="sky|IMAGE|DIR",
                    help="environment: a generated sky, an equirectangular image, or a folder "
                    "of six cube faces (px nx py ny pz nz); background and reflections")
@@ -200,12 +208,42 @@ def add_model_options(p) -> None:
                    "smooth, 0 = faceted)")
 
 
+def parse_time(text: str) -> tuple[float, float | None]:
+    """``1.5`` -> (1.5, None); ``0:4`` -> (0.0, 4.0)."""
+    try:
+        if ":" in text:
+            a, b = (float(v) for v in text.split(":"))
+            if not (math.isfinite(a) and math.isfinite(b)) or b <= a or a < 0:
+                raise ValueError
+            return a, b
+        t = float(text)
+        if not math.isfinite(t) or t < 0:
+            raise ValueError
+        return t, None
+    except ValueError:
+        from ..errors import InputError
+
+        raise InputError(f"--time {text!r}: expected seconds like 1.5 or a range like 0:4 "
+                         "(start < end, both >= 0)") from None
+
+
+def time_range(args) -> tuple[str | None, float | None]:
+    """(--time's start as the option's raw text, or None; its end for A:B, else None)."""
+    text = getattr(args, "time", None)
+    if text is None or ":" not in text:
+        return text, None
+    start, end = parse_time(text)
+    return repr(start), end
+
+
 def render_layer(args) -> dict:
     """The render options the command line gives, raw (None: not given): parsed with
     every other layer by facet.scene.options."""
     from ..scene.options import text_layer
 
-    return text_layer({"size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
+    return text_layer({
+            "time": time_range(args)[0], "animation": args.animation,
+            "size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
             "spp": args.spp, "engine": args.engine, "max_depth": args.max_depth,
             "seed": args.seed, "denoise": args.denoise,
             "shadows": args.shadows, "pcf": args.pcf, "srgb": args.srgb,

@@ -120,9 +120,10 @@ def _targets(args):
     if args.outputs:
         raise InputError("--outputs needs --out-dir to know where to write the channels")
     model = Path(args.model) if args.model else None
-    default = (model.stem if model else "default") + (".gif" if args.turntable else ".png")
+    sequence = bool(args.turntable) or A.time_range(args)[1] is not None
+    default = (model.stem if model else "default") + (".gif" if sequence else ".png")
     image = Path(args.output) if args.output else Path(default)
-    if args.turntable:
+    if sequence:
         check_sequence_path(args.output or default)
         if args.depth or args.ids:
             raise InputError("a turntable writes depth and ids with --outputs and --out-dir")
@@ -136,7 +137,7 @@ def _targets(args):
     for path in (image, *extra):
         if path is not None and path.is_dir():
             raise InputError(f"{path}: is a directory; give a file name for the output")
-    return (args.output or default) if args.turntable else image, *extra
+    return (args.output or default) if sequence else image, *extra
 
 
 def _camera(args, scene, opts):
@@ -246,6 +247,12 @@ def run(args) -> list[Path]:
         raise InputError(f"--turntable needs 1..{MAX_FRAMES} frames, got {args.turntable}")
     if not A.MIN_FPS <= args.fps <= 240:  # below, a frame's GIF duration overflows
         raise InputError(f"--fps must be in [{A.MIN_FPS:g}, 240], got {args.fps:g}")
+    start, end = A.time_range(args)
+    if end is not None:
+        from ..render.turntable import animation_times
+
+        # The frame count, checked before any work.
+        animation_times(float(start), end, args.fps, args.turntable)
     target, depth_path, ids_path = _targets(args)
     color_options = ColorOptions(parse_bits(args.bits), args.dither, args.palette,
                                  args.palette_method)
@@ -259,15 +266,19 @@ def run(args) -> list[Path]:
 
         prestart_writer()
     scene, opts, camera = resolve(args, color_options.needs_float)
+    span = None if end is None else (opts.time, end)
+    if span is not None and not args.turntable and args.eye is None and \
+            args.target is None and not args.ortho and scene.camera(opts.camera) is not None:
+        camera = None  # the scene's own camera: it follows its node as the scene plays
 
     from ..render.renderer import Renderer  # GL is loaded only once the inputs are good
 
     with Renderer() as renderer:
-        if args.turntable:
+        if args.turntable or span is not None:
             from .sequence import render_turntable
 
             return render_turntable(renderer, scene, camera, opts, args, target,
-                                    color_options)
+                                    color_options, span)
         frame = renderer.render(scene, camera, opts)
     return _write_single(frame, args, opts.outputs, target, depth_path, ids_path,
                          color_options)
@@ -285,7 +296,8 @@ def resolve(args, float_color: bool = False):
         ("color", *(["depth"] if args.depth else []), *(["ids"] if args.ids else []))
     layer["float_color"] = float_color
     opts = options_for(scene, layer)
-    return scene, opts, _camera(args, scene, opts)
+    # Framed where the animations stand at the (first) frame's time.
+    return scene, opts, _camera(args, scene.at(opts.time, opts.animation), opts)
 
 
 def _write_single(frame, args, channels, image_path, depth_path, ids_path, color_options):

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from ..image.outputs import encode_color, write_camera_json, write_outputs
 from ..image.sequence import BackgroundWriter, ProcessWriter, SequenceSink, cameras_path
-from ..render.turntable import turntable
+from ..render.turntable import animation_times, play, turntable
 
 
 def progress(total: int, quiet: bool, desc: str):
@@ -25,18 +25,26 @@ def progress(total: int, quiet: bool, desc: str):
 
 
 def render_turntable(renderer, scene, camera, opts, args, target,
-                     color_options) -> list[Path]:
+                     color_options, span=None) -> list[Path]:
     """Render the orbit about ``opts.up`` with the options ``opts`` (the default light rig,
-    if it is used, follows the camera: the model turns under studio lights)."""
+    if it is used, follows the camera: the model turns under studio lights), and/or the
+    animations playing over ``span`` (start, end) seconds: over the orbit's frames, else
+    at ``args.fps`` (``camera`` None: the scene's camera, following its node)."""
     # Videos stream into one encoder object, so they use a thread; independent dataset
     # files go to a writer process (see ProcessWriter for why).
     writer = ProcessWriter() if args.out_dir else BackgroundWriter()
     sink = None if args.out_dir else SequenceSink(target, args.fps, writer)
     options = dict(png16=args.png16, normals_space=args.normals_space)
     cameras = []
+    times = None if span is None else animation_times(*span, fps=args.fps,
+                                                       frames=args.turntable)
+    total = args.turntable or len(times)
     try:
-        with progress(args.turntable, args.quiet, "turntable") as bar:
-            frames = turntable(renderer, scene, args.turntable, camera, opts.up, opts)
+        with progress(total, args.quiet, "turntable" if args.turntable else "animation") \
+                as bar:
+            frames = turntable(renderer, scene, args.turntable, camera, opts.up, opts,
+                               times=times) if args.turntable else \
+                play(renderer, scene, [camera] * total, times, opts)
             for i, frame in enumerate(frames):
                 cameras.append(frame.camera_info())
                 if sink is not None:

@@ -6,7 +6,6 @@ numbered PNGs, with a fixed time step so output is deterministic) or live in a w
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 
 from ..errors import InputError
@@ -74,23 +73,6 @@ def add_parser(sub) -> None:
                     help="print the active uniforms with their types and exit")
     sh.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     A.add_confine_option(sh)
-
-
-def parse_time(text: str) -> tuple[float, float | None]:
-    """``1.5`` -> (1.5, None); ``0:4`` -> (0.0, 4.0)."""
-    try:
-        if ":" in text:
-            a, b = (float(v) for v in text.split(":"))
-            if not (math.isfinite(a) and math.isfinite(b)) or b <= a or a < 0:
-                raise ValueError
-            return a, b
-        t = float(text)
-        if not math.isfinite(t) or t < 0:
-            raise ValueError
-        return t, None
-    except ValueError:
-        raise InputError(f"--time {text!r}: expected seconds like 1.5 or a range like 0:4 "
-                         "(start < end, both >= 0)") from None
 
 
 def parse_date(text: str):
@@ -175,7 +157,7 @@ def run(args) -> list[Path]:
     """Headless output or the uniform list; the window when there is no -o."""
     from ..image.writers import check_image_path, save_image
 
-    start, end = parse_time(args.time)
+    start, end = A.parse_time(args.time)
     if not A.MIN_FPS <= args.fps <= 240:  # below, a frame's GIF duration overflows
         raise InputError(f"--fps must be in [{A.MIN_FPS:g}, 240], got {args.fps:g}")
     mouse = tuple(args.mouse) + (0.0,) * (4 - len(args.mouse)) if args.mouse else (0,) * 4

@@ -40,6 +40,7 @@ from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import writing
+from ..scene.animation import pose_scene
 from ..scene.options import (
     ParsedLayer,
     RenderOptions,
@@ -121,7 +122,9 @@ class Renderer:
         return opts if aa is opts.aa else replace(opts, aa=aa)
 
     def camera(self, scene: Scene, opts: RenderOptions) -> Camera:
-        """The scene's camera the options name (else its first), else one framing it."""
+        """The scene's camera the options name (else its first), else one framing it (at
+        the options' time: animations move cameras and change the bounds)."""
+        scene = pose_scene(scene, opts.time, opts.animation)
         return scene.camera(opts.camera) or Camera.frame(scene.bounds, up=opts.up,
                                                          aspect=opts.width / opts.height)
 
@@ -132,6 +135,7 @@ class Renderer:
         ``outputs``, ``aa``, ``msaa``, ``shadows``, ``shading``, ``srgb``, ...)."""
         self._check_open()
         opts = self.options(scene, options, **kwargs)
+        scene = pose_scene(scene, opts.time, opts.animation)
         with self.ctx:  # several renderers (contexts) may live in one thread
             self._inside = True
             try:
@@ -150,6 +154,7 @@ class Renderer:
         after the last the picture equals ``render``'s. Returns the samples shown."""
         self._check_open()
         opts = self.options(scene, options, **kwargs)
+        scene = pose_scene(scene, opts.time, opts.animation)
         self._inside = True
         try:
             return self._sequence(scene, camera, opts, Destination(framebuffer, sample))
@@ -159,6 +164,7 @@ class Renderer:
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
         """How many supersamples the colour of this render sums (0: one picture)."""
         opts = self.options(scene, options, **kwargs)
+        scene = pose_scene(scene, opts.time, opts.animation)
         aa = self._engine(opts.engine).sampling(
             opts, scene, with_lens(camera, opts.aperture, opts.focus), False)
         return aa.samples if aa is not None else 0

@@ -25,10 +25,12 @@ import numpy as np
 
 from ..errors import FacetWarning, MeshError
 from ..srgb import linear_to_srgb
+from .animation import camera_view
 from .gltf_check import check_gltf
 from .gltf_data import GltfData
 from .gltf_lights import document_lights, facet_light, node_light
 from .gltf_materials import extension_fields
+from .gltf_rig import read_rig, vertex_deformation
 from .pbr import PbrMaterial, TextureSlot, texture_transform
 
 SUPPORTED = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
@@ -42,9 +44,11 @@ NEAREST = {9728, 9984, 9986}  # NEAREST, NEAREST_MIPMAP_*
 NO_MIPS = {9728, 9729}
 
 
-def read_gltf(path: Path, check_mesh) -> tuple[list, dict, list]:
+def read_gltf(path: Path, check_mesh) -> tuple[list, dict, list, object]:
     """(parts as (name, mesh arguments, 4x4 node -> file), {camera name: Camera}, lights:
-    KHR_lights_punctual's as facet lights, facet.scene.gltf_lights).
+    KHR_lights_punctual's as facet lights (facet.scene.gltf_lights), and the Rig of its
+    animations, skins and morph targets (facet.scene.gltf_rig; None when nothing moves);
+    the parts stand at rest, the rig poses them.
     ``check_mesh(arrays, where)`` finishes a primitive's arrays into ``Mesh`` arguments.
     The document is checked (facet.scene.gltf_check) as JSON, before pygltflib builds it."""
     from pygltflib import GLTF2
@@ -64,7 +68,7 @@ def read_gltf(path: Path, check_mesh) -> tuple[list, dict, list]:
                         "or in another format?") from None
     if gltf is None:
         raise MeshError(f"{path}: cannot read the file as glTF; is it truncated?")
-    return _Reader(gltf, path, check_mesh).read()
+    return _Reader(gltf, path, check_mesh, document).read()
 
 
 def _document(path: Path) -> dict:
@@ -111,15 +115,16 @@ def _document(path: Path) -> dict:
 
 
 class _Reader:
-    def __init__(self, gltf, path: Path, check_mesh):
+    def __init__(self, gltf, path: Path, check_mesh, document: dict):
         self.gltf, self.path, self.check_mesh = gltf, path, check_mesh
+        self.document = document
         self.data = GltfData(gltf, path)
         self.materials: dict[int, PbrMaterial] = {}
         self.textures: dict[int, object] = {}
         self.primitives: dict[tuple[int, int], dict | None] = {}
         self.skipped: set[str] = set()
 
-    def read(self) -> tuple[list, dict]:
+    def read(self) -> tuple[list, dict, list, object]:
         g = self.gltf
         required = set(g.extensionsRequired or ()) - SUPPORTED
         if required:
@@ -131,7 +136,7 @@ class _Reader:
         if not g.scenes and not g.nodes:
             self.data.fail("holds no scene and no nodes; nothing to render")
         roots = g.scenes[g.scene or 0].nodes if g.scenes else self._roots()
-        parts, cameras, lights = [], {}, []
+        parts, cameras, lights, rigged = [], {}, [], []
         light_defs = document_lights(g, self.data.fail)
         stack = [(int(n), np.eye(4)) for n in reversed(roots or [])]
         while stack:
@@ -147,6 +152,7 @@ class _Reader:
                     if args is not None:
                         suffix = f"/{p}" if len(prims) > 1 else ""
                         parts.append((f"{label}{suffix}", args, world))
+                        rigged.append((index, node.skin, args.get("deform")))
             light = node_light(node, light_defs, self.data.fail)
             if light is not None:
                 lights.append(facet_light(light_defs[light], world))
@@ -156,20 +162,17 @@ class _Reader:
             if node.camera is not None:
                 name = g.cameras[node.camera].name or label
                 cameras[name if name not in cameras else f"{name}{len(cameras)}"] = (
-                    node.camera, world)
-            if node.skin is not None or (node.mesh is not None and any(
-                    pr.targets for pr in g.meshes[node.mesh].primitives)):
-                self.skipped.add("skins and morph targets (drawn in their rest pose)")
+                    node.camera, world, index)
             stack.extend((int(c), world) for c in reversed(node.children or []))
-        if g.animations:
-            self.skipped.add("animations (drawn at rest)")
         if not parts:
             self.data.fail("has no triangles in its scene (only points, lines or empty "
                            "nodes); nothing to render")
         for what in sorted(self.skipped):
             self.warn(f"leaves out {what}")
-        return parts, {name: self._camera(c, world, parts) for name, (c, world)
-                       in cameras.items()}, lights
+        rig = read_rig(self.document, self.data, rigged,
+                       {name: node for name, (_, _, node) in cameras.items()})
+        return parts, {name: self._camera(c, world, parts) for name, (c, world, _)
+                       in cameras.items()}, lights, rig
 
     def warn(self, message: str) -> None:
         warnings.warn(f"{self.path.name}: {message}", FacetWarning, stacklevel=4)
@@ -232,6 +235,13 @@ class _Reader:
             indices = np.arange(count, dtype=np.uint32) if prim.indices is None else \
                 self.data.accessor(prim.indices).astype(np.int64)
         faces = _triangles(np.asarray(indices, dtype=np.int64), mode, where, self.data.fail)
+        prim_json = self.document["meshes"][mesh]["primitives"][p]
+        deform = None
+        if draco is None:
+            deform = vertex_deformation(prim_json, self.data, len(values["POSITION"]), where)
+        elif prim_json.get("targets") or "JOINTS_0" in attrs:
+            self.skipped.add("the skins and morph targets of Draco-compressed primitives "
+                             "(drawn at rest)")
         colors = values.get("COLOR_0")
         if colors is not None:  # linear -> sRGB-encoded, alpha kept (module docstring)
             colors = np.concatenate([linear_to_srgb(np.clip(colors[:, :3], 0, 1)),
@@ -244,7 +254,7 @@ class _Reader:
                   "normals": values.get("NORMAL"), "uvs": uvs[0], "uvs1": uvs[1],
                   "tangents": values.get("TANGENT"),
                   "colors": None if colors is None else np.clip(colors, 0, 1),
-                  "material": material,
+                  "material": material, "deform": deform,
                   "name": self.gltf.meshes[mesh].name or f"{self.path.stem}-{mesh}"}
         return self.check_mesh(arrays, where)
 
@@ -323,10 +333,7 @@ class _Reader:
         from ..geometry.camera import Camera
 
         cam = self.gltf.cameras[index]
-        # The node's frame without its scale: glTF cameras look down their -z, y up.
-        frame = world.copy()
-        frame[:3, :3] /= np.linalg.norm(frame[:3, :3], axis=0, keepdims=True)
-        view = np.linalg.inv(frame)
+        view = camera_view(world)  # glTF cameras look down their -z, y up
         corners = []
         for _, args, m in parts:  # every part's box corners, in the file's frame
             b = np.stack([args["positions"].min(axis=0), args["positions"].max(axis=0)])

@@ -99,7 +99,8 @@ class GltfCheck:
     # -- the document --------------------------------------------------------------------
     def check(self) -> None:
         for name in ("buffers", "bufferViews", "accessors", "images", "samplers", "textures",
-                     "materials", "meshes", "cameras", "nodes", "scenes"):
+                     "materials", "meshes", "cameras", "skins", "nodes", "scenes",
+                     "animations"):
             items = self.items(name)
             limit = budget("nodes") if name == "nodes" else budget("gltf_items")
             if len(items) > limit:
@@ -270,6 +271,30 @@ class GltfCheck:
         else:
             self.fail(f"{path}.type", f"expected perspective or orthographic, got {kind!r}")
 
+    def _skins(self, s, path):
+        self._node_list(get(s, "joints"), f"{path}.joints")
+        self.ref(get(s, "inverseBindMatrices"), "accessors", f"{path}.inverseBindMatrices")
+        self.ref(get(s, "skeleton"), "nodes", f"{path}.skeleton")
+
+    def _animations(self, a, path):
+        samplers = get(a, "samplers")
+        channels = get(a, "channels")
+        for key, value in (("samplers", samplers), ("channels", channels)):
+            if not isinstance(value, list) or not value:
+                self.fail(f"{path}.{key}", f"expected a list of {key}, got {value!r}")
+        for k, s in enumerate(samplers):
+            at = f"{path}.samplers[{k}]"
+            s = self.table(s, at)
+            self.ref(s.get("input"), "accessors", f"{at}.input", optional=False)
+            self.ref(s.get("output"), "accessors", f"{at}.output", optional=False)
+        for k, c in enumerate(channels):
+            at = f"{path}.channels[{k}]"
+            c = self.table(c, at)
+            self.integer(c.get("sampler"), f"{at}.sampler", 0, len(samplers) - 1,
+                         optional=False)
+            target = self.table(c.get("target"), f"{at}.target")
+            self.ref(target.get("node"), "nodes", f"{at}.target.node")
+
     def _node_list(self, value, path):
         """A list of node indices (a node's children, a scene's nodes)."""
         if value is not None and not isinstance(value, list):
@@ -281,6 +306,11 @@ class GltfCheck:
         self._node_list(get(n, "children"), f"{path}.children")
         self.ref(get(n, "mesh"), "meshes", f"{path}.mesh")
         self.ref(get(n, "camera"), "cameras", f"{path}.camera")
+        self.ref(get(n, "skin"), "skins", f"{path}.skin")
+        weights = get(n, "weights")
+        if weights is not None:
+            self.numbers(weights, f"{path}.weights", len(weights) if isinstance(
+                weights, list) else 0)
         self.numbers(get(n, "matrix"), f"{path}.matrix", 16)
         self.numbers(get(n, "rotation"), f"{path}.rotation", 4)
         self.numbers(get(n, "scale"), f"{path}.scale", 3)

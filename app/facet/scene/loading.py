@@ -51,10 +51,11 @@ def _check_path(path) -> Path:
     return p
 
 
-def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict, list]:
-    """``(parts, cameras, lights)`` of a mesh file: parts as (name, ``Mesh`` keyword
+def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict, list, object]:
+    """``(parts, cameras, lights, rig)`` of a mesh file: parts as (name, ``Mesh`` keyword
     arguments, 4x4 node -> file transform), a part's arguments shared by every node that
-    uses the same mesh; cameras as {name: Camera} and lights (glTF only)."""
+    uses the same mesh; cameras as {name: Camera}, lights and the Rig of its animations,
+    skins and morph targets (glTF only; facet.scene.animation; None when nothing moves)."""
     p = _check_path(path)
     crease = _check_crease(crease)
 
@@ -65,7 +66,7 @@ def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict, list]:
         from .gltf import read_gltf
 
         return read_gltf(p, finish)
-    return _trimesh_parts(p, finish), {}, []
+    return _trimesh_parts(p, finish), {}, [], None
 
 
 def _check_crease(crease) -> float:
@@ -118,6 +119,8 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
         for key in PER_VERTEX:
             if key != "normals" and out.get(key) is not None:
                 out[key] = np.asarray(out[key])[source]
+        if out.get("deform") is not None:  # skin and morph data follow their vertices
+            out["deform"] = out["deform"].remapped(source)
         out["faces"] = new_faces
     return out
 

@@ -164,7 +164,12 @@ class Mesh:
         ``flat=True`` gives faceted normals (see ``flat_shaded``). Raises
         ``facet.MeshError`` naming the file when it cannot be read.
         """
-        parts = cls.load_parts(path, crease=crease)
+        parts, _, _, rig = cls.load_rigged(path, crease=crease)
+        if rig is not None:  # skins and default morph weights applied, nothing playing
+            from .animation import NO_CLIPS
+
+            placed, _ = rig.posed_meshes([m for _, m, _ in parts], 0.0, NO_CLIPS)
+            parts = [(n, m, x) for (n, _, _), (m, x) in zip(parts, placed, strict=True)]
         mesh = parts[0][1] if len(parts) == 1 and np.array_equal(parts[0][2], np.eye(4)) \
             else merge_parts(parts, str(path))
         return mesh.flat_shaded() if flat else mesh
@@ -183,20 +188,30 @@ class Mesh:
         return cls.load_contents(path, crease=crease)[:2]
 
     @classmethod
-    def load_contents(cls, path, *, crease: float | None = None) -> tuple[list, dict, list]:
-        """``(load_parts(path), {name: Camera}, lights)``: the parts, the file's cameras
-        and its lights (glTF's KHR_lights_punctual)."""
+    def load_rigged(cls, path, *, crease: float | None = None) -> tuple[list, dict, list,
+                                                                         object]:
+        """``(*load_contents(path), rig)``: with the Rig of the file's animations, skins and
+        morph targets (facet.scene.animation; None when nothing in it moves), whose part
+        ``i`` is ``parts[i]`` (at rest)."""
         from .loading import load_file
         from .normals import DEFAULT_CREASE
 
-        raw, cameras, lights = load_file(path, DEFAULT_CREASE if crease is None else crease)
+        raw, cameras, lights, rig = load_file(path,
+                                              DEFAULT_CREASE if crease is None else crease)
         made: dict[int, Mesh] = {}
         parts = []
         for name, data, matrix in raw:
             if id(data) not in made:
                 made[id(data)] = cls._from_file(data)
             parts.append((name, made[id(data)], matrix))
-        return parts, cameras, lights
+        return parts, cameras, lights, rig
+
+    @classmethod
+    def load_contents(cls, path, *, crease: float | None = None) -> tuple[list, dict, list]:
+        """``(load_parts(path), {name: Camera}, lights)``: the parts, the file's cameras
+        and its lights (glTF's KHR_lights_punctual). The parts stand at rest: animations,
+        skins and morph targets need ``load_rigged`` (``facet.load`` poses them)."""
+        return cls.load_rigged(path, crease=crease)[:3]
 
     @classmethod
     def _from_file(cls, data: dict) -> Mesh:
@@ -205,6 +220,7 @@ class Mesh:
 
         args = dict(data)
         path = args.pop("path")
+        args.pop("deform", None)  # the rig's (facet.scene.animation)
         try:
             return cls(**args)
         except InputError as exc:

@@ -321,6 +321,15 @@ def _text(value, key):
     return value
 
 
+def _animation(value, key):
+    """An animation's name, or its index in the file (0, 1, ...)."""
+    if isinstance(value, bool) or not isinstance(value, (int, str)) or value == "" or (
+            isinstance(value, int) and value < 0):
+        raise InputError(f"{key}: expected an animation's name or its index (0, 1, ...), "
+                         f"got {value!r}")
+    return value
+
+
 PARSERS = {
     "size": _size,
     "background": _background,
@@ -339,7 +348,8 @@ PARSERS = {
     "environment": _environment,
     "lights": _choice(LIGHTS, "lights mode"),
     "wireframe": _bool,
-    "time": _number(),
+    "time": _number(minimum=0),
+    "animation": _animation,
     "engine": _choice(ENGINES, "engine"),
     "max_depth": _integer(minimum=0, maximum=MAX_RAY_DEPTH),
     "seed": _integer(minimum=0, maximum=2 ** 31 - 1),

@@ -76,7 +76,9 @@ class RenderOptions:
     camera : a scene camera's name or None   aperture, focus : a lens over the camera's
     environment : an Environment or None (options_for: the scene's)
     lights : LIGHTS                          wireframe : overlay the triangle edges
-    time : seconds (users' shaders' u_time)  engine : one of ENGINES (facet.render.engine)
+    time : seconds: where the scene's animations stand (facet.scene.animation) and users'
+           shaders' u_time                   engine : one of ENGINES (facet.render.engine)
+    animation : which animation plays (a name or an index); None: all of them
     max_depth : the ray tracer's reflection/refraction recursion (1: the notes' one
                 reflection and one transmission ray; default DEFAULT_MAX_DEPTH)
     seed : the random stream: the path tracer's paths and the jittered / random / poisson
@@ -104,6 +106,7 @@ class RenderOptions:
     lights: str = "auto"
     wireframe: bool = False
     time: float = 0.0
+    animation: str | int | None = None
     engine: str = "raster"
     max_depth: int = DEFAULT_MAX_DEPTH
     seed: int = 0

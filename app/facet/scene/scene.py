@@ -75,6 +75,9 @@ class Scene:
         # True for a model file's scene: its cameras (glTF's) are there to be chosen by
         # name, the default view frames the model.
         self.frame_by_default = False
+        # facet.scene.animation.Animated: rigs (animations, skins, morph targets) that
+        # pose some of the objects and cameras at a time (``at``).
+        self.animated: list = []
 
     def add(self, mesh, material: Material | None = None, transform=None, *,
             name: str = "", transform_end=None) -> int:
@@ -137,6 +140,20 @@ class Scene:
                 raise InputError(f"no camera named {name!r} (cameras: {known})")
             return self.cameras[name]
         return next(iter(self.cameras.values()), None)
+
+    def at(self, time: float = 0.0, animation=None) -> Scene:
+        """The scene as it stands at ``time`` seconds, its animations playing (all of
+        them, or the one named or numbered ``animation``), skins and morph targets
+        applied: a view sharing everything else (facet.scene.animation). Renders do this
+        with their ``time`` and ``animation`` options."""
+        from .animation import pose_scene
+
+        return pose_scene(self, time, animation)
+
+    @property
+    def animations(self) -> list[str]:
+        """The names of the animations of the scene's models."""
+        return [name for a in self.animated for name in a.rig.clip_names]
 
     def view(self, objects=None, lights=None) -> Scene:
         """A shallow copy sharing everything but ``objects`` and/or ``lights`` (for render

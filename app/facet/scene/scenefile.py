@@ -212,12 +212,19 @@ class _SceneBuilder:
             material = None
             if "material" in t:
                 material = self.object_material(t["material"], f"{where}.material", materials)
-            for part_name, mesh, matrix in self.geometry(t, where):
+            parts, rig = self.geometry(t, where)
+            ids = []
+            for part_name, mesh, matrix in parts:
                 try:
-                    scene.add(mesh, material, node["world"] @ matrix, name=part_name or name,
-                              transform_end=node["world_end"] @ matrix if moving else None)
+                    ids.append(scene.add(
+                        mesh, material, node["world"] @ matrix, name=part_name or name,
+                        transform_end=node["world_end"] @ matrix if moving else None))
                 except FacetError as exc:
                     r.fail(where, str(exc))
+            if rig is not None:  # the model's animations, skins and morphs, placed here
+                from .animation import Animated
+
+                scene.animated.append(Animated(rig, ids, node["world"]))
 
     def resolve_parents(self, nodes: dict) -> list[str]:
         """Node names with every parent before its children (in time linear in the nodes);
@@ -332,15 +339,18 @@ class _SceneBuilder:
                            f"smooth), got {_show(t['crease'])}")
             if (path, crease) not in self.parts_cache:
                 try:
-                    self.parts_cache[path, crease] = Mesh.load_parts(path, crease=crease)
+                    parts, _, _, rig = Mesh.load_rigged(path, crease=crease)
                 except FacetError as exc:
                     r.fail(f"{where}.mesh", str(exc))
-            parts = self.parts_cache[path, crease]
+                self.parts_cache[path, crease] = parts, rig
+            parts, rig = self.parts_cache[path, crease]
             if t.get("flat"):
+                if rig is not None:  # one vertex per face corner: the skin data follows
+                    rig = rig.with_corners([m.faces.reshape(-1) for _, m, _ in parts])
                 parts = [(n, m.flat_shaded(), x) for n, m, x in parts]
-            return [(n if len(parts) > 1 else None, m, x) for n, m, x in parts]
+            return [(n if len(parts) > 1 else None, m, x) for n, m, x in parts], rig
         if kind is None:
-            return []  # a group node: only a transform for its children
+            return [], None  # a group node: only a transform for its children
         kind = r.choice(kind, f"{where}.primitive", tuple(PRIMITIVES))
         for p in params:
             if p not in PRIMITIVE_PARAMS[kind]:
@@ -357,7 +367,7 @@ class _SceneBuilder:
             # Primitives are exact shapes for the ray tracer (a torus, or flat = true, a
             # mesh); the rasterizer draws their tessellation.
             if kind in SHAPES and not t.get("flat"):
-                return [(None, SHAPES[kind](**kwargs), np.eye(4))]
+                return [(None, SHAPES[kind](**kwargs), np.eye(4))], None
             if kwargs.get("size", 0) is None:
                 r.fail(f"{where}.size", "an infinite plane cannot be flat-shaded")
             mesh = PRIMITIVES[kind](**kwargs)
@@ -365,7 +375,7 @@ class _SceneBuilder:
             raise
         except FacetError as exc:
             r.fail(where, str(exc))
-        return [(None, mesh.flat_shaded() if t.get("flat") else mesh, np.eye(4))]
+        return [(None, mesh.flat_shaded() if t.get("flat") else mesh, np.eye(4))], None
 
 
 def _strip_key(message: str, key: str | None) -> str:

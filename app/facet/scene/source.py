@@ -29,10 +29,13 @@ def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
         from .scenefile import load_scene
 
         return load_scene(path, crease=crease)
-    parts, cameras, lights = Mesh.load_contents(path, crease=crease)
+    parts, cameras, lights, rig = Mesh.load_rigged(path, crease=crease)
     scene = Scene()
-    for name, mesh, matrix in parts:
-        scene.add(mesh, transform=matrix, name=name)
+    ids = [scene.add(mesh, transform=matrix, name=name) for name, mesh, matrix in parts]
+    if rig is not None:
+        from .animation import Animated
+
+        scene.animated.append(Animated(rig, ids, cameras={n: n for n in rig.cameras}))
     for light in lights:
         scene.add_light(light)
     for name, camera in cameras.items():

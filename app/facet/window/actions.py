@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from .keys import AA_CYCLE, TURNTABLE_FRAMES, help_text
+from .playback import FRAME_STEP, SECOND_STEP
 
 BACKGROUNDS = ((1.0, 1.0, 1.0, 1.0), (0.35, 0.37, 0.4, 1.0), (0.0, 0.0, 0.0, 1.0))
 
@@ -55,7 +56,8 @@ class ViewerActions:
 
     # -- actions (KEYMAP) ----------------------------------------------------------------
     def frame(self):
-        self.control.bounds = np.asarray(self.scene.bounds)
+        opts = self.options()
+        self.control.bounds = np.asarray(self.scene.at(opts.time, opts.animation).bounds)
         self.control.frame(self.aspect)
 
     def reset(self):
@@ -140,6 +142,25 @@ class ViewerActions:
             raise
         self.request_frame()
         print(path)
+
+    def toggle_playing(self):
+        print("playing" if self.playback.toggle() else
+              f"paused at {self.playback.time():.3f} s")
+
+    def step_back(self):
+        self._step(-FRAME_STEP)
+
+    def step_forward(self):
+        self._step(FRAME_STEP)
+
+    def second_back(self):
+        self._step(-SECOND_STEP)
+
+    def second_forward(self):
+        self._step(SECOND_STEP)
+
+    def _step(self, seconds: float):
+        print(f"paused at {self.playback.step(seconds):.3f} s")
 
     def print_help(self):
         print(help_text())

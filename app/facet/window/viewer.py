@@ -45,7 +45,8 @@ class Viewer(ViewerActions):
     scene's, else the viewer's default, facet.scene.options.FRONT_DEFAULTS)."""
 
     def __init__(self, source, size=None, msaa: int | None = None, title: str = "facet",
-                 shader=None, options=None, crease: float | None = None):
+                 shader=None, options=None, crease: float | None = None,
+                 time_end: float | None = None):
         self.path = Path(source) if isinstance(source, (str, Path)) else None
         self.crease = crease  # how files without normals are read (facet.scene.loading)
         self.user_shader = shader  # --frag: the model's own shader (a UserShader)
@@ -63,7 +64,8 @@ class Viewer(ViewerActions):
         self._sample_count = 0  # supersamples the current view refines to (0: none)
         self._set_scene(scene, frame=True)
         self._dirty, self._frames, self._fps, self._fps_time = True, 0, 0.0, time.perf_counter()
-        self._start = time.perf_counter()
+        self.time_end = time_end  # --time A:B: loop A..B (else the animations' length)
+        self._set_playback()
         self._drag = None
         self._cursor = self.glfw.get_cursor_pos(self.window)
         self._file_digest = file_digest(self.path) if self.path else None
@@ -82,10 +84,11 @@ class Viewer(ViewerActions):
 
     def options(self, **changes):
         """The render options of the picture now: the scene's < the command line's < the
-        keys' < ``changes``, at the window's size."""
+        keys' < ``changes``, at the window's size and the clock's time."""
         size = self.glfw.get_framebuffer_size(self.window)
+        now = {"size": size, "time": self.playback.time()}
         return self.renderer.options(self.scene, options_for(
-            self.scene, self.explicit, self.keys, {"size": size, **changes}, front=FRONT))
+            self.scene, self.explicit, self.keys, {**now, **changes}, front=FRONT))
 
     def shown_scene(self):
         """The scene as drawn: with the default lights frozen in place if ``l`` did that."""
@@ -103,25 +106,42 @@ class Viewer(ViewerActions):
 
     @property
     def animated(self) -> bool:
-        """A user's shader on the scene reads u_time: keep drawing while it is shown (its
-        programs are made at the first draw, which every new scene gets)."""
-        return any(o.material.shader is not None for o in self.scene.objects) and \
-            self.renderer.forward.user.reads_time()
+        """The animations play, or a user's shader on the scene reads u_time: keep drawing
+        while it is shown (its programs are made at the first draw, which every new scene
+        gets)."""
+        if not self.playback.playing:
+            return False
+        return bool(self.scene.animations) or (
+            any(o.material.shader is not None for o in self.scene.objects)
+            and self.renderer.forward.user.reads_time())
+
+    def _set_playback(self) -> None:
+        """The clock of a newly opened scene: from the options' time, looping over --time
+        A:B or else the length of the animations that play."""
+        from .playback import Playback
+
+        opts = options_for(self.scene, self.explicit, front=FRONT)
+        end = self.time_end
+        if end is None and self.scene.animated:
+            end = max(a.rig.duration(opts.animation if a.rig.has(opts.animation) else None)
+                      for a in self.scene.animated)
+        self.playback = Playback(opts.time, end if end and end > opts.time else None)
 
     def _set_scene(self, scene, frame: bool) -> None:
         from ..geometry.orbit import OrbitControl
 
         self.scene = scene
+        opts = options_for(scene, self.explicit, front=FRONT)
         if frame or not hasattr(self, "control"):
-            opts = options_for(scene, self.explicit, front=FRONT)
-            self.control = OrbitControl(scene.bounds, up=opts.up, aspect=self.aspect)
+            self.control = OrbitControl(scene.at(opts.time, opts.animation).bounds, up=opts.up,
+                                        aspect=self.aspect)
             camera = scene.camera(opts.camera)
             if camera is not None:
                 self.control.set_camera(camera)
         else:
             import numpy as np
 
-            self.control.bounds = np.asarray(scene.bounds)
+            self.control.bounds = np.asarray(scene.at(opts.time, opts.animation).bounds)
         self.triangles = sum(o.mesh.face_count for o in scene.objects)
         self.request_frame()
 
@@ -148,7 +168,7 @@ class Viewer(ViewerActions):
         if fb[0] < 1 or fb[1] < 1:
             return  # minimised
         camera, scene = self.camera(), self.shown_scene()
-        opts = self.options(time=time.perf_counter() - self._start)
+        opts = self.options()
         moving = self._dirty or self.animated
         with self.ctx:
             n = self._sample_count = self.renderer.samples(scene, camera, opts)
@@ -178,6 +198,9 @@ class Viewer(ViewerActions):
         engine = self.keys.get("engine") or "raster"
         if engine != "raster":
             title += f" - engine {engine}"
+        if self.scene.animations:
+            title += f" - {self.playback.time():.2f} s" + (
+                "" if self.playback.playing else " (paused: p plays)")
         if self._sample_count:  # progressive supersampling: how far it has refined
             title += f" - {self._samples}/{self._sample_count} samples"
         self.win.set_title(f"{title} - error: {self.error}" if self.error else title)
@@ -258,6 +281,7 @@ class Viewer(ViewerActions):
         self.path = Path(path)
         self.fixed_rig = None
         self._set_scene(scene, frame=True)
+        self._set_playback()
         self._file_digest = file_digest(self.path)
         self.error = ""
 
@@ -332,9 +356,11 @@ class Viewer(ViewerActions):
 
 
 def view(scene, size=None, msaa: int | None = None, shader=None, options=None,
-         crease: float | None = None) -> None:
+         crease: float | None = None, time_end: float | None = None) -> None:
     """Open a window on ``scene`` (a Scene or a file path) and block until it closes;
     ``shader`` (a UserShader) replaces the file's materials' shaders; ``options`` are
-    render options over the scene's; ``crease`` splits normals of files without them."""
-    with Viewer(scene, size, msaa, shader=shader, options=options, crease=crease) as v:
+    render options over the scene's; ``crease`` splits normals of files without them;
+    ``time_end``: the animations loop from the options' time to it."""
+    with Viewer(scene, size, msaa, shader=shader, options=options, crease=crease,
+                time_end=time_end) as v:
         v.run()
