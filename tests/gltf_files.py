@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 FLOAT, UBYTE, USHORT, UINT = 5126, 5121, 5123, 5125
-TYPES = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4"}
+TYPES = {1: "SCALAR", 2: "VEC2", 3: "VEC3", 4: "VEC4", 16: "MAT4"}
 
 
 class GltfBuilder:

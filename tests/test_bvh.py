@@ -110,3 +110,34 @@ def test_a_single_primitive_is_a_one_leaf_tree():
     assert len(b.left) == 1 and b.count[0] == 1 and b.depth == 1
     with pytest.raises(ValueError):
         B.build_bvh(np.zeros((0, 3)), np.zeros((0, 3)))
+
+
+@pytest.mark.parametrize("builder", ["sah", "clustered"])
+@pytest.mark.parametrize("kind", ["sphere", "soup", "duplicates"])
+def test_a_refitted_tree_bounds_the_moved_primitives(builder, kind):
+    """Refit (skinned and morphed poses): the rest pose's tree over triangles bent and
+    stretched keeps every primitive inside its leaf and every child inside its parent,
+    finds the nearest hits brute force finds, and refitting unmoved triangles gives the
+    built boxes back (SAH's; the clustered builder's boxes of clusters may be looser)."""
+    tri = _triangles(kind)
+    rest = B.build_bvh(tri.min(axis=1), tri.max(axis=1), builder)
+    same = rest.refit(tri.min(axis=1), tri.max(axis=1))
+    if builder == "sah":
+        np.testing.assert_array_equal(same.lo, rest.lo)
+        np.testing.assert_array_equal(same.hi, rest.hi)
+    # (within the padding: the clustered builder pads its boxes before uniting them)
+    assert np.all(same.lo >= rest.lo - 1e-5) and np.all(same.hi <= rest.hi + 1e-5)
+    angle = tri[..., 0:1] * 1.3  # a bend about z growing along x, and a stretch in y
+    moved = np.concatenate([tri[..., 0:1] * np.cos(angle) - tri[..., 1:2] * np.sin(angle),
+                            (tri[..., 0:1] * np.sin(angle) + tri[..., 1:2] * np.cos(angle))
+                            * 1.5, tri[..., 2:3]], axis=-1).astype(np.float32)
+    fit = rest.refit(moved.min(axis=1), moved.max(axis=1))
+    _check_structure(fit, moved)
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        o = rng.uniform(-3, 3, 3)
+        d = rng.uniform(-1, 1, 3) - o
+        d /= np.linalg.norm(d)
+        brute = ray_triangles(moved, o, d)
+        t, hit = traverse(fit, moved, o, d)
+        assert t == pytest.approx(brute.min()) if np.isfinite(brute.min()) else hit == -1

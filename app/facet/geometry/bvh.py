@@ -63,6 +63,35 @@ class BVH:
         return depth
 
 
+    def refit(self, lo, hi) -> BVH:
+        """The same tree over the N boxes ``lo``, ``hi`` (N, 3) of its primitives moved
+        (a skinned or morphed mesh's triangles): each leaf's box the union of its
+        primitives', each inner node's the union of its children's, bottom-up one depth
+        at a time; padded as ``build_bvh`` pads. No split is chosen again."""
+        lo = np.asarray(lo, dtype=np.float32).reshape(-1, 3)[self.order]
+        hi = np.asarray(hi, dtype=np.float32).reshape(-1, 3)[self.order]
+        node_lo, node_hi = self.lo.copy(), self.hi.copy()  # unreachable nodes keep theirs
+        levels, leaves, frontier = [], [], np.array([0])
+        while frontier.size:  # the nodes reachable from the root, depth by depth
+            inner = frontier[self.left[frontier] >= 0]
+            leaves.append(frontier[self.left[frontier] < 0])
+            if inner.size:
+                levels.append(inner)
+            frontier = np.concatenate([self.left[inner], self.right[inner]])
+        leaves = np.concatenate(leaves)
+        leaves = leaves[np.argsort(self.first[leaves], kind="stable")]
+        # Reachable leaves' ranges are contiguous and cover ``order``: reduce between
+        # their starts.
+        node_lo[leaves] = np.minimum.reduceat(lo, self.first[leaves], axis=0)
+        node_hi[leaves] = np.maximum.reduceat(hi, self.first[leaves], axis=0)
+        for inner in reversed(levels):
+            node_lo[inner] = np.minimum(node_lo[self.left[inner]], node_lo[self.right[inner]])
+            node_hi[inner] = np.maximum(node_hi[self.left[inner]], node_hi[self.right[inner]])
+        pad = (np.abs(node_lo) + np.abs(node_hi) + (node_hi - node_lo)) * BOX_PAD + 1e-30
+        return BVH(node_lo - pad, node_hi + pad, self.left, self.right, self.first,
+                   self.count, self.order)
+
+
 def _area(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Half the surface area of boxes (..., 3); 0 for empty ones (lo > hi)."""
     d = np.maximum(hi - lo, 0.0)

@@ -399,4 +399,5 @@ def deformed_mesh(mesh, positions, normals, tangents):
     out._tangents = None if tangents is None else _readonly(
         np.asarray(tangents, dtype=np.float32))
     out._bounds = None
+    out.rest = getattr(mesh, "rest", None) or mesh  # the tracers refit its hierarchy
     return out

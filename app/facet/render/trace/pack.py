@@ -4,7 +4,8 @@ Per mesh, once (``mesh_data``, cached by facet.render.trace.engine while the mes
 its triangles in hierarchy order as (v0, e1, e2), their vertex indices, the vertices'
 normal, uv sets, colour and tangent frame (``VERTEX_TEXELS`` each), and its hierarchy
 (facet.geometry.bvh) in object space, with both children's boxes in each node. Moving or
-instancing a mesh never rebuilds this.
+instancing a mesh never rebuilds this; a skinned or morphed pose (facet.scene.animation)
+refits its rest mesh's hierarchy (built once) to the moved triangles.
 
 Per scene (``pack_geometry``): every mesh's arrays concatenated, references shifted by
 their offsets. Per frame, or per supersample when objects move (``pack_instances``): one
@@ -14,6 +15,7 @@ level hierarchy over their world boxes; infinite planes go first, outside it.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,12 +90,23 @@ def pack_nodes(bvh) -> np.ndarray:
     return out
 
 
+# Rest meshes' hierarchies, kept while the rest mesh lives (its poses refit them).
+_REST_TREES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def mesh_data(mesh, tangents: bool = False) -> MeshData:
     """The tracer's arrays for ``mesh`` (module docstring); its tangent frames when it has
     them or ``tangents`` (a normal map needs them: computed from the uvs, once per mesh)."""
     faces = mesh.faces.astype(np.int64)
     tri = mesh.positions[faces].astype(np.float32)  # (N, 3, 3) object space
-    bvh = build_bvh(tri.min(axis=1), tri.max(axis=1))
+    rest = getattr(mesh, "rest", None)  # a skinned or morphed pose of this mesh
+    if rest is not None:  # its rest pose's tree, refitted (built once per rest mesh)
+        if rest not in _REST_TREES:
+            at_rest = rest.positions[faces].astype(np.float32)
+            _REST_TREES[rest] = build_bvh(at_rest.min(axis=1), at_rest.max(axis=1))
+        bvh = _REST_TREES[rest].refit(tri.min(axis=1), tri.max(axis=1))
+    else:
+        bvh = build_bvh(tri.min(axis=1), tri.max(axis=1))
     tri, faces = tri[bvh.order], faces[bvh.order]  # leaves become contiguous ranges
     tris = np.zeros((len(tri), 3, 4), np.float32)
     tris[:, 0, :3] = tri[:, 0]
