@@ -155,13 +155,15 @@ class Deformation:
 
 @dataclass(frozen=True)
 class Binding:
-    """Part ``part`` (its index in the loader's parts) hangs on node ``node``; ``skin``
-    (an index into Rig.skins) skins it; ``deform`` holds its vertex data."""
+    """Part ``part`` (its index in the loader's parts) hangs on node ``node`` (placed by
+    ``offset`` under it: an instance of EXT_mesh_gpu_instancing); ``skin`` (an index into
+    Rig.skins) skins it; ``deform`` holds its vertex data."""
 
     part: int
     node: int
     skin: int | None
     deform: Deformation | None
+    offset: np.ndarray | None = None
 
 
 class Rig:
@@ -187,7 +189,8 @@ class Rig:
         (flat shading: one vertex per face corner)."""
         out = copy.copy(self)
         out.bindings = [b if b.deform is None else
-                        Binding(b.part, b.node, b.skin, b.deform.remapped(sources[b.part]))
+                        Binding(b.part, b.node, b.skin, b.deform.remapped(sources[b.part]),
+                                b.offset)
                         for b in self.bindings]
         return out
 
@@ -254,7 +257,8 @@ class Rig:
             if b.skin is not None:
                 skin = self.skins[b.skin]
                 joints = world[skin.joints] @ skin.inverse_bind
-            parts[b.part] = (np.eye(4) if joints is not None else world[b.node], joints,
+            placed = world[b.node] if b.offset is None else world[b.node] @ b.offset
+            parts[b.part] = (np.eye(4) if joints is not None else placed, joints,
                              weights.get(b.node))
         return parts, {name: world[node] for name, (node, _) in self.cameras.items()}
 

@@ -33,7 +33,8 @@ from .gltf_materials import extension_fields
 from .gltf_rig import read_rig, vertex_deformation
 from .pbr import PbrMaterial, TextureSlot, texture_transform
 
-SUPPORTED = {"KHR_draco_mesh_compression", "KHR_mesh_quantization", "KHR_texture_transform",
+SUPPORTED = {"EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression", "KHR_mesh_quantization",
+             "KHR_texture_transform",
              "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
              "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume",
              "KHR_lights_punctual", "KHR_materials_clearcoat", "KHR_materials_sheen"}
@@ -147,12 +148,17 @@ class _Reader:
             if node.mesh is not None:
                 mesh = g.meshes[node.mesh]
                 prims = mesh.primitives
+                copies = self._instances(index)  # EXT_mesh_gpu_instancing, else [None]
                 for p in range(len(prims)):
                     args = self._primitive(node.mesh, p)
-                    if args is not None:
-                        suffix = f"/{p}" if len(prims) > 1 else ""
-                        parts.append((f"{label}{suffix}", args, world))
-                        rigged.append((index, node.skin, args.get("deform")))
+                    if args is None:
+                        continue
+                    suffix = f"/{p}" if len(prims) > 1 else ""
+                    for k, offset in enumerate(copies):
+                        copy = "" if offset is None else f"#{k}"
+                        parts.append((f"{label}{suffix}{copy}", args,
+                                      world if offset is None else world @ offset))
+                        rigged.append((index, node.skin, args.get("deform"), offset))
             light = node_light(node, light_defs, self.data.fail)
             if light is not None:
                 lights.append(facet_light(light_defs[light], world))
@@ -173,6 +179,38 @@ class _Reader:
                        {name: node for name, (_, _, node) in cameras.items()})
         return parts, {name: self._camera(c, world, parts) for name, (c, world, _)
                        in cameras.items()}, lights, rig
+
+    def _instances(self, index: int) -> list:
+        """The instance matrices (4x4 instance -> node) of node ``index``'s
+        EXT_mesh_gpu_instancing, or [None] for a plain node."""
+        ext = (self.document["nodes"][index].get("extensions") or {}).get(
+            "EXT_mesh_gpu_instancing")
+        if ext is None:
+            return [None]
+        from .animation import trs_matrices
+
+        attrs = ext.get("attributes") or {}
+        where = f"nodes[{index}].extensions.EXT_mesh_gpu_instancing.attributes"
+        values = {}
+        for key, width in (("TRANSLATION", 3), ("ROTATION", 4), ("SCALE", 3)):
+            if key in attrs:
+                v = np.asarray(self.data.accessor(attrs[key]), dtype=np.float64)
+                if v.ndim != 2 or v.shape[1] != width:
+                    self.data.fail(f"{where}.{key}: expected VEC{width} values")
+                if not np.isfinite(v).all():
+                    self.data.fail(f"{where}.{key} holds NaN or infinite values")
+                values[key] = v
+        counts = {len(v) for v in values.values()}
+        if len(counts) != 1:
+            self.data.fail(f"{where}: " + ("no TRANSLATION, ROTATION or SCALE" if not counts
+                           else "its accessors hold different numbers of instances "
+                           f"({', '.join(f'{k}: {len(v)}' for k, v in values.items())})"))
+        n = counts.pop()
+        rotation = values.get("ROTATION", np.tile([0.0, 0.0, 0.0, 1.0], (n, 1)))
+        if not np.all(np.linalg.norm(rotation, axis=1) > 0):
+            self.data.fail(f"{where}.ROTATION holds a zero quaternion")
+        return list(trs_matrices(values.get("TRANSLATION", np.zeros((n, 3))), rotation,
+                                 values.get("SCALE", np.ones((n, 3)))))
 
     def warn(self, message: str) -> None:
         warnings.warn(f"{self.path.name}: {message}", FacetWarning, stacklevel=4)

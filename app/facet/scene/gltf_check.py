@@ -307,6 +307,12 @@ class GltfCheck:
         self.ref(get(n, "mesh"), "meshes", f"{path}.mesh")
         self.ref(get(n, "camera"), "cameras", f"{path}.camera")
         self.ref(get(n, "skin"), "skins", f"{path}.skin")
+        ext = self.table(get(n, "extensions"), f"{path}.extensions")
+        if ext.get("EXT_mesh_gpu_instancing") is not None:
+            at = f"{path}.extensions.EXT_mesh_gpu_instancing"
+            inst = self.table(ext["EXT_mesh_gpu_instancing"], at)
+            for key, index in self.table(inst.get("attributes"), f"{at}.attributes").items():
+                self.ref(index, "accessors", f"{at}.attributes.{key}", optional=False)
         weights = get(n, "weights")
         if weights is not None:
             self.numbers(weights, f"{path}.weights", len(weights) if isinstance(

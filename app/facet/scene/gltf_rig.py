@@ -67,11 +67,11 @@ def _per_vertex(data, accessor: int, count: int, what: str, normalize: bool = Tr
 
 def read_rig(document: dict, data, parts: list, cameras: dict) -> Rig | None:
     """The Rig of a glTF ``document`` whose reader made ``parts`` [(node, skin or None,
-    Deformation or None)], one per part in order; ``cameras``: {name: node}. None when
-    nothing in the file moves or deforms."""
+    Deformation or None, 4x4 instance -> node or None)], one per part in order;
+    ``cameras``: {name: node}. None when nothing in the file moves or deforms."""
     nodes = document.get("nodes") or []
     animations = document.get("animations") or []
-    if not animations and not any(s is not None or d is not None for _, s, d in parts):
+    if not animations and not any(s is not None or d is not None for _, s, d, _ in parts):
         return None
     parents = np.full(len(nodes), -1, dtype=np.int64)
     for i, n in enumerate(nodes):
@@ -96,7 +96,7 @@ def read_rig(document: dict, data, parts: list, cameras: dict) -> Rig | None:
             weights[i] = np.asarray(default, dtype=np.float64)
     skins = [_skin(s, data, f"skins[{k}]") for k, s in enumerate(document.get("skins") or [])]
     bindings = []
-    for part, (node, skin, deform) in enumerate(parts):
+    for part, (node, skin, deform, offset) in enumerate(parts):
         if skin is not None and (deform is None or deform.joints is None):
             data.fail(f"nodes[{node}] has skin {skin}, but its mesh has no JOINTS_0 and "
                       "WEIGHTS_0 to bind it")
@@ -107,7 +107,7 @@ def read_rig(document: dict, data, parts: list, cameras: dict) -> Rig | None:
                       f"{len(skins[skin].joints)} joints")
         if deform is not None and deform.targets and node not in weights:
             weights[node] = np.zeros(next(iter(deform.targets.values())).shape[0])
-        bindings.append(Binding(part, node, skin, deform))
+        bindings.append(Binding(part, node, skin, deform, offset))
     clips = [_clip(a, data, document, fixed, k) for k, a in enumerate(animations)]
     return Rig(parents, order, (rest_t, rest_r, rest_s), fixed, weights, clips, skins,
                bindings, {name: (node, None) for name, node in cameras.items()})
