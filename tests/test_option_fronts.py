@@ -41,6 +41,7 @@ SAMPLES = {
     "wireframe": (True, True, 1, None),
     "time": (1.5, "1.5", "soon", "soon"),
     "animation": ("walk", "walk", -1, None),
+    "variant": ("midnight", "midnight", 5, None),
     "engine": ("trace", "trace", "photon", "photon"),
     "max_depth": (3, "3", 99, "99"),
     "seed": (7, "7", -1, "-1"),

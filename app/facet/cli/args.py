@@ -193,6 +193,9 @@ def add_render_options(p, size_default: str) -> None:
     g.add_argument("--animation", metavar="NAME|INDEX",
                    help="which of the model's animations plays (default: all of them; "
                    "'facet info' lists them)")
+    g.add_argument("--variant", metavar="NAME",
+                   help="a glTF material variant (KHR_materials_variants; 'facet info' "
+                   "lists them; default: the file's default materials)")
     g.add_argument("--env", metavar="sky|IMAGE|DIR",
                    help="environment: a generated sky, an equirectangular image, or a folder "
                    "of six cube faces (px nx py ny pz nz); background and reflections")
@@ -242,7 +245,7 @@ def render_layer(args) -> dict:
     from ..scene.options import text_layer
 
     return text_layer({
-            "time": time_range(args)[0], "animation": args.animation,
+            "time": time_range(args)[0], "animation": args.animation, "variant": args.variant,
             "size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
             "spp": args.spp, "engine": args.engine, "max_depth": args.max_depth,
             "seed": args.seed, "denoise": args.denoise,

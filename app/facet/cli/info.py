@@ -1,18 +1,47 @@
-"""``facet info``: what the headless OpenGL context offers, and facet's resource budgets."""
+"""``facet info``: what the headless OpenGL context offers, and facet's resource budgets;
+``facet info MODEL``: what a model or scene file holds (objects, triangles, cameras,
+animations with their lengths, material variants), without GL."""
 
 from __future__ import annotations
 
 
 def add_parser(sub) -> None:
-    sub.add_parser("info", help="print the OpenGL backend, vendor, renderer, version and limits",
-                   description="Create a headless context and print what it offers: the "
-                   "backend (EGL, or OSMesa where EGL cannot make a context; "
-                   "FACET_GL_BACKEND=egl|osmesa chooses), vendor, renderer and limits; "
-                   "then facet's resource budgets (budget.NAME; facet --budget NAME=VALUE "
-                   "or FACET_BUDGET_NAME raise them).")
+    p = sub.add_parser("info", help="print the OpenGL backend, vendor, renderer, version and "
+                       "limits; or what a model file holds",
+                       description="Create a headless context and print what it offers: the "
+                       "backend (EGL, or OSMesa where EGL cannot make a context; "
+                       "FACET_GL_BACKEND=egl|osmesa chooses), vendor, renderer and limits; "
+                       "then facet's resource budgets (budget.NAME; facet --budget "
+                       "NAME=VALUE or FACET_BUDGET_NAME raise them). With MODEL: its objects, "
+                       "triangles, cameras, animations (for --animation, --time) and material "
+                       "variants (for --variant).")
+    p.add_argument("model", nargs="?", help="a mesh or .toml scene file to describe")
+
+
+def describe_model(path) -> list[str]:
+    """Lines saying what the model or scene file at ``path`` holds."""
+    from ..scene.source import open_scene
+    from ..scene.staging import variant_names
+
+    scene = open_scene(path)
+    lines = [f"{'objects':22} {len(scene.objects):,}",
+             f"{'triangles':22} {sum(o.mesh.face_count for o in scene.objects):,}",
+             f"{'lights':22} {len(scene.lights)}",
+             f"{'cameras':22} {', '.join(scene.cameras) or 'none'}"]
+    clips = [(k, c) for a in scene.animated for k, c in enumerate(a.rig.clips)]
+    lines.append(f"{'animations':22} " + (", ".join(
+        f"{k}: {c.name} ({c.duration:g} s)" for k, c in clips) or "none"))
+    skins = sum(len(a.rig.skins) for a in scene.animated)
+    if skins:
+        lines.append(f"{'skins':22} {skins}")
+    lines.append(f"{'variants':22} {', '.join(variant_names(scene)) or 'none'}")
+    return lines
 
 
 def run(args) -> None:
+    if getattr(args, "model", None):
+        print("\n".join(describe_model(args.model)))
+        return
     from .. import budgets
     from ..gl.context import create_headless, describe
 

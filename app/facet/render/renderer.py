@@ -40,7 +40,6 @@ from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import writing
-from ..scene.animation import pose_scene
 from ..scene.options import (
     ParsedLayer,
     RenderOptions,
@@ -49,6 +48,7 @@ from ..scene.options import (
     parse_layer,
 )
 from ..scene.scene import Scene
+from ..scene.staging import staged
 from .antialias import distributed_sample, gloss_jitter, jitter_matrix, point_lights_for
 from .denoise import denoise_lines
 from .destination import Destination, Surfaces
@@ -124,7 +124,7 @@ class Renderer:
     def camera(self, scene: Scene, opts: RenderOptions) -> Camera:
         """The scene's camera the options name (else its first), else one framing it (at
         the options' time: animations move cameras and change the bounds)."""
-        scene = pose_scene(scene, opts.time, opts.animation)
+        scene = staged(scene, opts)
         return scene.camera(opts.camera) or Camera.frame(scene.bounds, up=opts.up,
                                                          aspect=opts.width / opts.height)
 
@@ -135,7 +135,7 @@ class Renderer:
         ``outputs``, ``aa``, ``msaa``, ``shadows``, ``shading``, ``srgb``, ...)."""
         self._check_open()
         opts = self.options(scene, options, **kwargs)
-        scene = pose_scene(scene, opts.time, opts.animation)
+        scene = staged(scene, opts)
         with self.ctx:  # several renderers (contexts) may live in one thread
             self._inside = True
             try:
@@ -154,7 +154,7 @@ class Renderer:
         after the last the picture equals ``render``'s. Returns the samples shown."""
         self._check_open()
         opts = self.options(scene, options, **kwargs)
-        scene = pose_scene(scene, opts.time, opts.animation)
+        scene = staged(scene, opts)
         self._inside = True
         try:
             return self._sequence(scene, camera, opts, Destination(framebuffer, sample))
@@ -164,7 +164,7 @@ class Renderer:
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
         """How many supersamples the colour of this render sums (0: one picture)."""
         opts = self.options(scene, options, **kwargs)
-        scene = pose_scene(scene, opts.time, opts.animation)
+        scene = staged(scene, opts)
         aa = self._engine(opts.engine).sampling(
             opts, scene, with_lens(camera, opts.aperture, opts.focus), False)
         return aa.samples if aa is not None else 0

@@ -37,7 +37,8 @@ SUPPORTED = {"EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression", "KHR_mesh_
              "KHR_texture_transform",
              "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
              "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume",
-             "KHR_lights_punctual", "KHR_materials_clearcoat", "KHR_materials_sheen"}
+             "KHR_lights_punctual", "KHR_materials_clearcoat", "KHR_materials_sheen",
+             "KHR_materials_variants"}
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
 WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
@@ -293,10 +294,35 @@ class _Reader:
                   "tangents": values.get("TANGENT"),
                   "colors": None if colors is None else np.clip(colors, 0, 1),
                   "material": material, "deform": deform,
+                  "variants": self._variants(prim_json, where),
                   "name": self.gltf.meshes[mesh].name or f"{self.path.stem}-{mesh}"}
         return self.check_mesh(arrays, where)
 
     # -- materials -----------------------------------------------------------------------
+    def _variants(self, prim: dict, where: str) -> dict | None:
+        """{variant name: PbrMaterial} of a primitive's KHR_materials_variants mappings."""
+        mappings = ((prim.get("extensions") or {}).get("KHR_materials_variants") or {}).get(
+            "mappings")
+        if not mappings:
+            return None
+        names = [v.get("name") or f"variant{k}" for k, v in enumerate(
+            ((self.document.get("extensions") or {}).get("KHR_materials_variants") or {})
+            .get("variants") or [])]
+        out = {}
+        n_materials = len(self.document.get("materials") or [])
+        for k, m in enumerate(mappings):
+            at = f"{where}: KHR_materials_variants.mappings[{k}]"
+            material = m.get("material") if isinstance(m, dict) else None
+            if not isinstance(material, int) or not 0 <= material < n_materials:
+                self.data.fail(f"{at}.material: expected an index into the file's "
+                               f"{n_materials} materials, got {material!r}")
+            for v in m.get("variants") or []:
+                if not isinstance(v, int) or not 0 <= v < len(names):
+                    self.data.fail(f"{at}.variants: {v!r} is not one of the file's "
+                                   f"{len(names)} variants")
+                out[names[v]] = self._material(material)
+        return {name: out[name] for name in names if name in out}  # the file's order
+
     def _material(self, index: int | None) -> PbrMaterial:
         if index is None:  # glTF's default material: white, metallic 1, roughness 1
             return self.materials.setdefault(-1, PbrMaterial(name="default"))

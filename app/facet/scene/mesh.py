@@ -63,12 +63,15 @@ class Mesh:
         (a loader that sorted the edges); else found out when first asked
     name : label used in messages
     material : the ``Material`` the file defined, if any (``Scene.add`` uses it by default)
+    variants : {variant name: Material}, the file's material variants
+        (KHR_materials_variants; the ``variant`` render option picks one)
     """
 
     def __init__(self, positions, faces, normals=None, uvs=None, *, name: str = "mesh",
                  material=None, colors=None, uvs1=None, tangents=None,
-                 closed: bool | None = None):
+                 closed: bool | None = None, variants: dict | None = None):
         self.name = name
+        self.variants = variants
         pos = np.asarray(positions, dtype=np.float32)
         if pos.ndim != 2 or pos.shape[1] != 3:
             raise InputError(f"{name}: positions must have shape (N, 3), got {pos.shape}")
@@ -270,7 +273,8 @@ class Mesh:
         colors = None if self.colors is None else self.colors[self.faces].reshape(-1, 4)
         uvs1 = None if self.uvs1 is None else self.uvs1[self.faces].reshape(-1, 2)
         return Mesh(tri.reshape(-1, 3), faces, np.repeat(n, 3, axis=0), uvs,
-                    name=self.name, material=self.material, colors=colors, uvs1=uvs1)
+                    name=self.name, material=self.material, colors=colors, uvs1=uvs1,
+                    variants=self.variants)
 
     def __repr__(self) -> str:
         return f"Mesh({self.name!r}, vertices={self.vertex_count}, faces={self.face_count})"

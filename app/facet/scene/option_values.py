@@ -350,6 +350,7 @@ PARSERS = {
     "wireframe": _bool,
     "time": _number(minimum=0),
     "animation": _animation,
+    "variant": _text,
     "engine": _choice(ENGINES, "engine"),
     "max_depth": _integer(minimum=0, maximum=MAX_RAY_DEPTH),
     "seed": _integer(minimum=0, maximum=2 ** 31 - 1),

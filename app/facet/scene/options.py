@@ -79,6 +79,7 @@ class RenderOptions:
     time : seconds: where the scene's animations stand (facet.scene.animation) and users'
            shaders' u_time                   engine : one of ENGINES (facet.render.engine)
     animation : which animation plays (a name or an index); None: all of them
+    variant : a glTF material variant's name (KHR_materials_variants); None: the default
     max_depth : the ray tracer's reflection/refraction recursion (1: the notes' one
                 reflection and one transmission ray; default DEFAULT_MAX_DEPTH)
     seed : the random stream: the path tracer's paths and the jittered / random / poisson
@@ -107,6 +108,7 @@ class RenderOptions:
     wireframe: bool = False
     time: float = 0.0
     animation: str | int | None = None
+    variant: str | None = None
     engine: str = "raster"
     max_depth: int = DEFAULT_MAX_DEPTH
     seed: int = 0

@@ -1,0 +1,49 @@
+"""The scene as one render's options stage it (no GL): its animations at ``time`` (with the
+``animation`` that plays; facet.scene.animation) and its glTF material ``variant``
+(KHR_materials_variants). Every front renders through ``staged``, so a time or a variant
+means the same from Python, scene files, the command line, datasets and the viewer."""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import replace
+
+from ..errors import FacetWarning, InputError
+from .animation import pose_scene
+
+
+def staged(scene, opts):
+    """``scene`` posed at ``opts.time`` and dressed in ``opts.variant``: a view sharing
+    what does not change; ``scene`` itself when nothing does."""
+    scene = pose_scene(scene, opts.time, opts.animation)
+    return dressed(scene, opts.variant)
+
+
+def variant_names(scene) -> list[str]:
+    """The KHR_materials_variants names of the scene's meshes, in file order."""
+    names: dict[str, None] = {}
+    for o in scene.objects:
+        for name in getattr(o.mesh, "variants", None) or ():
+            names[name] = None
+    return list(names)
+
+
+def dressed(scene, variant: str | None):
+    """``scene`` with each object that wears its file's own material wearing that file's
+    material for ``variant`` instead (where the file gives one for it)."""
+    if variant is None or getattr(scene, "dressed_in", None) == variant:
+        return scene
+    names = variant_names(scene)
+    if not names:
+        warnings.warn(f"variant {variant!r}: this scene has no material variants "
+                      "(KHR_materials_variants); drawn as it is", FacetWarning, stacklevel=3)
+        return scene
+    if variant not in names:
+        raise InputError(f"variant {variant!r}: no such material variant (variants: "
+                         f"{', '.join(names)})")
+    objects = [replace(o, material=o.mesh.variants[variant])
+               if o.material is o.mesh.material and variant in (o.mesh.variants or {})
+               else o for o in scene.objects]
+    view = scene.view(objects=objects)
+    view.dressed_in = variant
+    return view

@@ -1,0 +1,85 @@
+"""KHR_materials_variants: ``variant`` (every front) dresses each primitive in the material
+its file maps to that variant, the same picture as a file whose default is that material;
+an unknown name is one line naming the variants there are."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import facet
+from facet.cli import main
+
+from gltf_files import GltfBuilder, quad
+
+RED, BLUE, GREEN = [0.8, 0.1, 0.1, 1], [0.1, 0.2, 0.9, 1], [0.1, 0.8, 0.2, 1]
+
+
+def _file(tmp_path, default=RED, variants=True):
+    b = GltfBuilder()
+    mats = [b.material(pbrMetallicRoughness={"baseColorFactor": c, "metallicFactor": 0.0})
+            for c in (default, BLUE, GREEN)]
+    mesh = quad(b, mats[0])
+    if variants:
+        b.doc["extensionsUsed"] = ["KHR_materials_variants"]
+        b.doc["extensions"] = {"KHR_materials_variants": {"variants": [
+            {"name": "blue"}, {"name": "green"}, {"name": "ocean"}]}}
+        b.doc["meshes"][mesh]["primitives"][0]["extensions"] = {"KHR_materials_variants": {
+            "mappings": [{"material": mats[1], "variants": [0, 2]},
+                         {"material": mats[2], "variants": [1]}]}}
+    b.node(mesh=mesh)
+    return b.write_gltf(tmp_path / f"v{len(list(tmp_path.iterdir()))}.gltf")
+
+
+@pytest.mark.parametrize("variant, colour", [("blue", BLUE), ("green", GREEN),
+                                             ("ocean", BLUE), (None, RED)])
+def test_a_variant_draws_as_its_material_does(tmp_path, renderer, variant, colour):
+    scene = facet.load(_file(tmp_path))
+    plain = facet.load(_file(tmp_path, default=colour, variants=False))
+    r = renderer(32, 32)
+    cam = r.camera(plain, r.options(plain))
+    got = r.render(scene, cam, variant=variant).color
+    want = r.render(plain, cam).color
+    np.testing.assert_array_equal(got, want)
+
+
+def test_variant_from_the_command_line_and_a_scene_file(tmp_path, renderer):
+    from PIL import Image
+
+    path = _file(tmp_path)
+    out = tmp_path / "x.png"
+    assert main(["render", str(path), "-o", str(out), "--size", "32x32", "--variant",
+                 "green", "-q"]) == 0
+    img = np.asarray(Image.open(out).convert("RGB")).astype(int)
+    centre = img[16, 16]
+    assert centre[1] > centre[0] + 40 and centre[1] > centre[2] + 40  # green
+    toml = tmp_path / "s.toml"
+    toml.write_text(f'[render]\nvariant = "green"\nsize = [32, 32]\n[[objects]]\n'
+                    f'mesh = "{path.name}"\n')
+    r = renderer(32, 32)
+    scene = facet.load(toml)
+    frame = r.render(scene, r.camera(scene, r.options(scene)))
+    c = frame.color[16, 16]
+    assert c[1] > c[0] and c[1] > c[2]
+
+
+def test_an_unknown_variant_is_one_line_naming_the_variants(tmp_path, capsys):
+    path = _file(tmp_path)
+    out = tmp_path / "x.png"
+    assert main(["render", str(path), "-o", str(out), "--variant", "purple"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "blue, green, ocean" in err[0]
+    assert not out.exists()
+
+
+def test_a_mapping_to_a_missing_material_is_one_line(tmp_path, capsys):
+    path = _file(tmp_path)
+    doc = json.loads(path.read_text())
+    doc["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"][
+        "mappings"][0]["material"] = 9
+    path.write_text(json.dumps(doc))
+    assert main(["render", str(path), "-o", str(tmp_path / "o.png")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "mappings[0].material" in err[0]
