@@ -83,3 +83,55 @@ def test_a_mapping_to_a_missing_material_is_one_line(tmp_path, capsys):
     assert main(["render", str(path), "-o", str(tmp_path / "o.png")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "mappings[0].material" in err[0]
+
+
+def _textured(tmp_path, extension: str, fallback: bool, required: bool):
+    from gltf_files import png
+
+    b = GltfBuilder()
+    tex = b.texture(png(np.full((4, 4, 3), (20, 200, 40), np.uint8)))
+    texture = b.doc["textures"][tex]
+    source = texture.pop("source")
+    texture["extensions"] = {extension: {"source": source}}
+    if fallback:
+        texture["source"] = source
+    b.doc["extensionsUsed"] = [extension]
+    if required:
+        b.doc["extensionsRequired"] = [extension]
+    b.node(mesh=quad(b, b.material(pbrMetallicRoughness={
+        "baseColorTexture": {"index": tex}, "metallicFactor": 0.0})))
+    return b.write_gltf(tmp_path / "t.gltf")
+
+
+def test_ktx2_textures_are_refused_by_name_or_their_fallbacks_drawn(tmp_path, capsys, renderer):
+    """No maintained KTX2 / Basis Universal decoder installs with pip: a file that requires
+    KHR_texture_basisu is one refusal line naming it; one that offers PNG fallbacks draws
+    them (one warning line); a texture with no fallback is drawn without, and said so."""
+    path = _textured(tmp_path, "KHR_texture_basisu", fallback=False, required=True)
+    assert main(["render", str(path), "-o", str(tmp_path / "o.png")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "KHR_texture_basisu" in err[0] and "PNG or JPEG" in err[0]
+    path = _textured(tmp_path, "KHR_texture_basisu", fallback=True, required=False)
+    with pytest.warns(facet.FacetWarning, match="KHR_texture_basisu"):
+        scene = facet.load(path)
+    assert scene.objects[0].material.base_color_texture is not None
+    path = _textured(tmp_path, "KHR_texture_basisu", fallback=False, required=False)
+    with pytest.warns(facet.FacetWarning, match="without a PNG or JPEG fallback"):
+        scene = facet.load(path)
+    assert scene.objects[0].material.base_color_texture is None
+
+
+def test_webp_textures_are_decoded(tmp_path, renderer):
+    """EXT_texture_webp: Pillow decodes the image (here a PNG's bytes stand in: Pillow
+    reads what the bytes are)."""
+    import warnings
+
+    path = _textured(tmp_path, "EXT_texture_webp", fallback=False, required=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        scene = facet.load(path)
+    slot = scene.objects[0].material.base_color_texture
+    assert slot is not None
+    r = renderer(32, 32)
+    c = r.render(scene, r.camera(scene, r.options(scene))).color[16, 16]
+    assert c[1] > c[0] + 0.2 and c[1] > c[2] + 0.2

@@ -38,7 +38,7 @@ SUPPORTED = {"EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression", "KHR_mesh_
              "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
              "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume",
              "KHR_lights_punctual", "KHR_materials_clearcoat", "KHR_materials_sheen",
-             "KHR_materials_variants"}
+             "KHR_materials_variants", "EXT_texture_webp"}
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
 WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
@@ -129,10 +129,19 @@ class _Reader:
     def read(self) -> tuple[list, dict, list, object]:
         g = self.gltf
         required = set(g.extensionsRequired or ()) - SUPPORTED
+        if "KHR_texture_basisu" in required:
+            self.data.fail("requires KHR_texture_basisu (KTX2 / Basis Universal textures), "
+                           "which facet cannot decode: no maintained decoder installs with "
+                           "pip (pyktx needs the native libktx); re-export its textures as "
+                           "PNG or JPEG (gltf-transform png FILE OUT)")
         if required:
             self.data.fail(f"requires the glTF extension(s) {', '.join(sorted(required))}, "
                            "which facet does not support")
         ignored = set(g.extensionsUsed or ()) - SUPPORTED
+        if "KHR_texture_basisu" in ignored:
+            ignored.discard("KHR_texture_basisu")
+            self.warn("draws the PNG / JPEG fallbacks of its KTX2 textures "
+                      "(KHR_texture_basisu: no pip-installable decoder)")
         if ignored:
             self.warn(f"ignores the glTF extension(s) {', '.join(sorted(ignored))}")
         if not g.scenes and not g.nodes:
@@ -367,11 +376,19 @@ class _Reader:
         if info is None or info.index is None:
             return None
         tex = self.gltf.textures[info.index]
-        if tex.source is None:
+        source = tex.source
+        ext = self.document["textures"][info.index].get("extensions") or {}
+        if isinstance((ext.get("EXT_texture_webp") or {}).get("source"), int):
+            source = ext["EXT_texture_webp"]["source"]  # Pillow decodes WebP
+        if source is None:
+            if "KHR_texture_basisu" in ext:
+                self.skipped.add("KTX2 textures without a PNG or JPEG fallback "
+                                 "(KHR_texture_basisu: no pip-installable decoder; drawn "
+                                 "without them)")
             return None
-        if tex.source not in self.textures:
-            self.textures[tex.source] = self.data.image(tex.source)
-        image = self.textures[tex.source]
+        if source not in self.textures:
+            self.textures[source] = self.data.image(source)
+        image = self.textures[source]
         if image is None:
             return None
         texcoord = info.texCoord or 0

@@ -172,6 +172,11 @@ class GltfCheck:
     def _textures(self, t, path):
         self.ref(get(t, "source"), "images", f"{path}.source")
         self.ref(get(t, "sampler"), "samplers", f"{path}.sampler")
+        ext = self.table(get(t, "extensions"), f"{path}.extensions")
+        for name in ("EXT_texture_webp", "KHR_texture_basisu"):
+            if ext.get(name) is not None:
+                at = f"{path}.extensions.{name}"
+                self.ref(self.table(ext[name], at).get("source"), "images", f"{at}.source")
 
     def _texture_info(self, info, path):
         if info is None:
