@@ -103,3 +103,49 @@ def test_instance_counts_that_disagree_are_refused(tmp_path, capsys):
     path.write_text(json.dumps(doc))
     assert main(["render", str(path), "-o", str(tmp_path / "o.png"), "--size", "16x16"]) == 2
     assert "different numbers of instances" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("kind, msaa, shadows", [
+    ("phong", 0, False), ("phong", 4, True), ("pbr", 0, True), ("pbr", 4, False),
+    ("pbr-textured", 0, False), ("pbr-textured", 4, True)])
+def test_instanced_draws_equal_one_by_one_draws(renderer, kind, msaa, shadows):
+    """The rasterizer draws objects sharing a mesh and a material in one instanced draw
+    (per winding and culling state; the shadow maps too); the same objects each with its
+    own copy of the material are drawn one by one: colour, depth and ids agree pixel for
+    pixel, mirrored and culled instances included."""
+    import copy
+
+    from facet.geometry import transforms as Tr
+    from facet.scene.pbr import PbrMaterial, TextureSlot
+
+    from conftest import sphere_mesh
+
+    mesh = sphere_mesh(3)
+    if kind == "phong":
+        material = facet.Material((0.8, 0.4, 0.2), ks=0.5, shininess=32)
+    else:
+        slot = TextureSlot(facet.Texture.checker()) if kind == "pbr-textured" else None
+        material = PbrMaterial(base_color=(0.3, 0.6, 0.9, 1), roughness=0.4,
+                               base_color_texture=slot)
+    places = [Tr.translate((x, y, 0)) @ Tr.scale(s)
+              for x, y, s in [(-2, 0, (1, 1, 1)), (0, 0, (-1, 1, 1)), (2, 0, (0.5, 1, 1)),
+                              (-1, 1.8, (1, -1, 1)), (1, 1.8, (0.7, 0.7, 0.7)),
+                              (0, -1.8, (1, 1, 1))]]
+    shared, separate = facet.Scene(), facet.Scene()
+    for m in places:
+        shared.add(mesh, material, m)
+        separate.add(mesh, copy.copy(material), m)
+    floor = facet.Mesh([[-5, -3, -3], [5, -3, -3], [5, -3, 3], [-5, -3, 3]],
+                       [[0, 2, 1], [0, 3, 2]])
+    for scene in (shared, separate):
+        scene.add(floor)
+        scene.add_light(facet.PointLight((2, 6, 4), intensity=1.0))
+    r = renderer(96, 64, msaa)
+    cam = facet.Camera.look_at((0, 0.3, 7), (0, 0.3, 0), fov_y=50)
+    opts = dict(outputs=("color", "depth", "ids", "normals"), shadows=shadows)
+    a, b = r.render(shared, cam, **opts), r.render(separate, cam, **opts)
+    assert len(np.unique(b.object_ids)) == 8
+    np.testing.assert_array_equal(a.object_ids, b.object_ids)
+    np.testing.assert_array_equal(a.depth, b.depth)
+    np.testing.assert_array_equal(a.normals, b.normals)
+    np.testing.assert_array_equal(a.color, b.color)

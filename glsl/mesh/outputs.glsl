@@ -4,7 +4,7 @@
 // scene shows; w = max(0.01, 3000 (1 - z)^3) favours what is nearer); and the exact
 // channels, which exist only when asked for (OUT_<NAME> = its location, see
 // facet.gl.targets: outputs nobody reads still cost a software rasteriser time).
-// The including stage declares v_pos_world, v_depth_view, v_uv and u_object_id.
+// The including stage declares v_pos_world, v_depth_view, v_uv and OBJECT_ID.
 layout(location = 0) out vec4 f_color;
 #ifdef OIT
 layout(location = 1) out float f_reveal;
@@ -27,7 +27,7 @@ layout(location = OUT_UV) out vec2 f_uv;
 // The exact channels but the normal (written once the shading normal is known).
 void write_exact() {
 #ifdef OUT_DEPTH_IDS
-    f_depth_ids = uvec2(floatBitsToUint(v_depth_view), uint(u_object_id));
+    f_depth_ids = uvec2(floatBitsToUint(v_depth_view), uint(OBJECT_ID));
 #endif
 #ifdef OUT_POSITION
     f_position = vec4(v_pos_world, 1.0);

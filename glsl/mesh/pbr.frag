@@ -46,7 +46,13 @@ uniform float u_normal_scale;
 uniform float u_occlusion_strength;
 uniform float u_alpha_cutoff;  // ALPHA_MASK
 uniform bool u_unlit;
+#ifdef INSTANCED
+flat in int v_object_id;  // the instance's (glsl/mesh/phong.vert)
+#define OBJECT_ID v_object_id
+#else
 uniform int u_object_id;
+#define OBJECT_ID u_object_id
+#endif
 
 #include "mesh/slots.glsl"
 

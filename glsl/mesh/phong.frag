@@ -59,7 +59,13 @@ uniform vec4 u_clip_plane;
 #ifdef OIT
 uniform float u_opacity;  // weighted blended transparency (mesh/outputs.glsl)
 #endif
+#ifdef INSTANCED
+flat in int v_object_id;  // the instance's (glsl/mesh/phong.vert)
+#define OBJECT_ID v_object_id
+#else
 uniform int u_object_id;
+#define OBJECT_ID u_object_id
+#endif
 #include "mesh/outputs.glsl"
 
 void main() {

@@ -10,10 +10,31 @@ in vec2 in_uv;        // texture coordinates ((0, 0) for meshes without them)
 in vec2 in_uv1;       // the second texture coordinate set
 out vec2 v_uv1;
 #endif
+#ifdef INSTANCED
+// One draw for many placements of one mesh (facet.render.raster.instancing): the
+// matrices come per instance, composed in float64 as the uniforms are.
+in mat4 in_model;           // object -> world
+in mat4 in_mvp;             // object -> clip
+in mat3 in_normal_matrix;   // (M^-1)^T
+in int in_object_id;        // object id + 1
+flat out int v_object_id;
+#define MODEL in_model
+#define MVP in_mvp
+#define NORMAL_MATRIX in_normal_matrix
+#else
+uniform mat4 u_model;         // object -> world
+uniform mat4 u_mvp;           // object -> clip: projection * view * model, composed in float64
+uniform mat3 u_normal_matrix; // (M^-1)^T of u_model's upper 3x3
+#define MODEL u_model
+#define MVP u_mvp
+#define NORMAL_MATRIX u_normal_matrix
+#endif
 #ifdef HAS_TANGENTS
 in vec4 in_tangent;   // object space, w: handedness (bitangent = w cross(N, T))
 out vec4 v_tangent;   // world space
+#ifndef INSTANCED
 uniform float u_handedness;  // -1 where the model matrix mirrors, else 1
+#endif
 #endif
 #ifdef HAS_VERTEX_COLORS
 in vec4 in_color;     // per-vertex colour, sRGB-encoded (facet.scene.mesh)
@@ -21,10 +42,7 @@ out vec4 v_color;     // linear with COLOR_SRGB and for SHADE_PBR, else as given
 #include "lib/color.glsl"
 #endif
 
-uniform mat4 u_model;         // object -> world
 uniform mat4 u_view;          // world -> view (OpenGL camera axes)
-uniform mat4 u_mvp;           // object -> clip: projection * view * model, composed in float64
-uniform mat3 u_normal_matrix; // (M^-1)^T of u_model's upper 3x3
 
 out vec3 v_pos_world;
 out vec3 v_normal_world;
@@ -39,17 +57,25 @@ out vec3 v_color_back;
 #endif
 
 void main() {
-    vec4 pos_world = u_model * vec4(in_position, 1.0);
-    gl_Position = u_mvp * vec4(in_position, 1.0);
+    vec4 pos_world = MODEL * vec4(in_position, 1.0);
+    gl_Position = MVP * vec4(in_position, 1.0);
     v_pos_world = pos_world.xyz;
-    v_normal_world = u_normal_matrix * in_normal;
+    v_normal_world = NORMAL_MATRIX * in_normal;
+#ifdef INSTANCED
+    v_object_id = in_object_id;
+#endif
     v_uv = in_uv;
 #ifdef HAS_UV1
     v_uv1 = in_uv1;
 #endif
 #ifdef HAS_TANGENTS
     // Tangents lie in the surface: they transform with the model matrix itself.
-    v_tangent = vec4(mat3(u_model) * in_tangent.xyz, in_tangent.w * u_handedness);
+#ifdef INSTANCED
+    float handedness = determinant(mat3(in_model)) < 0.0 ? -1.0 : 1.0;
+#else
+    float handedness = u_handedness;
+#endif
+    v_tangent = vec4(mat3(MODEL) * in_tangent.xyz, in_tangent.w * handedness);
 #endif
 #ifdef HAS_VERTEX_COLORS
 #if defined(COLOR_SRGB) || defined(SHADE_PBR)

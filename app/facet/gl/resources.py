@@ -37,6 +37,10 @@ class MeshBuffers:
             self.extra["in_color"] = (ctx.buffer(colors), "4f")
         self.index_count = mesh.faces.size
         self.vaos: dict[int, moderngl.VertexArray] = {}
+        # Instanced draws (facet.render.raster.instancing): one per-instance buffer, grown
+        # as batches need, and a vertex array per program binding it.
+        self.instances: moderngl.Buffer | None = None
+        self.instanced_vaos: dict[int, moderngl.VertexArray] = {}
 
     def vao(self, ctx: moderngl.Context, program: moderngl.Program) -> moderngl.VertexArray:
         """The vertex array binding this mesh to ``program``'s active attributes; attributes
@@ -45,6 +49,12 @@ class MeshBuffers:
         found = self.vaos.get(key)
         if found is not None:  # (asked for on every draw)
             return found
+        self.vaos[key] = ctx.vertex_array(program, self._content(ctx, program),
+                                          index_buffer=self.ibo, index_element_size=4)
+        return self.vaos[key]
+
+    def _content(self, ctx: moderngl.Context, program: moderngl.Program) -> list:
+        """The per-vertex buffers ``program`` reads (tangents uploaded when first wanted)."""
         if "in_tangent" in program and "in_tangent" not in self.extra:
             mesh = self.mesh()
             if mesh is not None and mesh.tangents is not None:
@@ -52,16 +62,38 @@ class MeshBuffers:
         names = [n for n in ("in_position", "in_normal") if n in program]
         fmt = "3f 3f" if names == ["in_position", "in_normal"] else "3f 3x4"
         content = [(self.vbo, fmt, *names)]
-        content += [(buf, f, name) for name, (buf, f) in self.extra.items()
-                    if name in program]
-        self.vaos[key] = ctx.vertex_array(program, content, index_buffer=self.ibo,
-                                          index_element_size=4)
-        return self.vaos[key]
+        return content + [(buf, f, name) for name, (buf, f) in self.extra.items()
+                          if name in program]
+
+    def draw_instances(self, ctx: moderngl.Context, program: moderngl.Program,
+                       rows: np.ndarray, layout: tuple) -> None:
+        """Draw the mesh once per row of ``rows`` (N, K) float32 with ``program``;
+        ``layout``: the rows' (format, *attribute names) (per instance: "/i")."""
+        if self.instances is None:
+            self.instances = ctx.buffer(reserve=max(rows.nbytes, 4096))
+        elif self.instances.size < rows.nbytes:
+            self.instances.orphan(rows.nbytes * 2)  # the same buffer: vertex arrays hold
+        self.instances.write(rows)
+        vao = self.instanced_vaos.get(program.glo)
+        if vao is None:
+            # Attributes the program does not read (optimised away) are skipped bytes.
+            fmt, *names = layout
+            pieces, kept = fmt.split()[:-1], [n for n in names if n in program]
+            fmt = " ".join(p if n in program else f"{p[:-1]}x4"
+                           for p, n in zip(pieces, names, strict=True)) + " /i"
+            content = [*self._content(ctx, program), (self.instances, fmt, *kept)]
+            vao = self.instanced_vaos[program.glo] = ctx.vertex_array(
+                program, content, index_buffer=self.ibo, index_element_size=4)
+        vao.render(instances=len(rows))
 
     def release(self) -> None:
-        for vao in self.vaos.values():
+        for vao in (*self.vaos.values(), *self.instanced_vaos.values()):
             vao.release()
         self.vaos.clear()
+        self.instanced_vaos.clear()
+        if self.instances is not None:
+            self.instances.release()
+            self.instances = None
         for buf, _ in self.extra.values():
             buf.release()
         self.vbo.release()

@@ -46,7 +46,15 @@ def prepare_frame(scene, camera, opts, window: bool):
 
 def frozen(scene):
     """A view of ``scene`` whose objects are copies with their own transforms and materials
-    (what a deferred pass draws, whatever the caller changes afterwards)."""
+    (what a deferred pass draws, whatever the caller changes afterwards); objects that share
+    a material share its copy (they are drawn instanced: facet.render.raster.instancing)."""
+    copies: dict[int, object] = {}
+
+    def material(m):
+        if id(m) not in copies:
+            copies[id(m)] = copy.copy(m)
+        return copies[id(m)]
+
     return scene.view(objects=[
         replace(o, transform=np.array(o.transform, dtype=np.float64),
-                material=copy.copy(o.material)) for o in scene.objects])
+                material=material(o.material)) for o in scene.objects])

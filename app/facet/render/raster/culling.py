@@ -88,5 +88,21 @@ class Culling:
             return False
         return self.closed(obj.mesh)
 
+    def cull_many(self, objects, transforms: np.ndarray, mode: str, view: np.ndarray,
+                  near: float, det: np.ndarray) -> np.ndarray:
+        """``cull`` for objects sharing one mesh and one material (an instanced batch):
+        (N,) bools, from their (N, 4, 4) ``transforms`` and (N,) ``det`` at once."""
+        m, n = objects[0].material, len(objects)
+        if mode == "off" or (getattr(m, "double_sided", True) and (
+                m.transparent or m.shader is not None or m.mirror)):
+            return np.zeros(n, bool)
+        if not getattr(m, "double_sided", True) or mode == "on":
+            return np.ones(n, bool)
+        r = np.einsum("j,njk->nk", view[2], transforms)  # each box's view z row
+        lo, hi = objects[0].mesh.bounds
+        z_max = r[:, :3] @ ((lo + hi) * 0.5) + r[:, 3] + np.abs(r[:, :3]) @ ((hi - lo) * 0.5)
+        ok = (det != 0) & (z_max <= -near)
+        return ok & self.closed(objects[0].mesh) if ok.any() else ok
+
     def release(self) -> None:
         self._pending.clear()

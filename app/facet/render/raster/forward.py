@@ -1,4 +1,5 @@
-"""The forward Phong pass: one draw per scene object into the bound target.
+"""The forward pass: one draw per scene object into the bound target, or one instanced
+draw for the objects that share a mesh and a material (facet.render.raster.instancing).
 
 Shading models map to programs through ``facet.render.shading.SHADING_MODELS``; a program is
 specialised on a ``Variant`` (the frame's light kinds, shadows, which outputs...), compiled
@@ -35,6 +36,7 @@ from ..shading import SHADING_MODELS, check_shading
 from ..state import UNITS, FrameState, pack_lights
 from .culling import Culling, det3
 from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
+from .instancing import INSTANCE_LAYOUT, batches, instance_rows
 from .mirror import MirrorTargets, mirror_plane
 from .transmission import TRANSMISSION_UNIT, TransmissionTarget, transmits
 from .user_shaders import UserPrograms
@@ -69,6 +71,7 @@ class Variant:
     exact_only: bool = False  # a pass for the exact channels alone: no colour computed
     grey: bool = False  # every material-light term is grey (see grey_terms)
     transmission: bool = False  # refracts the picture behind it (raster.transmission)
+    instanced: bool = False  # matrices per instance (facet.render.raster.instancing)
 
     @classmethod
     def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
@@ -103,7 +106,7 @@ class Variant:
                  "OIT": self.oit, "HAS_ENVIRONMENT": self.environment,
                  "HAS_MIRROR": self.mirror, "CLIP_PLANE": self.clip_plane,
                  "GREY_TERMS": self.grey, "LINEAR_OUT": self.linear_out,
-                 "TRANSMISSION": self.transmission}
+                 "TRANSMISSION": self.transmission, "INSTANCED": self.instanced}
         d.update({k: None for k, on in flags.items() if on})
         return d
 
@@ -217,7 +220,14 @@ class ForwardPass:
             self.ibl.lut()
             if env is not None:
                 self.ibl.maps(env)
-        for obj in scene.objects:
+        def alone(o) -> bool:  # drawn by itself: a user's shader, a mirror, transmission
+            return (o.material.shader is not None and not aux) or id(o) in reflections or (
+                behind is not None and model_for(state.shading, o.material) == "pbr"
+                and transmits(as_pbr(o.material)))
+
+        for item in batches(scene.objects, alone):
+            group = item if isinstance(item, list) else None  # one mesh, one material
+            obj = item[0] if group is not None else item
             m = obj.material
             user = m.shader is not None and not aux
             mirror = id(obj) in reflections
@@ -235,39 +245,38 @@ class ForwardPass:
                     tangents=pbr.normal_mapped and mesh.tangents is not None,
                     alpha_mask=pbr.alpha_mode == "MASK",
                     environment=env is not None and colour_pass,
-                    transmission=behind is not None and transmits(pbr)))
+                    transmission=behind is not None and transmits(pbr),
+                    instanced=group is not None))
             else:  # a mirror reflects the sky in its reflection
                 exact_only = bool(aux) and not colour_pass
                 terms = phong_terms(m, state, ambient, intensities)
                 prog = self.program(self._phong_variant(
                     base, model, m.texture is not None, mirror, reflects,
                     obj.mesh.colors is not None, getattr(m, "alpha_mode", "") == "MASK",
-                    exact_only, not exact_only and model in LIT and grey_terms(terms)))
+                    exact_only, not exact_only and model in LIT and grey_terms(terms),
+                    group is not None))
             strict = not user  # a user's shader need not declare every standard input
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 self._frame_uniforms(prog, state, view_projection, eye, user)
                 ready.add(id(prog))
-            det = det3(obj.transform)
-            self._front(mirrored_view != (det < 0))
-            # Back faces nobody can see are not drawn (facet.render.raster.culling).
-            self._cull(self.culling.cull(obj, state.cull, state.camera.view,
-                                         state.camera.near, det))
+            place = (item, view_projection, state, mirrored_view)
             if model == "pbr" and not user:
                 self._draw_pbr(prog, obj, pbr, state, view_projection, env, colour_pass,
-                               behind if transmits(pbr) else None)
+                               behind if transmits(pbr) else None, place)
                 continue
             if user:
                 terms = phong_terms(m, state, ambient, intensities)
             color, ambient_term, diffuse, specular = terms
-            prog.set("u_model", obj.transform, strict)
-            prog.set("u_mvp", view_projection @ obj.transform, strict)
-            prog.set("u_normal_matrix", T.normal_matrix(obj.transform), strict)
+            if group is None:
+                prog.set("u_model", obj.transform, strict)
+                prog.set("u_mvp", view_projection @ obj.transform, strict)
+                prog.set("u_normal_matrix", T.normal_matrix(obj.transform), strict)
+                prog.set("u_object_id", obj.id + 1, strict)  # 0: "nothing" in the id target
             prog.set("u_color", tuple(color.tolist()), strict)
             prog.set("u_ambient_term", tuple(ambient_term.tolist()), strict)
             prog.set_array("u_light_diffuse", diffuse, strict)
             prog.set_array("u_light_specular", specular, strict)
             prog.set("u_shininess", m.shininess, strict)
-            prog.set("u_object_id", obj.id + 1, strict)  # 0 is "nothing" in the id target
             if oit:
                 prog.set("u_opacity", m.opacity, strict)
             if mirror:
@@ -290,13 +299,39 @@ class ForwardPass:
             if getattr(m, "alpha_mode", "") == "MASK":
                 prog.set("u_base_alpha", float(m.base_color[3]), strict=False)
                 prog.set("u_alpha_cutoff", m.alpha_cutoff, strict=False)
-            self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
+            self._render(prog, *place)
         self._cull(False)
         self._front(False)
 
+    def _render(self, prog, item, view_projection, state: FrameState,
+                mirrored_view: bool) -> None:
+        """Draw ``item`` (an object, or a batch of objects sharing mesh and material: one
+        instanced draw per winding and culling state) with ``prog``, whose material is
+        set; each with its front winding and culling (facet.render.raster.culling)."""
+        camera = state.camera
+        if not isinstance(item, list):
+            det = det3(item.transform)
+            self._front(mirrored_view != (det < 0))
+            # Back faces nobody can see are not drawn (facet.render.raster.culling).
+            self._cull(self.culling.cull(item, state.cull, camera.view, camera.near, det))
+            self.cache.buffers(item.mesh).vao(self.ctx, prog.gl).render()
+            return
+        rows, det = instance_rows(item, view_projection)
+        cull = self.culling.cull_many(item, np.stack([o.transform for o in item]), state.cull,
+                                      camera.view, camera.near, det)
+        buffers = self.cache.buffers(item[0].mesh)
+        for mirrored in (False, True):
+            for culled in (False, True):
+                chosen = ((det < 0) == mirrored) & (cull == culled)
+                if chosen.any():
+                    self._front(mirrored_view != mirrored)
+                    self._cull(culled)
+                    buffers.draw_instances(self.ctx, prog.gl, rows[chosen], INSTANCE_LAYOUT)
+
     def _phong_variant(self, base: Variant, *flags) -> Variant:
         """``base`` for one object drawn by a Phong model (``flags``: shading, texture,
-        mirror, environment, vertex_colors, alpha_mask, exact_only, grey), kept: it is
+        mirror, environment, vertex_colors, alpha_mask, exact_only, grey, instanced), kept:
+        it is
         asked for per object per frame, and building a Variant costs more than finding
         one."""
         key = (base, *flags)
@@ -305,7 +340,7 @@ class ForwardPass:
             if len(self._variants) >= 4 * MAX_PROGRAMS:
                 self._variants.clear()
             names = ("shading", "texture", "mirror", "environment", "vertex_colors",
-                     "alpha_mask", "exact_only", "grey")
+                     "alpha_mask", "exact_only", "grey", "instanced")
             found = self._variants[key] = replace(base, **dict(zip(names, flags, strict=True)))
         return found
 
@@ -322,14 +357,16 @@ class ForwardPass:
             self.ctx.disable(self.ctx.CULL_FACE)
 
     def _draw_pbr(self, prog, obj, m, state: FrameState, view_projection, env,
-                  colour_pass: bool, behind=None) -> None:
-        """One object by the pbr model (glsl/mesh/pbr.frag); ``behind``: the picture its
-        transmission refracts (facet.render.raster.transmission)."""
-        prog.set("u_model", obj.transform)
-        prog.set("u_mvp", view_projection @ obj.transform)
-        prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
-        prog.set("u_handedness", -1.0 if det3(obj.transform) < 0 else 1.0, strict=False)
-        prog.set("u_object_id", obj.id + 1)
+                  colour_pass: bool, behind, place) -> None:
+        """One object or batch (``place``: what ``_render`` draws) by the pbr model
+        (glsl/mesh/pbr.frag); ``behind``: the picture its transmission refracts
+        (facet.render.raster.transmission)."""
+        if not isinstance(place[0], list):
+            prog.set("u_model", obj.transform)
+            prog.set("u_mvp", view_projection @ obj.transform)
+            prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
+            prog.set("u_handedness", -1.0 if det3(obj.transform) < 0 else 1.0, strict=False)
+            prog.set("u_object_id", obj.id + 1)
         bound = set_pbr_material(prog, m, self.cache, self.samplers)
         if colour_pass:
             self.ibl.lut().use(location=IBL_UNITS["lut"])
@@ -348,7 +385,7 @@ class ForwardPass:
             prog.set("u_view_projection", view_projection)
             prog.set("u_transmission", (m.transmission, m.thickness, max(m.ior, 1.0)))
             prog.set("u_absorption", tuple(float(c) for c in m.absorption))
-        self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
+        self._render(prog, *place)
         for unit in bound:  # sampler objects outlive the draw otherwise
             self.ctx.clear_samplers(unit, unit + 1)
 

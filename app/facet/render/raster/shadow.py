@@ -27,6 +27,7 @@ from ...scene.light import DirectionalLight, PointLight, SpotLight
 from ...scene.options import PCF_CHOICES
 from ...scene.scene import Scene
 from ..state import UNITS
+from .instancing import batches
 
 TILE = 1024  # shadow map resolution per tile
 ATLAS_COLUMNS = 8  # tiles per atlas row (TILE x 8 = 8192 px wide, within GL limits)
@@ -120,10 +121,8 @@ class ShadowMaps:
 
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache
-        root = glsl_root()
-        self.program = compile_program(ctx, root / "shadow" / "depth.vert",
-                                       root / "shadow" / "depth.frag")
-        self._masked = None  # the program for glTF MASK cut-outs, made on first use
+        # (MASK cut-outs, instanced) -> the depth program, each made on first use.
+        self._programs: dict[tuple[bool, bool], object] = {}
         self.atlas = None
         self.fbo = None
         self.tiles = 0
@@ -160,9 +159,9 @@ class ShadowMaps:
         matrices = np.tile(np.eye(4, dtype=np.float32), (max(self.tiles, 1), 1, 1))
         texels = np.zeros((len(scene.lights), 4), np.float32)
         shift = (sample % 4, sample // 4 % 4)
-        self.program.set("u_dither_shift", shift)
-        if any(_masked(o) for o in scene.objects):
-            self.masked().set("u_dither_shift", shift)
+        for prog in self._programs.values():
+            prog.set("u_dither_shift", shift)
+        items = batches(scene.objects, lambda o: False)
         self.fbo.use()
         self.fbo.clear(depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
@@ -173,11 +172,20 @@ class ShadowMaps:
             for vp, (texel0, growth) in faces[i]:
                 col, row = tile % cols, tile // cols
                 self.fbo.viewport = (col * TILE, row * TILE, TILE, TILE)
-                for obj in scene.objects:
-                    prog = self._program_for(obj)
-                    prog.set("u_light_mvp", vp @ obj.transform)
+                for item in items:  # objects sharing mesh and material: one draw
+                    group = item if isinstance(item, list) else None
+                    obj = item if group is None else item[0]
+                    prog = self._program_for(obj, group is not None, shift)
                     prog.set("u_opacity", obj.material.opacity)
-                    self.cache.buffers(obj.mesh).vao(self.ctx, prog.gl).render()
+                    buffers = self.cache.buffers(obj.mesh)
+                    if group is None:
+                        prog.set("u_light_mvp", vp @ obj.transform)
+                        buffers.vao(self.ctx, prog.gl).render()
+                        continue
+                    mvp = vp @ np.stack([o.transform for o in group])
+                    per_instance = mvp.transpose(0, 2, 1).reshape(-1, 16).astype(np.float32)
+                    buffers.draw_instances(self.ctx, prog.gl, per_instance,
+                                           ("16f /i", "in_light_mvp"))
                 # World -> this tile of the atlas: clip [-1, 1] -> [0, 1] -> (col, row).
                 to_tile = T.compose(TO_UNIT, T.scale((1.0 / cols, 1.0 / rows, 1.0)),
                                     T.translate((col / cols, row / rows, 0.0)))
@@ -194,19 +202,22 @@ class ShadowMaps:
         self.fbo = self.atlas = None
         self.tiles = 0
 
-    def masked(self):
-        if self._masked is None:
+    def _program_for(self, obj, instanced: bool, shift):
+        """The depth program for ``obj`` (drawn alone or instanced), its cut-out image
+        bound (MASK materials)."""
+        key = (_masked(obj), instanced)
+        prog = self._programs.get(key)
+        if prog is None:
             root = glsl_root()
-            self._masked = compile_program(self.ctx, root / "shadow" / "depth.vert",
-                                           root / "shadow" / "depth.frag",
-                                           {"ALPHA_MASK": None})
-        return self._masked
-
-    def _program_for(self, obj):
-        """The depth program for ``obj``, its cut-out image bound (MASK materials)."""
-        if not _masked(obj):
-            return self.program
-        m, prog = obj.material, self.masked()
+            defines = {name: None for name, on in zip(("ALPHA_MASK", "INSTANCED"), key,
+                                                      strict=True) if on}
+            prog = self._programs[key] = compile_program(
+                self.ctx, root / "shadow" / "depth.vert", root / "shadow" / "depth.frag",
+                defines)
+            prog.set("u_dither_shift", shift)
+        if not key[0]:
+            return prog
+        m = obj.material
         slot = m.base_color_texture
         self.cache.texture(slot.texture, False).use(location=UNITS["material"])
         prog.set("u_texture", UNITS["material"])
@@ -217,10 +228,10 @@ class ShadowMaps:
 
     def release(self) -> None:
         self._release_atlas()
-        for prog in (self.program, self._masked):
-            if prog is not None:
-                self.cache.forget_program(prog.gl)
-                prog.release()
+        for prog in self._programs.values():
+            self.cache.forget_program(prog.gl)
+            prog.release()
+        self._programs.clear()
 
 
 def _masked(obj) -> bool:
