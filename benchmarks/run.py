@@ -217,6 +217,7 @@ def main() -> None:
     import antialias
     import batch
     import gltf
+    import instancing
     import raytrace
     import shaderlab
     import shadows
@@ -230,6 +231,7 @@ def main() -> None:
     turntable.main()
     viewer.main()
     gltf.main()
+    instancing.table(a.quick)
     shaderlab.main()
     raytrace.table(a.quick)
     raytrace.frame(a.quick)
