@@ -118,40 +118,47 @@ def table(quick: bool = False, frames: int | None = None) -> None:
     print(f"{'copies':>8} | {'floor':>8} {'facet eq.':>10} {'default':>9} {'one by one':>11} |"
           f" {'floor/facet':>11}")
     for n in counts:
-        models = placements(n)
-        eye, target, near, far = camera_for(n)
-        floor = InstancedFloor(pos, faces, models, eye, target, near, far)
-        scene, alone = facet.Scene(), facet.Scene()
-        material = facet.Material((0.8, 0.8, 0.8), ka=1.0, kd=1.0, ks=0.3, shininess=32)
-        for m in models:
-            scene.add(mesh, material, m)
-            alone.add(mesh, facet.Material((0.8, 0.8, 0.8), ka=1.0, kd=1.0, ks=0.3,
-                                           shininess=32), m)
-        for s in (scene, alone):
-            s.add_light(facet.DirectionalLight(LIGHT))
-            s.ambient = np.full(3, 0.1)
-        camera = facet.Camera.look_at(eye, target, fov_y=40.0, near=near, far=far)
-        with Renderer(SIZE, SIZE) as r:
-            equal = dict(aa="none", outputs=("color",), lights="scene", cull="off")
-
-            def facet_equal():
-                r.render(scene, camera, **equal).color  # noqa: B018
-
-            def facet_default():
-                f = r.render(scene, camera)
-                f.color, f.depth, f.object_ids  # noqa: B018
-
-            def facet_alone():
-                r.render(alone, camera, **equal).color  # noqa: B018
-
-            times = time_interleaved([floor.frame, facet_equal, facet_default, facet_alone],
-                                     frames)
-        floor.ctx.release()
+        times = _timings(n, pos, faces, mesh, frames)
         print(f"{n:>8,} | {times[0].median:>8.3f} {times[1].median:>10.3f} "
               f"{times[2].median:>9.3f} {times[3].median:>11.3f} | "
               f"{ratio(times[0], times[1]):>11.2f}")
     print("floor/facet: the floor's time over facet's equal-work time, round by round "
           "(1.0: as fast as bare moderngl)")
+
+
+def _timings(n: int, pos, faces, mesh, frames: int) -> list:
+    """Timings of the floor, facet (equal work), facet's default call and facet drawing
+    each copy by itself, for ``n`` copies."""
+    models = placements(n)
+    eye, target, near, far = camera_for(n)
+    floor = InstancedFloor(pos, faces, models, eye, target, near, far)
+    scene, alone = facet.Scene(), facet.Scene()
+    material = facet.Material((0.8, 0.8, 0.8), ka=1.0, kd=1.0, ks=0.3, shininess=32)
+    for m in models:
+        scene.add(mesh, material, m)
+        alone.add(mesh, facet.Material((0.8, 0.8, 0.8), ka=1.0, kd=1.0, ks=0.3,
+                                       shininess=32), m)
+    for s in (scene, alone):
+        s.add_light(facet.DirectionalLight(LIGHT))
+        s.ambient = np.full(3, 0.1)
+    camera = facet.Camera.look_at(eye, target, fov_y=40.0, near=near, far=far)
+    equal = dict(aa="none", outputs=("color",), lights="scene", cull="off")
+    with Renderer(SIZE, SIZE) as r:
+
+        def facet_equal():
+            r.render(scene, camera, **equal).color  # noqa: B018
+
+        def facet_default():
+            f = r.render(scene, camera)
+            f.color, f.depth, f.object_ids  # noqa: B018
+
+        def facet_alone():
+            r.render(alone, camera, **equal).color  # noqa: B018
+
+        times = time_interleaved([floor.frame, facet_equal, facet_default, facet_alone],
+                                 frames)
+    floor.ctx.release()
+    return times
 
 
 if __name__ == "__main__":
