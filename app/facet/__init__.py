@@ -23,6 +23,8 @@ _EXPORTS = {
     "Intrinsics": "facet.geometry.camera",
     "transforms": "facet.geometry",
     "Mesh": "facet.scene.mesh",
+    "Points": "facet.scene.points",
+    "Lines": "facet.scene.points",
     "Material": "facet.scene.material",
     "DirectionalLight": "facet.scene.light",
     "PointLight": "facet.scene.light",

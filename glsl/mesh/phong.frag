@@ -11,6 +11,9 @@ in vec2 v_uv;
 #ifdef HAS_VERTEX_COLORS
 in vec4 v_color;
 #endif
+#if defined(SPRITE_POINTS) || defined(SPRITE_LINES)
+in vec2 v_corner;  // across a point's or line's quad (glsl/mesh/sprite.vert)
+#endif
 #ifdef HAS_TEXTURE
 // The material's texture. Uploaded as sRGB (decoded to linear when sampled) in the sRGB
 // colour mode, as plain RGBA8 (bytes / 255) otherwise; mipmapped, trilinear.
@@ -69,6 +72,9 @@ uniform int u_object_id;
 #include "mesh/outputs.glsl"
 
 void main() {
+#ifdef SPRITE_POINTS
+    if (dot(v_corner, v_corner) > 1.0) discard;  // round discs
+#endif
 #ifdef CLIP_PLANE
     if (dot(u_clip_plane, vec4(v_pos_world, 1.0)) < 0.0) discard;
 #endif
@@ -91,7 +97,11 @@ void main() {
 #else
     vec3 V = normalize(u_eye_world - v_pos_world);
 #endif
-#if defined(SHADE_FLAT)
+#if defined(SPRITE_POINTS) || defined(SPRITE_LINES)
+    // A point's normal turned towards the viewer; unlit points and lines face the viewer.
+    vec3 N = dot(v_normal_world, v_normal_world) > 0.0 ? normalize(v_normal_world) : V;
+    N = dot(N, V) < 0.0 ? -N : N;
+#elif defined(SHADE_FLAT)
     // The face's geometric normal from screen-space derivatives, turned towards the viewer
     // (its sign depends on the window's y direction, which facet flips for readback).
     vec3 N = normalize(cross(dFdx(v_pos_world), dFdy(v_pos_world)));

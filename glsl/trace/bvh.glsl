@@ -5,13 +5,66 @@
 
 const int STACK_SIZE = 48;  // deeper than any hierarchy facet builds (about 30 levels)
 
+// A mesh's primitives are triangles, or (points and lines: facet.render.trace.sprites)
+// spheres and capsules, the kind in the first texel's w.
+const float PRIM_TRIANGLE = 0.0, PRIM_SPHERE = 1.0, PRIM_CAPSULE = 2.0;
+
+// The nearest root in (0, t) of |o + s d - c|^2 = r^2, the sphere's near side first.
+float sphere_root(vec3 c, float r, vec3 o, vec3 d, float t) {
+    vec3 oc = o - c;
+    float a = dot(d, d), b = dot(oc, d), k = dot(oc, oc) - r * r;
+    float disc = b * b - a * k;
+    if (disc < 0.0) return INF;
+    float s = (-b - sqrt(disc)) / a;
+    if (s <= 0.0) s = (-b + sqrt(disc)) / a;
+    return s > 0.0 && s < t ? s : INF;
+}
+
+// A point (a sphere: centre t0.xyz, radius e1.x) or a line (a capsule from t0.xyz along
+// e1 of radius e2.x): its distance in (0, t) and bary = (0, along the line).
+bool hit_sprite(vec4 t0, vec3 e1, vec3 e2, vec3 o, vec3 d, inout float t, out vec2 bary) {
+    bary = vec2(0.0);
+    if (t0.w == PRIM_SPHERE) {
+        float s = sphere_root(t0.xyz, e1.x, o, d, t);
+        if (s == INF) return false;
+        t = s;
+        return true;
+    }
+    // The capsule: the cylinder's side, then the two end caps.
+    vec3 a = t0.xyz, ba = e1;
+    float r = e2.x, best = INF, along = 0.0;
+    float baba = dot(ba, ba);
+    vec3 oa = o - a;
+    float bard = dot(ba, d), baoa = dot(ba, oa);
+    float k2 = baba * dot(d, d) - bard * bard;
+    float k1 = baba * dot(oa, d) - baoa * bard;
+    float k0 = baba * dot(oa, oa) - baoa * baoa - r * r * baba;
+    float h = k1 * k1 - k2 * k0;
+    if (k2 != 0.0 && h >= 0.0) {
+        float s = (-k1 - sqrt(h)) / k2;
+        if (s <= 0.0) s = (-k1 + sqrt(h)) / k2;
+        float y = baoa + s * bard;
+        if (s > 0.0 && s < t && y > 0.0 && y < baba) { best = s; along = y / baba; }
+    }
+    float sa = sphere_root(a, r, o, d, min(t, best));
+    if (sa < best) { best = sa; along = 0.0; }
+    float sb = sphere_root(a + ba, r, o, d, min(t, best));
+    if (sb < best) { best = sb; along = 1.0; }
+    if (best == INF) return false;
+    t = best;
+    bary = vec2(0.0, along);
+    return true;
+}
+
 // Möller-Trumbore: the triangle's (u, v) and distance when o + s d hits it in (0, t);
 // ``front_only``: not when the ray meets its back (det < 0: the ray runs along the normal
 // cross(e1, e2), which object space keeps whatever the transform's determinant).
 bool hit_triangle(int tri, vec3 o, vec3 d, inout float t, out vec2 bary, bool front_only) {
-    vec3 v0 = fetch(u_tris, 3 * tri).xyz;
+    vec4 t0 = fetch(u_tris, 3 * tri);
+    vec3 v0 = t0.xyz;
     vec3 e1 = fetch(u_tris, 3 * tri + 1).xyz;
     vec3 e2 = fetch(u_tris, 3 * tri + 2).xyz;
+    if (t0.w != PRIM_TRIANGLE) return hit_sprite(t0, e1, e2, o, d, t, bary);
     vec3 p = cross(d, e2);
     float det = dot(e1, p);
     bary = vec2(0.0);

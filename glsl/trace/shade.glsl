@@ -39,15 +39,22 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     float alpha = 1.0;
     if (h.tri >= 0) {
         vec3 w = vec3(1.0 - h.bary.x - h.bary.y, h.bary);
+        vec4 t0 = fetch(u_tris, 3 * h.tri);
         vec3 e1 = fetch(u_tris, 3 * h.tri + 1).xyz, e2 = fetch(u_tris, 3 * h.tri + 2).xyz;
-        p_obj = fetch(u_tris, 3 * h.tri).xyz + h.bary.x * e1 + h.bary.y * e2;
-        ng_obj = cross(e1, e2);
+        if (t0.w == PRIM_TRIANGLE) {
+            p_obj = t0.xyz + h.bary.x * e1 + h.bary.y * e2;
+            ng_obj = cross(e1, e2);
+        } else {  // a point's sphere or a line's capsule: the normal from its axis
+            p_obj = apply_rows(base, o + h.t * d, 1.0);
+            vec3 axis = t0.w == PRIM_SPHERE ? t0.xyz : t0.xyz + e1 * h.bary.y;
+            ng_obj = p_obj - axis;
+        }
         ivec4 vi = fetch_int(u_tri_index, h.tri);
         ivec3 at = vi.xyz * VERTEX_TEXELS;
         vec4 a0 = fetch(u_vertices, at.x), b0 = fetch(u_vertices, at.x + 1);
         vec4 a1 = fetch(u_vertices, at.y), b1 = fetch(u_vertices, at.y + 1);
         vec4 a2 = fetch(u_vertices, at.z), b2 = fetch(u_vertices, at.z + 1);
-        n_obj = a0.xyz * w.x + a1.xyz * w.y + a2.xyz * w.z;
+        n_obj = t0.w == PRIM_TRIANGLE ? a0.xyz * w.x + a1.xyz * w.y + a2.xyz * w.z : ng_obj;
         uv = vec2(a0.w, b0.x) * w.x + vec2(a1.w, b1.x) * w.y + vec2(a2.w, b2.x) * w.z;
         if ((int(info.w) & FLAG_COLORS) != 0) {
             vec3 c = b0.yzw * w.x + b1.yzw * w.y + b2.yzw * w.z;

@@ -100,6 +100,46 @@ class MeshBuffers:
         self.ibo.release()
 
 
+class SpriteBuffers:
+    """A point cloud's or line set's per-instance buffer: a row per point (position,
+    normal, colour) or per segment (both ends, both colours), drawn as one quad each
+    (glsl/mesh/sprite.vert)."""
+
+    def __init__(self, ctx: moderngl.Context, sprites):
+        p = sprites.positions
+        white = np.ones((len(p), 4), np.float32)
+        c = white if sprites.colors is None else sprites.colors
+        if sprites.kind == "points":
+            n = np.zeros_like(p) if sprites.normals is None else sprites.normals
+            rows = np.hstack([p, n, c])
+            self.layout = ("3f 3f 4f", "in_position", "in_normal", "in_color")
+        else:
+            a, b = sprites.segments[:, 0], sprites.segments[:, 1]
+            rows = np.hstack([p[a], p[b], c[a], c[b]])
+            self.layout = ("3f 3f 4f 4f", "in_p0", "in_p1", "in_c0", "in_c1")
+        self.vbo = ctx.buffer(np.ascontiguousarray(rows, dtype=np.float32))
+        self.count = len(rows)
+        self.vaos: dict[int, moderngl.VertexArray] = {}
+        self.instanced_vaos: dict[int, moderngl.VertexArray] = {}  # (none: forget_program)
+
+    def draw_sprites(self, ctx: moderngl.Context, program: moderngl.Program) -> None:
+        vao = self.vaos.get(program.glo)
+        if vao is None:  # attributes the program does not read are skipped bytes
+            fmt, *names = self.layout
+            pieces = fmt.split()
+            fmt = " ".join(f if n in program else f"{f[:-1]}x4"
+                           for f, n in zip(pieces, names, strict=True)) + " /i"
+            vao = self.vaos[program.glo] = ctx.vertex_array(
+                program, [(self.vbo, fmt, *[n for n in names if n in program])])
+        vao.render(mode=moderngl.TRIANGLE_STRIP, vertices=4, instances=self.count)
+
+    def release(self) -> None:
+        for vao in self.vaos.values():
+            vao.release()
+        self.vaos.clear()
+        self.vbo.release()
+
+
 GL_SRGB8_ALPHA8 = 0x8C43
 
 
@@ -149,12 +189,14 @@ class ResourceCache:
         return tex
 
     def buffers(self, mesh: Mesh) -> MeshBuffers:
+        """The GPU copy of a mesh (or of points or lines: SpriteBuffers), made once."""
         entry = self._entries.get(id(mesh))
         if entry is not None and entry[0]() is mesh:
             return entry[1]
         if entry is not None:  # id reused by a new object: the old mesh is gone
             entry[1].release()
-        bufs = MeshBuffers(self.ctx, mesh)
+        bufs = MeshBuffers(self.ctx, mesh) if mesh.kind == "mesh" else \
+            SpriteBuffers(self.ctx, mesh)
         self._entries[id(mesh)] = (weakref.ref(mesh), bufs)
         self.uploads += 1
         return bufs
@@ -184,9 +226,10 @@ class ResourceCache:
 
     def forget_program(self, program: moderngl.Program) -> None:
         for _, bufs in self._entries.values():
-            vao = bufs.vaos.pop(program.glo, None)
-            if vao is not None:
-                vao.release()
+            for vaos in (bufs.vaos, bufs.instanced_vaos):
+                vao = vaos.pop(program.glo, None)
+                if vao is not None:
+                    vao.release()
 
     def __len__(self) -> int:
         return len(self._entries)

@@ -47,7 +47,8 @@ def smooth_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 
 class Mesh:
-    """An indexed triangle mesh in object space.
+    """An indexed triangle mesh in object space (``kind`` "mesh"; facet.scene.points holds
+    the others).
 
     Parameters
     ----------
@@ -66,6 +67,8 @@ class Mesh:
     variants : {variant name: Material}, the file's material variants
         (KHR_materials_variants; the ``variant`` render option picks one)
     """
+
+    kind = "mesh"
 
     def __init__(self, positions, faces, normals=None, uvs=None, *, name: str = "mesh",
                  material=None, colors=None, uvs1=None, tangents=None,

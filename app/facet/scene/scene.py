@@ -88,14 +88,15 @@ class Scene:
         ``transform`` is the 4x4 object -> world matrix (default identity); with
         ``transform_end`` (the matrix at shutter close) the object is motion-blurred.
         """
+        from .points import Lines, Points
         from .shapes import Shape
 
         shape = mesh if isinstance(mesh, Shape) else None
         if shape is not None:
             mesh = shape.mesh()
-        if not isinstance(mesh, Mesh):
-            raise InputError(f"Scene.add expects a facet.Mesh or a facet.shapes shape, got "
-                             f"{type(mesh).__name__}")
+        if not isinstance(mesh, (Mesh, Points, Lines)):
+            raise InputError(f"Scene.add expects a facet.Mesh, facet.Points, facet.Lines or "
+                             f"a facet.shapes shape, got {type(mesh).__name__}")
         m = np.eye(4) if transform is None else np.asarray(transform, dtype=np.float64)
         if m.shape != (4, 4) or not np.all(np.isfinite(m)):
             raise InputError(f"transform must be a finite 4x4 matrix, got shape {m.shape}")

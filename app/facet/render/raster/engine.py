@@ -105,6 +105,9 @@ class RasterEngine(Engine):
         lines = []
         if opts.max_depth != DEFAULT_MAX_DEPTH:
             lines.append("max_depth sets the ray tracer's bounces; the rasterizer ignores it")
+        if opts.shadows_on and any(o.mesh.kind != "mesh" for o in scene.objects):
+            lines.append("points and lines cast no shadow maps in the rasterizer (the "
+                         "tracers' spheres and capsules cast shadows)")
         return lines + feature_lines(scene, _dropped, "the rasterizer")
 
     def release(self) -> None:

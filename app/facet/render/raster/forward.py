@@ -22,6 +22,7 @@ from ...gl.glsl_source import glsl_root
 from ...gl.resources import ResourceCache
 from ...gl.shaders import Program, compile_program
 from ...gl.targets import aux_locations, writing
+from ...scene.pbr import as_phong
 from ...scene.scene import MAX_LIGHTS, Scene
 from ..materials import (
     IBL_UNITS,
@@ -38,6 +39,7 @@ from .culling import Culling, det3
 from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
 from .instancing import INSTANCE_LAYOUT, batches, instance_rows
 from .mirror import MirrorTargets, mirror_plane
+from .sprites import set_sprite_uniforms, sprite_variant
 from .transmission import TRANSMISSION_UNIT, TransmissionTarget, transmits
 from .user_shaders import UserPrograms
 
@@ -72,6 +74,7 @@ class Variant:
     grey: bool = False  # every material-light term is grey (see grey_terms)
     transmission: bool = False  # refracts the picture behind it (raster.transmission)
     instanced: bool = False  # matrices per instance (facet.render.raster.instancing)
+    sprite: str = ""  # "points" or "lines": quads per point or segment (mesh/sprite.vert)
 
     @classmethod
     def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
@@ -106,7 +109,9 @@ class Variant:
                  "OIT": self.oit, "HAS_ENVIRONMENT": self.environment,
                  "HAS_MIRROR": self.mirror, "CLIP_PLANE": self.clip_plane,
                  "GREY_TERMS": self.grey, "LINEAR_OUT": self.linear_out,
-                 "TRANSMISSION": self.transmission, "INSTANCED": self.instanced}
+                 "TRANSMISSION": self.transmission, "INSTANCED": self.instanced,
+                 "SPRITE_POINTS": self.sprite == "points",
+                 "SPRITE_LINES": self.sprite == "lines"}
         d.update({k: None for k, on in flags.items() if on})
         return d
 
@@ -170,7 +175,8 @@ class ForwardPass:
         else:
             spec = SHADING_MODELS[check_shading(variant.shading)]
             root = glsl_root()
-            prog = compile_program(self.ctx, root / spec.vertex, root / spec.fragment,
+            vertex = "mesh/sprite.vert" if variant.sprite else spec.vertex
+            prog = compile_program(self.ctx, root / vertex, root / spec.fragment,
                                    variant.defines())
             if "Lights" in prog.gl:
                 prog.gl["Lights"].binding = LIGHTS_BINDING
@@ -220,14 +226,19 @@ class ForwardPass:
             self.ibl.lut()
             if env is not None:
                 self.ibl.maps(env)
-        def alone(o) -> bool:  # drawn by itself: a user's shader, a mirror, transmission
-            return (o.material.shader is not None and not aux) or id(o) in reflections or (
+        def alone(o) -> bool:  # drawn by itself: a user's shader, a mirror, transmission,
+            return o.mesh.kind != "mesh" or (  # points and lines
+                o.material.shader is not None and not aux) or id(o) in reflections or (
                 behind is not None and model_for(state.shading, o.material) == "pbr"
                 and transmits(as_pbr(o.material)))
 
         for item in batches(scene.objects, alone):
             group = item if isinstance(item, list) else None  # one mesh, one material
             obj = item[0] if group is not None else item
+            if obj.mesh.kind != "mesh":  # points and lines (facet.render.raster.sprites)
+                self._draw_sprites(obj, base, state, view_projection, eye, ambient,
+                                   intensities, bool(aux) and not colour_pass, ready)
+                continue
             m = obj.material
             user = m.shader is not None and not aux
             mirror = id(obj) in reflections
@@ -302,6 +313,17 @@ class ForwardPass:
             self._render(prog, *place)
         self._cull(False)
         self._front(False)
+
+    def _draw_sprites(self, obj, base, state, view_projection, eye, ambient, intensities,
+                      exact_only: bool, ready: set) -> None:
+        terms = phong_terms(as_phong(obj.material), state, ambient, intensities)
+        prog = self.program(sprite_variant(base, obj, state.shading, exact_only))
+        if id(prog) not in ready:
+            self._frame_uniforms(prog, state, view_projection, eye, False)
+            ready.add(id(prog))
+        set_sprite_uniforms(prog, obj, state, view_projection, terms)
+        self._cull(False)
+        self.cache.buffers(obj.mesh).draw_sprites(self.ctx, prog.gl)
 
     def _render(self, prog, item, view_projection, state: FrameState,
                 mirrored_view: bool) -> None:

@@ -14,8 +14,8 @@ EDGE_COLOR = (0.05, 0.05, 0.05)
 def wireframe_overlay(forward, scene, state) -> None:
     """Draw ``scene``'s edges into the bound target with ``forward`` (a ForwardPass)."""
     material = Material(color=EDGE_COLOR)
-    edges = scene.view(objects=[replace(o, material=material) for o in scene.objects],
-                       lights=[])
+    edges = scene.view(objects=[replace(o, material=material) for o in scene.objects
+                                if o.mesh.kind == "mesh"], lights=[])  # (not points, lines)
     ctx = forward.ctx
     ctx.depth_func = "<="
     ctx.wireframe = True

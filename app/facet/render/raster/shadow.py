@@ -161,7 +161,8 @@ class ShadowMaps:
         shift = (sample % 4, sample // 4 % 4)
         for prog in self._programs.values():
             prog.set("u_dither_shift", shift)
-        items = batches(scene.objects, lambda o: False)
+        # Points and lines cast no shadow maps (RasterEngine.unsupported says so).
+        items = batches([o for o in scene.objects if o.mesh.kind == "mesh"], lambda o: False)
         self.fbo.use()
         self.fbo.clear(depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)

@@ -71,6 +71,8 @@ def pack_emitters(objects, pbr_of, mesh_tris: dict, tri_offset: dict):
                 powers.append(np.array([area * lum]))
                 pdf[i] = lum
             continue
+        if obj.mesh.kind != "mesh":  # emitting points and lines: met by paths only
+            continue
         tris = mesh_tris[id(obj.mesh)]
         m = np.asarray(obj.transform, dtype=np.float64)[:3, :3]
         e1, e2 = tris[:, 1, :3] @ m.T, tris[:, 2, :3] @ m.T

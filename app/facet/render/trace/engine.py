@@ -31,6 +31,7 @@ from ..materials import as_pbr, feature_lines, phong_color
 from ..shading import SHADING_MODELS
 from ..state import UNITS, FrameState, pack_lights
 from . import pack
+from .sprites import sprite_radii
 
 # Below this roughness a glTF material reflects the scene (glsl/trace/shade.glsl's).
 TRACED_ROUGHNESS = 0.6
@@ -47,6 +48,7 @@ class TraceEngine(Engine):
         super().__init__(ctx, cache)
         self.programs: dict[tuple, FullScreenPass] = {}
         self._meshes = weakref.WeakKeyDictionary()  # Mesh -> pack.MeshData
+        self._sprite_sizes: dict[int, int | None] = {}  # id(points) -> its radii's hash
         self._geometry_key: tuple | None = None
         self._geometry_refs: list = []  # the meshes of the uploaded geometry (alive)
         self._roots: dict[int, int] = {}
@@ -69,18 +71,25 @@ class TraceEngine(Engine):
         tex.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
         self._textures[name] = tex
 
-    def _geometry(self, scene) -> None:
-        """Upload every mesh's triangles and hierarchy when the set of meshes changed."""
+    def _geometry(self, scene, state) -> None:
+        """Upload every mesh's triangles and hierarchy when the set of meshes changed (or,
+        for points and lines sized in pixels, their radii: facet.render.trace.sprites)."""
         meshes = list({id(o.mesh): o.mesh for o in scene.objects if o.shape is None}.values())
         framed = {id(o.mesh) for o in scene.objects if o.shape is None and self._tangents(o)}
-        key = tuple((id(m), id(m) in framed) for m in meshes)
+        radii = {id(o.mesh): sprite_radii(o, state.camera, state.width, state.height)
+                 for o in scene.objects if o.mesh.kind != "mesh"}
+        sized = {k: hash(r.tobytes()) for k, r in radii.items()}
+        key = tuple((id(m), id(m) in framed, sized.get(id(m))) for m in meshes)
         if key == self._geometry_key and "tris" in self._textures:
             return
         data = []
         for mesh in meshes:
             cached = self._meshes.get(mesh)
-            if cached is None or (id(mesh) in framed and not cached.has_tangents):
-                self._meshes[mesh] = pack.mesh_data(mesh, id(mesh) in framed)
+            if cached is None or (id(mesh) in framed and not cached.has_tangents) or \
+                    self._sprite_sizes.get(id(mesh)) != sized.get(id(mesh)):
+                self._meshes[mesh] = pack.mesh_data(mesh, id(mesh) in framed,
+                                                    radii.get(id(mesh)))
+                self._sprite_sizes[id(mesh)] = sized.get(id(mesh))
             data.append(self._meshes[mesh])
         if not data:  # shapes only: one dummy triangle keeps every sampler valid
             from ...scene.mesh import Mesh
@@ -170,7 +179,7 @@ class TraceEngine(Engine):
 
     def prepare(self, scene, state: FrameState, opts=None, aa=None) -> FrameState:
         """Geometry and textures for this scene (uploaded only when they changed)."""
-        self._geometry(scene)
+        self._geometry(scene, state)
         self._texture_layers(scene, state.srgb, _pbr_shading(state))
         return state
 

@@ -94,9 +94,17 @@ def pack_nodes(bvh) -> np.ndarray:
 _REST_TREES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def mesh_data(mesh, tangents: bool = False) -> MeshData:
+def mesh_data(mesh, tangents: bool = False, radii=None) -> MeshData:
     """The tracer's arrays for ``mesh`` (module docstring); its tangent frames when it has
-    them or ``tangents`` (a normal map needs them: computed from the uvs, once per mesh)."""
+    them or ``tangents`` (a normal map needs them: computed from the uvs, once per mesh).
+    Points and lines (``radii``: one per point or segment) become spheres and capsules
+    (facet.render.trace.sprites)."""
+    if mesh.kind != "mesh":
+        from .sprites import sprite_data
+
+        tris, index, vertices, bvh = sprite_data(mesh, radii, VERTEX_TEXELS)
+        return MeshData(tris, index, vertices, pack_nodes(bvh), mesh.colors is not None,
+                        False)
     faces = mesh.faces.astype(np.int64)
     tri = mesh.positions[faces].astype(np.float32)  # (N, 3, 3) object space
     rest = getattr(mesh, "rest", None)  # a skinned or morphed pose of this mesh
