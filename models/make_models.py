@@ -7,6 +7,8 @@
 * torus.off: a torus (major radius 1, minor 0.3), OFF.
 * globe.obj: a unit UV sphere (32 x 16 segments) with texture coordinates and normals, for
   texturing examples (``--texture checker``).
+* helix-points.ply: a point cloud of 600 coloured points on a helix, ASCII PLY (the
+  vertex-only kind scanners write), for point-cloud examples.
 
 Deterministic: the same numpy and trimesh give the same bytes.
 """
@@ -85,6 +87,21 @@ def main() -> None:
     trimesh.creation.box().export(HERE / "cube.stl")
     trimesh.creation.torus(major_radius=1.0, minor_radius=0.3).export(HERE / "torus.off")
     (HERE / "globe.obj").write_text(globe())
+    (HERE / "helix-points.ply").write_text(helix_points())
+
+
+def helix_points(n: int = 600) -> str:
+    t = np.linspace(0, 6 * np.pi, n)
+    p = np.stack([np.cos(t), t / (6 * np.pi) * 2 - 1, np.sin(t)], axis=1)
+    c = (np.stack([0.5 + 0.5 * np.cos(t), 0.5 + 0.5 * np.sin(t), np.linspace(0.2, 1, n)], 1)
+         * 255).astype(int)
+    lines = ["ply", "format ascii 1.0",
+             f"comment facet: a helix of {n} coloured points (made for facet, CC0)",
+             f"element vertex {n}", "property float x", "property float y", "property float z",
+             "property uchar red", "property uchar green", "property uchar blue", "end_header"]
+    lines += [f"{a:.5f} {b:.5f} {z:.5f} {r} {g} {bl}"
+              for (a, b, z), (r, g, bl) in zip(p, c, strict=True)]
+    return "\n".join(lines) + "\n"
 
 
 if __name__ == "__main__":

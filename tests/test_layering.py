@@ -47,7 +47,7 @@ def test_a_scene_file_with_every_key_loads_without_gl():
                f"scene = load_scene({str(EVERY_KEY)!r})\n"
                "opts = options_for(scene, {'msaa': 2})\n"
                "print(len(scene.objects), opts.size, opts.shading, opts.aa, opts.shadows)")
-    assert out.split() == ["5", "(64,", "48)", "blinn", "msaa:2", "True"]
+    assert out.split() == ["7", "(64,", "48)", "blinn", "msaa:2", "True"]
 
 
 def test_the_every_key_file_covers_every_key():

@@ -209,6 +209,21 @@ def add_model_options(p) -> None:
                    help="for files without normals: split vertices where neighbouring faces "
                    f"meet at more than DEG degrees (default {DEFAULT_CREASE:g}; 180 = all "
                    "smooth, 0 = faceted)")
+    p.add_argument("--point-size", type=float, metavar="PX",
+                   help="point clouds: discs PX pixels across (default 3)")
+    p.add_argument("--point-radius", type=float, metavar="R",
+                   help="point clouds: discs of radius R in scene units (they shrink with "
+                   "distance), instead of --point-size")
+    p.add_argument("--line-width", type=float, metavar="PX",
+                   help="lines (glTF LINES, OBJ l): PX pixels wide (default 1.5)")
+
+
+def sprite_sizes(args) -> dict:
+    """The point and line sizes the command line gives (facet.scene.points)."""
+    return {"point_size": getattr(args, "point_size", None),
+            "point_radius": getattr(args, "point_radius", None),
+            "line_width": getattr(args, "line_width", None)}
+
 
 
 def parse_time(text: str) -> tuple[float, float | None]:

@@ -173,6 +173,7 @@ def _scene(args):
     """The scene to render: a scene file, or one mesh (the bundled default without MODEL),
     with --color / --texture / --frag on its material and --light replacing its lights."""
     from ..paths import default_model
+    from ..scene.points import resize_scene
     from ..scene.source import is_scene_file, open_scene
 
     shader = user_shader(args)
@@ -183,6 +184,7 @@ def _scene(args):
                          "materials in the scene file instead")
     texture = _texture(args.texture) if args.texture else None
     scene = open_scene(model, crease=args.crease)
+    resize_scene(scene, A.sprite_sizes(args))
     if not is_scene_file(model) and (args.color is not None or texture is not None or
                                      shader is not None):
         for obj in scene.objects:  # every part of the model

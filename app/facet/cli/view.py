@@ -30,4 +30,5 @@ def run(args) -> None:
     from .render import user_shader
 
     view(args.model or default_model(), shader=user_shader(args),
-         options=A.render_layer(args), crease=args.crease, time_end=A.time_range(args)[1])
+         options=A.render_layer(args), crease=args.crease, time_end=A.time_range(args)[1],
+         sizes=A.sprite_sizes(args))

@@ -181,8 +181,8 @@ class _Reader:
                     node.camera, world, index)
             stack.extend((int(c), world) for c in reversed(node.children or []))
         if not parts:
-            self.data.fail("has no triangles in its scene (only points, lines or empty "
-                           "nodes); nothing to render")
+            self.data.fail("has nothing to draw in its scene (no triangles, points or "
+                           "lines); nothing to render")
         for what in sorted(self.skipped):
             self.warn(f"leaves out {what}")
         rig = read_rig(self.document, self.data, rigged,
@@ -258,9 +258,6 @@ class _Reader:
         prim = self.gltf.meshes[mesh].primitives[p]
         where = f"mesh {self.gltf.meshes[mesh].name or mesh} primitive {p}"
         mode = TRIANGLES if prim.mode is None else prim.mode
-        if mode in MODES:
-            self.skipped.add(MODES[mode])
-            return None
         attrs = {k: v for k, v in vars(prim.attributes).items() if v is not None}
         draco = (prim.extensions or {}).get("KHR_draco_mesh_compression")
         if draco is not None:
@@ -282,6 +279,8 @@ class _Reader:
             count = len(values["POSITION"])
             indices = np.arange(count, dtype=np.uint32) if prim.indices is None else \
                 self.data.accessor(prim.indices).astype(np.int64)
+        if mode in MODES:  # points and lines (facet.scene.points)
+            return self._sprites(values, indices, mode, prim, mesh, where)
         faces = _triangles(np.asarray(indices, dtype=np.int64), mode, where, self.data.fail)
         prim_json = self.document["meshes"][mesh]["primitives"][p]
         deform = None
@@ -306,6 +305,42 @@ class _Reader:
                   "variants": self._variants(prim_json, where),
                   "name": self.gltf.meshes[mesh].name or f"{self.path.stem}-{mesh}"}
         return self.check_mesh(arrays, where)
+
+    def _sprites(self, values: dict, indices, mode: int, prim, mesh: int, where: str):
+        """Points or Lines arguments of a POINTS / LINES / LINE_LOOP / LINE_STRIP
+        primitive (its material's base colour; vertex colours; a point's normal lights
+        it)."""
+        from .points import strip_segments
+
+        idx = np.asarray(indices, dtype=np.int64)
+        positions = values["POSITION"]
+        if len(idx) and (idx.min() < 0 or idx.max() >= len(positions)):
+            self.data.fail(f"{where}: indices refer to vertices that do not exist")
+        colors = values.get("COLOR_0")
+        if colors is not None:  # linear -> sRGB-encoded (module docstring)
+            colors = np.concatenate([linear_to_srgb(np.clip(colors[:, :3], 0, 1)),
+                                     colors[:, 3:4] if colors.shape[1] == 4 else
+                                     np.ones((len(colors), 1))], axis=1)
+        name = self.gltf.meshes[mesh].name or f"{self.path.stem}-{mesh}"
+        args = {"name": name, "material": self._material(prim.material),
+                "colors": None if colors is None else np.clip(colors, 0, 1)}
+        if mode == 0:
+            used = np.unique(idx) if prim.indices is not None else slice(None)
+            normals = values.get("NORMAL")
+            args.update(kind="points", positions=positions[used],
+                        normals=None if normals is None else normals[used],
+                        colors=None if colors is None else args["colors"][used])
+        else:
+            if len(idx) < 2:
+                self.data.fail(f"{where}: a line needs at least 2 vertices")
+            segments = idx[:len(idx) - len(idx) % 2].reshape(-1, 2) if mode == 1 else \
+                strip_segments(idx, loop=mode == 2)
+            args.update(kind="lines", positions=positions, segments=segments)
+        if prim.targets or "JOINTS_0" in vars(prim.attributes):
+            if prim.targets or vars(prim.attributes).get("JOINTS_0") is not None:
+                self.skipped.add("skins and morph targets of points and lines (drawn at "
+                                 "rest)")
+        return self.check_mesh(args, where)
 
     # -- materials -----------------------------------------------------------------------
     def _variants(self, prim: dict, where: str) -> dict | None:

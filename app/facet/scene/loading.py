@@ -32,7 +32,8 @@ from .texture import Texture
 
 # Extensions we accept (lower case, no dot) and the trimesh file_type for each.
 FORMATS = {"obj": "obj", "stl": "stl", "ply": "ply", "off": "off", "glb": "glb",
-           "gltf": "gltf"}
+           "gltf": "gltf", "xyz": "xyz", "pts": "pts", "pcd": "pcd"}
+POINT_FORMATS = (".xyz", ".pts", ".pcd")  # point clouds facet reads itself
 PER_VERTEX = ("positions", "normals", "uvs", "uvs1", "tangents", "colors")
 
 
@@ -66,6 +67,11 @@ def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict, list, o
         from .gltf import read_gltf
 
         return read_gltf(p, finish)
+    if p.suffix.lower() in POINT_FORMATS:
+        from .point_files import read_pcd, read_text_points
+
+        read = read_pcd if p.suffix.lower() == ".pcd" else read_text_points
+        return [(p.stem, finish(read(p), ""), np.eye(4))], {}, [], None
     return _trimesh_parts(p, finish), {}, [], None
 
 
@@ -80,8 +86,11 @@ def _check_crease(crease) -> float:
 
 def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
     """Checked ``Mesh`` arguments: finite positions, faces in range, some triangle with
-    area, normals split at creases when the file has none."""
+    area, normals split at creases when the file has none. Points and lines (``kind``):
+    finite positions within float32's reach."""
     vertices = np.asarray(arrays["positions"], dtype=np.float64)
+    if arrays.get("kind") in ("points", "lines"):
+        return _finish_sprites(arrays, vertices, p, where)
     faces = np.asarray(arrays["faces"], dtype=np.int64).reshape(-1, 3)
     at = f"{p}: {where}: " if where else f"{p}: "
     if len(faces) == 0:
@@ -123,6 +132,23 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
             out["deform"] = out["deform"].remapped(source)
         out["faces"] = new_faces
     return out
+
+
+def _finish_sprites(arrays: dict, vertices: np.ndarray, p: Path, where: str) -> dict:
+    from .normals import MAX_COORDINATE
+
+    at = f"{p}: {where}: " if where else f"{p}: "
+    if len(vertices) == 0:
+        raise MeshError(f"{at}holds no points; nothing to render")
+    keep = np.isfinite(vertices).all(axis=1)
+    if not keep.all():
+        raise MeshError(f"{at}{int((~keep).sum())} points are NaN or infinite; fix or remove "
+                        "them")
+    huge = np.abs(vertices).max(axis=1) > MAX_COORDINATE
+    if huge.any():
+        raise MeshError(f"{at}{int(huge.sum())} points lie beyond {MAX_COORDINATE:g}; GPU "
+                        "arithmetic is float32: scale the model down")
+    return dict(arrays, positions=vertices.astype(np.float32), path=str(p))
 
 
 # -- trimesh formats ------------------------------------------------------------------------
@@ -216,6 +242,23 @@ def _trimesh_parts(p: Path, finish) -> list:
     loaded = _read(p)
     if p.suffix.lower() == ".ply":
         _check_ply_counts(p, loaded)
+    lines = None
+    if p.suffix.lower() == ".obj":  # trimesh leaves OBJ polylines out
+        from .point_files import obj_lines
+
+        lines = obj_lines(p)
+        if lines is not None:
+            lines = (f"{p.stem}-lines", finish(lines, "lines"), np.eye(4))
+            if not isinstance(loaded, (trimesh.Trimesh, trimesh.Scene)) or (
+                    isinstance(loaded, trimesh.Scene) and not loaded.geometry):
+                return [lines]  # lines only
+    parts = _trimesh_scene_parts(p, loaded, finish)
+    return parts + ([lines] if lines is not None else [])
+
+
+def _trimesh_scene_parts(p: Path, loaded, finish) -> list:
+    import trimesh
+
     if not isinstance(loaded, trimesh.Scene):
         return [(p.stem, _to_mesh(loaded, p, finish), np.eye(4))]
     if not loaded.geometry:
@@ -237,6 +280,11 @@ def _to_mesh(tm, p: Path, finish, where: str = "") -> dict:
 
     if not isinstance(tm, trimesh.Trimesh):
         faces = _ply_strips(tm)
+        if faces is None and isinstance(tm, trimesh.PointCloud) and \
+                p.suffix.lower() == ".ply":  # a scanner's point cloud
+            from .point_files import ply_points
+
+            return finish(ply_points(tm, p), where)
         if faces is None:
             kind = "points" if "Point" in type(tm).__name__ else "lines or curves"
             raise MeshError(f"{p}: the file has 0 faces (it holds only {kind}); nothing to "

@@ -176,6 +176,16 @@ class Mesh:
 
             placed, _ = rig.posed_meshes([m for _, m, _ in parts], 0.0, NO_CLIPS)
             parts = [(n, m, x) for (n, _, _), (m, x) in zip(parts, placed, strict=True)]
+        meshes = [part for part in parts if part[1].kind == "mesh"]
+        if not meshes:
+            from ..errors import MeshError
+
+            raise MeshError(f"{path}: holds {parts[0][1].kind}, not triangles; open it with "
+                            "facet.load (a scene that draws them) or facet.Points")
+        if len(meshes) < len(parts):
+            warnings.warn(f"{path}: Mesh.load keeps the triangles and leaves out its points "
+                          "and lines (facet.load keeps them)", FacetWarning, stacklevel=2)
+            parts = meshes
         mesh = parts[0][1] if len(parts) == 1 and np.array_equal(parts[0][2], np.eye(4)) \
             else merge_parts(parts, str(path))
         return mesh.flat_shaded() if flat else mesh
@@ -227,7 +237,12 @@ class Mesh:
         args = dict(data)
         path = args.pop("path")
         args.pop("deform", None)  # the rig's (facet.scene.animation)
+        kind = args.pop("kind", "mesh")
         try:
+            if kind != "mesh":  # a point cloud or lines (facet.scene.points)
+                from .points import Lines, Points
+
+                return (Points if kind == "points" else Lines)(**args)
             return cls(**args)
         except InputError as exc:
             raise MeshError(f"{path}: {exc}") from None

@@ -115,6 +115,12 @@ class Points:
         self.material = material
         self._bounds = None
 
+    def sized(self, size: float | None = None, radius: float | None = None) -> Points:
+        """The same cloud drawn ``size`` pixels across or of world ``radius`` (one of them;
+        the arrays are shared)."""
+        return Points(self.positions, self.colors, self.normals, size=size, radius=radius,
+                      edl=self.edl, name=self.name, material=self.material)
+
     @property
     def vertex_count(self) -> int:
         return len(self.positions)
@@ -176,6 +182,11 @@ class Lines:
         self.normals = None
         self._bounds = None
 
+    def widened(self, width: float) -> Lines:
+        """The same lines ``width`` pixels wide (the arrays are shared)."""
+        return Lines(self.positions, self.segments, self.colors, width=width, name=self.name,
+                     material=self.material)
+
     @property
     def vertex_count(self) -> int:
         return len(self.positions)
@@ -192,6 +203,25 @@ class Lines:
 
     def __repr__(self) -> str:
         return f"Lines({self.name!r}, {len(self.segments):,} segments, width={self.width:g}px)"
+
+
+def resize_sprites(mesh, point_size=None, point_radius=None, line_width=None):
+    """``mesh`` with the sizes given (None: as it is); meshes pass through."""
+    if mesh.kind == "points" and (point_size is not None or point_radius is not None):
+        return mesh.sized(point_size, point_radius)
+    if mesh.kind == "lines" and line_width is not None:
+        return mesh.widened(line_width)
+    return mesh
+
+
+def resize_scene(scene, sizes: dict) -> None:
+    """Every point cloud and line set of ``scene`` at ``sizes`` ({"point_size",
+    "point_radius", "line_width"}: None keeps the file's)."""
+    if all(v is None for v in sizes.values()):
+        return
+    from dataclasses import replace
+
+    scene.objects = [replace(o, mesh=resize_sprites(o.mesh, **sizes)) for o in scene.objects]
 
 
 def strip_segments(indices: np.ndarray, loop: bool = False) -> np.ndarray:

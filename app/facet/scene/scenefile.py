@@ -36,7 +36,7 @@ RENDER = tuple(PARSERS)
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
             "gloss", "mirror", "texture", "shader", "vertex_shader", "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "transform_end", "matrix",
-          "parent", "flat", "crease",
+          "parent", "flat", "crease", "point_size", "point_radius", "line_width",
           *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
 TRANSFORM_OPS = ("translate", "scale", "rotate", "shear", "matrix")
 
@@ -347,7 +347,17 @@ class _SceneBuilder:
             if t.get("flat"):
                 if rig is not None:  # one vertex per face corner: the skin data follows
                     rig = rig.with_corners([m.faces.reshape(-1) for _, m, _ in parts])
-                parts = [(n, m.flat_shaded(), x) for n, m, x in parts]
+                parts = [(n, m.flat_shaded() if m.kind == "mesh" else m, x)
+                         for n, m, x in parts]
+            sizes = {k: r.number(t[k], f"{where}.{k}", above=0) if k in t else None
+                     for k in ("point_size", "point_radius", "line_width")}
+            if any(v is not None for v in sizes.values()):
+                from .points import resize_sprites
+
+                try:
+                    parts = [(n, resize_sprites(m, **sizes), x) for n, m, x in parts]
+                except FacetError as exc:
+                    r.fail(where, str(exc))
             return [(n if len(parts) > 1 else None, m, x) for n, m, x in parts], rig
         if kind is None:
             return [], None  # a group node: only a transform for its children

@@ -46,10 +46,11 @@ class Viewer(ViewerActions):
 
     def __init__(self, source, size=None, msaa: int | None = None, title: str = "facet",
                  shader=None, options=None, crease: float | None = None,
-                 time_end: float | None = None):
+                 time_end: float | None = None, sizes: dict | None = None):
         self.path = Path(source) if isinstance(source, (str, Path)) else None
         self.crease = crease  # how files without normals are read (facet.scene.loading)
         self.user_shader = shader  # --frag: the model's own shader (a UserShader)
+        self.sizes = sizes or {}  # --point-size, --point-radius, --line-width
         self.explicit = explicit_layer(options, size, msaa)
         scene = self._load(self.path) if self.path else source
         self.win = GLWindow(options_for(scene, self.explicit, front=FRONT).size, title)
@@ -77,6 +78,10 @@ class Viewer(ViewerActions):
         from ..scene.source import open_scene
 
         scene = open_scene(path, crease=self.crease)
+        if self.sizes:
+            from ..scene.points import resize_scene
+
+            resize_scene(scene, self.sizes)
         if self.user_shader is not None:
             for obj in scene.objects:
                 obj.material = replace(as_phong(obj.material), shader=self.user_shader)
@@ -356,11 +361,13 @@ class Viewer(ViewerActions):
 
 
 def view(scene, size=None, msaa: int | None = None, shader=None, options=None,
-         crease: float | None = None, time_end: float | None = None) -> None:
+         crease: float | None = None, time_end: float | None = None,
+         sizes: dict | None = None) -> None:
     """Open a window on ``scene`` (a Scene or a file path) and block until it closes;
     ``shader`` (a UserShader) replaces the file's materials' shaders; ``options`` are
     render options over the scene's; ``crease`` splits normals of files without them;
-    ``time_end``: the animations loop from the options' time to it."""
+    ``time_end``: the animations loop from the options' time to it; ``sizes``: point and
+    line sizes over the file's (facet.cli.args.sprite_sizes)."""
     with Viewer(scene, size, msaa, shader=shader, options=options, crease=crease,
-                time_end=time_end) as v:
+                time_end=time_end, sizes=sizes) as v:
         v.run()

@@ -1,0 +1,224 @@
+"""Point clouds and lines from files (no GL), as facet.scene.loading's part arguments
+(``kind`` "points" or "lines"; facet.scene.points makes them):
+
+* PLY vertex-only files (what scanners write): positions, red/green/blue(/alpha) colours,
+  nx/ny/nz normals; without colours, a scalar field (intensity, scalar_*) as grey levels
+  spread over its range, as CloudCompare shows one.
+* XYZ and PTS text: ``x y z`` per line, then optionally ``r g b`` (0-255) or ``nx ny nz``,
+  PTS's ``x y z intensity [r g b]`` (its first line may be the point count).
+* PCD (the Point Cloud Library's): ASCII and binary data with fields x y z, rgb / rgba
+  (packed), normal_x/y/z, intensity. binary_compressed (LZF) is refused with one line.
+* OBJ ``l`` polylines become segments.
+
+Every failure is one MeshError naming the file and what to do.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MeshError
+
+SCALAR_FIELDS = ("intensity", "scalar_intensity", "scalar", "reflectance", "confidence")
+
+
+def grey(values: np.ndarray) -> np.ndarray:
+    """(N, 3) float32 grey levels of a scalar field spread over its 1st-99th percentile."""
+    v = np.asarray(values, dtype=np.float64)
+    lo, hi = np.percentile(v, [1, 99]) if len(v) else (0.0, 1.0)
+    g = np.clip((v - lo) / (hi - lo), 0, 1) if hi > lo else np.full(len(v), 0.8)
+    return np.repeat(g[:, None], 3, axis=1).astype(np.float32)
+
+
+def ply_points(tm, p: Path) -> dict:
+    """Points arguments of a trimesh PointCloud read from a PLY (module docstring)."""
+    raw = ((getattr(tm, "metadata", None) or {}).get("_ply_raw") or {}).get("vertex") or {}
+    data = raw.get("data")
+    fields = data if isinstance(data, dict) else (
+        {n: data[n] for n in data.dtype.names} if getattr(data, "dtype", None) is not None
+        and data.dtype.names else {})
+    positions = np.asarray(tm.vertices, dtype=np.float64)
+    colors = getattr(tm, "colors", None)
+    colors = None if colors is None or len(colors) != len(positions) else \
+        np.asarray(colors, dtype=np.uint8)
+    normals = None
+    if all(k in fields for k in ("nx", "ny", "nz")):
+        normals = np.stack([np.asarray(fields[k], np.float64).reshape(-1)
+                            for k in ("nx", "ny", "nz")], axis=1)
+    if colors is None:
+        scalar = next((k for k in fields if k.lower() in SCALAR_FIELDS), None)
+        if scalar is not None:
+            colors = grey(np.asarray(fields[scalar]).reshape(-1))
+    return {"kind": "points", "positions": positions, "colors": colors, "normals": normals,
+            "name": p.name}
+
+
+def read_text_points(p: Path) -> dict:
+    """Points arguments of an XYZ or PTS file (module docstring)."""
+    try:
+        text = p.read_bytes().decode("utf-8", errors="strict")
+    except UnicodeDecodeError:
+        raise MeshError(f"{p}: not a text point cloud (XYZ / PTS files are text: x y z per "
+                        "line)") from None
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if lines and len(lines[0].split()) == 1:  # PTS: the point count first
+        lines = lines[1:]
+    if not lines:
+        raise MeshError(f"{p}: holds no points; nothing to render")
+    widths = {len(ln.replace(",", " ").split()) for ln in lines}
+    if len(widths) != 1 or min(widths) < 3:
+        raise MeshError(f"{p}: every line must hold the same number of values, at least x y "
+                        f"z (found {sorted(widths)[:4]} values per line)")
+    try:
+        values = np.array(" ".join(lines).replace(",", " ").split(), dtype=np.float64)
+    except ValueError as exc:
+        raise MeshError(f"{p}: not numbers ({exc}); XYZ / PTS lines hold x y z and "
+                        "optionally colours or normals") from None
+    values = values.reshape(len(lines), -1)
+    positions, rest = values[:, :3], values[:, 3:]
+    colors = normals = None
+    width = rest.shape[1]
+    if width in (3, 4) and p.suffix.lower() == ".pts" and width == 4:
+        colors = rest[:, 1:4]  # intensity r g b
+    elif width >= 3 and _is_rgb(rest[:, :3]):
+        colors = rest[:, :3]
+    elif width >= 3 and np.all(np.abs(rest[:, :3]) <= 1.0 + 1e-6):
+        normals = rest[:, :3]
+        if width >= 6 and _is_rgb(rest[:, 3:6]):
+            colors = rest[:, 3:6]
+    elif width in (1, 4):
+        colors = grey(rest[:, 0]) * 255.0
+    if colors is not None:
+        colors = np.clip(colors, 0, 255).astype(np.uint8)
+    return {"kind": "points", "positions": positions, "colors": colors, "normals": normals,
+            "name": p.name}
+
+
+def _is_rgb(v: np.ndarray) -> bool:
+    return bool(np.all((v >= 0) & (v <= 255) & (v == np.round(v))) and v.max() > 1)
+
+
+PCD_TYPES = {("F", 4): "<f4", ("F", 8): "<f8", ("U", 1): "u1", ("U", 2): "<u2",
+             ("U", 4): "<u4", ("I", 1): "i1", ("I", 2): "<i2", ("I", 4): "<i4"}
+
+
+def read_pcd(p: Path) -> dict:
+    """Points arguments of a PCD file (module docstring)."""
+    raw = p.read_bytes()
+    header, offset = {}, 0
+    for _ in range(64):
+        end = raw.find(b"\n", offset)
+        if end < 0:
+            break
+        line = raw[offset:end].decode("ascii", errors="replace").strip()
+        offset = end + 1
+        if not line or line.startswith("#"):
+            continue
+        key, _, value = line.partition(" ")
+        header[key.upper()] = value.split()
+        if key.upper() == "DATA":
+            break
+    need = ("FIELDS", "SIZE", "TYPE", "DATA")
+    missing = [k for k in need if k not in header]
+    if missing:
+        raise MeshError(f"{p}: not a PCD file (its header lacks {', '.join(missing)})")
+    fields = header["FIELDS"]
+    count = [int(c) for c in header.get("COUNT", ["1"] * len(fields))]
+    try:
+        n = int(header.get("POINTS", [0])[0]) or int(header["WIDTH"][0]) * int(
+            header["HEIGHT"][0])
+        types = [PCD_TYPES[(t, int(s))] for t, s in zip(header["TYPE"], header["SIZE"],
+                                                         strict=True)]
+    except (KeyError, ValueError, IndexError):
+        raise MeshError(f"{p}: a PCD header with sizes and types facet does not know "
+                        f"(SIZE {' '.join(header['SIZE'])}, TYPE {' '.join(header['TYPE'])})"
+                        ) from None
+    mode = header["DATA"][0].lower()
+    columns: dict[str, np.ndarray] = {}
+    if mode == "ascii":
+        text = raw[offset:].decode("ascii", errors="replace").split()
+        width = sum(count)
+        if len(text) < n * width:
+            raise MeshError(f"{p}: {n:,} points promised, the data holds {len(text) // width:,}"
+                            "; is it truncated?")
+        values = np.array(text[:n * width], dtype=np.float64).reshape(n, width)
+        k = 0
+        for name, c, t in zip(fields, count, types, strict=True):
+            col = values[:, k:k + c]
+            if name in ("rgb", "rgba"):  # packed 0x00RRGGBB as a float's bits
+                col = col.astype(np.float32).view(np.uint32) if t == "<f4" else \
+                    col.astype(np.uint32)
+            columns[name] = col[:, 0] if c == 1 else col
+            k += c
+    elif mode == "binary":
+        dtype = np.dtype([(f"{name}", t, (c,)) if c > 1 else (f"{name}", t)
+                          for name, c, t in zip(fields, count, types, strict=True)])
+        if len(raw) - offset < n * dtype.itemsize:
+            raise MeshError(f"{p}: {n:,} points promised, the data holds "
+                            f"{(len(raw) - offset) // dtype.itemsize:,}; is it truncated?")
+        rec = np.frombuffer(raw, dtype, count=n, offset=offset)
+        for name in fields:
+            col = rec[name]
+            columns[name] = col.view(np.uint32) if name in ("rgb", "rgba") and \
+                col.dtype == np.float32 else col
+    else:
+        raise MeshError(f"{p}: PCD data '{mode}' is LZF-compressed, which facet does not "
+                        "read; convert it with pcl_convert_pcd_ascii_binary FILE OUT 1 "
+                        "(binary) or 0 (ascii)")
+    if not all(k in columns for k in "xyz"):
+        raise MeshError(f"{p}: a PCD without x y z fields (fields: {' '.join(fields)})")
+    positions = np.stack([columns[k] for k in "xyz"], axis=1).astype(np.float64)
+    colors = normals = None
+    packed = columns.get("rgb", columns.get("rgba"))
+    if packed is not None:
+        packed = np.asarray(packed, dtype=np.uint32)
+        colors = np.stack([(packed >> 16) & 255, (packed >> 8) & 255, packed & 255],
+                          axis=1).astype(np.uint8)
+    elif any(k in columns for k in SCALAR_FIELDS):
+        colors = grey(columns[next(k for k in SCALAR_FIELDS if k in columns)])
+    if all(f"normal_{a}" in columns for a in "xyz"):
+        normals = np.stack([columns[f"normal_{a}"] for a in "xyz"], axis=1).astype(np.float64)
+    keep = np.isfinite(positions).all(axis=1)  # organised clouds mark holes with NaN
+    if not keep.any():
+        raise MeshError(f"{p}: every point is NaN; nothing to render")
+    return {"kind": "points", "positions": positions[keep],
+            "colors": None if colors is None else colors[keep],
+            "normals": None if normals is None else normals[keep], "name": p.name}
+
+
+_OBJ_LINE = re.compile(rb"^[ \t]*l[ \t]+([^\n#]*)", re.M)
+_OBJ_VERTEX = re.compile(rb"^[ \t]*v[ \t]+([^\n#]*)", re.M)
+
+
+def obj_lines(p: Path) -> dict | None:
+    """Lines arguments of an OBJ's ``l`` polylines (indices from 1, or back from -1; a
+    ``v/vt`` pair keeps its vertex), or None when it has none."""
+    data = p.read_bytes()
+    polylines = _OBJ_LINE.findall(data)
+    if not polylines:
+        return None
+    import io
+
+    try:
+        positions = np.loadtxt(io.BytesIO(b"\n".join(_OBJ_VERTEX.findall(data))),
+                               usecols=(0, 1, 2), ndmin=2, dtype=np.float64)
+    except ValueError:
+        raise MeshError(f"{p}: a vertex line holds something other than numbers") from None
+    n = len(positions)
+    segments = []
+    for line in polylines:
+        try:
+            idx = np.array([int(tok.split(b"/")[0]) for tok in line.split()], dtype=np.int64)
+        except ValueError:
+            raise MeshError(f"{p}: an 'l' line holds something other than vertex "
+                            "indices") from None
+        idx = np.where(idx < 0, n + idx, idx - 1)
+        if (idx < 0).any() or (idx >= n).any() or len(idx) < 2:
+            raise MeshError(f"{p}: an 'l' line refers to vertices that do not exist (the "
+                            f"file has {n}; OBJ counts from 1)")
+        segments.append(np.stack([idx[:-1], idx[1:]], axis=1))
+    return {"kind": "lines", "positions": positions, "segments": np.concatenate(segments),
+            "name": p.name}
