@@ -59,6 +59,16 @@ def _colors(values, n: int, name: str) -> np.ndarray | None:
     return c if c.shape[1] == 4 else np.hstack([c, np.ones((n, 1), np.float32)])
 
 
+def _default_material(colors):
+    """White where the points carry their own colours (they show as given), else None
+    (the scene's default grey)."""
+    if colors is None:
+        return None
+    from .material import Material
+
+    return Material(color=(1.0, 1.0, 1.0))
+
+
 def _pixels(value, name: str, what: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or \
             not 0 < value <= MAX_PIXELS:
@@ -112,7 +122,7 @@ class Points:
             self.size = _pixels(DEFAULT_POINT_SIZE if size is None else size, name, "size")
             self.radius = None
         self.edl = self.normals is None if edl is None else bool(edl)
-        self.material = material
+        self.material = material if material is not None else _default_material(self.colors)
         self._bounds = None
 
     def sized(self, size: float | None = None, radius: float | None = None) -> Points:
@@ -178,7 +188,7 @@ class Lines:
         c = _colors(colors, n, name)
         self.colors = None if c is None else _readonly(c)
         self.width = _pixels(DEFAULT_LINE_WIDTH if width is None else width, name, "width")
-        self.material = material
+        self.material = material if material is not None else _default_material(self.colors)
         self.normals = None
         self._bounds = None
 

@@ -208,8 +208,10 @@ class TraceEngine(Engine):
     def _instances(self, scene, state: FrameState) -> tuple[int, bool, int]:
         """Upload the placed objects: (unbounded count, has a top level, the single
         bounded instance without one or -1)."""
+        boxes = {id(o.mesh): self._meshes[o.mesh].bounds for o in scene.objects
+                 if o.mesh.kind != "mesh" and o.shape is None}
         rows, tlas, unbounded, ordered = pack.pack_instances(
-            scene.objects, self._roots, lambda m: phong_color(m, state), self._layers)
+            scene.objects, self._roots, lambda m: phong_color(m, state), self._layers, boxes)
         self._more_rows(rows, ordered)
         self._upload("instances", rows.reshape(-1, 4))
         self._upload("tlas", tlas.reshape(-1, 4) if tlas is not None else

@@ -69,6 +69,7 @@ class MeshData:
     nodes: np.ndarray  # (K, 4, 4) float32
     has_colors: bool
     has_tangents: bool
+    bounds: np.ndarray | None = None  # (2, 3) object space: points' and lines' with radii
 
 
 def pack_nodes(bvh) -> np.ndarray:
@@ -103,8 +104,9 @@ def mesh_data(mesh, tangents: bool = False, radii=None) -> MeshData:
         from .sprites import sprite_data
 
         tris, index, vertices, bvh = sprite_data(mesh, radii, VERTEX_TEXELS)
+        bounds = np.stack([bvh.lo.min(axis=0), bvh.hi.max(axis=0)]).astype(np.float64)
         return MeshData(tris, index, vertices, pack_nodes(bvh), mesh.colors is not None,
-                        False)
+                        False, bounds)
     faces = mesh.faces.astype(np.int64)
     tri = mesh.positions[faces].astype(np.float32)  # (N, 3, 3) object space
     rest = getattr(mesh, "rest", None)  # a skinned or morphed pose of this mesh
@@ -167,17 +169,20 @@ def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
     return out
 
 
-def pack_instances(objects, mesh_root: dict, material_color, layers: dict):
+def pack_instances(objects, mesh_root: dict, material_color, layers: dict,
+                   boxes: dict | None = None):
     """(instances (n, INSTANCE_TEXELS, 4) float32, top-level nodes or None, unbounded count,
     the objects in instance order) for the scene's ``objects``: infinite planes first, then
     the rest in top-level order
     (one bounded object needs no top level: the tracer tests it directly).
-    ``mesh_root``: id(mesh) -> its root node; ``layers``: id(texture) -> texture layer."""
+    ``mesh_root``: id(mesh) -> its root node; ``layers``: id(texture) -> texture layer;
+    ``boxes``: id(mesh) -> its (2, 3) object-space box where not its mesh's bounds (the
+    spheres and capsules of points and lines)."""
     unbounded = [o for o in objects if o.infinite]
     bounded = [o for o in objects if not o.infinite]
     tlas = None
     if len(bounded) > 1:
-        boxes = np.array([_world_box(o) for o in bounded])
+        boxes = np.array([_world_box(o, (boxes or {}).get(id(o.mesh))) for o in bounded])
         bvh = build_bvh(boxes[:, 0], boxes[:, 1])
         bounded = [bounded[i] for i in bvh.order]
         tlas = pack_nodes(bvh)
@@ -254,8 +259,8 @@ def material_rows(row: np.ndarray, m, layers: dict, pbr: bool = True) -> None:
         row[at + 2] = (w, h, float(slot.filter[1] == "nearest"), 0.0)
 
 
-def _world_box(obj) -> np.ndarray:
-    b = obj.shape.bounds if obj.shape is not None else obj.mesh.bounds
+def _world_box(obj, box=None) -> np.ndarray:
+    b = obj.shape.bounds if obj.shape is not None else obj.mesh.bounds if box is None else box
     corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
     w = corners @ np.asarray(obj.transform)[:3, :3].T + np.asarray(obj.transform)[:3, 3]
     return np.stack([w.min(axis=0), w.max(axis=0)])
