@@ -139,7 +139,7 @@ def test_info(capsys):
 BAD = {
     "missing file": (["{tmp}/nope.obj"], "nope.obj: no such file"),
     "directory": (["{tmp}"], "is a directory"),
-    "unknown extension": (["{tmp}/mesh.xyz"], "unknown mesh format"),
+    "unknown extension": (["{tmp}/mesh.abc"], "unknown mesh format"),
     "garbage mesh": (["{tmp}/garbage.stl"], "cannot read the file"),
     "empty mesh": (["{tmp}/empty.obj"], "0 faces"),
     "nan vertices": (["{tmp}/nan.obj"], "NaN or infinite"),
@@ -165,7 +165,7 @@ BAD = {
 
 @pytest.mark.parametrize("case", BAD)
 def test_bad_input(tmp_path, sphere_file, capsys, case):
-    (tmp_path / "mesh.xyz").write_text("1 2 3\n")
+    (tmp_path / "mesh.abc").write_text("1 2 3\n")
     (tmp_path / "garbage.stl").write_bytes(b"solid x\nthis is not stl at all\n" * 3)
     (tmp_path / "empty.obj").write_text("v 0 0 0\n")
     (tmp_path / "nan.obj").write_text("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")

@@ -106,17 +106,25 @@ def test_strips_and_fans_become_consistently_wound_triangles(tmp_path, mode, ind
     assert (n[:, 2] > 0).all()  # both counter-clockwise seen from +z
 
 
-def test_points_and_lines_are_left_out_or_refused(tmp_path):
+def test_points_and_lines_load_beside_triangles(tmp_path):
+    """(They were left out with a warning; facet.scene.points draws them now.)"""
+    import warnings
+
     b = GltfBuilder()
     pos = b.accessor(np.eye(3), minmax=True)
     b.node(mesh=b.mesh([{"attributes": {"POSITION": pos}, "mode": 0}]))
-    with pytest.raises(MeshError, match="no triangles"):
-        facet.open_scene(b.write_glb(tmp_path / "points.glb"))
+    assert isinstance(facet.open_scene(b.write_glb(tmp_path / "points.glb")).objects[0].mesh,
+                      facet.Points)
     quad(b)
     b.node(mesh=1)
-    with pytest.warns(FacetWarning, match="leaves out points"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         scene = facet.open_scene(b.write_glb(tmp_path / "mixed.glb"))
-    assert len(scene.objects) == 1
+    assert [o.mesh.kind for o in scene.objects] == ["points", "mesh"]
+    b.doc["meshes"][0]["primitives"][0]["mode"] = 1
+    b.doc["meshes"][0]["primitives"][0]["indices"] = b.accessor(np.array([0]), 5123)
+    with pytest.raises(MeshError, match="a line needs at least 2 vertices"):
+        facet.open_scene(b.write_glb(tmp_path / "short.glb"))
 
 
 def test_materials_textures_samplers_and_transforms(tmp_path):

@@ -86,7 +86,7 @@ def test_no_material_when_the_file_has_none():
 
 @pytest.mark.parametrize("name,content,message", [
     ("missing.obj", None, "no such file"),
-    ("mesh.xyz", "1 2 3\n", "unknown mesh format '.xyz'"),
+    ("mesh.abc", "1 2 3\n", "unknown mesh format '.abc'"),
     ("empty.obj", "", "the file is empty"),
     ("garbage.ply", "ply\nformat nonsense 9\nthis is not a ply\n", "cannot read the file"),
     ("truncated.stl", b"\0" * 80 + (1000).to_bytes(4, "little") + b"\1" * 100,
