@@ -96,7 +96,7 @@ def test_points_with_normals_are_lit_and_without_show_their_colour(renderer):
     lit, flat = facet.Scene(), facet.Scene()
     lit.add(facet.Points(n, normals=n, size=6), facet.Material((0.8, 0.8, 0.8)))
     flat.add(facet.Points(n, colors=np.tile([255, 128, 0], (400, 1)).astype(np.uint8),
-                          size=6))
+                          size=6, edl=False))
     r = renderer(W, H)
     a = r.render(lit, CAM).color[..., :3].astype(int)
     b = r.render(flat, CAM).color[..., :3].astype(int)
@@ -247,3 +247,32 @@ def test_points_and_lines_in_a_glb_round_trip_json(tmp_path):
     assert points.colors[0, 0] == pytest.approx(1.0)
     assert points.colors[1, 1] == pytest.approx(0.7354, abs=1e-3)  # sRGB of linear 0.5
     json.loads(path.read_text())
+
+
+def test_eye_dome_lighting_darkens_what_lies_behind_a_nearer_edge(renderer):
+    """Unlit clouds are shaded by eye-dome lighting (glsl/lib/edl.glsl): a flat sheet
+    facing the camera keeps its colour; where a nearer sheet overlaps it, the far sheet's
+    pixels along the edge darken and the near sheet's do not. With edl=False nothing
+    darkens."""
+    g = np.linspace(-1, 1, 120)
+    xx, yy = np.meshgrid(g, g)
+    far = np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, -1.0)], axis=1)
+    near = far[far[:, 0] < 0] + [0, 0, 1.5]
+    white = np.full((len(far) + len(near), 3), 200, np.uint8)
+    r = renderer(W, H)
+    cam = facet.Camera.look_at((0, 0, 4), (0, 0, 0), fov_y=40)
+    shots = {}
+    for edl in (True, False):
+        scene = facet.Scene()
+        scene.add(facet.Points(np.vstack([far, near]), colors=white, size=3, edl=edl))
+        shots[edl] = r.render(scene, cam, aa="none").color[..., 0].astype(int)
+    plain = shots[False]
+    assert (plain[plain > 0] == 200).all()
+    lit = shots[True]
+    covered = plain > 0
+    darkened = covered & (lit < 190)
+    cols = np.flatnonzero(darkened.any(axis=0))
+    assert cols.size and (cols >= W // 2 - 3).all()  # only right of the near sheet's edge
+    row = lit[H // 2]
+    edge = int(np.flatnonzero(darkened[H // 2])[0])
+    assert row[edge + 3] == 200 and row[edge - 4] == 200  # each sheet flat: not darkened

@@ -14,6 +14,9 @@ in vec4 v_color;
 #if defined(SPRITE_POINTS) || defined(SPRITE_LINES)
 in vec2 v_corner;  // across a point's or line's quad (glsl/mesh/sprite.vert)
 #endif
+#ifdef EDL
+#include "lib/edl.glsl"
+#endif
 #ifdef HAS_TEXTURE
 // The material's texture. Uploaded as sRGB (decoded to linear when sampled) in the sRGB
 // colour mode, as plain RGBA8 (bytes / 255) otherwise; mipmapped, trilinear.
@@ -75,6 +78,10 @@ void main() {
 #ifdef SPRITE_POINTS
     if (dot(v_corner, v_corner) > 1.0) discard;  // round discs
 #endif
+#ifdef EDL_DEPTH
+    f_color = vec4(v_depth_view, 0.0, 0.0, 1.0);  // the cloud's depth for EDL
+    return;
+#endif
 #ifdef CLIP_PLANE
     if (dot(u_clip_plane, vec4(v_pos_world, 1.0)) < 0.0) discard;
 #endif
@@ -135,6 +142,9 @@ void main() {
     vec3 rgb = shade_scene(v_pos_world, N, V, albedo, true);
 #else  // SHADE_PHONG, SHADE_FLAT
     vec3 rgb = shade_scene(v_pos_world, N, V, albedo, false);
+#endif
+#ifdef EDL
+    rgb *= edl_shade(v_depth_view);
 #endif
 #ifdef HAS_ENVIRONMENT
     vec3 R = gloss_tilt(reflect(-V, N), u_gloss, u_gloss_jitter);

@@ -36,10 +36,11 @@ from ..materials import (
 from ..shading import SHADING_MODELS, check_shading
 from ..state import UNITS, FrameState, pack_lights
 from .culling import Culling, det3
+from .edl import EDL_RADIUS, EDL_STRENGTH, EdlTarget
 from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
 from .instancing import INSTANCE_LAYOUT, batches, instance_rows
 from .mirror import MirrorTargets, mirror_plane
-from .sprites import set_sprite_uniforms, sprite_variant
+from .sprites import set_sprite_uniforms, sprite_variant, uses_edl
 from .transmission import TRANSMISSION_UNIT, TransmissionTarget, transmits
 from .user_shaders import UserPrograms
 
@@ -75,6 +76,8 @@ class Variant:
     transmission: bool = False  # refracts the picture behind it (raster.transmission)
     instanced: bool = False  # matrices per instance (facet.render.raster.instancing)
     sprite: str = ""  # "points" or "lines": quads per point or segment (mesh/sprite.vert)
+    edl: bool = False  # eye-dome lighting of an unlit cloud (facet.render.raster.edl)
+    edl_depth: bool = False  # the cloud's depth pass for it
 
     @classmethod
     def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
@@ -111,7 +114,8 @@ class Variant:
                  "GREY_TERMS": self.grey, "LINEAR_OUT": self.linear_out,
                  "TRANSMISSION": self.transmission, "INSTANCED": self.instanced,
                  "SPRITE_POINTS": self.sprite == "points",
-                 "SPRITE_LINES": self.sprite == "lines"}
+                 "SPRITE_LINES": self.sprite == "lines", "EDL": self.edl,
+                 "EDL_DEPTH": self.edl_depth}
         d.update({k: None for k, on in flags.items() if on})
         return d
 
@@ -166,6 +170,7 @@ class ForwardPass:
         self._front_face = None  # the winding set last (_front)
         self._variants: dict[tuple, Variant] = {}  # (base, flags) -> Variant (_phong_variant)
         self.samplers = SlotSamplers(ctx)
+        self.edl = EdlTarget(ctx)  # eye-dome lighting's depth of unlit clouds
 
     def program(self, variant: Variant) -> Program:
         """The compiled program for ``variant`` (compiled on first use, then reused; the
@@ -317,13 +322,32 @@ class ForwardPass:
     def _draw_sprites(self, obj, base, state, view_projection, eye, ambient, intensities,
                       exact_only: bool, ready: set) -> None:
         terms = phong_terms(as_phong(obj.material), state, ambient, intensities)
-        prog = self.program(sprite_variant(base, obj, state.shading, exact_only))
-        if id(prog) not in ready:
-            self._frame_uniforms(prog, state, view_projection, eye, False)
-            ready.add(id(prog))
-        set_sprite_uniforms(prog, obj, state, view_projection, terms)
+        variant = sprite_variant(base, obj, state.shading, exact_only)
+        buffers = self.cache.buffers(obj.mesh)
         self._cull(False)
-        self.cache.buffers(obj.mesh).draw_sprites(self.ctx, prog.gl)
+
+        def draw(v) -> object:
+            prog = self.program(v)
+            if id(prog) not in ready:
+                self._frame_uniforms(prog, state, view_projection, eye, False)
+                ready.add(id(prog))
+            set_sprite_uniforms(prog, obj, state, view_projection, terms)
+            return prog
+
+        if uses_edl(obj, variant):  # its depth first, read around each fragment after
+            depth = replace(variant, aux=(), oit=False, edl_depth=True, shadow_slots=None,
+                            light_kinds=())
+            texture = self.edl.draw_depth(state.width, state.height, lambda: buffers
+                                          .draw_sprites(self.ctx, draw(depth).gl))
+            variant = replace(variant, edl=True)
+            prog = draw(variant)
+            texture.use(location=UNITS["edl"])
+            prog.set("u_edl_depth", UNITS["edl"])
+            prog.set("u_edl_strength", EDL_STRENGTH)
+            prog.set("u_edl_radius", EDL_RADIUS)
+            buffers.draw_sprites(self.ctx, prog.gl)
+            return
+        buffers.draw_sprites(self.ctx, draw(variant).gl)
 
     def _render(self, prog, item, view_projection, state: FrameState,
                 mirrored_view: bool) -> None:
@@ -489,6 +513,7 @@ class ForwardPass:
         self.samplers.release()
         self.mirrors.release()
         self.behind.release()
+        self.edl.release()
         if self._sky is not None:
             self._sky.release()
         self.user.release()

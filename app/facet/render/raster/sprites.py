@@ -30,6 +30,13 @@ def sprite_variant(base, obj, shading: str, exact_only: bool):
                    slots=(), uv1=False, tangents=False, transmission=False)
 
 
+def uses_edl(obj, variant) -> bool:
+    """Whether an unlit cloud's colour is shaded by eye-dome lighting (glsl/lib/edl.glsl):
+    asked for (Points.edl), unlit, in a colour pass."""
+    return (obj.mesh.kind == "points" and obj.mesh.edl and variant.shading == "unlit"
+            and not variant.exact_only and not variant.oit)
+
+
 def set_sprite_uniforms(prog, obj, state, view_projection, terms) -> None:
     """Matrices, material terms and sizes of one points or lines object."""
     sprites, m = obj.mesh, as_phong(obj.material)
