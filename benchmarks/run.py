@@ -218,6 +218,7 @@ def main() -> None:
     import batch
     import gltf
     import instancing
+    import points
     import raytrace
     import shaderlab
     import shadows
@@ -232,6 +233,7 @@ def main() -> None:
     viewer.main()
     gltf.main()
     instancing.table(a.quick)
+    points.table(a.quick)
     shaderlab.main()
     raytrace.table(a.quick)
     raytrace.frame(a.quick)

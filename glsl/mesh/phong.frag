@@ -11,8 +11,8 @@ in vec2 v_uv;
 #ifdef HAS_VERTEX_COLORS
 in vec4 v_color;
 #endif
-#if defined(SPRITE_POINTS) || defined(SPRITE_LINES)
-in vec2 v_corner;  // across a point's or line's quad (glsl/mesh/sprite.vert)
+#ifdef SPRITE_LINES
+in vec2 v_corner;  // across a line's quad (glsl/mesh/sprite.vert)
 #endif
 #ifdef EDL
 #include "lib/edl.glsl"
@@ -76,7 +76,8 @@ uniform int u_object_id;
 
 void main() {
 #ifdef SPRITE_POINTS
-    if (dot(v_corner, v_corner) > 1.0) discard;  // round discs
+    vec2 corner = gl_PointCoord * 2.0 - 1.0;
+    if (dot(corner, corner) > 1.0) discard;  // round discs
 #endif
 #ifdef EDL_DEPTH
     f_color = vec4(v_depth_view, 0.0, 0.0, 1.0);  // the cloud's depth for EDL

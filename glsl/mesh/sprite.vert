@@ -1,9 +1,10 @@
 #version 330 core
-// Points and lines (facet.scene.points) as quads, one instance per point or segment, four
-// vertices each (a triangle strip; the corner from gl_VertexID). Outputs as phong.vert's,
-// so glsl/mesh/phong.frag shades them; v_corner lets it round a point's quad into a disc.
-// A point's quad lies at its centre's depth (the depth and ids channels are exact at the
-// centre); a line's runs between its ends, depth interpolated along it.
+// Points and lines (facet.scene.points). A point is a GL point gl_PointSize pixels across
+// (its size, or its world radius through the projection at its depth), at its centre's
+// depth (the depth and ids channels are exact at the centre); phong.frag rounds it into a
+// disc by gl_PointCoord. A line is a quad, one instance per segment, four vertices (a
+// triangle strip; the corner from gl_VertexID), its depth interpolated along it. Outputs
+// as phong.vert's, so glsl/mesh/phong.frag shades them.
 
 uniform mat4 u_model;         // object -> world
 uniform mat4 u_view;          // world -> view
@@ -35,26 +36,29 @@ out vec3 v_pos_world;
 out vec3 v_normal_world;
 out float v_depth_view;
 out vec2 v_uv;
+#ifdef SPRITE_LINES
 out vec2 v_corner;  // (-1..1, -1..1) across the quad
+#endif
 
 const float NEAR_W = 1e-5;  // clip w a line's end is pulled to when behind the eye
 
 void main() {
-    int k = gl_VertexID;
-    vec2 corner = vec2((k & 1) == 0 ? -1.0 : 1.0, (k & 2) == 0 ? -1.0 : 1.0);
-    v_corner = corner;
     v_uv = vec2(0.0);
 #ifdef SPRITE_POINTS
     vec3 p = in_position;
     vec4 clip = u_mvp * vec4(p, 1.0);
-    vec2 half_size = u_sprite_pixels > 0.0 ? u_sprite_pixels / u_viewport * clip.w
-                                           : u_sprite_clip;
-    gl_Position = vec4(clip.xy + corner * half_size, clip.zw);
+    gl_Position = clip;
+    // World-size: the radius through the projection's y scale at this depth, in pixels.
+    gl_PointSize = u_sprite_pixels > 0.0 ? u_sprite_pixels
+                                         : u_sprite_clip.y / abs(clip.w) * u_viewport.y;
     v_normal_world = u_normal_matrix * in_normal;
 #ifdef HAS_VERTEX_COLORS
     vec4 c = in_color;
 #endif
 #else
+    int k = gl_VertexID;
+    vec2 corner = vec2((k & 1) == 0 ? -1.0 : 1.0, (k & 2) == 0 ? -1.0 : 1.0);
+    v_corner = corner;
     // Pull an end behind the eye to just in front of it, along the segment.
     vec4 c0 = u_mvp * vec4(in_p0, 1.0), c1 = u_mvp * vec4(in_p1, 1.0);
     vec3 a = in_p0, b = in_p1;

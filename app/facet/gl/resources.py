@@ -101,43 +101,62 @@ class MeshBuffers:
 
 
 class SpriteBuffers:
-    """A point cloud's or line set's per-instance buffer: a row per point (position,
-    normal, colour) or per segment (both ends, both colours), drawn as one quad each
-    (glsl/mesh/sprite.vert)."""
+    """A point cloud's or line set's per-instance buffers, drawn as one quad per point or
+    segment (glsl/mesh/sprite.vert): a point's position (3 floats), its normal and colour
+    (4 bytes) where it has them, 16 bytes a coloured point; a segment's two ends and two
+    colours in one row."""
 
     def __init__(self, ctx: moderngl.Context, sprites):
         p = sprites.positions
-        white = np.ones((len(p), 4), np.float32)
-        c = white if sprites.colors is None else sprites.colors
+        colors = None if sprites.colors is None else \
+            np.round(np.asarray(sprites.colors) * 255.0).astype(np.uint8)
+        # attribute -> (buffer, format); absent ones keep GL's default (0, 0, 0, 1).
+        self.buffers: list[tuple[moderngl.Buffer, str, tuple[str, ...]]] = []
+        self.kind = sprites.kind
         if sprites.kind == "points":
-            n = np.zeros_like(p) if sprites.normals is None else sprites.normals
-            rows = np.hstack([p, n, c])
-            self.layout = ("3f 3f 4f", "in_position", "in_normal", "in_color")
+            self.buffers.append((ctx.buffer(p), "3f", ("in_position",)))
+            if sprites.normals is not None:
+                self.buffers.append((ctx.buffer(sprites.normals), "3f", ("in_normal",)))
+            if colors is not None:
+                self.buffers.append((ctx.buffer(colors), "4f1", ("in_color",)))
+            self.count = len(p)
         else:
             a, b = sprites.segments[:, 0], sprites.segments[:, 1]
-            rows = np.hstack([p[a], p[b], c[a], c[b]])
-            self.layout = ("3f 3f 4f 4f", "in_p0", "in_p1", "in_c0", "in_c1")
-        self.vbo = ctx.buffer(np.ascontiguousarray(rows, dtype=np.float32))
-        self.count = len(rows)
+            self.buffers.append((ctx.buffer(np.hstack([p[a], p[b]])), "3f 3f",
+                                 ("in_p0", "in_p1")))
+            if colors is not None:
+                self.buffers.append((ctx.buffer(np.hstack([colors[a], colors[b]])),
+                                     "4f1 4f1", ("in_c0", "in_c1")))
+            self.count = len(sprites.segments)
         self.vaos: dict[int, moderngl.VertexArray] = {}
         self.instanced_vaos: dict[int, moderngl.VertexArray] = {}  # (none: forget_program)
 
     def draw_sprites(self, ctx: moderngl.Context, program: moderngl.Program) -> None:
         vao = self.vaos.get(program.glo)
         if vao is None:  # attributes the program does not read are skipped bytes
-            fmt, *names = self.layout
-            pieces = fmt.split()
-            fmt = " ".join(f if n in program else f"{f[:-1]}x4"
-                           for f, n in zip(pieces, names, strict=True)) + " /i"
-            vao = self.vaos[program.glo] = ctx.vertex_array(
-                program, [(self.vbo, fmt, *[n for n in names if n in program])])
-        vao.render(mode=moderngl.TRIANGLE_STRIP, vertices=4, instances=self.count)
+            content = []
+            for buf, fmt, names in self.buffers:
+                if not any(n in program for n in names):
+                    continue
+                pieces = fmt.split()
+                skip = {"3f": "12x", "4f1": "4x"}
+                fmt = " ".join(f if n in program else skip[f]
+                               for f, n in zip(pieces, names, strict=True))
+                fmt += "" if self.kind == "points" else " /i"  # lines: per instance
+                content.append((buf, fmt, *[n for n in names if n in program]))
+            vao = self.vaos[program.glo] = ctx.vertex_array(program, content)
+        if self.kind == "points":  # GL points, gl_PointSize across
+            ctx.enable(moderngl.PROGRAM_POINT_SIZE)
+            vao.render(mode=moderngl.POINTS, vertices=self.count)
+        else:
+            vao.render(mode=moderngl.TRIANGLE_STRIP, vertices=4, instances=self.count)
 
     def release(self) -> None:
         for vao in self.vaos.values():
             vao.release()
         self.vaos.clear()
-        self.vbo.release()
+        for buf, _, _ in self.buffers:
+            buf.release()
 
 
 GL_SRGB8_ALPHA8 = 0x8C43
