@@ -407,3 +407,19 @@ def test_the_viewer_clock_plays_pauses_steps_and_loops():
     assert clock.toggle() is True
     now[0] += 0.25
     assert clock.time() == pytest.approx(1.25 + 1 / 30)
+
+
+def test_datasets_sample_a_time_per_view(tmp_path):
+    """A dataset job's views each stand at their own time (views.times spread over
+    [start, end)), recorded per frame in transforms.json."""
+    from batch_data import write_manifest
+
+    path = skinned_strip(tmp_path)
+    manifest = write_manifest(tmp_path, [{"model": str(path), "name": "strip",
+                                          "views": {"plan": "turntable", "count": 4,
+                                                    "times": [0, 1]},
+                                          "size": [32, 32], "outputs": ["color"]}])
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"]) == 0
+    frames = json.loads((tmp_path / "out" / "strip" / "transforms.json").read_text())[
+        "frames"]
+    assert [f["time"] for f in frames] == [0.0, 0.25, 0.5, 0.75]

@@ -11,11 +11,12 @@ import pytest
 import trimesh
 from PIL import Image
 
-from batch_data import make_models, write_manifest
 from facet.batch import render_dataset
 from facet.batch.manifest import load_manifest
 from facet.batch.views import ViewPlan
 from facet.errors import InputError
+
+from batch_data import make_models, write_manifest
 
 ROOT = Path(__file__).resolve().parents[1]
 

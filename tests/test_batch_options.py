@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from batch_data import make_models, write_manifest
 from facet.batch import render_dataset
+
+from batch_data import make_models, write_manifest
 
 
 def test_msaa_spp_and_environment_jobs_render_and_a_rerun_skips_them(tmp_path, monkeypatch):

@@ -12,10 +12,11 @@ from pathlib import Path
 
 import pytest
 
-from batch_data import child_pids, make_models, write_manifest
 from facet.batch import render_dataset
 from facet.cli import main
 from facet.errors import InputError
+
+from batch_data import child_pids, make_models, write_manifest
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -52,7 +52,8 @@ from .views import PLANS, ViewPlan
 
 JOB_KEYS = ("model", "name", "views", "seed", "float_files", "colmap")  # and render options
 FLOAT_FILES = ("npy", "exr")
-VIEW_KEYS = ("plan", "count", "elevation", "elevations", "seed", "file")
+VIEW_KEYS = ("plan", "count", "elevation", "elevations", "seed", "file", "times",
+             "random_times")
 FRONT = "batch"  # a dataset's defaults (facet.scene.options.FRONT_DEFAULTS)
 
 
@@ -297,8 +298,18 @@ def _views(v, where: str, seed) -> ViewPlan:
             and -90 <= lo_hi[0] <= lo_hi[1] <= 90):
         raise InputError(f"{where}.elevations: expected [low, high] degrees with -90 <= low "
                          f"<= high <= 90, got {lo_hi!r}")
+    times = v.get("times")
+    if times is not None and not (isinstance(times, (list, tuple)) and len(times) == 2 and
+                                  all(map(_real, times)) and 0 <= times[0] <= times[1]):
+        raise InputError(f"{where}.times: expected [start, end] seconds with 0 <= start <= "
+                         f"end (the animations' times the views sample), got {times!r}")
+    random_times = v.get("random_times", False)
+    if not isinstance(random_times, bool) or (random_times and times is None):
+        raise InputError(f"{where}.random_times: expected true or false, with times = "
+                         f"[start, end] (got {random_times!r})")
     return ViewPlan(plan, int(count), float(elevation), (float(lo_hi[0]), float(lo_hi[1])),
-                    int(seed), file)
+                    int(seed), file, None if times is None else
+                    (float(times[0]), float(times[1])), random_times)
 
 
 def _whole(value) -> bool:

@@ -8,6 +8,10 @@
     cameras FILE                the cameras of a transforms.json (NeRF synthetic, instant-ngp,
                                 nerfstudio: facet.batch.transforms_file)
 
+With ``times = [A, B]`` each view also stands at its own time of the scene's animations:
+spread evenly over [A, B) in view order, or with ``random_times`` uniformly at random in
+[A, B] (seeded); transforms.json records each frame's time.
+
 Every view but ``cameras`` looks at the centre of the model's bounds from the distance
 that fits them (facet.geometry.camera.Camera.frame) with a vertical field of view of FOV
 degrees; directions are in the frame whose up axis is the job's ``up``.
@@ -34,6 +38,17 @@ class ViewPlan:
     elevations: tuple[float, float] = (-10.0, 40.0)
     seed: int = 0
     file: str | None = None
+    times: tuple[float, float] | None = None
+    random_times: bool = False
+
+    def view_times(self, n: int) -> list[float] | None:
+        """(n,) seconds, one per view (module docstring), or None."""
+        if self.times is None:
+            return None
+        a, b = self.times
+        if self.random_times:
+            return np.random.default_rng(self.seed + 1).uniform(a, b, n).tolist()
+        return [a + (b - a) * k / n for k in range(n)]
 
     def directions(self) -> np.ndarray:
         """(N, 3) unit viewing directions (from the camera towards the model), y up."""
