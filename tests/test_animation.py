@@ -423,3 +423,22 @@ def test_datasets_sample_a_time_per_view(tmp_path):
     frames = json.loads((tmp_path / "out" / "strip" / "transforms.json").read_text())[
         "frames"]
     assert [f["time"] for f in frames] == [0.0, 0.25, 0.5, 0.75]
+
+
+def test_motion_blur_follows_the_animation_over_the_shutter(tmp_path, renderer):
+    """shutter = S: supersamples stand at times spread over [T, T + S] (the animation, not
+    a straight line between two matrices). The bending strip's blurred picture is the mean
+    of the stills at those times: pixels the strip sweeps are partly covered, and the
+    blurred picture is close to the mean of stills at eight times over the shutter."""
+    scene = facet.load(skinned_strip(tmp_path))
+    r = renderer(48, 48)
+    cam = facet.Camera.look_at((0.3, 1.2, 4), (0.3, 1.2, 0), fov_y=50)
+    opts = dict(aa="ssaa:jittered:16", background=(0, 0, 0, 1))
+    blurred = r.render(scene, cam, time=0.2, shutter=0.6, **opts).color[..., 1] / 255.0
+    still = r.render(scene, cam, time=0.2, **opts).color[..., 1] / 255.0
+    stills = np.mean([r.render(scene, cam, time=0.2 + 0.6 * (k + 0.5) / 8, **opts)
+                      .color[..., 1] / 255.0 for k in range(8)], axis=0)
+    swept = (stills > 0.05) & (stills < 0.6)
+    assert swept.sum() > 30
+    assert np.abs(blurred - still)[swept].mean() > 0.1  # it moved while the shutter was open
+    assert np.abs(blurred - stills)[swept].mean() < 0.08  # as the animation moved it

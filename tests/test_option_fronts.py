@@ -42,6 +42,7 @@ SAMPLES = {
     "time": (1.5, "1.5", "soon", "soon"),
     "animation": ("walk", "walk", -1, None),
     "variant": ("midnight", "midnight", 5, None),
+    "shutter": (0.02, "0.02", -1.0, "-1"),
     "engine": ("trace", "trace", "photon", "photon"),
     "max_depth": (3, "3", 99, "99"),
     "seed": (7, "7", -1, "-1"),

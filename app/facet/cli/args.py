@@ -193,6 +193,9 @@ def add_render_options(p, size_default: str) -> None:
     g.add_argument("--animation", metavar="NAME|INDEX",
                    help="which of the model's animations plays (default: all of them; "
                    "'facet info' lists them)")
+    g.add_argument("--shutter", metavar="S",
+                   help="motion blur: the shutter stays open S seconds from --time and the "
+                   "animations blur as they move (supersampled; default 0)")
     g.add_argument("--variant", metavar="NAME",
                    help="a glTF material variant (KHR_materials_variants; 'facet info' "
                    "lists them; default: the file's default materials)")
@@ -261,6 +264,7 @@ def render_layer(args) -> dict:
 
     return text_layer({
             "time": time_range(args)[0], "animation": args.animation, "variant": args.variant,
+            "shutter": args.shutter,
             "size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
             "spp": args.spp, "engine": args.engine, "max_depth": args.max_depth,
             "seed": args.seed, "denoise": args.denoise,

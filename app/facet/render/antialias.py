@@ -97,6 +97,7 @@ def needs_accumulation(scene, camera, shadows: bool) -> bool:
     """Depth of field, motion blur, area-light penumbrae and glossy environment reflection
     are sums over samples: a render with any of them supersamples (headless and viewer)."""
     return bool(check_lens(camera)
+                or getattr(scene, "moving", None) is not None
                 or any(o.transform_end is not None for o in scene.objects)
                 or (shadows and has_area_lights(scene))
                 or (scene.environment is not None
@@ -124,12 +125,17 @@ def distributed_sample(camera, scene, k: int, mode: AntiAliasing):
         disk = concentric_disk(pattern("jittered", n, LENS_SEED))
         lx, ly = disk[k] * camera.aperture / 2.0
         camera = lens_camera(camera, lx, ly)
-    if any(o.transform_end is not None for o in scene.objects):
+    moving = getattr(scene, "moving", None) is not None
+    if moving or any(o.transform_end is not None for o in scene.objects):
         from dataclasses import replace
 
         # Stratified shutter times, shuffled so they do not follow the pixel offsets.
         order = np.random.default_rng(TIME_SEED).permutation(n)
         t = (order[k] + 0.5) / n
+        if moving:  # the animation at this time of the shutter (facet.scene.staging)
+            from ..scene.staging import at_shutter
+
+            scene = at_shutter(scene, t)
         scene = scene.view(objects=[
             o if o.transform_end is None else
             replace(o, transform=interpolate_transform(o.transform, o.transform_end, t),

@@ -351,6 +351,7 @@ PARSERS = {
     "time": _number(minimum=0),
     "animation": _animation,
     "variant": _text,
+    "shutter": _number(minimum=0),
     "engine": _choice(ENGINES, "engine"),
     "max_depth": _integer(minimum=0, maximum=MAX_RAY_DEPTH),
     "seed": _integer(minimum=0, maximum=2 ** 31 - 1),

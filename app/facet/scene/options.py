@@ -80,6 +80,8 @@ class RenderOptions:
            shaders' u_time                   engine : one of ENGINES (facet.render.engine)
     animation : which animation plays (a name or an index); None: all of them
     variant : a glTF material variant's name (KHR_materials_variants); None: the default
+    shutter : seconds the shutter stays open from ``time``: animated scenes blur as they
+              move (supersampled over the shutter); 0: a still
     max_depth : the ray tracer's reflection/refraction recursion (1: the notes' one
                 reflection and one transmission ray; default DEFAULT_MAX_DEPTH)
     seed : the random stream: the path tracer's paths and the jittered / random / poisson
@@ -109,6 +111,7 @@ class RenderOptions:
     time: float = 0.0
     animation: str | int | None = None
     variant: str | None = None
+    shutter: float = 0.0
     engine: str = "raster"
     max_depth: int = DEFAULT_MAX_DEPTH
     seed: int = 0

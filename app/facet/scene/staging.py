@@ -14,9 +14,22 @@ from .animation import pose_scene
 
 def staged(scene, opts):
     """``scene`` posed at ``opts.time`` and dressed in ``opts.variant``: a view sharing
-    what does not change; ``scene`` itself when nothing does."""
-    scene = pose_scene(scene, opts.time, opts.animation)
-    return dressed(scene, opts.variant)
+    what does not change; ``scene`` itself when nothing does. With a ``shutter`` open for
+    some seconds the view remembers how to pose itself later in it (``moving``: motion
+    blur that follows the animation, facet.render.antialias)."""
+    posed = pose_scene(scene, opts.time, opts.animation)
+    if opts.shutter > 0 and posed is not scene and getattr(scene, "animated", None):
+        posed.moving = (scene, opts.time, opts.shutter, opts.animation)
+    return dressed(posed, opts.variant)
+
+
+def at_shutter(scene, fraction: float):
+    """The objects of ``scene`` (a staged view with ``moving``) at ``fraction`` of its
+    shutter, its other settings (lights, background) kept: a view."""
+    source, time, shutter, which = scene.moving
+    posed = pose_scene(source, time + fraction * shutter, which)
+    view = scene.view(objects=posed.objects)
+    return view
 
 
 def variant_names(scene) -> list[str]:
