@@ -146,6 +146,7 @@ class _Reader:
             self.warn(f"ignores the glTF extension(s) {', '.join(sorted(ignored))}")
         if not g.scenes and not g.nodes:
             self.data.fail("holds no scene and no nodes; nothing to render")
+        self._decode_images()
         roots = g.scenes[g.scene or 0].nodes if g.scenes else self._roots()
         parts, cameras, lights, rigged = [], {}, [], []
         light_defs = document_lights(g, self.data.fail)
@@ -221,6 +222,36 @@ class _Reader:
             self.data.fail(f"{where}.ROTATION holds a zero quaternion")
         return list(trs_matrices(values.get("TRANSLATION", np.zeros((n, 3))), rotation,
                                  values.get("SCALE", np.ones((n, 3)))))
+
+    def _decode_images(self) -> None:
+        """Every image a texture uses, decoded at once in threads (Pillow decodes outside
+        the GIL): a model's images cost about the longest one, not their sum. Warnings
+        (a missing or broken image) are said in file order afterwards."""
+        import os
+        import warnings as w
+        from concurrent.futures import ThreadPoolExecutor
+
+        sources = []
+        for t in self.document.get("textures") or []:
+            ext = (t.get("extensions") or {}).get("EXT_texture_webp") or {}
+            source = ext.get("source", t.get("source"))
+            if isinstance(source, int) and source not in sources:
+                sources.append(source)
+        if len(sources) < 2:
+            return
+
+        def decode(index):
+            with w.catch_warnings(record=True) as said:
+                w.simplefilter("always")
+                image = self.data.image(index)
+            return image, said
+
+        workers = min(len(sources), os.cpu_count() or 1, 8)
+        with ThreadPoolExecutor(workers, thread_name_prefix="facet-image") as pool:
+            for index, (image, said) in zip(sources, pool.map(decode, sources), strict=True):
+                self.textures[index] = image
+                for warning in said:
+                    w.warn(warning.message, warning.category, stacklevel=4)
 
     def warn(self, message: str) -> None:
         warnings.warn(f"{self.path.name}: {message}", FacetWarning, stacklevel=4)
