@@ -2,14 +2,16 @@
 
 Each primitive of each mesh a node of the default scene uses becomes one part: its own
 ``Mesh`` (positions, the file's normals, both texture coordinate sets, tangents, vertex
-colours) with its own ``PbrMaterial``, placed by the node's world matrix; a mesh used by
-several nodes is decoded once. Triangle strips and fans become triangles; points and lines
-are left out with a warning. Cameras become named cameras. Supported extensions:
-KHR_draco_mesh_compression (through DracoPy), KHR_mesh_quantization, KHR_texture_transform,
-KHR_materials_emissive_strength, _unlit, _ior, _specular, _transmission, _volume, _clearcoat,
-_sheen,
-KHR_lights_punctual (facet.scene.gltf_lights); a file that *requires* another one is
-refused by name, one that only uses another one gets a warning that it is ignored.
+colours) with its own ``PbrMaterial``, placed by the node's world matrix (and each of its
+EXT_mesh_gpu_instancing instances); a mesh used by several nodes is decoded once. Triangle
+strips and fans become triangles; points and lines become ``Points`` and ``Lines``
+(facet.scene.points). Animations, skins and morph targets become a Rig that poses the parts
+(facet.scene.gltf_rig). Cameras become named cameras. Supported extensions: SUPPORTED
+(KHR_draco_mesh_compression through DracoPy, KHR_mesh_quantization, KHR_texture_transform,
+the KHR_materials_* of facet.scene.gltf_materials, _variants, KHR_lights_punctual through
+facet.scene.gltf_lights, EXT_mesh_gpu_instancing, EXT_texture_webp); KHR_texture_basisu's
+PNG / JPEG fallbacks are drawn; a file that *requires* another one is refused by name, one
+that only uses another one gets a warning that it is ignored.
 
 glTF is y-up, right-handed, metres, cameras looking down -z: facet's own conventions.
 Vertex colours (linear in glTF) are stored sRGB-encoded, as every facet mesh's colours are.
@@ -38,7 +40,8 @@ SUPPORTED = {"EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression", "KHR_mesh_
              "KHR_materials_emissive_strength", "KHR_materials_unlit", "KHR_materials_ior",
              "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume",
              "KHR_lights_punctual", "KHR_materials_clearcoat", "KHR_materials_sheen",
-             "KHR_materials_variants", "EXT_texture_webp"}
+             "KHR_materials_variants", "EXT_texture_webp",
+             "KHR_xmp_json_ld"}  # (metadata: nothing to draw)
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
 WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
