@@ -43,8 +43,12 @@ WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT4": 16}
 
 
 def sphere_glb(folder: Path) -> Path:
+    """1.3M triangles with their normals (as exported models carry them)."""
     path = folder / "sphere-1.3M.glb"
-    trimesh.creation.icosphere(subdivisions=8).export(path)
+    mesh = trimesh.creation.icosphere(subdivisions=8)
+    v = np.asarray(mesh.vertices)
+    mesh.vertex_normals = v / np.linalg.norm(v, axis=1, keepdims=True)
+    mesh.export(path, include_normals=True)
     return path
 
 

@@ -218,6 +218,7 @@ def main() -> None:
     import batch
     import gltf
     import instancing
+    import load
     import points
     import raytrace
     import shaderlab
@@ -233,6 +234,7 @@ def main() -> None:
     viewer.main()
     gltf.main()
     instancing.table(a.quick)
+    load.table(a.quick)
     points.table(a.quick)
     shaderlab.main()
     raytrace.table(a.quick)

@@ -312,10 +312,13 @@ class _Reader:
                                "COLOR_0")}
             count = len(values["POSITION"])
             indices = np.arange(count, dtype=np.uint32) if prim.indices is None else \
-                self.data.accessor(prim.indices).astype(np.int64)
+                self.data.accessor(prim.indices)
         if mode in MODES:  # points and lines (facet.scene.points)
             return self._sprites(values, indices, mode, prim, mesh, where)
-        faces = _triangles(np.asarray(indices, dtype=np.int64), mode, where, self.data.fail)
+        indices = np.asarray(indices)
+        if mode != TRIANGLES:  # (strips and fans do index arithmetic)
+            indices = indices.astype(np.int64)
+        faces = _triangles(indices, mode, where, self.data.fail)
         prim_json = self.document["meshes"][mesh]["primitives"][p]
         deform = None
         if draco is None:

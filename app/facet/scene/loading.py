@@ -35,6 +35,7 @@ FORMATS = {"obj": "obj", "stl": "stl", "ply": "ply", "off": "off", "glb": "glb",
            "gltf": "gltf", "xyz": "xyz", "pts": "pts", "pcd": "pcd"}
 POINT_FORMATS = (".xyz", ".pts", ".pcd")  # point clouds facet reads itself
 PER_VERTEX = ("positions", "normals", "uvs", "uvs1", "tangents", "colors")
+FACE_SAMPLE = 4096  # triangles looked at first for one with area (_finish)
 
 
 def _check_path(path) -> Path:
@@ -88,10 +89,14 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
     """Checked ``Mesh`` arguments: finite positions, faces in range, some triangle with
     area, normals split at creases when the file has none. Points and lines (``kind``):
     finite positions within float32's reach."""
-    vertices = np.asarray(arrays["positions"], dtype=np.float64)
+    vertices = np.asarray(arrays["positions"])
+    if vertices.dtype not in (np.float32, np.float64):
+        vertices = vertices.astype(np.float64)
     if arrays.get("kind") in ("points", "lines"):
         return _finish_sprites(arrays, vertices, p, where)
-    faces = np.asarray(arrays["faces"], dtype=np.int64).reshape(-1, 3)
+    faces = np.asarray(arrays["faces"]).reshape(-1, 3)
+    if faces.dtype.kind not in "iu":
+        faces = faces.astype(np.int64)
     at = f"{p}: {where}: " if where else f"{p}: "
     if len(faces) == 0:
         raise MeshError(f"{at}the mesh has 0 faces; nothing to render")
@@ -102,22 +107,33 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
         raise MeshError(f"{at}faces refer to vertices that do not exist; the file is corrupt")
     from .normals import MAX_COORDINATE
 
-    huge = np.abs(vertices).max(axis=1) > MAX_COORDINATE
-    if huge.any():  # before any arithmetic on them: squares would overflow
+    reach = max(-float(vertices.min()), float(vertices.max()))
+    huge = np.abs(vertices).max(axis=1) > MAX_COORDINATE if reach > MAX_COORDINATE else None
+    if huge is not None:  # before any arithmetic on them: squares would overflow
         raise MeshError(f"{at}{int(huge.sum())} vertices lie beyond {MAX_COORDINATE:g} "
                         f"(the first is vertex {int(np.argmax(huge))}); GPU arithmetic is "
                         "float32 and squares of such coordinates overflow: scale the model "
                         "down")
-    face_n, area2 = face_normals(vertices, faces)
-    if not np.any(area2 > 0):
-        raise MeshError(f"{at}all {len(faces)} triangles have zero area (degenerate); "
-                        "nothing to render")
-    out = dict(arrays, positions=vertices.astype(np.float32), faces=faces, path=str(p))
     normals = arrays.get("normals")
     if normals is not None and (len(normals) != len(vertices) or
-                                not np.all(np.linalg.norm(normals, axis=1) > 0)):
+                                not np.all(np.einsum("ij,ij->i", normals, normals) > 0)):
         normals = None  # missing or broken normals in the file: compute them
+    # Some triangle must have area: the first few thousand usually show one (all of them
+    # are computed only when they do not, or when the normals are computed anyway).
+    face_n = area2 = None
+    if normals is not None:
+        _, some = face_normals(vertices, faces[:FACE_SAMPLE])
+        if not np.any(some > 0):
+            face_n, area2 = face_normals(vertices, faces)
+    else:
+        face_n, area2 = face_normals(vertices, faces)
+    if area2 is not None and not np.any(area2 > 0):
+        raise MeshError(f"{at}all {len(faces)} triangles have zero area (degenerate); "
+                        "nothing to render")
+    out = dict(arrays, positions=vertices.astype(np.float32, copy=False), faces=faces,
+               path=str(p), checked=True)
     if normals is None:
+        vertices, faces = vertices.astype(np.float64), faces.astype(np.int64)
         extra = [np.asarray(out[k], dtype=np.float64).reshape(len(vertices), -1)
                  for k in ("uvs", "uvs1", "colors", "tangents") if out.get(k) is not None]
         found: dict = {}

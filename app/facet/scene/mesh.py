@@ -72,7 +72,8 @@ class Mesh:
 
     def __init__(self, positions, faces, normals=None, uvs=None, *, name: str = "mesh",
                  material=None, colors=None, uvs1=None, tangents=None,
-                 closed: bool | None = None, variants: dict | None = None):
+                 closed: bool | None = None, variants: dict | None = None,
+                 checked: bool = False):
         self.name = name
         self.variants = variants
         pos = np.asarray(positions, dtype=np.float32)
@@ -85,20 +86,9 @@ class Mesh:
             raise InputError(f"{name}: the mesh has no faces")
         if not np.issubdtype(fac.dtype, np.integer):
             raise InputError(f"{name}: faces must be integer indices, got {fac.dtype}")
-        if fac.min() < 0 or fac.max() >= len(pos):
-            raise InputError(f"{name}: face indices must be in [0, {len(pos) - 1}], "
-                             f"got [{fac.min()}, {fac.max()}]")
-        bad = ~np.isfinite(pos).all(axis=1)
-        if bad.any():
-            raise InputError(f"{name}: {int(bad.sum())} vertices are NaN or infinite "
-                             f"(first at index {int(np.argmax(bad))})")
-        huge = np.abs(pos).max(axis=1) > MAX_COORDINATE
-        if huge.any():
-            raise InputError(f"{name}: {int(huge.sum())} vertices lie beyond "
-                             f"{MAX_COORDINATE:g} (first at index {int(np.argmax(huge))}); "
-                             "GPU arithmetic is float32 and squares of such coordinates "
-                             "overflow: scale the model down")
-        fac = fac.astype(np.uint32)
+        if not checked:  # (``checked``: facet.scene.loading checked these already)
+            self._check(pos, fac, name)
+        fac = fac.astype(np.uint32, copy=False)
         if normals is None:
             nrm = smooth_normals(pos, fac)
         else:
@@ -106,7 +96,7 @@ class Mesh:
             if nrm.shape != pos.shape:
                 raise InputError(f"{name}: normals must match positions {pos.shape}, "
                                  f"got {nrm.shape}")
-            length = np.linalg.norm(nrm, axis=1, keepdims=True)
+            length = np.sqrt(np.einsum("ij,ij->i", nrm, nrm))[:, None]
             if not np.all(np.isfinite(length)) or np.any(length == 0):
                 nrm = smooth_normals(pos, fac)  # broken normals in the file: recompute
             else:
@@ -136,6 +126,23 @@ class Mesh:
         self._tangents = None if tan is None else _readonly(tan)
         self.material = material
         self._closed = closed  # None: found out when first asked (``closed``)
+
+    @staticmethod
+    def _check(pos: np.ndarray, fac: np.ndarray, name: str) -> None:
+        """Faces in range; positions finite and within float32's reach."""
+        if fac.min() < 0 or fac.max() >= len(pos):
+            raise InputError(f"{name}: face indices must be in [0, {len(pos) - 1}], "
+                             f"got [{fac.min()}, {fac.max()}]")
+        bad = ~np.isfinite(pos).all(axis=1)
+        if bad.any():
+            raise InputError(f"{name}: {int(bad.sum())} vertices are NaN or infinite "
+                             f"(first at index {int(np.argmax(bad))})")
+        huge = np.abs(pos).max(axis=1) > MAX_COORDINATE
+        if huge.any():
+            raise InputError(f"{name}: {int(huge.sum())} vertices lie beyond "
+                             f"{MAX_COORDINATE:g} (first at index {int(np.argmax(huge))}); "
+                             "GPU arithmetic is float32 and squares of such coordinates "
+                             "overflow: scale the model down")
 
     @staticmethod
     def _per_vertex(values, width: int, key: str, name: str, n: int):
