@@ -368,10 +368,16 @@ def deform(mesh, deform: Deformation, weights: np.ndarray | None,
         if tan is not None and "tangents" in deform.targets:
             tan = tan + np.einsum("t,tnk->nk", w, deform.targets["tangents"])
     if joint_matrices is not None and deform.joints is not None:
-        # The blended matrix per vertex: sum_k w_k J_{j_k} (N, 4, 4).
-        m = np.einsum("nk,nkij->nij", deform.weights, joint_matrices[deform.joints])
-        p = np.einsum("nij,nj->ni", m[:, :3, :3], p) + m[:, :3, 3]
-        a = m[:, :3, :3]
+        # The blended matrix per vertex, sum_k w_k J_{j_k} (its top 3 rows, (N, 3, 4)),
+        # float32 and one influence at a time: a loop over at most 8 influences, each a
+        # gather and a multiply-add over every vertex.
+        rows = joint_matrices[:, :3, :].astype(np.float32)
+        weights = deform.weights.astype(np.float32)
+        m = np.zeros((len(p), 3, 4), np.float32)
+        for k in range(deform.joints.shape[1]):
+            m += weights[:, k, None, None] * rows[deform.joints[:, k]]
+        p = np.einsum("nij,nj->ni", m[:, :, :3], p.astype(np.float32)) + m[:, :, 3]
+        a = m[:, :, :3]
         c0, c1, c2 = a[:, :, 0], a[:, :, 1], a[:, :, 2]
         # Inverse transpose up to the determinant: the cofactor matrix, its columns the
         # cross products of the other two; the determinant's sign keeps mirrors right.
