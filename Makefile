@@ -31,7 +31,7 @@ test: check-gl $(VENV)/.installed-dev
 	$(BIN)/python -m pytest -n $(JOBS) --dist worksteal
 
 bench: check-gl $(VENV)/.installed-dev
-	@$(PIP) install -e '.[bench]' || echo "(embreex not installable here: Embree columns skipped)"
+	@$(PIP) install -e '.[bench]' || echo "(embreex or pyrender not installable here: their columns are skipped)"
 	$(BIN)/python benchmarks/run.py
 
 lint: $(VENV)/.installed-dev

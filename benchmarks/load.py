@@ -13,8 +13,10 @@ line (FlightHelmet, StainedGlassLamp: the Khronos sample models; searched in
   (no mip levels): the least any loader must do;
 * facet.load: the scene (checked, materials, textures decoded in parallel threads);
 * first frame: facet.load and Renderer.render at 512x512 (upload, compile, draw, read);
-* trimesh.load: trimesh's own glTF loader (no upload); pyrender loads through trimesh
-  and adds its upload (not installed here: left out).
+* trimesh.load: trimesh's own glTF loader (no upload; it decodes images lazily);
+* pyrender first frame: trimesh.load, pyrender.Scene.from_trimesh_scene and a 512x512
+  render with one light (PYOPENGL_PLATFORM=egl; pyrender is in the 'bench' extra; its
+  column is left out when it is not installed).
 
 Prints a table; asserts nothing.
 """
@@ -155,6 +157,19 @@ def floor_load(path: Path, ctx) -> None:
         u.release()
 
 
+def pyrender_frame(path: Path, renderer) -> None:
+    import pyrender
+
+    tm = trimesh.load(path)
+    scene = pyrender.Scene.from_trimesh_scene(tm)
+    lo, hi = tm.bounds
+    pose = np.eye(4)
+    pose[:3, 3] = (lo + hi) / 2 + [0, 0, 2.5 * float(np.linalg.norm(hi - lo))]
+    scene.add(pyrender.PerspectiveCamera(yfov=0.7), pose=pose)
+    scene.add(pyrender.DirectionalLight(intensity=3.0), pose=pose)
+    renderer.render(scene)
+
+
 def median_time(fn, runs: int) -> float:
     times = []
     for _ in range(runs):
@@ -182,9 +197,17 @@ def table(quick: bool = False, extra: tuple = ()) -> None:
                     print(f"({name} not found in {SHARED}: its row is left out)")
         print("\nLoad time (seconds, median; warm process)")
         print(f"{'model':>28} | {'floor':>7} {'facet.load':>10} {'ratio':>6} | "
-              f"{'first frame':>11} | {'trimesh.load':>12}")
+              f"{'first frame':>11} | {'trimesh.load':>12} {'pyrender frame':>14}")
+        import os
         import warnings
 
+        os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
+        try:
+            import pyrender
+
+            offscreen = pyrender.OffscreenRenderer(512, 512)
+        except Exception:  # noqa: BLE001 - not installed, or no EGL for PyOpenGL
+            offscreen = None
         with facet.Renderer(512, 512) as r:
             for path in models:
                 with warnings.catch_warnings():
@@ -204,9 +227,13 @@ def table(quick: bool = False, extra: tuple = ()) -> None:
                     fl = median_time(load_facet, runs)
                     ff = median_time(first_frame, runs)
                     tm = median_time(lambda p=path: trimesh.load(p), runs)
+                    pr = "not installed" if offscreen is None else \
+                        f"{median_time(lambda p=path: pyrender_frame(p, offscreen), runs):.3f}"
                 print(f"{path.name[:28]:>28} | {f:>7.3f} {fl:>10.3f} {fl / f:>6.2f} | "
-                      f"{ff:>11.3f} | {tm:>12.3f}")
+                      f"{ff:>11.3f} | {tm:>12.3f} {pr:>14}")
     ctx.release()
+    if offscreen is not None:
+        offscreen.delete()
     print("ratio: facet.load over the floor (parse + accessors + every image decoded + "
           "uploaded); first frame: facet.load + a 512x512 render")
 
