@@ -667,3 +667,28 @@ def test_a_refined_path_traced_view_is_the_offscreen_picture(display):
     # sample weighed twice, or other random streams, change a fifth of them.
     diff = np.abs(shown - offscreen).max(axis=2)
     assert diff.max() <= 4 and (diff > 1).mean() < 1e-3, ((diff > 1).mean(), diff.max())
+
+
+def test_the_viewer_plays_pauses_and_steps_an_animation(window, tmp_path):
+    """An animated glTF plays in the window (the picture keeps changing, the title shows
+    the time); p pauses it (the picture settles), '.' steps one frame on (it changes and
+    settles again); p plays on."""
+    from test_animation import skinned_strip
+
+    path = skinned_strip(tmp_path)
+    w = window(str(path))
+    first = w.grab()
+    until(lambda: np.abs(w.grab() - first).mean() > 0.2, 20, "the animation to move")
+    assert " s" in w.title() and "paused" not in w.title()
+    w.key("p")
+    title = w.wait_title(lambda t: "paused" in t)
+    paused = w.screen()
+    shown = float(title.split(" - ")[-1].split(" s")[0])
+    w.key("period")
+    stepped_title = w.wait_title(lambda t: "paused" in t and t != title)
+    stepped = float(stepped_title.split(" - ")[-1].split(" s")[0])
+    assert abs((stepped - shown) % 1.0 - 1 / 30) < 0.011
+    w.screen(changed_from=paused)
+    w.key("p")
+    w.wait_title(lambda t: "paused" not in t)
+    assert w.quit() == 0
