@@ -442,3 +442,40 @@ def test_motion_blur_follows_the_animation_over_the_shutter(tmp_path, renderer):
     assert swept.sum() > 30
     assert np.abs(blurred - still)[swept].mean() > 0.1  # it moved while the shutter was open
     assert np.abs(blurred - stills)[swept].mean() < 0.08  # as the animation moved it
+
+
+@pytest.mark.parametrize("shadows", [False, True])
+def test_the_rasterizer_skins_in_its_vertex_shader(tmp_path, renderer, shadows):
+    """A skinned pose is drawn from its rest mesh and the joint matrices (glsl/lib/skin.glsl):
+    no vertex is skinned on the CPU for it (shadow maps fit its loose box), and the picture
+    equals that of the numpy-skinned vertices placed by hand (colour, ids; depth within
+    float32 rounding)."""
+    from facet.scene.skinned import SkinnedPose
+
+    scene = facet.load(skinned_strip(tmp_path, eight=True)).at(0.7)
+    pose = scene.objects[0].mesh
+    assert isinstance(pose, SkinnedPose)
+    r = renderer(64, 64)
+    cam = facet.Camera.look_at((0.5, 1, 5), (0.5, 1, 0), fov_y=40)
+    floor = facet.Mesh([[-3, -0.5, -2], [3, -0.5, -2], [3, -0.5, 2], [-3, -0.5, 2]],
+                       [[0, 2, 1], [0, 3, 2]])
+    scene.add(floor)
+    scene.add_light(facet.PointLight((1, 4, 3)))
+    opts = dict(outputs=("color", "depth", "ids"), shadows=shadows, lights="scene")
+    gpu = r.render(scene, cam, **opts)
+    assert pose._posed is None  # nothing skinned on the CPU
+    want, faces = ref_skin(0.7)
+    plain = facet.Scene()
+    plain.add(facet.Mesh(want, faces, pose.normals), scene.objects[0].material)
+    plain.add(floor)
+    plain.add_light(facet.PointLight((1, 4, 3)))
+    cpu = r.render(plain, cam, **opts)
+    np.testing.assert_array_equal(gpu.object_ids, cpu.object_ids)
+    np.testing.assert_allclose(gpu.depth, cpu.depth, atol=1e-5)
+    assert np.abs(gpu.color.astype(int) - cpu.color).max() <= 1
+
+
+def test_a_skinned_poses_loose_box_holds_its_vertices(tmp_path):
+    pose = facet.load(skinned_strip(tmp_path)).at(0.8).objects[0].mesh
+    loose, exact = pose.loose_bounds, pose.bounds
+    assert np.all(loose[0] <= exact[0] + 1e-6) and np.all(loose[1] >= exact[1] - 1e-6)

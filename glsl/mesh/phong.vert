@@ -49,6 +49,10 @@ out vec3 v_normal_world;
 out float v_depth_view;
 out vec2 v_uv;
 
+#ifdef SKINNED
+#include "lib/skin.glsl"
+#endif
+
 #ifdef SHADE_GOURAUD
 #include "lib/lights.glsl"
 uniform vec3 u_eye_world;  // eye position; the direction to the viewer with VIEW_ORTHOGRAPHIC
@@ -57,10 +61,17 @@ out vec3 v_color_back;
 #endif
 
 void main() {
-    vec4 pos_world = MODEL * vec4(in_position, 1.0);
-    gl_Position = MVP * vec4(in_position, 1.0);
+    vec4 position = vec4(in_position, 1.0);  // object space
+    vec3 normal = in_normal;
+#ifdef SKINNED
+    mat4 skin = skin_matrix();  // rest pose -> this pose, object space
+    position = skin * position;
+    normal = transpose(inverse(mat3(skin))) * normal;
+#endif
+    vec4 pos_world = MODEL * position;
+    gl_Position = MVP * position;
     v_pos_world = pos_world.xyz;
-    v_normal_world = NORMAL_MATRIX * in_normal;
+    v_normal_world = NORMAL_MATRIX * normal;
 #ifdef INSTANCED
     v_object_id = in_object_id;
 #endif
@@ -75,7 +86,11 @@ void main() {
 #else
     float handedness = u_handedness;
 #endif
-    v_tangent = vec4(mat3(MODEL) * in_tangent.xyz, in_tangent.w * handedness);
+    vec3 tangent = in_tangent.xyz;
+#ifdef SKINNED
+    tangent = mat3(skin) * tangent;
+#endif
+    v_tangent = vec4(mat3(MODEL) * tangent, in_tangent.w * handedness);
 #endif
 #ifdef HAS_VERTEX_COLORS
 #if defined(COLOR_SRGB) || defined(SHADE_PBR)

@@ -12,9 +12,16 @@ uniform mat4 u_light_mvp;
 in vec2 in_uv;
 out vec2 v_uv;
 #endif
+#ifdef SKINNED
+#include "lib/skin.glsl"
+#endif
 
 void main() {
+#ifdef SKINNED
+    gl_Position = LIGHT_MVP * (skin_matrix() * vec4(in_position, 1.0));
+#else
     gl_Position = LIGHT_MVP * vec4(in_position, 1.0);
+#endif
 #ifdef ALPHA_MASK
     v_uv = in_uv;
 #endif

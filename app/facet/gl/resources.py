@@ -65,6 +65,22 @@ class MeshBuffers:
         return content + [(buf, f, name) for name, (buf, f) in self.extra.items()
                           if name in program]
 
+    def add_skin(self, ctx: moderngl.Context, skin) -> None:
+        """The joints (as 16-bit integers) and weights of a skinned mesh (facet.scene
+        .skinned), uploaded once, for programs that skin (glsl/lib/skin.glsl)."""
+        if "in_joints0" in self.extra:
+            return
+        joints = np.zeros((len(skin.joints), 8), np.uint16)
+        weights = np.zeros((len(skin.joints), 8), np.float32)
+        k = skin.joints.shape[1]
+        joints[:, :k], weights[:, :k] = skin.joints, skin.weights
+        for half in (0, 1):
+            part = slice(4 * half, 4 * half + 4)
+            self.extra[f"in_joints{half}"] = (ctx.buffer(np.ascontiguousarray(
+                joints[:, part])), "4u2")
+            self.extra[f"in_weights{half}"] = (ctx.buffer(np.ascontiguousarray(
+                weights[:, part])), "4f")
+
     def draw_instances(self, ctx: moderngl.Context, program: moderngl.Program,
                        rows: np.ndarray, layout: tuple) -> None:
         """Draw the mesh once per row of ``rows`` (N, K) float32 with ``program``;

@@ -271,7 +271,11 @@ class Rig:
         for b in self.bindings:
             matrix, joints, weights = parts[b.part]
             mesh = meshes[b.part]
-            if b.deform is not None and (joints is not None or weights is not None):
+            if b.deform is not None and joints is not None and not b.deform.targets:
+                from .skinned import SkinnedPose  # skinned on demand (the GPU's, else numpy)
+
+                mesh = SkinnedPose(mesh, b.deform, joints)
+            elif b.deform is not None and (joints is not None or weights is not None):
                 mesh = deformed_mesh(mesh, *deform(mesh, b.deform, weights, joints))
             out[b.part] = (mesh, matrix)
         return out, cams

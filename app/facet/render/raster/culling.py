@@ -81,7 +81,8 @@ class Culling:
         # maximum over the box is r.centre + r_w + |r|.half-extent.
         # (In plain floats: this runs per object per frame.)
         rx, ry, rz, rw = (view[2] @ m).tolist()
-        (x0, y0, z0), (x1, y1, z1) = obj.mesh.bounds.tolist()
+        mesh = obj.mesh  # (a skinned pose's loose box: its vertices may not exist here)
+        (x0, y0, z0), (x1, y1, z1) = getattr(mesh, "loose_bounds", mesh.bounds).tolist()
         z_max = ((rx * (x0 + x1) + ry * (y0 + y1) + rz * (z0 + z1)) * 0.5 + rw
                  + (abs(rx) * (x1 - x0) + abs(ry) * (y1 - y0) + abs(rz) * (z1 - z0)) * 0.5)
         if z_max > -near:  # some of it is not wholly in front of the near plane

@@ -40,6 +40,7 @@ from .edl import EDL_RADIUS, EDL_STRENGTH, EdlTarget
 from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
 from .instancing import INSTANCE_LAYOUT, batches, instance_rows
 from .mirror import MirrorTargets, mirror_plane
+from .skinning import JointRows, skin_of, skinned_buffers
 from .sprites import set_sprite_uniforms, sprite_variant, uses_edl
 from .transmission import TRANSMISSION_UNIT, TransmissionTarget, transmits
 from .user_shaders import UserPrograms
@@ -78,6 +79,7 @@ class Variant:
     sprite: str = ""  # "points" or "lines": quads per point or segment (mesh/sprite.vert)
     edl: bool = False  # eye-dome lighting of an unlit cloud (facet.render.raster.edl)
     edl_depth: bool = False  # the cloud's depth pass for it
+    skin: int = 0  # skinned in the vertex shader: 4 or 8 influences (raster.skinning)
 
     @classmethod
     def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
@@ -115,7 +117,8 @@ class Variant:
                  "TRANSMISSION": self.transmission, "INSTANCED": self.instanced,
                  "SPRITE_POINTS": self.sprite == "points",
                  "SPRITE_LINES": self.sprite == "lines", "EDL": self.edl,
-                 "EDL_DEPTH": self.edl_depth}
+                 "EDL_DEPTH": self.edl_depth, "SKINNED": self.skin > 0,
+                 "SKIN_8": self.skin > 4}
         d.update({k: None for k, on in flags.items() if on})
         return d
 
@@ -171,6 +174,7 @@ class ForwardPass:
         self._variants: dict[tuple, Variant] = {}  # (base, flags) -> Variant (_phong_variant)
         self.samplers = SlotSamplers(ctx)
         self.edl = EdlTarget(ctx)  # eye-dome lighting's depth of unlit clouds
+        self.joints = JointRows(ctx)  # skinned poses' joint matrices
 
     def program(self, variant: Variant) -> Program:
         """The compiled program for ``variant`` (compiled on first use, then reused; the
@@ -232,7 +236,7 @@ class ForwardPass:
             if env is not None:
                 self.ibl.maps(env)
         def alone(o) -> bool:  # drawn by itself: a user's shader, a mirror, transmission,
-            return o.mesh.kind != "mesh" or (  # points and lines
+            return o.mesh.kind != "mesh" or skin_of(o.mesh) or (  # points, lines, skins
                 o.material.shader is not None and not aux) or id(o) in reflections or (
                 behind is not None and model_for(state.shading, o.material) == "pbr"
                 and transmits(as_pbr(o.material)))
@@ -262,7 +266,7 @@ class ForwardPass:
                     alpha_mask=pbr.alpha_mode == "MASK",
                     environment=env is not None and colour_pass,
                     transmission=behind is not None and transmits(pbr),
-                    instanced=group is not None))
+                    instanced=group is not None, skin=skin_of(mesh) if not user else 0))
             else:  # a mirror reflects the sky in its reflection
                 exact_only = bool(aux) and not colour_pass
                 terms = phong_terms(m, state, ambient, intensities)
@@ -270,7 +274,7 @@ class ForwardPass:
                     base, model, m.texture is not None, mirror, reflects,
                     obj.mesh.colors is not None, getattr(m, "alpha_mode", "") == "MASK",
                     exact_only, not exact_only and model in LIT and grey_terms(terms),
-                    group is not None))
+                    group is not None, 0 if user else skin_of(obj.mesh)))
             strict = not user  # a user's shader need not declare every standard input
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 self._frame_uniforms(prog, state, view_projection, eye, user)
@@ -360,7 +364,12 @@ class ForwardPass:
             self._front(mirrored_view != (det < 0))
             # Back faces nobody can see are not drawn (facet.render.raster.culling).
             self._cull(self.culling.cull(item, state.cull, camera.view, camera.near, det))
-            self.cache.buffers(item.mesh).vao(self.ctx, prog.gl).render()
+            if skin_of(item.mesh) and "u_joints" in prog.gl:  # skinned on the GPU
+                self.joints.bind(item.mesh.joint_matrices, prog)
+                buffers = skinned_buffers(self.cache, item.mesh, self.ctx)
+            else:
+                buffers = self.cache.buffers(item.mesh)
+            buffers.vao(self.ctx, prog.gl).render()
             return
         rows, det = instance_rows(item, view_projection)
         cull = self.culling.cull_many(item, np.stack([o.transform for o in item]), state.cull,
@@ -386,7 +395,7 @@ class ForwardPass:
             if len(self._variants) >= 4 * MAX_PROGRAMS:
                 self._variants.clear()
             names = ("shading", "texture", "mirror", "environment", "vertex_colors",
-                     "alpha_mask", "exact_only", "grey", "instanced")
+                     "alpha_mask", "exact_only", "grey", "instanced", "skin")
             found = self._variants[key] = replace(base, **dict(zip(names, flags, strict=True)))
         return found
 
@@ -514,6 +523,7 @@ class ForwardPass:
         self.mirrors.release()
         self.behind.release()
         self.edl.release()
+        self.joints.release()
         if self._sky is not None:
             self._sky.release()
         self.user.release()

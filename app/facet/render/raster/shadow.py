@@ -28,6 +28,7 @@ from ...scene.options import PCF_CHOICES
 from ...scene.scene import Scene
 from ..state import UNITS
 from .instancing import batches
+from .skinning import JointRows, skin_of, skinned_buffers
 
 TILE = 1024  # shadow map resolution per tile
 ATLAS_COLUMNS = 8  # tiles per atlas row (TILE x 8 = 8192 px wide, within GL limits)
@@ -121,8 +122,10 @@ class ShadowMaps:
 
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache
-        # (MASK cut-outs, instanced) -> the depth program, each made on first use.
-        self._programs: dict[tuple[bool, bool], object] = {}
+        # (MASK cut-outs, instanced, skinned, 8 influences) -> the depth program, each
+        # made on first use.
+        self._programs: dict[tuple, object] = {}
+        self.joints = JointRows(ctx)
         self.atlas = None
         self.fbo = None
         self.tiles = 0
@@ -152,7 +155,7 @@ class ShadowMaps:
         casters = [i for i, light in enumerate(scene.lights) if casts_shadow(light)]
         if not casters or not scene.objects:
             return None
-        bounds = scene.bounds
+        bounds = _caster_bounds(scene)
         faces = {i: light_view_projections(scene.lights[i], bounds) for i in casters}
         self._ensure(sum(len(f) for f in faces.values()))
         slots = [-1] * len(scene.lights)  # per light: its first tile (= matrix index)
@@ -176,9 +179,14 @@ class ShadowMaps:
                 for item in items:  # objects sharing mesh and material: one draw
                     group = item if isinstance(item, list) else None
                     obj = item if group is None else item[0]
-                    prog = self._program_for(obj, group is not None, shift)
+                    skin = 0 if group is not None else skin_of(obj.mesh)
+                    prog = self._program_for(obj, group is not None, shift, skin)
                     prog.set("u_opacity", obj.material.opacity)
-                    buffers = self.cache.buffers(obj.mesh)
+                    if skin:  # skinned on the GPU, from the rest mesh (raster.skinning)
+                        self.joints.bind(obj.mesh.joint_matrices, prog)
+                        buffers = skinned_buffers(self.cache, obj.mesh, self.ctx)
+                    else:
+                        buffers = self.cache.buffers(obj.mesh)
                     if group is None:
                         prog.set("u_light_mvp", vp @ obj.transform)
                         buffers.vao(self.ctx, prog.gl).render()
@@ -203,15 +211,15 @@ class ShadowMaps:
         self.fbo = self.atlas = None
         self.tiles = 0
 
-    def _program_for(self, obj, instanced: bool, shift):
-        """The depth program for ``obj`` (drawn alone or instanced), its cut-out image
-        bound (MASK materials)."""
-        key = (_masked(obj), instanced)
+    def _program_for(self, obj, instanced: bool, shift, skin: int = 0):
+        """The depth program for ``obj`` (drawn alone or instanced; skinned with ``skin``
+        influences), its cut-out image bound (MASK materials)."""
+        key = (_masked(obj), instanced, skin > 0, skin > 4)
         prog = self._programs.get(key)
         if prog is None:
             root = glsl_root()
-            defines = {name: None for name, on in zip(("ALPHA_MASK", "INSTANCED"), key,
-                                                      strict=True) if on}
+            names = ("ALPHA_MASK", "INSTANCED", "SKINNED", "SKIN_8")
+            defines = {name: None for name, on in zip(names, key, strict=True) if on}
             prog = self._programs[key] = compile_program(
                 self.ctx, root / "shadow" / "depth.vert", root / "shadow" / "depth.frag",
                 defines)
@@ -233,6 +241,7 @@ class ShadowMaps:
             self.cache.forget_program(prog.gl)
             prog.release()
         self._programs.clear()
+        self.joints.release()
 
 
 def _masked(obj) -> bool:
@@ -240,3 +249,22 @@ def _masked(obj) -> bool:
     m = obj.material
     return (getattr(m, "alpha_mode", "") == "MASK" and m.base_color_texture is not None
             and obj.mesh.uvs is not None)
+
+
+def _caster_bounds(scene) -> np.ndarray:
+    """The scene's bounds as the shadow maps fit them: a skinned pose's loose box
+    (facet.scene.skinned), so shadows do not skin its vertices on the CPU."""
+    if not any(hasattr(o.mesh, "loose_bounds") for o in scene.objects):
+        return scene.bounds
+    boxes = []
+    for o in scene.objects:
+        if o.infinite and len(scene.objects) > 1:
+            continue
+        b = getattr(o.mesh, "loose_bounds", None)
+        b = o.mesh.bounds if b is None else b
+        corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
+        w = corners @ o.transform[:3, :3].T + o.transform[:3, 3]
+        boxes.append((w.min(axis=0), w.max(axis=0)))
+    lo, hi = zip(*boxes, strict=True)
+    return np.stack([np.min(lo, axis=0), np.max(hi, axis=0)])
+
