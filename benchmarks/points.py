@@ -50,14 +50,14 @@ def cloud(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 class PointsFloor:
-    def __init__(self, positions, colors):
+    def __init__(self, positions, colors, size=SIZE):
         ctx = self.ctx = moderngl.create_context(standalone=True, backend="egl")
         self.prog = ctx.program(vertex_shader=VERT, fragment_shader=FRAG)
         self.vao = ctx.vertex_array(self.prog, [(ctx.buffer(positions), "3f", "in_position"),
                                                 (ctx.buffer(colors), "4f1", "in_color")])
         self.n = len(positions)
-        self.fbo = ctx.simple_framebuffer(SIZE)
-        mvp = look_at_mvp(EYE, np.zeros(3), SIZE[0] / SIZE[1], near=0.5, far=10.0)
+        self.fbo = ctx.simple_framebuffer(size)
+        mvp = look_at_mvp(EYE, np.zeros(3), size[0] / size[1], near=0.5, far=10.0)
         self.prog["u_mvp"].write(mvp.T.astype("f4").tobytes())
 
     def frame(self):

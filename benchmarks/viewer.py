@@ -1,6 +1,8 @@
 """Viewer benchmark: frame time of `facet view` on the bunny at 1280x720 during a scripted
 orbit under Xvfb, next to the headless frame time (render + colour readback) of the same
-frames. Starts its own Xvfb; skipped without it.
+frames; and the window's frame time orbiting a 10M-point cloud next to a bare moderngl
+GL_POINTS floor drawing the same points at the same size. Starts its own Xvfb; skipped
+without it.
 
     python benchmarks/viewer.py
 """
@@ -54,6 +56,44 @@ def measure() -> None:
     print(f"{'headless (render + readback)':>34} | {th * 1e3:6.1f} {1 / th:6.1f}")
     print(f"{'window (draw + swap to Xvfb)':>34} | {tw * 1e3:6.1f} {1 / tw:6.1f}   "
           f"ratio {tw / th:.2f}")
+    cloud_orbit(int(os.environ.get("FACET_BENCH_POINTS", 10_000_000)))
+
+
+def cloud_orbit(n: int, frames: int = 4) -> None:
+    """The window orbiting an N-point cloud (default sizes: 3-pixel discs, eye-dome
+    lighting, 4x MSAA), next to the GL_POINTS floor at the window's size."""
+    import facet
+    from facet.window.viewer import Viewer
+
+    sys.path.insert(0, str(HERE))
+    from points import PointsFloor, cloud
+
+    positions, colors = cloud(n)
+    scene = facet.Scene()
+    scene.add(facet.Points(positions, colors))
+    with Viewer(scene, SIZE, msaa=4) as v:
+        v.glfw.swap_interval(0)
+        v.draw()
+        times = []
+        for _ in range(frames):
+            v.control.orbit((640, 360), (660, 362), *SIZE)
+            t = time.perf_counter()
+            v.draw()
+            v.ctx.finish()
+            times.append(time.perf_counter() - t)
+        fb = v.glfw.get_framebuffer_size(v.window)
+    floor = PointsFloor(positions, colors, fb)
+    floor.frame()
+    floor_times = []
+    for _ in range(frames):
+        t = time.perf_counter()
+        floor.frame()
+        floor_times.append(time.perf_counter() - t)
+    floor.ctx.release()
+    tw, tf = statistics.median(times), statistics.median(floor_times)
+    print(f"\nViewer: {n:,}-point cloud, {fb[0]}x{fb[1]}, orbit of {frames} frames (median)")
+    print(f"{'GL_POINTS floor (draw + readback)':>34} | {tf * 1e3:8.1f} ms")
+    print(f"{'window (discs, EDL, 4x MSAA)':>34} | {tw * 1e3:8.1f} ms   ratio {tw / tf:.2f}")
 
 
 def main() -> None:
