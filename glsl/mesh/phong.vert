@@ -52,6 +52,9 @@ out vec2 v_uv;
 #ifdef SKINNED
 #include "lib/skin.glsl"
 #endif
+#ifdef MORPHED
+#include "lib/morph.glsl"
+#endif
 
 #ifdef SHADE_GOURAUD
 #include "lib/lights.glsl"
@@ -63,6 +66,10 @@ out vec3 v_color_back;
 void main() {
     vec4 position = vec4(in_position, 1.0);  // object space
     vec3 normal = in_normal;
+#ifdef MORPHED
+    position.xyz += morphed(0);
+    normal += morphed(1);
+#endif
 #ifdef SKINNED
     mat4 skin = skin_matrix();  // rest pose -> this pose, object space
     position = skin * position;
@@ -87,6 +94,9 @@ void main() {
     float handedness = u_handedness;
 #endif
     vec3 tangent = in_tangent.xyz;
+#ifdef MORPHED
+    tangent += morphed(2);
+#endif
 #ifdef SKINNED
     tangent = mat3(skin) * tangent;
 #endif

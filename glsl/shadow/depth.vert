@@ -15,13 +15,19 @@ out vec2 v_uv;
 #ifdef SKINNED
 #include "lib/skin.glsl"
 #endif
+#ifdef MORPHED
+#include "lib/morph.glsl"
+#endif
 
 void main() {
-#ifdef SKINNED
-    gl_Position = LIGHT_MVP * (skin_matrix() * vec4(in_position, 1.0));
-#else
-    gl_Position = LIGHT_MVP * vec4(in_position, 1.0);
+    vec4 position = vec4(in_position, 1.0);
+#ifdef MORPHED
+    position.xyz += morphed(0);
 #endif
+#ifdef SKINNED
+    position = skin_matrix() * position;
+#endif
+    gl_Position = LIGHT_MVP * position;
 #ifdef ALPHA_MASK
     v_uv = in_uv;
 #endif

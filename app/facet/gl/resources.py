@@ -41,6 +41,7 @@ class MeshBuffers:
         # as batches need, and a vertex array per program binding it.
         self.instances: moderngl.Buffer | None = None
         self.instanced_vaos: dict[int, moderngl.VertexArray] = {}
+        self.morph: moderngl.Texture | None = None  # morph targets (add_morph)
 
     def vao(self, ctx: moderngl.Context, program: moderngl.Program) -> moderngl.VertexArray:
         """The vertex array binding this mesh to ``program``'s active attributes; attributes
@@ -81,6 +82,25 @@ class MeshBuffers:
             self.extra[f"in_weights{half}"] = (ctx.buffer(np.ascontiguousarray(
                 weights[:, part])), "4f")
 
+    def add_morph(self, ctx: moderngl.Context, skin, width: int) -> None:
+        """The morph targets of a morphed mesh as an RGBA32F texture ``width`` texels a
+        row: texel 3 (t N + v) target t's position displacement of vertex v, the next its
+        normal's and its tangent's (glsl/lib/morph.glsl); uploaded once."""
+        if self.morph is not None:
+            return
+        first = next(iter(skin.targets.values()))
+        count, n = first.shape[:2]
+        texels = np.zeros((count, n, 3, 4), np.float32)
+        for k, name in enumerate(("positions", "normals", "tangents")):
+            if name in skin.targets:
+                texels[:, :, k, :3] = skin.targets[name]
+        flat = texels.reshape(-1, 4)
+        rows = -(-len(flat) // width)
+        padded = np.zeros((rows * width, 4), np.float32)
+        padded[:len(flat)] = flat
+        self.morph = ctx.texture((width, rows), 4, padded.tobytes(), dtype="f4")
+        self.morph.filter = (moderngl.NEAREST, moderngl.NEAREST)
+
     def draw_instances(self, ctx: moderngl.Context, program: moderngl.Program,
                        rows: np.ndarray, layout: tuple) -> None:
         """Draw the mesh once per row of ``rows`` (N, K) float32 with ``program``;
@@ -110,6 +130,9 @@ class MeshBuffers:
         if self.instances is not None:
             self.instances.release()
             self.instances = None
+        if self.morph is not None:
+            self.morph.release()
+            self.morph = None
         for buf, _ in self.extra.values():
             buf.release()
         self.vbo.release()

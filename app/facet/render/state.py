@@ -25,7 +25,7 @@ from ..scene.scene import MAX_LIGHTS
 # has units of its own: every sampler a program declares needs a unit of its own type.
 UNITS = {"material": 0, "shadow": 1, "environment": 2, "mirror": 3, "post": 4, "post2": 5,
          "tris": 6, "tri_index": 7, "vertices": 8, "nodes": 9, "instances": 10, "tlas": 11,
-         "textures": 12, "edl": 13, "joints": 14}
+         "textures": 12, "edl": 13, "joints": 14, "targets": 15}
 LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in lighting.glsl
 
 

@@ -271,12 +271,10 @@ class Rig:
         for b in self.bindings:
             matrix, joints, weights = parts[b.part]
             mesh = meshes[b.part]
-            if b.deform is not None and joints is not None and not b.deform.targets:
-                from .skinned import SkinnedPose  # skinned on demand (the GPU's, else numpy)
+            if b.deform is not None and (joints is not None or weights is not None):
+                from .skinned import SkinnedPose  # deformed on demand (GPU's, else numpy)
 
-                mesh = SkinnedPose(mesh, b.deform, joints)
-            elif b.deform is not None and (joints is not None or weights is not None):
-                mesh = deformed_mesh(mesh, *deform(mesh, b.deform, weights, joints))
+                mesh = SkinnedPose(mesh, b.deform, joints, weights)
             out[b.part] = (mesh, matrix)
         return out, cams
 
@@ -397,21 +395,3 @@ def deform(mesh, deform: Deformation, weights: np.ndarray | None,
         tan = np.where(tl > 0, tan / np.where(tl > 0, tl, 1.0), tangents[:, :3])
         tan = np.hstack([tan, tangents[:, 3:4]])
     return p, n, tan
-
-
-def deformed_mesh(mesh, positions, normals, tangents):
-    """A copy of ``mesh`` (its faces, uvs, colours and material shared) with new vertex
-    positions, normals and tangents."""
-    def _readonly(a):
-        a = np.ascontiguousarray(a)
-        a.setflags(write=False)
-        return a
-
-    out = copy.copy(mesh)
-    out.positions = _readonly(np.asarray(positions, dtype=np.float32))
-    out.normals = _readonly(np.asarray(normals, dtype=np.float32))
-    out._tangents = None if tangents is None else _readonly(
-        np.asarray(tangents, dtype=np.float32))
-    out._bounds = None
-    out.rest = getattr(mesh, "rest", None) or mesh  # the tracers refit its hierarchy
-    return out

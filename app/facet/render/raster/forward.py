@@ -40,7 +40,7 @@ from .edl import EDL_RADIUS, EDL_STRENGTH, EdlTarget
 from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
 from .instancing import INSTANCE_LAYOUT, batches, instance_rows
 from .mirror import MirrorTargets, mirror_plane
-from .skinning import JointRows, skin_of, skinned_buffers
+from .skinning import POSE_DEFINES, JointRows, bind_pose, gpu_pose, pose_buffers
 from .sprites import set_sprite_uniforms, sprite_variant, uses_edl
 from .transmission import TRANSMISSION_UNIT, TransmissionTarget, transmits
 from .user_shaders import UserPrograms
@@ -80,6 +80,7 @@ class Variant:
     edl: bool = False  # eye-dome lighting of an unlit cloud (facet.render.raster.edl)
     edl_depth: bool = False  # the cloud's depth pass for it
     skin: int = 0  # skinned in the vertex shader: 4 or 8 influences (raster.skinning)
+    morph: bool = False  # morphed in the vertex shader (raster.skinning)
 
     @classmethod
     def of(cls, state: FrameState, aux=(), oit: bool = False) -> Variant:
@@ -118,8 +119,10 @@ class Variant:
                  "SPRITE_POINTS": self.sprite == "points",
                  "SPRITE_LINES": self.sprite == "lines", "EDL": self.edl,
                  "EDL_DEPTH": self.edl_depth, "SKINNED": self.skin > 0,
-                 "SKIN_8": self.skin > 4}
+                 "SKIN_8": self.skin > 4, "MORPHED": self.morph}
         d.update({k: None for k, on in flags.items() if on})
+        if self.skin or self.morph:
+            d.update(POSE_DEFINES)
         return d
 
 
@@ -236,7 +239,7 @@ class ForwardPass:
             if env is not None:
                 self.ibl.maps(env)
         def alone(o) -> bool:  # drawn by itself: a user's shader, a mirror, transmission,
-            return o.mesh.kind != "mesh" or skin_of(o.mesh) or (  # points, lines, skins
+            return o.mesh.kind != "mesh" or hasattr(o.mesh, "skin") or (  # points, lines,
                 o.material.shader is not None and not aux) or id(o) in reflections or (
                 behind is not None and model_for(state.shading, o.material) == "pbr"
                 and transmits(as_pbr(o.material)))
@@ -262,11 +265,15 @@ class ForwardPass:
                 prog = self.program(replace(
                     base, shading="pbr", slots=slot_defines(pbr),
                     vertex_colors=mesh.colors is not None, uv1=mesh.uvs1 is not None,
-                    tangents=pbr.normal_mapped and mesh.tangents is not None,
+                    # (a deformed pose's tangents are its rest mesh's, moved on the GPU)
+                    tangents=pbr.normal_mapped and (
+                        mesh.rest if any(gpu_pose(mesh)) else mesh).tangents is not None,
                     alpha_mask=pbr.alpha_mode == "MASK",
                     environment=env is not None and colour_pass,
                     transmission=behind is not None and transmits(pbr),
-                    instanced=group is not None, skin=skin_of(mesh) if not user else 0))
+                    instanced=group is not None,
+                    **({} if user else dict(zip(("skin", "morph"), gpu_pose(mesh),
+                                                strict=True)))))
             else:  # a mirror reflects the sky in its reflection
                 exact_only = bool(aux) and not colour_pass
                 terms = phong_terms(m, state, ambient, intensities)
@@ -274,7 +281,7 @@ class ForwardPass:
                     base, model, m.texture is not None, mirror, reflects,
                     obj.mesh.colors is not None, getattr(m, "alpha_mode", "") == "MASK",
                     exact_only, not exact_only and model in LIT and grey_terms(terms),
-                    group is not None, 0 if user else skin_of(obj.mesh)))
+                    group is not None, *((0, False) if user else gpu_pose(obj.mesh))))
             strict = not user  # a user's shader need not declare every standard input
             if id(prog) not in ready:  # per-frame uniforms, once per program
                 self._frame_uniforms(prog, state, view_projection, eye, user)
@@ -364,9 +371,10 @@ class ForwardPass:
             self._front(mirrored_view != (det < 0))
             # Back faces nobody can see are not drawn (facet.render.raster.culling).
             self._cull(self.culling.cull(item, state.cull, camera.view, camera.near, det))
-            if skin_of(item.mesh) and "u_joints" in prog.gl:  # skinned on the GPU
-                self.joints.bind(item.mesh.joint_matrices, prog)
-                buffers = skinned_buffers(self.cache, item.mesh, self.ctx)
+            if any(gpu_pose(item.mesh)) and "in_position" in prog.gl and (
+                    "u_joints" in prog.gl or "u_targets" in prog.gl):  # deformed on the GPU
+                buffers = pose_buffers(self.cache, item.mesh, self.ctx)
+                bind_pose(prog, item.mesh, buffers, self.joints)
             else:
                 buffers = self.cache.buffers(item.mesh)
             buffers.vao(self.ctx, prog.gl).render()
@@ -395,7 +403,7 @@ class ForwardPass:
             if len(self._variants) >= 4 * MAX_PROGRAMS:
                 self._variants.clear()
             names = ("shading", "texture", "mirror", "environment", "vertex_colors",
-                     "alpha_mask", "exact_only", "grey", "instanced", "skin")
+                     "alpha_mask", "exact_only", "grey", "instanced", "skin", "morph")
             found = self._variants[key] = replace(base, **dict(zip(names, flags, strict=True)))
         return found
 

@@ -28,7 +28,7 @@ from ...scene.options import PCF_CHOICES
 from ...scene.scene import Scene
 from ..state import UNITS
 from .instancing import batches
-from .skinning import JointRows, skin_of, skinned_buffers
+from .skinning import POSE_DEFINES, JointRows, bind_pose, gpu_pose, pose_buffers
 
 TILE = 1024  # shadow map resolution per tile
 ATLAS_COLUMNS = 8  # tiles per atlas row (TILE x 8 = 8192 px wide, within GL limits)
@@ -179,12 +179,12 @@ class ShadowMaps:
                 for item in items:  # objects sharing mesh and material: one draw
                     group = item if isinstance(item, list) else None
                     obj = item if group is None else item[0]
-                    skin = 0 if group is not None else skin_of(obj.mesh)
-                    prog = self._program_for(obj, group is not None, shift, skin)
+                    pose = (0, False) if group is not None else gpu_pose(obj.mesh)
+                    prog = self._program_for(obj, group is not None, shift, *pose)
                     prog.set("u_opacity", obj.material.opacity)
-                    if skin:  # skinned on the GPU, from the rest mesh (raster.skinning)
-                        self.joints.bind(obj.mesh.joint_matrices, prog)
-                        buffers = skinned_buffers(self.cache, obj.mesh, self.ctx)
+                    if any(pose):  # deformed on the GPU, from the rest mesh
+                        buffers = pose_buffers(self.cache, obj.mesh, self.ctx)
+                        bind_pose(prog, obj.mesh, buffers, self.joints)
                     else:
                         buffers = self.cache.buffers(obj.mesh)
                     if group is None:
@@ -211,15 +211,17 @@ class ShadowMaps:
         self.fbo = self.atlas = None
         self.tiles = 0
 
-    def _program_for(self, obj, instanced: bool, shift, skin: int = 0):
+    def _program_for(self, obj, instanced: bool, shift, skin: int = 0, morph: bool = False):
         """The depth program for ``obj`` (drawn alone or instanced; skinned with ``skin``
-        influences), its cut-out image bound (MASK materials)."""
-        key = (_masked(obj), instanced, skin > 0, skin > 4)
+        influences, morphed), its cut-out image bound (MASK materials)."""
+        key = (_masked(obj), instanced, skin > 0, skin > 4, morph)
         prog = self._programs.get(key)
         if prog is None:
             root = glsl_root()
-            names = ("ALPHA_MASK", "INSTANCED", "SKINNED", "SKIN_8")
+            names = ("ALPHA_MASK", "INSTANCED", "SKINNED", "SKIN_8", "MORPHED")
             defines = {name: None for name, on in zip(names, key, strict=True) if on}
+            if skin or morph:
+                defines.update(POSE_DEFINES)
             prog = self._programs[key] = compile_program(
                 self.ctx, root / "shadow" / "depth.vert", root / "shadow" / "depth.frag",
                 defines)

@@ -1,7 +1,9 @@
-"""The rasterizer's skinning (glsl/lib/skin.glsl): a skinned pose (facet.scene.skinned) is
-drawn from its rest mesh's buffers, with the joints and weights uploaded once beside them,
-and its joint matrices uploaded each pose as a small float texture: three texels, the rows
-of each joint's 3x4 matrix. Its vertices are never computed on the CPU for this."""
+"""The rasterizer's skinning and morphing (glsl/lib/skin.glsl, glsl/lib/morph.glsl): a
+deformed pose (facet.scene.skinned) is drawn from its rest mesh's buffers, with its joints
+and weights (vertex attributes) and its morph targets (a float texture) uploaded once beside
+them; each pose sends its joint matrices (a small float texture: three texels, the rows of
+each joint's 3x4 matrix) and its morph weights. Its vertices are never computed on the CPU
+for this (more than MAX_MORPH targets: numpy, facet.scene.animation)."""
 
 from __future__ import annotations
 
@@ -9,13 +11,21 @@ import numpy as np
 
 from ..state import UNITS
 
+MAX_MORPH = 64  # morph targets the vertex shader blends (more: numpy)
+MORPH_WIDTH = 4096  # texels per row of the targets' texture
+POSE_DEFINES = {"MAX_MORPH": MAX_MORPH, "MORPH_WIDTH": MORPH_WIDTH}
 
-def skin_of(mesh) -> int:
-    """The influences per vertex of a skinned pose the rasterizer skins (4 or 8), else 0."""
+
+def gpu_pose(mesh) -> tuple[int, bool]:
+    """(influences the vertex shader blends: 0, 4 or 8; whether it morphs) of a deformed
+    pose; (0, False) for anything else (drawn from its own vertices)."""
     skin = getattr(mesh, "skin", None)
-    if skin is None or getattr(mesh, "joint_matrices", None) is None:
-        return 0
-    return 8 if skin.joints.shape[1] > 4 else 4
+    if skin is None or not hasattr(mesh, "morph_weights"):
+        return 0, False
+    if mesh.morph_weights is not None and len(mesh.morph_weights) > MAX_MORPH:
+        return 0, False
+    joints = 0 if mesh.joint_matrices is None else (8 if skin.joints.shape[1] > 4 else 4)
+    return joints, mesh.morph_weights is not None
 
 
 class JointRows:
@@ -44,8 +54,28 @@ class JointRows:
             self.texture = None
 
 
-def skinned_buffers(cache, mesh, ctx):
-    """The rest mesh's buffers of a skinned pose, with its joints and weights."""
+def pose_buffers(cache, mesh, ctx):
+    """The rest mesh's buffers of a deformed pose, with its joints and weights and its
+    morph targets."""
     buffers = cache.buffers(mesh.rest)
-    buffers.add_skin(ctx, mesh.skin)
+    joints, morphed = gpu_pose(mesh)
+    if joints:
+        buffers.add_skin(ctx, mesh.skin)
+    if morphed:
+        buffers.add_morph(ctx, mesh.skin, MORPH_WIDTH)
     return buffers
+
+
+def bind_pose(prog, mesh, buffers, joint_rows: JointRows) -> None:
+    """The pose's joint matrices and morph weights for ``prog``."""
+    joints, morphed = gpu_pose(mesh)
+    if joints:
+        joint_rows.bind(mesh.joint_matrices, prog)
+    if morphed:
+        buffers.morph.use(location=UNITS["targets"])
+        prog.set("u_targets", UNITS["targets"])
+        w = np.zeros(MAX_MORPH, np.float32)
+        w[:len(mesh.morph_weights)] = mesh.morph_weights
+        prog.set_array("u_morph_weights", w)
+        prog.set("u_morph_count", len(mesh.morph_weights))
+        prog.set("u_morph_vertices", len(mesh.rest.positions))
