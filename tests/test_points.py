@@ -276,3 +276,19 @@ def test_eye_dome_lighting_darkens_what_lies_behind_a_nearer_edge(renderer):
     row = lit[H // 2]
     edge = int(np.flatnonzero(darkened[H // 2])[0])
     assert row[edge + 3] == 200 and row[edge - 4] == 200  # each sheet flat: not darkened
+
+
+def test_a_dataset_renders_a_point_cloud(tmp_path):
+    """A dataset job on a point-cloud file writes its views, the cloud in them."""
+    from PIL import Image
+
+    from batch_data import write_manifest
+    from conftest import ROOT
+
+    manifest = write_manifest(tmp_path, [{"model": str(ROOT / "models" / "helix-points.ply"),
+                                          "name": "helix", "views": 2, "size": [32, 32],
+                                          "outputs": ["color", "ids"]}])
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"]) == 0
+    images = sorted((tmp_path / "out" / "helix").rglob("*.png"))
+    colour = [p for p in images if "ids" not in p.name and "depth" not in p.name]
+    assert colour and (np.asarray(Image.open(colour[0]).convert("L")) > 0).sum() > 30
