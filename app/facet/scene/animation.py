@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from .skinned import SkinnedPose  # a pose deformed on demand (the GPU's, else numpy)
 
 INTERPOLATIONS = ("STEP", "LINEAR", "CUBICSPLINE")
 PATHS = ("translation", "rotation", "scale", "weights")
@@ -173,6 +174,8 @@ class Rig:
     for nodes given by a matrix; ``weights``: {node: (T,) default morph weights};
     ``cameras``: {name: (node, Camera)} of cameras on nodes."""
 
+    NO_CLIPS = NO_CLIPS  # (for callers that do not import this module)
+
     def __init__(self, parents, order, rest, fixed, weights, clips, skins, bindings,
                  cameras=None):
         self.parents = np.asarray(parents, dtype=np.int64)
@@ -272,7 +275,6 @@ class Rig:
             matrix, joints, weights = parts[b.part]
             mesh = meshes[b.part]
             if b.deform is not None and (joints is not None or weights is not None):
-                from .skinned import SkinnedPose  # deformed on demand (GPU's, else numpy)
 
                 mesh = SkinnedPose(mesh, b.deform, joints, weights)
             out[b.part] = (mesh, matrix)
@@ -349,49 +351,3 @@ def camera_view(frame: np.ndarray) -> np.ndarray:
     f = np.array(frame, dtype=np.float64)
     f[:3, :3] /= np.maximum(np.linalg.norm(f[:3, :3], axis=0, keepdims=True), 1e-300)
     return np.linalg.inv(f)
-
-
-def deform(mesh, deform: Deformation, weights: np.ndarray | None,
-           joint_matrices: np.ndarray | None):
-    """(positions (N, 3), normals (N, 3), tangents (N, 4) or None) of ``mesh`` morphed by
-    ``weights`` (T,) and skinned by ``joint_matrices`` (J, 4, 4) (each may be None)."""
-    p = mesh.positions.astype(np.float64)
-    n = mesh.normals.astype(np.float64)
-    tangents = mesh._tangents
-    tan = None if tangents is None else tangents[:, :3].astype(np.float64)
-    if weights is not None and deform.targets:
-        w = np.asarray(weights, dtype=np.float64)
-        count = next(iter(deform.targets.values())).shape[0]
-        w = np.pad(w[:count], (0, max(count - len(w), 0)))
-        if "positions" in deform.targets:
-            p = p + np.einsum("t,tnk->nk", w, deform.targets["positions"])
-        if "normals" in deform.targets:
-            n = n + np.einsum("t,tnk->nk", w, deform.targets["normals"])
-        if tan is not None and "tangents" in deform.targets:
-            tan = tan + np.einsum("t,tnk->nk", w, deform.targets["tangents"])
-    if joint_matrices is not None and deform.joints is not None:
-        # The blended matrix per vertex, sum_k w_k J_{j_k} (its top 3 rows, (N, 3, 4)),
-        # float32 and one influence at a time: a loop over at most 8 influences, each a
-        # gather and a multiply-add over every vertex.
-        rows = joint_matrices[:, :3, :].astype(np.float32)
-        weights = deform.weights.astype(np.float32)
-        m = np.zeros((len(p), 3, 4), np.float32)
-        for k in range(deform.joints.shape[1]):
-            m += weights[:, k, None, None] * rows[deform.joints[:, k]]
-        p = np.einsum("nij,nj->ni", m[:, :, :3], p.astype(np.float32)) + m[:, :, 3]
-        a = m[:, :, :3]
-        c0, c1, c2 = a[:, :, 0], a[:, :, 1], a[:, :, 2]
-        # Inverse transpose up to the determinant: the cofactor matrix, its columns the
-        # cross products of the other two; the determinant's sign keeps mirrors right.
-        cof = np.stack([np.cross(c1, c2), np.cross(c2, c0), np.cross(c0, c1)], axis=2)
-        det = np.einsum("ni,ni->n", c0, cof[:, :, 0])
-        n = np.einsum("nij,nj->ni", cof, n) * np.where(det < 0, -1.0, 1.0)[:, None]
-        if tan is not None:
-            tan = np.einsum("nij,nj->ni", a, tan)
-    length = np.linalg.norm(n, axis=1, keepdims=True)
-    n = np.where(length > 0, n / np.where(length > 0, length, 1.0), mesh.normals)
-    if tan is not None:
-        tl = np.linalg.norm(tan, axis=1, keepdims=True)
-        tan = np.where(tl > 0, tan / np.where(tl > 0, tl, 1.0), tangents[:, :3])
-        tan = np.hstack([tan, tangents[:, 3:4]])
-    return p, n, tan

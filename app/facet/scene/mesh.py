@@ -179,10 +179,11 @@ class Mesh:
         """
         parts, _, _, rig = cls.load_rigged(path, crease=crease)
         if rig is not None:  # skins and default morph weights applied, nothing playing
-            from .animation import NO_CLIPS
-
-            placed, _ = rig.posed_meshes([m for _, m, _ in parts], 0.0, NO_CLIPS)
-            parts = [(n, m, x) for (n, _, _), (m, x) in zip(parts, placed, strict=True)]
+            placed, _ = rig.posed_meshes([m for _, m, _ in parts], 0.0, rig.NO_CLIPS)
+            parts = [(n, m if isinstance(m, Mesh) or m.kind != "mesh" else Mesh(
+                m.positions, m.faces, m.normals, m.uvs, name=m.name, material=m.material,
+                colors=m.colors, uvs1=m.uvs1, tangents=m._tangents, variants=m.variants),
+                x) for (n, _, _), (m, x) in zip(parts, placed, strict=True)]
         meshes = [part for part in parts if part[1].kind == "mesh"]
         if not meshes:
             from ..errors import MeshError

@@ -15,8 +15,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mesh import Mesh
-
 LAZY = ("positions", "normals", "_tangents", "_bounds")
 
 
@@ -28,13 +26,13 @@ def _readonly(a):
     return a
 
 
-class SkinnedPose(Mesh):
-    """``rest`` deformed through ``skin`` (a Deformation: joints and weights and/or morph
-    targets) by ``joint_matrices`` (J, 4, 4) (None: not skinned) and morph ``weights`` (T,)
-    (None: not morphed)."""
+class SkinnedPose:
+    """``rest`` (a facet.scene.mesh.Mesh) deformed through ``skin`` (a Deformation: joints
+    and weights and/or morph targets) by ``joint_matrices`` (J, 4, 4) (None: not skinned)
+    and morph ``weights`` (T,) (None: not morphed). It reads as a Mesh: what a pose does
+    not change (faces, uvs, colours, material, closedness) is the rest mesh's."""
 
-    def __init__(self, rest: Mesh, skin, joint_matrices, weights=None):
-        self.__dict__.update({k: v for k, v in rest.__dict__.items() if k not in LAZY})
+    def __init__(self, rest, skin, joint_matrices, weights=None):
         self.rest = getattr(rest, "rest", None) or rest
         self.skin = skin
         self.joint_matrices = None if joint_matrices is None or skin.joints is None else \
@@ -47,10 +45,37 @@ class SkinnedPose(Mesh):
         self._posed = None
         self._box = None
 
+    def __getattr__(self, name: str):
+        if name.startswith("__") or name in LAZY or name in ("rest", "_posed"):
+            raise AttributeError(name)
+        return getattr(self.rest, name)  # faces, uvs, colors, material, closed, kind, ...
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """(2, 3) the posed vertices' bounds (they are computed for it)."""
+        p = self.positions
+        return np.stack([p.min(axis=0), p.max(axis=0)]).astype(np.float64)
+
+    @property
+    def tangents(self):
+        """(N, 4) the posed tangent frames (the rest mesh's moved, else computed from the
+        posed vertices and the uvs), or None without uvs."""
+        if self._tangents is None and self.rest.uvs is not None:
+            from .normals import tangents
+
+            self._tangents = tangents(self.positions, self.normals, self.rest.uvs,
+                                      self.rest.faces)
+        return self._tangents
+
+    @property
+    def vertex_count(self) -> int:
+        return self.rest.vertex_count
+
+    def __repr__(self) -> str:
+        return f"SkinnedPose({self.rest!r})"
+
     def _pose(self) -> tuple:
         if self._posed is None:
-            from .animation import deform
-
             p, n, t = deform(self.rest, self.skin, self.morph_weights, self.joint_matrices)
             self._posed = [_readonly(p), _readonly(n), _readonly(t)]
         return self._posed
@@ -104,7 +129,7 @@ def morph_reach(skin, weights) -> np.ndarray:
     return np.abs(weights) @ cache
 
 
-def joint_boxes(rest: Mesh, skin) -> tuple[np.ndarray, np.ndarray]:
+def joint_boxes(rest, skin) -> tuple[np.ndarray, np.ndarray]:
     """((J, 2, 3) the box of the rest vertices each joint moves, (J,) whether it moves
     any), computed once per rest mesh and skin."""
     cache = rest.__dict__.setdefault("_joint_boxes", {})
@@ -123,3 +148,49 @@ def joint_boxes(rest: Mesh, skin) -> tuple[np.ndarray, np.ndarray]:
         used = np.isfinite(lo).all(axis=1)
         cache[key] = (np.stack([lo, hi], axis=1), used)
     return cache[key]
+
+
+def deform(mesh, deform, weights: np.ndarray | None,
+           joint_matrices: np.ndarray | None):
+    """(positions (N, 3), normals (N, 3), tangents (N, 4) or None) of ``mesh`` morphed by
+    ``weights`` (T,) and skinned by ``joint_matrices`` (J, 4, 4) (each may be None)."""
+    p = mesh.positions.astype(np.float64)
+    n = mesh.normals.astype(np.float64)
+    tangents = mesh._tangents
+    tan = None if tangents is None else tangents[:, :3].astype(np.float64)
+    if weights is not None and deform.targets:
+        w = np.asarray(weights, dtype=np.float64)
+        count = next(iter(deform.targets.values())).shape[0]
+        w = np.pad(w[:count], (0, max(count - len(w), 0)))
+        if "positions" in deform.targets:
+            p = p + np.einsum("t,tnk->nk", w, deform.targets["positions"])
+        if "normals" in deform.targets:
+            n = n + np.einsum("t,tnk->nk", w, deform.targets["normals"])
+        if tan is not None and "tangents" in deform.targets:
+            tan = tan + np.einsum("t,tnk->nk", w, deform.targets["tangents"])
+    if joint_matrices is not None and deform.joints is not None:
+        # The blended matrix per vertex, sum_k w_k J_{j_k} (its top 3 rows, (N, 3, 4)),
+        # float32 and one influence at a time: a loop over at most 8 influences, each a
+        # gather and a multiply-add over every vertex.
+        rows = joint_matrices[:, :3, :].astype(np.float32)
+        weights = deform.weights.astype(np.float32)
+        m = np.zeros((len(p), 3, 4), np.float32)
+        for k in range(deform.joints.shape[1]):
+            m += weights[:, k, None, None] * rows[deform.joints[:, k]]
+        p = np.einsum("nij,nj->ni", m[:, :, :3], p.astype(np.float32)) + m[:, :, 3]
+        a = m[:, :, :3]
+        c0, c1, c2 = a[:, :, 0], a[:, :, 1], a[:, :, 2]
+        # Inverse transpose up to the determinant: the cofactor matrix, its columns the
+        # cross products of the other two; the determinant's sign keeps mirrors right.
+        cof = np.stack([np.cross(c1, c2), np.cross(c2, c0), np.cross(c0, c1)], axis=2)
+        det = np.einsum("ni,ni->n", c0, cof[:, :, 0])
+        n = np.einsum("nij,nj->ni", cof, n) * np.where(det < 0, -1.0, 1.0)[:, None]
+        if tan is not None:
+            tan = np.einsum("nij,nj->ni", a, tan)
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    n = np.where(length > 0, n / np.where(length > 0, length, 1.0), mesh.normals)
+    if tan is not None:
+        tl = np.linalg.norm(tan, axis=1, keepdims=True)
+        tan = np.where(tl > 0, tan / np.where(tl > 0, tl, 1.0), tangents[:, :3])
+        tan = np.hstack([tan, tangents[:, 3:4]])
+    return p, n, tan
