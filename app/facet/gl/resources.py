@@ -201,10 +201,13 @@ class SpriteBuffers:
 GL_SRGB8_ALPHA8 = 0x8C43
 
 
-def upload_texture(ctx: moderngl.Context, texture: Texture, srgb: bool) -> moderngl.Texture:
+def upload_texture(ctx: moderngl.Context, texture: Texture, srgb: bool,
+                   mipmaps: bool = True) -> moderngl.Texture:
     """A mipmapped, trilinear, repeating GL texture of ``texture`` (rows flipped: GL's first
     row is v = 0, the image's bottom). ``srgb``: decode sRGB to linear when sampling.
-    Images beyond the GL size limit are downscaled with a warning."""
+    ``mipmaps`` False: the base level only (for samplers that read no other: glTF's
+    NEAREST / LINEAR minification). Images beyond the GL size limit are downscaled with a
+    warning."""
     pixels = texture.pixels
     limit = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
     w, h = texture.size
@@ -219,8 +222,11 @@ def upload_texture(ctx: moderngl.Context, texture: Texture, srgb: bool) -> moder
     data = np.ascontiguousarray(pixels[::-1])
     tex = ctx.texture((data.shape[1], data.shape[0]), 4, data.tobytes(),
                       internal_format=GL_SRGB8_ALPHA8 if srgb else None)
-    tex.build_mipmaps()
-    tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    if mipmaps:
+        tex.build_mipmaps()
+        tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    else:
+        tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
     tex.repeat_x = tex.repeat_y = True
     return tex
 
@@ -232,17 +238,19 @@ class ResourceCache:
     def __init__(self, ctx: moderngl.Context):
         self.ctx = ctx
         self._entries: dict[int, tuple[weakref.ref, MeshBuffers]] = {}
-        self._textures: dict[tuple[int, bool], tuple[weakref.ref, moderngl.Texture]] = {}
+        self._textures: dict[tuple, tuple[weakref.ref, moderngl.Texture]] = {}
         self.uploads = 0  # meshes uploaded so far (tests check caching with it)
 
-    def texture(self, texture: Texture, srgb: bool) -> moderngl.Texture:
-        key = (id(texture), srgb)
+    def texture(self, texture: Texture, srgb: bool, mipmaps: bool = True) -> moderngl.Texture:
+        """The GL texture of ``texture`` (uploaded once per colour mode; with mip levels
+        unless every sampler of it reads the base level only: ``mipmaps`` False)."""
+        key = (id(texture), srgb) if mipmaps else (id(texture), srgb, "base")
         entry = self._textures.get(key)
         if entry is not None and entry[0]() is texture:
             return entry[1]
         if entry is not None:
             entry[1].release()
-        tex = upload_texture(self.ctx, texture, srgb)
+        tex = upload_texture(self.ctx, texture, srgb, mipmaps)
         self._textures[key] = (weakref.ref(texture), tex)
         return tex
 

@@ -131,7 +131,7 @@ def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> lis
             mirrors.append((0.0, 0.0))
             continue
         unit = PBR_UNITS[slot_name]
-        cache.texture(slot.texture, slot_name in SRGB_SLOTS).use(location=unit)
+        cache.texture(slot.texture, slot_name in SRGB_SLOTS, slot.mipmaps).use(location=unit)
         samplers.get(slot).use(location=unit)
         bound.append(unit)
         prog.set(SLOT_UNIFORMS[slot_name], unit, strict=False)
