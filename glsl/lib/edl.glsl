@@ -2,6 +2,7 @@
 // a point darkens where its neighbours on the screen are nearer, in log depth, so shape
 // shows without normals. The cloud's own linear depth comes from a pass of its own
 // (facet.render.raster.edl: 0 where it has no point); empty neighbours add nothing.
+// glsl/post/edl_shade.frag evaluates it once per pixel; the colour pass reads the result.
 uniform sampler2D u_edl_depth;
 uniform float u_edl_strength;  // Potree's 1.0
 uniform float u_edl_radius;    // neighbours this many pixels away (Potree's 1.4)

@@ -15,7 +15,7 @@ in vec4 v_color;
 in vec2 v_corner;  // across a line's quad (glsl/mesh/sprite.vert)
 #endif
 #ifdef EDL
-#include "lib/edl.glsl"
+uniform sampler2D u_edl_shade;  // eye-dome lighting per pixel (glsl/post/edl_shade.frag)
 #endif
 #ifdef HAS_TEXTURE
 // The material's texture. Uploaded as sRGB (decoded to linear when sampled) in the sRGB
@@ -145,7 +145,7 @@ void main() {
     vec3 rgb = shade_scene(v_pos_world, N, V, albedo, false);
 #endif
 #ifdef EDL
-    rgb *= edl_shade(v_depth_view);
+    rgb *= texelFetch(u_edl_shade, ivec2(gl_FragCoord.xy), 0).r;
 #endif
 #ifdef HAS_ENVIRONMENT
     vec3 R = gloss_tilt(reflect(-V, N), u_gloss, u_gloss_jitter);

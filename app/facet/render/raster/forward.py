@@ -36,7 +36,7 @@ from ..materials import (
 from ..shading import SHADING_MODELS, check_shading
 from ..state import UNITS, FrameState, pack_lights
 from .culling import Culling, det3
-from .edl import EDL_RADIUS, EDL_STRENGTH, EdlTarget
+from .edl import EdlTarget
 from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
 from .instancing import INSTANCE_LAYOUT, batches, instance_rows
 from .mirror import MirrorTargets, mirror_plane
@@ -348,14 +348,13 @@ class ForwardPass:
         if uses_edl(obj, variant):  # its depth first, read around each fragment after
             depth = replace(variant, aux=(), oit=False, edl_depth=True, shadow_slots=None,
                             light_kinds=())
-            texture = self.edl.draw_depth(state.width, state.height, lambda: buffers
-                                          .draw_sprites(self.ctx, draw(depth).gl))
+            shade = self.edl.draw_shade(
+                state.width, state.height,
+                lambda: buffers.draw_sprites(self.ctx, draw(depth).gl), UNITS["edl"])
             variant = replace(variant, edl=True)
             prog = draw(variant)
-            texture.use(location=UNITS["edl"])
-            prog.set("u_edl_depth", UNITS["edl"])
-            prog.set("u_edl_strength", EDL_STRENGTH)
-            prog.set("u_edl_radius", EDL_RADIUS)
+            shade.use(location=UNITS["edl"])
+            prog.set("u_edl_shade", UNITS["edl"])
             buffers.draw_sprites(self.ctx, prog.gl)
             return
         buffers.draw_sprites(self.ctx, draw(variant).gl)
