@@ -92,6 +92,39 @@ class Frame:
         """The camera as plain data (see ``Camera.describe``) for this image size."""
         return self.camera.describe(*self.size)
 
+    def _repr_png_(self) -> bytes | None:
+        """The colour image as PNG bytes: how Jupyter and IPython show a Frame inline."""
+        from ..image.png import encode_png
+        from ..image.writers import to_uint8
+
+        if self.color is None:
+            return None
+        rgba = to_uint8(self.color)
+        if rgba.ndim == 3 and rgba.shape[2] == 4 and np.all(rgba[..., 3] == 255):
+            rgba = rgba[..., :3]
+        return encode_png(np.ascontiguousarray(rgba), 6)
+
+    def _repr_html_(self) -> str:
+        """The picture beside its size, channels and camera (Jupyter's rich display)."""
+        import base64
+        import html
+
+        shown = [n for n, v in self._channels.items() if v is not None]
+        info = self.camera_info()
+        rows = [("size", f"{self.size[0]} x {self.size[1]}"),
+                ("channels", ", ".join(["color", *shown] if self.color is not None
+                                       else shown) or "none"),
+                ("camera", "orthographic" if info.get("ortho_height") else
+                 f"perspective, fov_y {info.get('fov_y', 0):.1f} deg"),
+                ("eye", ", ".join(f"{v:.3g}" for v in self.camera.eye))]
+        table = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
+                        f"<td>{html.escape(str(v))}</td></tr>" for k, v in rows)
+        png = self._repr_png_()
+        image = "" if png is None else (
+            "<img src='data:image/png;base64," + base64.b64encode(png).decode() + "'/>")
+        return (f"<div style='display:flex;gap:1em;align-items:flex-start'>{image}"
+                f"<table>{table}</table></div>")
+
     def save(self, path):
         """Write the colour image (PNG; RGBA if the background is transparent)."""
         from ..image.writers import save_image, to_uint8

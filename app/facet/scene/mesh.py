@@ -199,6 +199,22 @@ class Mesh:
         return mesh.flat_shaded() if flat else mesh
 
     @classmethod
+    def from_trimesh(cls, tm) -> Mesh:
+        """A Mesh of a trimesh.Trimesh: its vertices, faces, vertex normals (when it has
+        them), texture coordinates, vertex colours and material (facet.scene.adapters); a
+        trimesh Scene's parts are merged, placed by its graph (``Scene.add`` keeps them
+        apart)."""
+        from .adapters import trimesh_parts
+
+        parts = [(n, m, x) for n, m, x in trimesh_parts(tm) if m.kind == "mesh"]
+        if not parts:
+            raise InputError(f"{type(tm).__name__} holds no triangles (a point cloud: "
+                             "Scene.add or facet.Points take it)")
+        if len(parts) == 1 and np.array_equal(parts[0][2], np.eye(4)):
+            return parts[0][1]
+        return merge_parts(parts, type(tm).__name__)
+
+    @classmethod
     def load_parts(cls, path, *, crease: float | None = None) -> list[tuple[str, Mesh,
                                                                              np.ndarray]]:
         """The parts of a mesh file as (name, mesh, 4x4 part -> file transform), each mesh

@@ -80,16 +80,26 @@ class Scene:
         self.animated: list = []
 
     def add(self, mesh, material: Material | None = None, transform=None, *,
-            name: str = "", transform_end=None) -> int:
-        """Place ``mesh`` (a ``Mesh``, or an analytic ``facet.shapes`` shape) in the scene;
-        returns its object id (0, 1, 2, ...).
+            name: str = "", transform_end=None) -> int | list[int]:
+        """Place ``mesh`` (a ``Mesh``, ``Points``, ``Lines``, an analytic ``facet.shapes``
+        shape, or trimesh's Trimesh, PointCloud or Scene: facet.scene.adapters) in the
+        scene; returns its object id (0, 1, 2, ...), or for a trimesh Scene the ids of its
+        parts (each placed by its graph's transform, then ``transform``).
 
         ``material`` defaults to the mesh file's own material, else a grey ``Material()``.
         ``transform`` is the 4x4 object -> world matrix (default identity); with
         ``transform_end`` (the matrix at shutter close) the object is motion-blurred.
         """
+        from .adapters import is_trimesh, trimesh_parts
         from .points import Lines, Points
         from .shapes import Shape
+
+        if is_trimesh(mesh):
+            parts = trimesh_parts(mesh)
+            base = np.eye(4) if transform is None else np.asarray(transform, np.float64)
+            ids = [self.add(part, material, base @ matrix, name=name or part_name,
+                            transform_end=transform_end) for part_name, part, matrix in parts]
+            return ids if type(mesh).__name__ == "Scene" else ids[0]
 
         shape = mesh if isinstance(mesh, Shape) else None
         if shape is not None:

@@ -1,0 +1,104 @@
+"""The geometry users already hold, as facet's (no GL): trimesh's Trimesh (with its
+visuals: vertex colours, texture coordinates and image, Phong or PBR material), Scene (its
+graph's transforms) and PointCloud. ``Scene.add`` and ``Mesh.from_trimesh`` take them;
+anything else with ``vertices`` and ``faces`` arrays (Open3D's and PyVista's meshes through
+numpy: ``facet.Mesh(np.asarray(m.vertices), np.asarray(m.triangles))``) goes through
+``facet.Mesh`` itself.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+
+def is_trimesh(value) -> bool:
+    return type(value).__module__.split(".")[0] == "trimesh"
+
+
+def trimesh_parts(value) -> list[tuple[str, object, np.ndarray]]:
+    """[(name, Mesh or Points, 4x4 part -> world)] of a trimesh Trimesh, Scene or
+    PointCloud."""
+    import trimesh
+
+    if isinstance(value, trimesh.Scene):
+        parts = []
+        for node in value.graph.nodes_geometry:
+            matrix, name = value.graph[node]
+            parts.append((str(node), trimesh_geometry(value.geometry[name], str(name)),
+                          np.asarray(matrix, dtype=np.float64)))
+        if not parts:
+            raise InputError("the trimesh Scene holds no geometry")
+        return parts
+    return [(getattr(value, "metadata", {}).get("name", "") or type(value).__name__,
+             trimesh_geometry(value), np.eye(4))]
+
+
+def trimesh_geometry(tm, name: str = "trimesh"):
+    """A facet Mesh (or Points) of one trimesh geometry."""
+    import trimesh
+
+    from .mesh import Mesh
+    from .points import Points
+
+    if isinstance(tm, trimesh.PointCloud):
+        colors = getattr(tm, "colors", None)
+        colors = None if colors is None or len(colors) != len(tm.vertices) else \
+            np.asarray(colors, dtype=np.uint8)
+        return Points(np.asarray(tm.vertices), colors, name=name)
+    if not isinstance(tm, trimesh.Trimesh):
+        raise InputError(f"facet takes trimesh's Trimesh, Scene and PointCloud, got "
+                         f"{type(tm).__name__}")
+    visual = getattr(tm, "visual", None)
+    uv = getattr(visual, "uv", None)
+    uv = None if uv is None or len(uv) != len(tm.vertices) else np.asarray(uv)
+    colors = None
+    if getattr(visual, "kind", None) == "vertex":
+        colors = np.asarray(visual.vertex_colors, dtype=np.uint8)
+        if len(colors) != len(tm.vertices):
+            colors = None
+    normals = tm._cache.cache.get("vertex_normals") if hasattr(tm, "_cache") else None
+    return Mesh(np.asarray(tm.vertices), np.asarray(tm.faces), normals, uv, name=name,
+                colors=colors, material=trimesh_material(visual))
+
+
+def trimesh_material(visual):
+    """A facet material of a trimesh visual's material (PBRMaterial: metallic-roughness
+    with its base colour image; SimpleMaterial: Phong with its image), else None."""
+    import trimesh
+
+    material = getattr(visual, "material", None)
+    if isinstance(material, trimesh.visual.material.PBRMaterial):
+        from .pbr import PbrMaterial, TextureSlot
+        from .texture import Texture
+
+        factor = material.baseColorFactor
+        base = np.ones(4) if factor is None else np.asarray(factor, dtype=np.float64)
+        if base.max() > 1.0:  # trimesh keeps uint8 factors
+            base = base / 255.0
+        image = material.baseColorTexture
+        return PbrMaterial(
+            base_color=np.clip(base, 0, 1),
+            metallic=float(np.clip(material.metallicFactor if material.metallicFactor
+                                   is not None else 1.0, 0, 1)),
+            roughness=float(np.clip(material.roughnessFactor if material.roughnessFactor
+                                    is not None else 1.0, 0, 1)),
+            double_sided=bool(material.doubleSided),
+            base_color_texture=None if image is None else TextureSlot(
+                Texture.from_pil(image, "baseColorTexture")),
+            name=material.name or "")
+    if isinstance(material, trimesh.visual.material.SimpleMaterial):
+        from types import SimpleNamespace
+
+        from .loading import _material_from_trimesh  # (OBJ's MTL mapping: one place)
+
+        found = _material_from_trimesh(SimpleNamespace(visual=visual))
+        image = getattr(material, "image", None)
+        if found is None and image is not None:  # an image and no MTL colours: as given
+            from .material import Material
+            from .texture import Texture
+
+            found = Material(color=(1.0, 1.0, 1.0), texture=Texture.from_pil(image, "image"))
+        return found
+    return None
