@@ -17,29 +17,30 @@ def is_trimesh(value) -> bool:
     return type(value).__module__.split(".")[0] == "trimesh"
 
 
-def trimesh_parts(value) -> list[tuple[str, object, np.ndarray]]:
+def trimesh_parts(value, mesh_class) -> list[tuple[str, object, np.ndarray]]:
     """[(name, Mesh or Points, 4x4 part -> world)] of a trimesh Trimesh, Scene or
-    PointCloud."""
+    PointCloud; ``mesh_class``: facet.scene.mesh.Mesh (given, so that this module and
+    that one do not import each other)."""
     import trimesh
 
     if isinstance(value, trimesh.Scene):
         parts = []
         for node in value.graph.nodes_geometry:
             matrix, name = value.graph[node]
-            parts.append((str(node), trimesh_geometry(value.geometry[name], str(name)),
+            parts.append((str(node), trimesh_geometry(value.geometry[name], mesh_class,
+                                                      str(name)),
                           np.asarray(matrix, dtype=np.float64)))
         if not parts:
             raise InputError("the trimesh Scene holds no geometry")
         return parts
     return [(getattr(value, "metadata", {}).get("name", "") or type(value).__name__,
-             trimesh_geometry(value), np.eye(4))]
+             trimesh_geometry(value, mesh_class), np.eye(4))]
 
 
-def trimesh_geometry(tm, name: str = "trimesh"):
-    """A facet Mesh (or Points) of one trimesh geometry."""
+def trimesh_geometry(tm, mesh_class, name: str = "trimesh"):
+    """A facet Mesh (``mesh_class``) or Points of one trimesh geometry."""
     import trimesh
 
-    from .mesh import Mesh
     from .points import Points
 
     if isinstance(tm, trimesh.PointCloud):
@@ -59,8 +60,8 @@ def trimesh_geometry(tm, name: str = "trimesh"):
         if len(colors) != len(tm.vertices):
             colors = None
     normals = tm._cache.cache.get("vertex_normals") if hasattr(tm, "_cache") else None
-    return Mesh(np.asarray(tm.vertices), np.asarray(tm.faces), normals, uv, name=name,
-                colors=colors, material=trimesh_material(visual))
+    return mesh_class(np.asarray(tm.vertices), np.asarray(tm.faces), normals, uv, name=name,
+                      colors=colors, material=trimesh_material(visual))
 
 
 def trimesh_material(visual):

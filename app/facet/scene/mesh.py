@@ -206,7 +206,7 @@ class Mesh:
         apart)."""
         from .adapters import trimesh_parts
 
-        parts = [(n, m, x) for n, m, x in trimesh_parts(tm) if m.kind == "mesh"]
+        parts = [(n, m, x) for n, m, x in trimesh_parts(tm, cls) if m.kind == "mesh"]
         if not parts:
             raise InputError(f"{type(tm).__name__} holds no triangles (a point cloud: "
                              "Scene.add or facet.Points take it)")

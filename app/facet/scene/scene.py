@@ -95,7 +95,7 @@ class Scene:
         from .shapes import Shape
 
         if is_trimesh(mesh):
-            parts = trimesh_parts(mesh)
+            parts = trimesh_parts(mesh, Mesh)
             base = np.eye(4) if transform is None else np.asarray(transform, np.float64)
             ids = [self.add(part, material, base @ matrix, name=name or part_name,
                             transform_end=transform_end) for part_name, part, matrix in parts]
