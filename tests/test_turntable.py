@@ -87,8 +87,8 @@ def test_cli_turntable_dataset(tmp_path):
 
 @pytest.mark.parametrize("args,message", [
     (["--turntable", "0", "-o", "x.gif"], "--turntable needs 1..100000 frames"),
-    (["--turntable", "4", "-o", "x.avi"], "written as .gif, .mp4 or a numbered PNG pattern"),
-    (["--turntable", "4", "-o", "frames/{:04d}.jpg"], "must number PNG files"),
+    (["--turntable", "4", "-o", "x.avi"], "written as .gif, .mp4 or a numbered image pattern"),
+    (["--turntable", "4", "-o", "frames/{:04d}.bmp"], "must number image files"),
     (["--turntable", "4", "-o", "x.gif", "--bits", "16"], "16-bit colour cannot go"),
     (["--turntable", "4", "-o", "x.gif", "--fps", "0"], "--fps must be in"),
 ])

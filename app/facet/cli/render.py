@@ -100,6 +100,8 @@ def add_parser(sub) -> None:
                      help="reduce the colour image to N colours (2..256)")
     out.add_argument("--palette-method", choices=("median-cut", "kmeans"),
                      default="median-cut", help="palette method (default median-cut)")
+    out.add_argument("--quality", type=int, metavar="Q",
+                     help="JPEG and WebP quality, 1-100 (default 95)")
     r.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     A.add_shader_options(r)
 
@@ -267,7 +269,14 @@ def run(args) -> list[Path]:
         from ..image.sequence import prestart_writer  # while the scene loads
 
         prestart_writer()
-    scene, opts, camera = resolve(args, color_options.needs_float)
+    from ..image.writers import FLOAT_FORMATS
+
+    if args.quality is not None and not 1 <= args.quality <= 100:
+        raise InputError(f"--quality must be in 1..100, got {args.quality}")
+    # .exr / .hdr keep linear float colour: the render keeps it too.
+    floats = Path(str(target).format(0) if "{" in str(target) else str(target)).suffix.lower() \
+        in FLOAT_FORMATS and not args.out_dir
+    scene, opts, camera = resolve(args, color_options.needs_float or floats)
     span = None if end is None else (opts.time, end)
     if span is not None and not args.turntable and args.eye is None and \
             args.target is None and not args.ortho and scene.camera(opts.camera) is not None:
@@ -309,7 +318,7 @@ def _write_single(frame, args, channels, image_path, depth_path, ids_path, color
     if args.out_dir:
         return write_outputs(frame, args.out_dir, channels, color_options, png16=args.png16,
                              normals_space=args.normals_space)
-    written = [save_color(image_path, frame.color, color_options)]
+    written = [save_color(image_path, frame.color, color_options, args.quality)]
     if depth_path:
         written.append(save_array(depth_path, frame.depth))
     if ids_path:

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from ..image.outputs import encode_color, write_camera_json, write_outputs
 from ..image.sequence import BackgroundWriter, ProcessWriter, SequenceSink, cameras_path
+from ..image.writers import FLOAT_FORMATS
 from ..render.turntable import animation_times, play, turntable
 
 
@@ -33,7 +34,10 @@ def render_turntable(renderer, scene, camera, opts, args, target,
     # Videos stream into one encoder object, so they use a thread; independent dataset
     # files go to a writer process (see ProcessWriter for why).
     writer = ProcessWriter() if args.out_dir else BackgroundWriter()
-    sink = None if args.out_dir else SequenceSink(target, args.fps, writer)
+    sink = None if args.out_dir else SequenceSink(target, args.fps, writer,
+                                                  getattr(args, "quality", None))
+    floats = sink is not None and sink.kind == "pattern" and \
+        Path(str(target).format(0)).suffix.lower() in FLOAT_FORMATS
     options = dict(png16=args.png16, normals_space=args.normals_space)
     cameras = []
     times = None if span is None else animation_times(*span, fps=args.fps,
@@ -47,8 +51,9 @@ def render_turntable(renderer, scene, camera, opts, args, target,
                 play(renderer, scene, [camera] * total, times, opts)
             for i, frame in enumerate(frames):
                 cameras.append(frame.camera_info())
-                if sink is not None:
-                    sink.add(i, encode_color(frame.color, color_options)[1])
+                if sink is not None:  # float patterns (.exr, .hdr) keep linear colour
+                    sink.add(i, frame.color if floats else
+                             encode_color(frame.color, color_options)[1])
                 else:
                     frame.settle()  # read back here: the writer process pickles it
                     writer.submit(_write_frame, frame, args.out_dir, opts.outputs,

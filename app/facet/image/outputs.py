@@ -65,9 +65,24 @@ def _float_rgb(color: np.ndarray) -> np.ndarray:
     return c / 255.0 if c.dtype == np.uint8 else c
 
 
-def save_color(path, color: np.ndarray, options: ColorOptions) -> Path:
+def save_color(path, color: np.ndarray, options: ColorOptions, quality: int | None = None
+               ) -> Path:
+    """Write a render's colour: float formats (facet.image.writers.FLOAT_FORMATS) keep
+    its linear float values, the others take the quantised 8-bit (or 16-bit PNG)
+    picture."""
+    from .writers import FLOAT_FORMATS, save_float_color
+
+    suffix = Path(path).suffix.lower()
+    if suffix in FLOAT_FORMATS:
+        if np.asarray(color).dtype == np.uint8:
+            raise InputError(f"{path}: {suffix} keeps linear float colour; render with "
+                             "float_color=True")
+        return save_float_color(path, color)
     kind, image = encode_color(color, options)
-    return save_png16(path, image) if kind == "png16" else save_image(path, image)
+    if kind == "png16" and suffix != ".png":
+        raise InputError(f"{path}: 16-bit colour is written as PNG (or a float format: "
+                         ".exr, .hdr)")
+    return save_png16(path, image) if kind == "png16" else save_image(path, image, quality)
 
 
 def write_outputs(frame, out_dir, channels, options: ColorOptions | None = None, *,

@@ -27,7 +27,13 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .writers import save_image, temp_beside
+from .writers import (
+    FLOAT_FORMATS,
+    IMAGE_FORMATS,
+    save_float_color,
+    save_image,
+    temp_beside,
+)
 
 QUEUE_FRAMES = 8
 PARENT_POLL = 0.25  # seconds between a writer process's checks that its parent lives
@@ -200,20 +206,21 @@ def check_sequence_path(path) -> str:
                 not re.fullmatch(r"0?\d{0,2}d?", fields[0][2] or ""):
             raise InputError(hint + " (at most two digits of width, e.g. {:06d})")
         names = {text.format(0), text.format(1)}
-        if len(names) != 2 or Path(text.format(0)).suffix.lower() != ".png":
-            raise InputError(f"{text}: a frame pattern must number PNG files, like "
-                             "frames/{:04d}.png")
+        if len(names) != 2 or Path(text.format(0)).suffix.lower() not in IMAGE_FORMATS:
+            raise InputError(f"{text}: a frame pattern must number image files "
+                             f"({', '.join(IMAGE_FORMATS)}), like frames/{{:04d}}.png")
         return "pattern"
-    raise InputError(f"{text}: a sequence is written as .gif, .mp4 or a numbered PNG pattern "
-                     "like frames/{:04d}.png")
+    raise InputError(f"{text}: a sequence is written as .gif, .mp4 or a numbered image "
+                     "pattern like frames/{:04d}.png (or .jpg, .webp, .tif, .exr, .hdr)")
 
 
 class SequenceSink:
     """Receives frames (uint8 (H, W, 3|4)) in order and writes them on the writer thread."""
 
-    def __init__(self, path, fps: float, writer: BackgroundWriter):
+    def __init__(self, path, fps: float, writer: BackgroundWriter,
+                 quality: int | None = None):
         self.path, self.kind, self.writer = str(path), check_sequence_path(path), writer
-        self.fps = fps
+        self.fps, self.quality = fps, quality
         self._video = None
         self._tmp: str | None = None
         self.written: list[Path] = []
@@ -222,8 +229,10 @@ class SequenceSink:
         self.writer.submit(self._write, index, rgba)
 
     def _write(self, index: int, rgba: np.ndarray) -> None:
-        if self.kind == "pattern":
-            self.written.append(save_image(self.path.format(index), rgba))
+        if self.kind == "pattern":  # (float frames for float formats: facet.image.writers)
+            name = self.path.format(index)
+            self.written.append(save_float_color(name, rgba) if Path(name).suffix.lower()
+                                in FLOAT_FORMATS else save_image(name, rgba, self.quality))
             return
         if self._video is None:
             import imageio.v2 as iio

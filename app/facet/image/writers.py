@@ -16,7 +16,11 @@ import numpy as np
 from ..errors import InputError
 from ..guard import check_output
 
-IMAGE_FORMATS = {".png": "PNG"}
+IMAGE_FORMATS = {".png": "PNG", ".jpg": "JPEG", ".jpeg": "JPEG", ".webp": "WEBP",
+                 ".tif": "TIFF", ".tiff": "TIFF", ".exr": "EXR", ".hdr": "HDR"}
+FLOAT_FORMATS = (".exr", ".hdr")  # linear float colour (the render keeps float colour)
+DEFAULT_QUALITY = 95  # JPEG / WebP quality when none is given (Pillow's own is 75)
+HDR_HINT = "pip install 'facet[hdr]' (OpenCV for imageio)"
 
 
 @contextlib.contextmanager
@@ -115,21 +119,84 @@ PNG_COMPRESS_LEVEL = 1
 PNG16_COMPRESS_LEVEL = 6  # 16-bit files (an option for exact values, not the default path)
 
 
-def save_image(path, rgba: np.ndarray) -> Path:
-    """Write (H, W) grey or (H, W, 3|4) uint8 to a PNG (facet.image.png). An all-opaque
+def save_image(path, rgba: np.ndarray, quality: int | None = None) -> Path:
+    """Write (H, W) grey or (H, W, 3|4) uint8 to PNG (facet.image.png), or through Pillow
+    to JPEG (no alpha: written opaque, with one warning when the picture has some), WebP or
+    TIFF; ``quality`` (1-100) for JPEG and WebP (default DEFAULT_QUALITY). An all-opaque
     RGBA image is stored as RGB."""
     from .png import encode_png
 
     p = check_image_path(path)
+    kind = IMAGE_FORMATS[p.suffix.lower()]
+    if kind in ("EXR", "HDR"):
+        raise InputError(f"{p}: {kind} holds linear float colour; render with "
+                         "float_color=True and write it with save_float_color")
     a = np.asarray(rgba)
     if a.dtype != np.uint8 or not (a.ndim == 2 or (a.ndim == 3 and a.shape[2] in (3, 4))):
         raise InputError(f"save_image expects (H, W) or (H, W, 3|4) uint8, got {a.shape} "
                          f"{a.dtype}")
     if a.ndim == 3 and a.shape[2] == 4 and np.all(a[..., 3] == 255):
         a = a[..., :3]
-    data = encode_png(a, PNG_COMPRESS_LEVEL)
+    if kind == "PNG":
+        data = encode_png(a, PNG_COMPRESS_LEVEL)
+    else:
+        data = _pillow_bytes(p, a, kind, quality)
     with write_atomic(p) as tmp:
         tmp.write_bytes(data)
+    return p
+
+
+def _pillow_bytes(p: Path, a: np.ndarray, kind: str, quality: int | None) -> bytes:
+    import io
+    import warnings
+
+    from PIL import Image
+
+    from ..errors import FacetWarning
+
+    if kind == "JPEG" and a.ndim == 3 and a.shape[2] == 4:
+        warnings.warn(f"{p.name}: JPEG has no alpha; the transparent background is written "
+                      "opaque (use PNG, WebP or TIFF to keep it)", FacetWarning, stacklevel=4)
+        a = a[..., :3]
+    out = io.BytesIO()
+    options = {"quality": quality or DEFAULT_QUALITY} if kind in ("JPEG", "WEBP") else \
+        {"compression": "tiff_deflate"}
+    Image.fromarray(np.ascontiguousarray(a)).save(out, kind, **options)
+    return out.getvalue()
+
+
+def save_float_color(path, color: np.ndarray) -> Path:
+    """Write linear float colour (H, W, 3|4) as OpenEXR (RGB, A kept; float32, lossless)
+    or Radiance HDR (RGB, through imageio and OpenCV)."""
+    p = check_image_path(path)
+    a = np.asarray(color, dtype=np.float32)
+    if a.ndim != 3 or a.shape[2] not in (3, 4):
+        raise InputError(f"{p}: colour must be (H, W, 3|4) floats, got {a.shape}")
+    if p.suffix.lower() == ".exr":
+        return _save_exr_rgba(p, a)
+    try:
+        import cv2  # noqa: F401 - imageio's backend for Radiance HDR
+    except ImportError:
+        raise InputError(f"{p}: writing Radiance HDR needs {HDR_HINT}; or write .exr "
+                         "(OpenEXR)") from None
+    import imageio.v3 as iio
+
+    data = iio.imwrite("<bytes>", np.ascontiguousarray(a[..., :3]), extension=".hdr",
+                       plugin="opencv")
+    with write_atomic(p) as tmp:
+        tmp.write_bytes(data)
+    return p
+
+
+def _save_exr_rgba(p: Path, a: np.ndarray) -> Path:
+    try:
+        import OpenEXR
+    except ImportError:
+        raise InputError(f"{p}: writing EXR needs {EXR_HINT}") from None
+    channels = {n: np.ascontiguousarray(a[..., k]) for k, n in enumerate("RGBA"[:a.shape[2]])}
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    with write_atomic(p) as tmp:
+        OpenEXR.File(header, channels).write(str(tmp))
     return p
 
 

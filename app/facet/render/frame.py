@@ -125,10 +125,19 @@ class Frame:
         return (f"<div style='display:flex;gap:1em;align-items:flex-start'>{image}"
                 f"<table>{table}</table></div>")
 
-    def save(self, path):
-        """Write the colour image (PNG; RGBA if the background is transparent)."""
-        from ..image.writers import save_image, to_uint8
+    def save(self, path, quality: int | None = None):
+        """Write the colour image: PNG (RGBA if the background is transparent), JPEG,
+        WebP, TIFF (``quality`` for JPEG and WebP), or with float colour
+        (``float_color=True``) OpenEXR / Radiance HDR (linear values)."""
+        from ..image.writers import FLOAT_FORMATS, save_float_color, save_image, to_uint8
 
         if self.color is None:
             raise InputError("this frame has no colour output to save")
-        return save_image(path, to_uint8(self.color))
+        from pathlib import Path
+
+        if Path(path).suffix.lower() in FLOAT_FORMATS:
+            if self.color.dtype == np.uint8:
+                raise InputError(f"{path}: keeps linear float colour; render with "
+                                 "float_color=True")
+            return save_float_color(path, self.color)
+        return save_image(path, to_uint8(self.color), quality)
