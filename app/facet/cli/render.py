@@ -100,6 +100,17 @@ def add_parser(sub) -> None:
                      help="reduce the colour image to N colours (2..256)")
     out.add_argument("--palette-method", choices=("median-cut", "kmeans"),
                      default="median-cut", help="palette method (default median-cut)")
+    out.add_argument("--scalars", metavar="x|y|z|up",
+                     help="colour the model by a coordinate of its vertices (world space; "
+                     "up: along --up) through --colormap")
+    out.add_argument("--colormap", default="viridis", metavar="NAME",
+                     help="the colormap of --scalars: viridis (default), coolwarm, gray, or "
+                     "any of matplotlib's when it is installed")
+    out.add_argument("--scalar-range", metavar="LO,HI",
+                     help="the values the colormap's ends stand for (default: the values' "
+                     "own range)")
+    out.add_argument("--colorbar", action="store_true",
+                     help="draw the colormap's bar, its ends labelled, at the picture's right")
     out.add_argument("--quality", type=int, metavar="Q",
                      help="JPEG and WebP quality, 1-100 (default 95)")
     r.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
@@ -271,6 +282,10 @@ def run(args) -> list[Path]:
         prestart_writer()
     from ..image.writers import FLOAT_FORMATS
 
+    if args.colorbar and args.scalars is None:
+        raise InputError("--colorbar shows the colormap of --scalars; give --scalars")
+    if args.colorbar and args.turntable:
+        raise InputError("--colorbar is drawn on single pictures; leave out --turntable")
     if args.quality is not None and not 1 <= args.quality <= 100:
         raise InputError(f"--quality must be in 1..100, got {args.quality}")
     # .exr / .hdr keep linear float colour: the render keeps it too.
@@ -307,8 +322,53 @@ def resolve(args, float_color: bool = False):
         ("color", *(["depth"] if args.depth else []), *(["ids"] if args.ids else []))
     layer["float_color"] = float_color
     opts = options_for(scene, layer)
+    if args.scalars is not None:
+        _color_by_scalars(scene, args, opts)
     # Framed where the animations stand at the (first) frame's time.
     return scene, opts, _camera(args, scene.at(opts.time, opts.animation), opts)
+
+
+def _color_by_scalars(scene, args, opts) -> None:
+    """--scalars: every mesh and cloud coloured by a world coordinate of its vertices,
+    one range over the scene (--scalar-range, else the values'); the range is kept on
+    ``args`` for --colorbar."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from ..scene.colormap import colormap, scalar_range
+
+    axes = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0), "up": opts.up}
+    if args.scalars not in axes:
+        raise InputError(f"--scalars {args.scalars}: expected x, y, z or up")
+    colormap(args.colormap)  # an unknown name: one line, before any work
+    axis = np.asarray(axes[args.scalars], dtype=np.float64)
+    axis /= np.linalg.norm(axis)
+    values = {}
+    for o in scene.objects:
+        if o.mesh.kind in ("mesh", "points"):
+            world = o.mesh.positions @ o.transform[:3, :3].T + o.transform[:3, 3]
+            values[o.id] = world @ axis
+    if not values:
+        raise InputError("--scalars: the scene has no meshes or points to colour")
+    limits = None
+    if args.scalar_range is not None:
+        try:
+            limits = tuple(float(v) for v in args.scalar_range.split(","))
+            assert len(limits) == 2
+        except (ValueError, AssertionError):
+            raise InputError(f"--scalar-range {args.scalar_range}: expected LO,HI") from None
+    limits = scalar_range(np.concatenate(list(values.values())), limits)
+    args.scalar_limits = limits
+    objects = []
+    for o in scene.objects:
+        if o.id in values:
+            mesh = o.mesh.colored_by(values[o.id], args.colormap, limits)
+            # the file's own material follows (white where it had none); a chosen one stays
+            o = replace(o, mesh=mesh, material=mesh.material if o.material is o.mesh.material
+                        or o.mesh.material is None else o.material)
+        objects.append(o)
+    scene.objects = objects
 
 
 def _write_single(frame, args, channels, image_path, depth_path, ids_path, color_options):
@@ -318,7 +378,13 @@ def _write_single(frame, args, channels, image_path, depth_path, ids_path, color
     if args.out_dir:
         return write_outputs(frame, args.out_dir, channels, color_options, png16=args.png16,
                              normals_space=args.normals_space)
-    written = [save_color(image_path, frame.color, color_options, args.quality)]
+    color = frame.color
+    if args.colorbar:
+        from ..image.writers import to_uint8
+        from ..scene.colormap import colorbar
+
+        color = colorbar(to_uint8(color), args.colormap, args.scalar_limits)
+    written = [save_color(image_path, color, color_options, args.quality)]
     if depth_path:
         written.append(save_array(depth_path, frame.depth))
     if ids_path:

@@ -198,6 +198,21 @@ class Mesh:
             else merge_parts(parts, str(path))
         return mesh.flat_shaded() if flat else mesh
 
+    def colored_by(self, values, colormap: str = "viridis", limits=None) -> Mesh:
+        """A copy coloured by per-vertex ``values`` (N,) through ``colormap`` (a name:
+        facet.scene.colormap; matplotlib's when installed) over ``limits`` (low, high;
+        default the values' range), with a white material unless it has one."""
+        from .colormap import colors_for
+        from .material import Material
+
+        v = np.asarray(values, dtype=np.float64).reshape(-1)
+        if len(v) != self.vertex_count:
+            raise InputError(f"{self.name}: {len(v)} scalars for {self.vertex_count} vertices")
+        return Mesh(self.positions, self.faces, self.normals, self.uvs, name=self.name,
+                    material=self.material or Material(color=(1.0, 1.0, 1.0)),
+                    colors=colors_for(v, colormap, limits), uvs1=self.uvs1,
+                    tangents=self._tangents, closed=self._closed, checked=True)
+
     @classmethod
     def from_trimesh(cls, tm) -> Mesh:
         """A Mesh of a trimesh.Trimesh: its vertices, faces, vertex normals (when it has

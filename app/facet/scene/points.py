@@ -125,6 +125,18 @@ class Points:
         self.material = material if material is not None else _default_material(self.colors)
         self._bounds = None
 
+    def colored_by(self, values, colormap: str = "viridis", limits=None) -> Points:
+        """The same cloud coloured by per-point ``values`` (N,) through ``colormap`` over
+        ``limits`` (facet.scene.colormap)."""
+        from .colormap import colors_for
+
+        v = np.asarray(values, dtype=np.float64).reshape(-1)
+        if len(v) != len(self.positions):
+            raise InputError(f"{self.name}: {len(v)} scalars for {len(self.positions)} "
+                             "points")
+        return Points(self.positions, colors_for(v, colormap, limits), self.normals,
+                      size=self.size, radius=self.radius, edl=self.edl, name=self.name)
+
     def sized(self, size: float | None = None, radius: float | None = None) -> Points:
         """The same cloud drawn ``size`` pixels across or of world ``radius`` (one of them;
         the arrays are shared)."""
