@@ -76,3 +76,45 @@ def test_render_by_height_with_a_colour_bar(tmp_path, capsys):
                  str(tmp_path / "y.png")]) == 2
     assert "give --scalars" in capsys.readouterr().err
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "y.png").exists()
+
+
+QUALITY_PLY = """ply
+format ascii 1.0
+element vertex 4
+property float x
+property float y
+property float z
+property float quality
+element face 2
+property list uchar int vertex_indices
+end_header
+0 0 0 0
+1 0 0 1
+1 1 0 2
+0 1 0 3
+3 0 1 2
+3 0 2 3
+"""
+
+
+def test_a_plys_own_vertex_property_colours_it(tmp_path, capsys):
+    """A PLY's per-vertex property (here `quality`) comes with its mesh, follows the
+    vertices when they are split at creases, and --scalars names it; an unknown name lists
+    the model's."""
+    path = tmp_path / "q.ply"
+    path.write_text(QUALITY_PLY)
+    mesh = facet.load(path).objects[0].mesh
+    assert set(mesh.scalars) == {"quality"}
+    # Each vertex keeps its own value wherever its copies went (0..3 at the corners).
+    corner = np.rint(mesh.positions[:, 0] + 2 * mesh.positions[:, 1]).astype(int)
+    np.testing.assert_array_equal(mesh.scalars["quality"], np.array([0, 1, 3, 2])[corner])
+    out = tmp_path / "q.png"
+    assert main(["render", str(path), "--scalars", "quality", "--colormap", "gray",
+                 "--eye", "0.5,0.5,3", "--target", "0.5,0.5,0", "--lights", "camera",
+                 "--size", "48x48", "--msaa", "0", "-o", str(out), "-q"]) == 0
+    img = np.asarray(Image.open(out).convert("L")).astype(int)
+    # quality rises from corner (0, 0) (value 0) to (1, 1) (value 2) and (0, 1) (value 3)
+    assert img[18, 17] > img[30, 17] + 40  # top-left (3) brighter than bottom-left (0)
+    assert main(["render", str(path), "--scalars", "nope", "-o", str(tmp_path / "n.png")]) \
+        == 2
+    assert "the model's: quality" in capsys.readouterr().err

@@ -35,6 +35,8 @@ def describe_model(path) -> list[str]:
     if skins:
         lines.append(f"{'skins':22} {skins}")
     lines.append(f"{'variants':22} {', '.join(variant_names(scene)) or 'none'}")
+    scalars = sorted({k for o in scene.objects for k in getattr(o.mesh, "scalars", {})})
+    lines.append(f"{'vertex scalars':22} {', '.join(scalars) or 'none'}")
     return lines
 
 

@@ -100,9 +100,10 @@ def add_parser(sub) -> None:
                      help="reduce the colour image to N colours (2..256)")
     out.add_argument("--palette-method", choices=("median-cut", "kmeans"),
                      default="median-cut", help="palette method (default median-cut)")
-    out.add_argument("--scalars", metavar="x|y|z|up",
-                     help="colour the model by a coordinate of its vertices (world space; "
-                     "up: along --up) through --colormap")
+    out.add_argument("--scalars", metavar="NAME|x|y|z|up",
+                     help="colour the model through --colormap by a per-vertex property of "
+                     "its file (a PLY's quality, intensity, ...; `facet info MODEL` lists "
+                     "them) or a coordinate of its vertices (world space; up: along --up)")
     out.add_argument("--colormap", default="viridis", metavar="NAME",
                      help="the colormap of --scalars: viridis (default), coolwarm, gray, or "
                      "any of matplotlib's when it is installed")
@@ -339,16 +340,22 @@ def _color_by_scalars(scene, args, opts) -> None:
     from ..scene.colormap import colormap, scalar_range
 
     axes = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0), "up": opts.up}
-    if args.scalars not in axes:
-        raise InputError(f"--scalars {args.scalars}: expected x, y, z or up")
     colormap(args.colormap)  # an unknown name: one line, before any work
-    axis = np.asarray(axes[args.scalars], dtype=np.float64)
-    axis /= np.linalg.norm(axis)
     values = {}
     for o in scene.objects:
-        if o.mesh.kind in ("mesh", "points"):
+        if o.mesh.kind not in ("mesh", "points"):
+            continue
+        own = getattr(o.mesh, "scalars", None) or {}
+        if args.scalars in own:
+            values[o.id] = np.asarray(own[args.scalars], dtype=np.float64)
+        elif args.scalars in axes:
+            axis = np.asarray(axes[args.scalars], dtype=np.float64)
             world = o.mesh.positions @ o.transform[:3, :3].T + o.transform[:3, 3]
-            values[o.id] = world @ axis
+            values[o.id] = world @ (axis / np.linalg.norm(axis))
+    if not values and args.scalars not in axes:
+        names = sorted({k for o in scene.objects for k in getattr(o.mesh, "scalars", {})})
+        raise InputError(f"--scalars {args.scalars}: no such per-vertex property (the "
+                         f"model's: {', '.join(names) or 'none'}; or x, y, z, up)")
     if not values:
         raise InputError("--scalars: the scene has no meshes or points to colour")
     limits = None

@@ -146,6 +146,8 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
                 out[key] = np.asarray(out[key])[source]
         if out.get("deform") is not None:  # skin and morph data follow their vertices
             out["deform"] = out["deform"].remapped(source)
+        if out.get("scalars"):
+            out["scalars"] = {k: v[source] for k, v in out["scalars"].items()}
         out["faces"] = new_faces
     return out
 
@@ -321,7 +323,13 @@ def _to_mesh(tm, p: Path, finish, where: str = "") -> dict:
         colors = np.asarray(tm.visual.vertex_colors, dtype=np.uint8)
         if len(colors) != len(vertices):
             colors = None
+    scalars = None
+    if p.suffix.lower() == ".ply":  # per-vertex scalar properties, for colormaps
+        from .point_files import ply_scalars
+
+        scalars = ply_scalars(tm, len(vertices)) or None
     return finish({"positions": vertices, "faces": np.asarray(tm.faces), "normals": normals,
+                   "scalars": scalars,
                    "uvs": uv, "name": p.name, "material": _material_from_trimesh(tm),
                    "colors": colors}, where)
 

@@ -66,6 +66,7 @@ class Mesh:
     material : the ``Material`` the file defined, if any (``Scene.add`` uses it by default)
     variants : {variant name: Material}, the file's material variants
         (KHR_materials_variants; the ``variant`` render option picks one)
+    scalars : {name: (N,) floats} per-vertex scalars (a PLY's own properties)
     """
 
     kind = "mesh"
@@ -73,9 +74,12 @@ class Mesh:
     def __init__(self, positions, faces, normals=None, uvs=None, *, name: str = "mesh",
                  material=None, colors=None, uvs1=None, tangents=None,
                  closed: bool | None = None, variants: dict | None = None,
-                 checked: bool = False):
+                 checked: bool = False, scalars: dict | None = None):
         self.name = name
         self.variants = variants
+        # {name: (N,) float32} per-vertex scalars a file carried (PLY properties), for
+        # colormaps (``colored_by``)
+        self.scalars = scalars or {}
         pos = np.asarray(positions, dtype=np.float32)
         if pos.ndim != 2 or pos.shape[1] != 3:
             raise InputError(f"{name}: positions must have shape (N, 3), got {pos.shape}")
@@ -211,7 +215,8 @@ class Mesh:
         return Mesh(self.positions, self.faces, self.normals, self.uvs, name=self.name,
                     material=self.material or Material(color=(1.0, 1.0, 1.0)),
                     colors=colors_for(v, colormap, limits), uvs1=self.uvs1,
-                    tangents=self._tangents, closed=self._closed, checked=True)
+                    tangents=self._tangents, closed=self._closed, checked=True,
+                    scalars=self.scalars)
 
     @classmethod
     def from_trimesh(cls, tm) -> Mesh:
@@ -329,9 +334,11 @@ class Mesh:
         uvs = None if self.uvs is None else self.uvs[self.faces].reshape(-1, 2)
         colors = None if self.colors is None else self.colors[self.faces].reshape(-1, 4)
         uvs1 = None if self.uvs1 is None else self.uvs1[self.faces].reshape(-1, 2)
+        corners = self.faces.reshape(-1)
         return Mesh(tri.reshape(-1, 3), faces, np.repeat(n, 3, axis=0), uvs,
                     name=self.name, material=self.material, colors=colors, uvs1=uvs1,
-                    variants=self.variants)
+                    variants=self.variants,
+                    scalars={k: v[corners] for k, v in self.scalars.items()})
 
     def __repr__(self) -> str:
         return f"Mesh({self.name!r}, vertices={self.vertex_count}, faces={self.face_count})"

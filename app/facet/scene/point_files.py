@@ -23,6 +23,28 @@ import numpy as np
 from ..errors import MeshError
 
 SCALAR_FIELDS = ("intensity", "scalar_intensity", "scalar", "reflectance", "confidence")
+# PLY vertex properties that are not scalars of their own (position, normal, colour, uv).
+PLY_FIXED = {"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue", "alpha", "s", "t",
+             "u", "v", "texture_u", "texture_v"}
+
+
+def ply_scalars(tm, count: int) -> dict[str, np.ndarray]:
+    """{name: (N,) float32} of a PLY's per-vertex scalar properties (quality, intensity,
+    curvature, ...), for colormaps (facet.scene.colormap)."""
+    raw = ((getattr(tm, "metadata", None) or {}).get("_ply_raw") or {}).get("vertex") or {}
+    data = raw.get("data")
+    fields = data if isinstance(data, dict) else (
+        {n: data[n] for n in data.dtype.names} if getattr(data, "dtype", None) is not None
+        and data.dtype.names else {})
+    out = {}
+    for name, values in fields.items():
+        v = np.asarray(values)
+        if name.lower() in PLY_FIXED or v.dtype.kind not in "fiu":
+            continue
+        v = v.reshape(len(v), -1)
+        if v.shape == (count, 1):
+            out[name] = v[:, 0].astype(np.float32)
+    return out
 
 
 def grey(values: np.ndarray) -> np.ndarray:
@@ -53,7 +75,7 @@ def ply_points(tm, p: Path) -> dict:
         if scalar is not None:
             colors = grey(np.asarray(fields[scalar]).reshape(-1))
     return {"kind": "points", "positions": positions, "colors": colors, "normals": normals,
-            "name": p.name}
+            "name": p.name, "scalars": ply_scalars(tm, len(positions)) or None}
 
 
 def read_text_points(p: Path) -> dict:

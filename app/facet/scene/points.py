@@ -95,8 +95,9 @@ class Points:
 
     def __init__(self, positions, colors=None, normals=None, *, size: float | None = None,
                  radius: float | None = None, edl: bool | None = None,
-                 name: str = "points", material=None):
+                 name: str = "points", material=None, scalars: dict | None = None):
         self.name = name
+        self.scalars = scalars or {}  # {name: (N,) floats} per point (PLY properties)
         self.positions = _readonly(_positions(positions, name))
         n = len(self.positions)
         c = _colors(colors, n, name)
@@ -135,13 +136,15 @@ class Points:
             raise InputError(f"{self.name}: {len(v)} scalars for {len(self.positions)} "
                              "points")
         return Points(self.positions, colors_for(v, colormap, limits), self.normals,
-                      size=self.size, radius=self.radius, edl=self.edl, name=self.name)
+                      size=self.size, radius=self.radius, edl=self.edl, name=self.name,
+                      scalars=self.scalars)
 
     def sized(self, size: float | None = None, radius: float | None = None) -> Points:
         """The same cloud drawn ``size`` pixels across or of world ``radius`` (one of them;
         the arrays are shared)."""
         return Points(self.positions, self.colors, self.normals, size=size, radius=radius,
-                      edl=self.edl, name=self.name, material=self.material)
+                      edl=self.edl, name=self.name, material=self.material,
+                      scalars=self.scalars)
 
     @property
     def vertex_count(self) -> int:
