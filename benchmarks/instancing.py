@@ -27,7 +27,7 @@ import facet  # noqa: E402
 from facet.geometry import transforms as T  # noqa: E402
 from facet.render.renderer import Renderer  # noqa: E402
 
-from floor import look_at_mvp, normals  # noqa: E402
+from floor import FRAG, look_at_mvp, normals  # noqa: E402  (the floor's one-light Phong)
 from run import ratio, time_interleaved  # noqa: E402
 
 SIZE = 512
@@ -39,16 +39,6 @@ uniform mat4 u_vp; out vec3 v_n; out vec3 v_p;
 void main() {
     vec4 p = in_model * vec4(in_position, 1.0);
     gl_Position = u_vp * p; v_n = mat3(in_model) * in_normal; v_p = p.xyz;
-}
-"""
-FRAG = """#version 330 core
-in vec3 v_n; in vec3 v_p; uniform vec3 u_eye; uniform vec3 u_light; out vec4 f_color;
-void main() {
-    vec3 N = normalize(v_n), L = -u_light, V = normalize(u_eye - v_p);
-    float d = max(dot(N, L), 0.0);
-    float s = d > 0.0 ? pow(max(dot(reflect(-L, N), V), 0.0), 32.0) : 0.0;
-    vec3 C = vec3(0.8);
-    f_color = vec4(clamp(0.1 * C + 0.8 * C * d + 0.3 * s, 0.0, 1.0), 1.0);
 }
 """
 

@@ -9,6 +9,9 @@
   texturing examples (``--texture checker``).
 * helix-points.ply: a point cloud of 600 coloured points on a helix, ASCII PLY (the
   vertex-only kind scanners write), for point-cloud examples.
+* bending-strip.glb: a skinned strip (two joints) whose animation "bend" bends it 90
+  degrees and back over 2 s, for animation examples (--time, --animation).
+* wire-cube.obj: a cube's 12 edges as OBJ `l` lines, for line examples.
 
 Deterministic: the same numpy and trimesh give the same bytes.
 """
@@ -88,6 +91,85 @@ def main() -> None:
     trimesh.creation.torus(major_radius=1.0, minor_radius=0.3).export(HERE / "torus.off")
     (HERE / "globe.obj").write_text(globe())
     (HERE / "helix-points.ply").write_text(helix_points())
+    bending_strip(HERE / "bending-strip.glb")
+    (HERE / "wire-cube.obj").write_text(wire_cube())
+
+
+def wire_cube() -> str:
+    corners = [(x, y, z) for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)]
+    edges = [(a, b) for a in range(8) for b in range(a + 1, 8)
+             if sum(u != v for u, v in zip(corners[a], corners[b], strict=True)) == 1]
+    lines = ["# facet: a unit cube's 12 edges as lines, written by models/make_models.py"]
+    lines += [f"v {x} {y} {z}" for x, y, z in corners]
+    lines += [f"l {a + 1} {b + 1}" for a, b in edges]
+    return "\n".join(lines) + "\n"
+
+
+def bending_strip(path: Path) -> None:
+    """A two-sided strip 0.4 wide from y = 0 to 2, skinned to a joint at the origin and one
+    at y = 1; the animation "bend" turns the second 90 degrees about z and back (2 s)."""
+    from pygltflib import (
+        GLTF2,
+        Accessor,
+        Animation,
+        AnimationChannel,
+        AnimationChannelTarget,
+        AnimationSampler,
+        Buffer,
+        BufferView,
+        Material,
+        Mesh,
+        Node,
+        PbrMetallicRoughness,
+        Primitive,
+        Scene,
+        Skin,
+    )
+
+    ys = np.linspace(0.0, 2.0, 17)
+    pos = np.array([[x, y, 0.0] for y in ys for x in (-0.2, 0.2)], "f4")
+    faces = np.array([[2 * r, 2 * r + 1, 2 * r + 3] for r in range(16)] +
+                     [[2 * r, 2 * r + 3, 2 * r + 2] for r in range(16)], "u2")
+    w1 = np.clip(pos[:, 1] - 0.5, 0.0, 1.0)
+    joints = np.tile(np.array([0, 1, 0, 0], "u1"), (len(pos), 1))
+    weights = np.stack([1 - w1, w1, 0 * w1, 0 * w1], axis=1).astype("f4")
+    ibm = np.stack([np.eye(4), np.eye(4)]).astype("f4")
+    ibm[1, 1, 3] = -1.0  # inverse of the joint's bind translation (0, 1, 0)
+    ibm = ibm.transpose(0, 2, 1).reshape(2, 16)  # column-major
+    times = np.array([0.0, 1.0, 2.0], "f4")
+    s = np.sin(np.pi / 4)
+    rotations = np.array([[0, 0, 0, 1], [0, 0, s, s], [0, 0, 0, 1]], "f4")
+    g = GLTF2()
+    blob = bytearray()
+    for array, kind, component in ((pos, "VEC3", 5126), (faces.reshape(-1), "SCALAR", 5123),
+                                   (joints, "VEC4", 5121), (weights, "VEC4", 5126),
+                                   (ibm, "MAT4", 5126), (times, "SCALAR", 5126),
+                                   (rotations, "VEC4", 5126)):
+        while len(blob) % 4:
+            blob.append(0)
+        g.bufferViews.append(BufferView(buffer=0, byteOffset=len(blob),
+                                        byteLength=array.nbytes))
+        blob.extend(array.tobytes())
+        extra = {"min": pos.min(0).tolist(), "max": pos.max(0).tolist()} if array is pos \
+            else {"min": [0.0], "max": [2.0]} if array is times else {}
+        g.accessors.append(Accessor(bufferView=len(g.bufferViews) - 1, componentType=component,
+                                    count=len(array), type=kind, **extra))
+    g.materials = [Material(pbrMetallicRoughness=PbrMetallicRoughness(
+        baseColorFactor=[0.3, 0.7, 0.35, 1.0], metallicFactor=0.0, roughnessFactor=0.6),
+        doubleSided=True)]
+    g.meshes = [Mesh(primitives=[Primitive(
+        attributes={"POSITION": 0, "JOINTS_0": 2, "WEIGHTS_0": 3}, indices=1, material=0)])]
+    g.nodes = [Node(children=[1], name="root"), Node(translation=[0, 1, 0], name="tip"),
+               Node(mesh=0, skin=0, name="strip")]
+    g.skins = [Skin(joints=[0, 1], inverseBindMatrices=4)]
+    g.animations = [Animation(name="bend", samplers=[AnimationSampler(input=5, output=6)],
+                              channels=[AnimationChannel(sampler=0, target=AnimationChannelTarget(
+                                  node=1, path="rotation"))])]
+    g.scenes = [Scene(nodes=[0, 2])]
+    g.scene = 0
+    g.buffers = [Buffer(byteLength=len(blob))]
+    g.set_binary_blob(bytes(blob))
+    g.save_binary(str(path))
 
 
 def helix_points(n: int = 600) -> str:

@@ -69,6 +69,10 @@ def test_render_by_height_with_a_colour_bar(tmp_path, capsys):
     third = max(1, len(rows) // 3)
     upper, lower = img[rows[:third]], img[rows[-third:]]
     assert upper[upper > 0].mean() > lower[lower > 0].mean() + 30  # grey by height
+    rgb = np.asarray(Image.open(out).convert("RGB")).astype(int)[:, :80]
+    model = rgb.sum(axis=2) > 30
+    # grey: the file's orange material does not tint the colormap (it is made white)
+    assert np.abs(rgb[..., 0] - rgb[..., 2])[model].mean() < 6
     assert main(["render", str(ROOT / "models" / "default.obj"), "--colormap", "nope",
                  "--scalars", "y", "-o", str(tmp_path / "x.png")]) == 2
     assert "colormap 'nope'" in capsys.readouterr().err

@@ -292,3 +292,12 @@ def test_a_dataset_renders_a_point_cloud(tmp_path):
     images = sorted((tmp_path / "out" / "helix").rglob("*.png"))
     colour = [p for p in images if "ids" not in p.name and "depth" not in p.name]
     assert colour and (np.asarray(Image.open(colour[0]).convert("L")) > 0).sum() > 30
+
+
+@pytest.mark.parametrize("engine", ["trace", "path"])
+def test_the_tracers_say_they_light_unlit_points_and_lines(engine):
+    scene = facet.Scene()
+    scene.add(facet.Points(CENTRES, size=4))
+    with facet.Renderer(W, H) as r:  # (a renderer says each line once)
+        with pytest.warns(facet.FacetWarning, match="points as lit spheres"):
+            r.render(scene, CAM, engine=engine, outputs=("color",))

@@ -205,15 +205,23 @@ class Mesh:
     def colored_by(self, values, colormap: str = "viridis", limits=None) -> Mesh:
         """A copy coloured by per-vertex ``values`` (N,) through ``colormap`` (a name:
         facet.scene.colormap; matplotlib's when installed) over ``limits`` (low, high;
-        default the values' range), with a white material unless it has one."""
+        default the values' range); its material white (its other properties kept), so
+        the colours show as the colormap gives them."""
+        from dataclasses import replace
+
         from .colormap import colors_for
         from .material import Material
+        from .pbr import PbrMaterial
 
         v = np.asarray(values, dtype=np.float64).reshape(-1)
         if len(v) != self.vertex_count:
             raise InputError(f"{self.name}: {len(v)} scalars for {self.vertex_count} vertices")
         return Mesh(self.positions, self.faces, self.normals, self.uvs, name=self.name,
-                    material=self.material or Material(color=(1.0, 1.0, 1.0)),
+                    material=Material(color=(1.0, 1.0, 1.0)) if self.material is None else
+                    replace(self.material, base_color=(1.0, 1.0, 1.0, self.material.base_color[3]),
+                            base_color_texture=None)
+                    if isinstance(self.material, PbrMaterial) else
+                    replace(self.material, color=(1.0, 1.0, 1.0), texture=None),
                     colors=colors_for(v, colormap, limits), uvs1=self.uvs1,
                     tangents=self._tangents, closed=self._closed, checked=True,
                     scalars=self.scalars)

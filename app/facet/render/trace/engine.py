@@ -31,7 +31,7 @@ from ..materials import as_pbr, feature_lines, phong_color
 from ..shading import SHADING_MODELS
 from ..state import UNITS, FrameState, pack_lights
 from . import pack
-from .sprites import sprite_radii
+from .sprites import sprite_lines, sprite_radii
 
 # Below this roughness a glTF material reflects the scene (glsl/trace/shade.glsl's).
 TRACED_ROUGHNESS = 0.6
@@ -203,7 +203,8 @@ class TraceEngine(Engine):
             lines.append("the ray tracer lights metallic-roughness materials by the ambient "
                          "term, not by the environment (the rasterizer and the path tracer "
                          "do)")
-        return lines + feature_lines(scene, _dropped, "the ray tracer")
+        return lines + sprite_lines(scene, "the ray tracer") + feature_lines(scene, _dropped,
+                                                                      "the ray tracer")
 
     def _instances(self, scene, state: FrameState) -> tuple[int, bool, int]:
         """Upload the placed objects: (unbounded count, has a top level, the single

@@ -30,6 +30,7 @@ from .area_lights import AreaEmitters, strip_area_points
 from .emitters import pack_emitters
 from .engine import TraceEngine
 from .env_sampling import distribution
+from .sprites import sprite_lines
 
 STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag
 EMITTERS_UNIT = 30  # after facet.render.materials.IBL_UNITS
@@ -194,7 +195,8 @@ class PathEngine(TraceEngine):
             lines.append("the path tracer's area lights are emitting rectangles: they fall "
                          "off with the inverse square of the distance (their attenuation "
                          "is ignored)")
-        return lines + feature_lines(scene, _dropped, "the path tracer")
+        return lines + sprite_lines(scene, "the path tracer") + feature_lines(scene, _dropped,
+                                                                      "the path tracer")
 
 
 def _dropped(m) -> list[str]:

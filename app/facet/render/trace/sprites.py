@@ -19,6 +19,18 @@ from ...geometry.bvh import build_bvh
 PRIM_SPHERE, PRIM_CAPSULE = 1.0, 2.0  # (0: a triangle) glsl/trace/bvh.glsl's PRIM_*
 
 
+def sprite_lines(scene, engine: str) -> list[str]:
+    """The warning line for points shown unlit (or with eye-dome lighting) and lines,
+    which ``engine`` draws as lit spheres and capsules."""
+    unlit = [o for o in scene.objects if o.mesh.kind == "lines" or
+             (o.mesh.kind == "points" and o.mesh.normals is None)]
+    if not unlit:
+        return []
+    return [f"{engine} draws points as lit spheres and lines as lit capsules (the "
+            "rasterizer shows unlit points and lines in their colour, clouds with eye-dome "
+            "lighting)"]
+
+
 def sprite_radii(obj, camera, width: int, height: int) -> np.ndarray:
     """(N,) object-space radii of ``obj``'s points (or (M,) of its segments): its world
     radius, or its size in pixels at each one's distance along the camera's axis."""
