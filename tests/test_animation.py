@@ -391,7 +391,7 @@ def test_a_broken_animation_is_one_line_and_nothing_written(tmp_path, capsys, ca
 
 
 def test_the_viewer_clock_plays_pauses_steps_and_loops():
-    from facet.window.playback import Playback
+    from facet.viewing.playback import Playback
 
     now = [100.0]
     clock = Playback(0.5, 2.5, clock=lambda: now[0])

@@ -167,7 +167,7 @@ def test_readme_names_real_examples_and_every_viewer_key():
     readme = (ROOT / "README.md").read_text()
     for name in re.findall(r"glsl/examples/(\w+\.frag)", readme):
         assert (ROOT / "glsl" / "examples" / name).is_file(), name
-    from facet.window.keys import KEYMAP
+    from facet.viewing.keys import KEYMAP
 
     for key in KEYMAP:
         if len(key) == 1:

@@ -8,7 +8,7 @@ from . import args as A
 
 
 def add_parser(sub) -> None:
-    from ..window.keys import help_text
+    from ..viewing.keys import help_text
 
     v = sub.add_parser("view", help="open a model or scene file in an interactive window",
                        description="Explore MODEL (a mesh or .toml scene file) in a window, "

@@ -282,3 +282,27 @@ def check_size(ctx: moderngl.Context, width, height) -> None:
 
     check_pixels(int(width), int(height), "image size")
 
+
+
+class Canvas:
+    """A window-like framebuffer without a window: RGBA8 colour and depth of one size, drawn
+    bottom-up as a window's is (``Renderer.present``), read back top row first. What the
+    headless viewer (facet.viewing.session) draws into."""
+
+    def __init__(self, ctx: moderngl.Context, width: int, height: int):
+        check_size(ctx, width, height)
+        self.ctx, self.size = ctx, (int(width), int(height))
+        with allocating(self.size, "the viewer's canvas"):
+            self._color = ctx.texture(self.size, 4)
+            self._depth = ctx.depth_renderbuffer(self.size)
+            self.framebuffer = ctx.framebuffer([self._color], self._depth)
+
+    def read(self) -> np.ndarray:
+        """The picture, (H, W, 3) uint8, row 0 at the top (call with the context current)."""
+        w, h = self.size
+        data = self.framebuffer.read(viewport=(0, 0, w, h), components=3)
+        return np.frombuffer(data, np.uint8).reshape(h, w, 3)[::-1].copy()
+
+    def release(self) -> None:
+        for obj in (self.framebuffer, self._depth, self._color):
+            obj.release()

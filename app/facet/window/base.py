@@ -1,16 +1,13 @@
 """What every facet window shares, and the only place glfw is set up: the display check, an
-OpenGL 3.3 core window with its moderngl context, the red frame around a stale picture, and
-debouncing of file changes (editors save in two steps)."""
+OpenGL 3.3 core window with its moderngl context, and the red frame around a stale picture."""
 
 from __future__ import annotations
 
 import os
-import time
 
 from ..errors import FacetError
+from ..viewing.debounce import DEBOUNCE, POLL, Debounce  # noqa: F401 (the windows' import)
 
-DEBOUNCE = 0.15  # a change must stay put this long before it is loaded
-POLL = 0.1  # seconds between checks of watched files
 ERROR_FRAME = (0.85, 0.1, 0.1, 1.0)  # the red frame drawn around a stale picture
 ERROR_BORDER = 8  # pixels
 
@@ -104,37 +101,3 @@ class GLWindow:
         self.glfw.destroy_window(self.handle)
         self.glfw.terminate()
         self.handle = None
-
-
-class Debounce:
-    """Says when a change has stayed put for ``delay`` seconds, checking at most every
-    ``interval`` (editors save in two steps: a reload between them would see half a file)."""
-
-    def __init__(self, delay: float = DEBOUNCE, interval: float = POLL):
-        self.delay, self.interval = delay, interval
-        self._since: float | None = None
-        self._token = None
-        self._checked = 0.0
-
-    @property
-    def pending(self) -> bool:
-        return self._since is not None
-
-    def due(self, changed) -> bool:
-        """Whether to load now. ``changed()`` returns something false when the watched
-        content is as loaded, else a token of the new content (a digest; True will do):
-        a different token starts the wait again."""
-        now = time.monotonic()
-        if now - self._checked < self.interval:
-            return False
-        self._checked = now
-        token = changed()
-        if not token:
-            self._since = self._token = None
-            return False
-        if self._since is None or token != self._token:
-            self._since, self._token = now, token
-        if now - self._since < self.delay:
-            return False
-        self._since = self._token = None
-        return True

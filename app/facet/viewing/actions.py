@@ -1,8 +1,9 @@
-"""The viewer's actions: what the keys of ``facet.window.keys.KEYMAP`` do, plus grabbing and
-saving pictures. A mixin of ``facet.window.viewer.Viewer`` (which owns the window, the
-context and the renderer). Keys that change how the scene is drawn set render options in
-``self.keys``, one layer over the scene's and the command line's (facet.scene.options), so
-screenshots and recorded turntables render with exactly what the window shows."""
+"""The viewer's actions: what the keys of ``facet.viewing.keys.KEYMAP`` do, plus saving
+pictures. A mixin of ``facet.viewing.core.ViewerCore`` (whose fronts own the surface, the
+context and the renderer, and give ``grab``, ``draw`` and ``quit``). Keys that change how
+the scene is drawn set render options in ``self.keys``, one layer over the scene's and the
+command line's (facet.scene.options), so screenshots and recorded turntables render with
+exactly what the viewer shows."""
 
 from __future__ import annotations
 
@@ -23,15 +24,8 @@ def _next(options, current):
 
 
 class ViewerActions:
-    def grab(self) -> np.ndarray:
-        """The window's current picture, (H, W, 3) uint8, row 0 at the top."""
-        w, h = self.glfw.get_framebuffer_size(self.window)
-        with self.ctx:
-            data = self.ctx.screen.read(viewport=(0, 0, w, h), components=3)
-        return np.frombuffer(data, np.uint8).reshape(h, w, 3)[::-1].copy()
-
     def save(self, path=None, scale: int = 1) -> Path:
-        """Save what the window shows as a PNG (``scale`` 2: an offscreen render at twice the
+        """Save what the viewer shows as a PNG (``scale`` 2: an offscreen render at twice the
         size), with the camera as JSON beside it; returns the PNG's path."""
         from ..image.outputs import write_camera_json
         from ..image.writers import save_image
@@ -39,7 +33,7 @@ class ViewerActions:
         path = Path(path or time.strftime(f"facet-%Y%m%d-%H%M%S{'-2x' if scale > 1 else ''}"
                                           ".png"))
         camera = self.camera()
-        w, h = self.glfw.get_framebuffer_size(self.window)
+        w, h = self.surface_size
         if scale == 1:
             if self._dirty:
                 self.draw()
@@ -127,7 +121,7 @@ class ViewerActions:
         from ..render.turntable import turntable
 
         path = Path(time.strftime("facet-turntable-%Y%m%d-%H%M%S.gif"))
-        self.win.set_title(f"facet - recording {path.name}")
+        self.show_status(f"facet - recording {path.name}")
         writer = BackgroundWriter()
         sink = SequenceSink(path, 30.0, writer)
         frames = turntable(self.renderer, self.shown_scene(), TURNTABLE_FRAMES, self.camera(),
@@ -164,9 +158,6 @@ class ViewerActions:
 
     def print_help(self):
         print(help_text())
-
-    def quit(self):
-        self.win.quit()
 
     def use_camera(self, index: int):
         cameras = list(self.scene.cameras.values())

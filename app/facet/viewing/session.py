@@ -1,0 +1,151 @@
+"""The viewer without a window: events in, pictures out. The notebook widget
+(facet.notebook) and the served page (facet.serve) drive one ``Session`` each; it renders
+headless through its own Renderer into a canvas (facet.gl.targets.Canvas) with the
+window's pass sequence (quick pictures while the view moves, supersamples added while it
+is still) and hands the picture back as an (H, W, 3) uint8 array.
+
+Events use the vocabulary of jupyter_rfb (the remote frame buffer pygfx uses), which the
+served page speaks too: dicts with ``type`` (or ``event_type``) ``pointer_down`` /
+``pointer_move`` / ``pointer_up`` (``x``, ``y`` in CSS pixels, ``button`` 1 left, 2 right,
+3 middle, ``modifiers`` such as ``"Shift"``), ``wheel`` (``dy`` in pixels, positive away
+from the user), ``key_down`` (``key``: one character, or a name such as ``"Escape"``) and
+``resize`` (``width``, ``height`` in CSS pixels, ``pixel_ratio``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from .core import ViewerCore
+
+WHEEL_NOTCH = 100.0  # wheel pixels a browser reports for one notch (zoom step)
+LEFT, RIGHT, MIDDLE = 1, 2, 3  # jupyter_rfb's button numbers
+MAX_SIDE = 4096  # the largest canvas side a page may ask for (pixels)
+
+
+class Session(ViewerCore):
+    """A headless viewer of ``source`` (a Scene, or a mesh or scene file).
+
+    The arguments are the window's (facet.window.viewer.Viewer); ``renderer``: draw through
+    this one (not closed here) instead of a new headless Renderer. ``frame()`` returns the
+    next picture when something changed, plays or refines, else None: an idle viewer
+    costs nothing. ``handle(event)`` applies one event; ``close()`` releases the GL.
+    """
+
+    status_name = "facet"
+
+    def __init__(self, source, size=None, msaa: int | None = None, shader=None, options=None,
+                 crease: float | None = None, time_end: float | None = None,
+                 sizes: dict | None = None, renderer=None):
+        super().__init__(source, size, msaa, shader=shader, options=options, crease=crease,
+                         time_end=time_end, sizes=sizes)
+        from ..render.renderer import Renderer
+
+        self._size = tuple(int(v) for v in self.initial_size)  # pixels drawn
+        self._pointer = self._size  # the events' CSS pixels
+        self._own_renderer = renderer is None
+        self.canvas = None
+        self.quitting = False  # q was pressed: the front closes the view
+        self.last: np.ndarray | None = None  # the last picture drawn
+        self.frames = 0  # pictures drawn
+        self.start(Renderer() if renderer is None else renderer)
+
+    # -- what ViewerCore asks of a front ---------------------------------------------------
+    @property
+    def surface_size(self) -> tuple[int, int]:
+        return self._size
+
+    @property
+    def pointer_size(self) -> tuple[int, int]:
+        return self._pointer
+
+    def grab(self) -> np.ndarray:
+        return self.draw() if self.last is None or self._dirty else self.last
+
+    def quit(self) -> None:
+        self.quitting = True
+
+    # -- size, events and pictures ---------------------------------------------------------
+    def resize(self, width: float, height: float, pixel_ratio: float = 1.0) -> None:
+        """The view is ``width`` x ``height`` CSS pixels at ``pixel_ratio`` pixels each."""
+        if not (width >= 1 and height >= 1 and 0 < pixel_ratio <= 8):
+            return  # a hidden or collapsed view: keep the last size
+        pixels = tuple(min(max(int(round(v * pixel_ratio)), 1), MAX_SIDE)
+                       for v in (width, height))
+        self._pointer = (float(width), float(height))
+        if pixels != self._size:
+            self._size = pixels
+            self.request_frame()
+
+    def handle(self, event: dict) -> None:
+        """Apply one event (the module docstring's vocabulary); unknown kinds are ignored
+        (a page may send more than the viewer uses)."""
+        kind = event.get("type") or event.get("event_type")
+        x, y = float(event.get("x", 0.0)), float(event.get("y", 0.0))
+        if kind == "pointer_down":
+            button = event.get("button", LEFT)
+            self.press(x, y, button in (RIGHT, MIDDLE) or "Shift" in event.get("modifiers", ()))
+        elif kind == "pointer_move":
+            self.move(x, y)
+        elif kind == "pointer_up":
+            self.release()
+        elif kind == "wheel":
+            self.scroll(-float(event.get("dy", 0.0)) / WHEEL_NOTCH, x, y)
+        elif kind == "key_down":
+            key = str(event.get("key", ""))
+            if key == "Escape":
+                self.quit()
+            elif len(key) == 1:
+                self.char(key)
+        elif kind == "resize":
+            self.resize(float(event.get("width", 0)), float(event.get("height", 0)),
+                        float(event.get("pixel_ratio", event.get("ratio", 1.0)) or 1.0))
+
+    def draw(self) -> np.ndarray:
+        """Draw the next frame now and return it, (H, W, 3) uint8, row 0 at the top."""
+        with self.renderer.ctx:
+            return self._draw()
+
+    def _draw(self) -> np.ndarray:
+        if self.canvas is None or self.canvas.size != self._size:
+            from ..gl.targets import Canvas
+
+            if self.canvas is not None:
+                self.canvas.release()
+                self.canvas = None
+            self.canvas = Canvas(self.renderer.ctx, *self._size)
+        self.draw_into(self.canvas.framebuffer)
+        self.last = self.canvas.read()
+        self.frames += 1
+        return self.last
+
+    def frame(self) -> np.ndarray | None:
+        """The next picture when something changed, plays or refines (None: nothing to
+        draw); reloads the open file and user shaders first when they changed."""
+        with self.renderer.ctx:  # engines are made, and shaders reloaded, in it
+            self.check_files()
+            return self._draw() if self.wants_frame else None
+
+    def set_size(self, width: int, height: int) -> None:
+        """Draw at ``width`` x ``height`` pixels (events in the same units)."""
+        if not (isinstance(width, int) and isinstance(height, int) and width >= 1
+                and height >= 1):
+            raise InputError(f"a view's size is two positive integers, got {width!r}, "
+                             f"{height!r}")
+        self.resize(width, height)
+
+    def close(self) -> None:
+        """Release the canvas (and the renderer when the session made it)."""
+        if self.canvas is not None:
+            with self.renderer.ctx:
+                self.canvas.release()
+            self.canvas = None
+        if self._own_renderer:
+            self.renderer.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
