@@ -45,6 +45,7 @@ _EXPORTS = {
     "Frame": "facet.render.renderer",
     "SHADING_MODELS": "facet.render.shading",
     "view": "facet.window.viewer",
+    "show": "facet.notebook.show",
     "ShaderToy": "facet.lab.shadertoy",
     "batch": "facet",
     "UserShader": "facet.scene.shader",

@@ -1,0 +1,118 @@
+"""The viewer as a notebook widget: jupyter_rfb's remote frame buffer (the one pygfx uses)
+over a headless ``facet.viewing.session.Session`` rendering in the kernel.
+
+The browser sends pointer, wheel, key and resize events; the session applies them with the
+window's controls and keys (drag orbits, right / shift drag pans, the wheel zooms, ``e``
+engine, ``m`` shading, ``s`` screenshot, ... ``h`` lists them) and draws the next picture.
+jupyter_rfb sends it as JPEG while the view changes and as a lossless PNG once it has been
+still for a moment; a still view refines (supersampling, the tracers) frame by frame as in
+the window, and an idle widget draws nothing.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from ..viewing.session import Session
+
+QUALITY = 80  # JPEG quality while the view moves (lossless once it is still)
+SIZE = (640, 480)  # CSS pixels, when neither the call nor the scene gives a size
+NEEDS = "the notebook widget needs jupyter_rfb: pip install 'facet[notebook]'"
+
+
+def _base():
+    try:
+        from jupyter_rfb import RemoteFrameBuffer
+    except ImportError:
+        raise InputError(NEEDS) from None
+    return RemoteFrameBuffer
+
+
+def widget_class():
+    """The widget class (made on first use: jupyter_rfb is an optional dependency)."""
+    global Widget
+    if Widget is None:
+        Widget = type("Widget", (_WidgetMixin, _base()), {"__doc__": _WidgetMixin.__doc__,
+                                                          "__module__": __name__})
+    return Widget
+
+
+Widget = None  # the class, once widget_class() made it
+
+
+class _WidgetMixin:
+    """An interactive view of ``source`` (a Scene, or a mesh or scene file) in a notebook.
+
+    Parameters
+    ----------
+    source : Scene or str or Path
+        What to show.
+    size : (int, int), optional
+        The widget's size in CSS pixels (default: the scene file's, else 640x480).
+    quality : int
+        JPEG quality (1-100) while the view moves; 100 sends PNG always.
+    **options
+        Render options over the scene's (``engine="path"``, ``shading="pbr"``, ...).
+    """
+
+    def __init__(self, source, size=None, quality: int = QUALITY, **options):
+        session = Session(source, size=size, options=options)
+        if size is None and session.scene.options.get("size") is None:
+            session.resize(*SIZE)
+        super().__init__()
+        self.session = session
+        w, h = session.surface_size
+        self.css_width, self.css_height = f"{w}px", f"{h}px"
+        self.quality = int(quality)
+
+    # -- jupyter_rfb's two methods ---------------------------------------------------------
+    def handle_event(self, event: dict) -> None:
+        """One browser event: applied to the session; a picture is asked for when it
+        changed the view."""
+        kind = event.get("event_type") or event.get("type")
+        if kind == "close":
+            self.session.close()
+            return
+        self.session.handle(event)
+        if self.session.quitting:
+            self.close()
+        elif self.session.wants_frame:
+            self.request_draw()
+
+    def get_frame(self) -> np.ndarray | None:
+        """The next picture, (H, W, 3) uint8, or None when nothing changed; asks for
+        another while the view refines or plays."""
+        if self.session.canvas is None and self.session.last is not None:
+            return None  # closed
+        picture = self.session.frame()
+        if self.session.animated or self.session.refining:
+            self.request_draw()
+        return picture
+
+    # -- for scripts -------------------------------------------------------------------
+    def camera(self):
+        """The camera shown now (facet.Camera)."""
+        return self.session.camera()
+
+    def set_camera(self, camera) -> None:
+        self.session.set_camera(camera)
+        self.request_draw()
+
+    def press(self, key: str) -> None:
+        """Press a viewer key (``"e"``: next engine, ...), as a user would."""
+        self.handle_event({"type": "key_down", "key": key, "modifiers": []})
+
+    @property
+    def picture(self) -> np.ndarray | None:
+        """The last picture drawn, (H, W, 3) uint8 (None before the first)."""
+        return self.session.last
+
+
+def in_jupyter() -> bool:
+    """Whether this runs in a Jupyter kernel (where widgets display)."""
+    import sys
+
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None
+    return shell is not None and hasattr(shell, "kernel")

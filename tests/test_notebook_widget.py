@@ -1,0 +1,144 @@
+"""The notebook widget's logic without a browser: events in through jupyter_rfb's message
+entry (what the browser's comm calls), camera and pictures out, over real EGL. The
+pictures must be the headless render of the widget's camera (golden tolerance); the
+drags must move the camera as the window's arcball does; an idle widget draws nothing.
+The same widget in a real browser: tests/test_browser.py."""
+
+import numpy as np
+import pytest
+
+from facet.geometry.orbit import OrbitControl
+from facet.paths import default_model
+from test_golden import CHANNEL_TOL, MAX_DIFFERING
+
+pytest.importorskip("jupyter_rfb", reason="the notebook extra (jupyter_rfb) is not installed")
+
+
+def edges(ref) -> np.ndarray:
+    """(H, W) bool: pixels next to a step in ``ref`` (a silhouette or a crease), where a
+    window-like framebuffer (drawn bottom-up) and the headless one (drawn top-down) sample
+    their MSAA and coverage ties differently."""
+    img = ref[..., :3].astype(int)
+    step = np.zeros(img.shape[:2], bool)
+    step[:, 1:] |= np.abs(np.diff(img, axis=1)).max(-1) > 2 * CHANNEL_TOL
+    step[1:, :] |= np.abs(np.diff(img, axis=0)).max(-1) > 2 * CHANNEL_TOL
+    grown = step.copy()
+    for axis in (0, 1):
+        for shift in (-1, 1):
+            grown |= np.roll(step, shift, axis)
+    return grown
+
+
+def same_picture(shown, ref) -> float:
+    """The share of pixels away from the reference's edges that are off by more than the
+    golden tolerance (a different camera or a wrong picture fails it by far)."""
+    diff = np.abs(shown[..., :3].astype(int) - ref[..., :3].astype(int)).max(axis=2)
+    return float(((diff > CHANNEL_TOL) & ~edges(ref)).mean())
+
+
+def headless(widget, **changes):
+    """What ``facet render`` gives for the widget's camera and options."""
+    s = widget.session
+    opts = s.options(outputs=("color",), **changes)
+    return s.renderer.render(s.shown_scene(), s.camera(), opts).color
+
+
+def message(widget, **event):
+    """An event as the browser's comm delivers it."""
+    widget._rfb_handle_msg(widget, {"modifiers": [], "buttons": [], **event}, [])
+
+
+@pytest.fixture
+def widget():
+    from facet.notebook.widget import widget_class
+
+    w = widget_class()(default_model(), size=(160, 120))
+    message(w, type="resize", width=160, height=120, pixel_ratio=1.0)
+    yield w
+    w.session.close()
+
+
+def test_the_first_picture_is_the_headless_render(widget):
+    picture = widget.get_frame()
+    assert picture.shape == (120, 160, 3) and picture.std() > 10
+    assert same_picture(picture, headless(widget)) <= MAX_DIFFERING
+
+
+def test_a_drag_orbits_as_the_window_does_and_the_picture_follows(widget):
+    before = widget.get_frame().copy()
+    control = OrbitControl(widget.session.control.bounds)
+    control.set_camera(widget.camera())
+    message(widget, type="pointer_down", x=40, y=60, button=1)
+    for x in (60, 80, 100):
+        message(widget, type="pointer_move", x=x, y=60 + (x - 40) // 4, button=1)
+    message(widget, type="pointer_up", x=100, y=75, button=1)
+    for (x0, y0), (x1, y1) in zip([(40, 60), (60, 65), (80, 70)], [(60, 65), (80, 70),
+                                                                    (100, 75)], strict=True):
+        control.orbit((x0, y0), (x1, y1), 160, 120)
+    assert np.allclose(widget.camera().view, control.camera(160 / 120).view, atol=1e-9)
+    assert widget._rfb_draw_requested  # the change asked for a picture
+    after = widget.get_frame()
+    assert same_picture(after, before) > 0.02  # it moved (the knot fills ~30% of the view)
+    assert same_picture(after, headless(widget)) <= MAX_DIFFERING
+
+
+def test_right_drag_pans_and_the_wheel_zooms(widget):
+    widget.get_frame()
+    target = widget.session.control.target.copy()
+    message(widget, type="pointer_down", x=80, y=60, button=2)
+    message(widget, type="pointer_move", x=100, y=60, button=2)
+    message(widget, type="pointer_up", x=100, y=60, button=2)
+    moved = widget.session.control.target - target
+    assert np.linalg.norm(moved) > 0 and np.allclose(widget.camera().view[:3, :3] @ moved,
+                                                      [-np.linalg.norm(moved), 0, 0], atol=1e-6)
+    distance = widget.session.control.distance
+    message(widget, type="wheel", x=80, y=60, dx=0, dy=-100)  # one notch towards the user: in
+    assert widget.session.control.distance < distance
+
+
+def test_an_idle_widget_draws_nothing(widget):
+    widget.get_frame()
+    widget._rfb_draw_requested = False
+    message(widget, type="pointer_move", x=10, y=10)  # no button: no change
+    assert not widget._rfb_draw_requested
+    assert widget.get_frame() is None
+
+
+def test_keys_switch_engine_and_a_still_view_refines_to_the_headless_picture(widget):
+    widget.get_frame()
+    message(widget, type="key_down", key="e")
+    assert widget.session.options().engine == "trace"
+    frames = 0
+    while widget.get_frame() is not None:
+        frames += 1
+        assert frames < 100
+    assert frames > 1  # refined over several frames, then stopped
+    assert not widget._rfb_draw_requested or widget.get_frame() is None
+    assert same_picture(widget.picture, headless(widget)) <= MAX_DIFFERING
+
+
+def test_resizing_with_a_pixel_ratio_draws_more_pixels(widget):
+    message(widget, type="resize", width=100, height=80, pixel_ratio=2.0)
+    picture = widget.get_frame()
+    assert picture.shape == (160, 200, 3)
+    assert same_picture(picture, headless(widget)) <= MAX_DIFFERING
+
+
+def test_q_closes_the_widget_and_releases_its_gl(widget):
+    widget.get_frame()
+    closed = []
+    widget.observe(lambda change: closed.append(change), names="comm")
+    message(widget, type="key_down", key="q")
+    assert widget.session.quitting
+    assert widget.session.canvas is None
+
+
+def test_show_outside_jupyter_opens_the_window(monkeypatch):
+    """No kernel: facet.show is the glfw window (here without a display: one clear error)."""
+    import facet
+    from facet.window.base import NoDisplayError
+
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    with pytest.raises(NoDisplayError, match="no display"):
+        facet.show(default_model())
