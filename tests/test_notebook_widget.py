@@ -9,6 +9,7 @@ import pytest
 
 from facet.geometry.orbit import OrbitControl
 from facet.paths import default_model
+
 from test_golden import CHANNEL_TOL, MAX_DIFFERING
 
 pytest.importorskip("jupyter_rfb", reason="the notebook extra (jupyter_rfb) is not installed")

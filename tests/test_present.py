@@ -11,6 +11,7 @@ from facet.geometry.camera import Camera
 from facet.render.raster.overlay import EDGE_COLOR
 from facet.scene import AreaLight, DirectionalLight, Material, Scene
 from facet.scene.primitives import plane, sphere
+
 from test_golden import CHANNEL_TOL, MAX_DIFFERING
 
 W, H = 96, 72

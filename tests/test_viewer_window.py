@@ -311,6 +311,7 @@ def test_depth_of_field_refines_in_msaa_mode(window, tmp_path):
     from facet.geometry.camera import Camera
     from facet.render.renderer import Renderer
     from facet.scene.scenefile import load_scene
+
     from test_golden import CHANNEL_TOL, MAX_DIFFERING
 
     path = tmp_path / "lens.toml"
@@ -446,6 +447,7 @@ def test_every_front_draws_the_same_first_frame(window, tmp_path):
     within the golden tolerance, with shadows, supersampling, sRGB, shading and background
     all on (so every front honours them)."""
     from facet.cli import main
+
     from test_golden import CHANNEL_TOL, MAX_DIFFERING
 
     path = tmp_path / "fronts.toml"

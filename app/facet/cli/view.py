@@ -22,13 +22,25 @@ def add_parser(sub) -> None:
     A.add_model_options(v)
     A.add_confine_option(v)
     A.add_shader_options(v)
+    v.add_argument("--serve", metavar="[HOST:]PORT",
+                   help="serve the viewer to a web page instead of opening a window (for "
+                   "machines without a display): binds 127.0.0.1 unless HOST is given, "
+                   "prints the URL (with its token) and the ssh -L line that reaches it; "
+                   "PORT 0 picks a free one")
 
 
 def run(args) -> None:
     from ..paths import default_model
-    from ..window.viewer import view
+    from ..window.viewer import view  # no glfw import until a window opens
     from .render import user_shader
 
-    view(args.model or default_model(), shader=user_shader(args),
-         options=A.render_layer(args), crease=args.crease, time_end=A.time_range(args)[1],
-         sizes=A.sprite_sizes(args))
+    model = args.model or default_model()
+    settings = dict(shader=user_shader(args), options=A.render_layer(args),
+                    crease=args.crease, time_end=A.time_range(args)[1],
+                    sizes=A.sprite_sizes(args))
+    if args.serve is not None:
+        from ..serve.server import serve
+
+        serve(model, args.serve, **settings)
+        return
+    view(model, **settings)

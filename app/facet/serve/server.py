@@ -1,0 +1,181 @@
+"""``facet view --serve [HOST:]PORT``: the viewer in a web page, over a WebSocket.
+
+One headless session (facet.viewing.session) renders in a thread of its own
+(facet.serve.worker); the page (page.html, viewer.js beside this module) sends pointer,
+wheel, key and resize events in jupyter_rfb's vocabulary and shows each picture it gets.
+Every open tab sees the one session: the same camera and keys, the picture drawn at the
+size of the tab that was resized last. The server binds to 127.0.0.1 unless told otherwise
+and asks for a token in the URL (printed at start, with the ``ssh -L`` line that reaches it
+from another machine); a request without it gets 403.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import secrets
+import signal
+import sys
+from pathlib import Path
+from urllib.parse import parse_qs, urlsplit
+
+from ..errors import InputError
+from .encode import QUALITY
+
+HERE = Path(__file__).resolve().parent
+STATIC = {"/": ("page.html", "text/html; charset=utf-8"),
+          "/viewer.js": ("viewer.js", "text/javascript; charset=utf-8")}
+DEFAULT_HOST = "127.0.0.1"
+LOCAL = ("127.0.0.1", "localhost", "::1")
+NEEDS = "facet view --serve needs websockets: pip install 'facet[serve]'"
+
+
+def parse_address(text: str) -> tuple[str, int]:
+    """``[HOST:]PORT`` -> (host, port); one clear error otherwise."""
+    host, _, port = text.rpartition(":")
+    host = host.strip("[]") or DEFAULT_HOST
+    if not port.isdigit() or not 0 <= int(port) <= 65535:
+        raise InputError(f"--serve: expected [HOST:]PORT with PORT 0-65535 (0: any free "
+                         f"port), got {text!r}")
+    return host, int(port)
+
+
+class Server:
+    """Serves the page and one session to every tab (see the module docstring)."""
+
+    def __init__(self, make_session, host: str = DEFAULT_HOST, port: int = 0,
+                 token: str | None = None, quality: int = QUALITY):
+        self.make_session, self.host, self.port = make_session, host, port
+        self.token = token or secrets.token_urlsafe(16)
+        self.quality = quality
+        self.clients: set = set()
+        self.loop: asyncio.AbstractEventLoop | None = None
+        self.worker = None
+        self.last: tuple[str, bytes] | None = None  # the last picture (meta, data)
+
+    # -- HTTP: the page, its script, and the token check -----------------------------------
+    def _process_request(self, connection, request):
+        from websockets.datastructures import Headers
+        from websockets.http11 import Response
+
+        url = urlsplit(request.path)
+        token = parse_qs(url.query).get("token", [""])[0]
+        if url.path == "/ws":
+            if not secrets.compare_digest(token, self.token):
+                return connection.respond(403, "facet: wrong or missing token: open the URL "
+                                          "'facet view --serve' printed\n")
+            return None  # the WebSocket handshake goes on
+        if url.path not in STATIC:
+            return connection.respond(404, "facet: not found\n")
+        if url.path == "/" and not secrets.compare_digest(token, self.token):
+            return connection.respond(403, "facet: this viewer needs its token: open the URL "
+                                      "'facet view --serve' printed (it ends in ?token=...)\n")
+        name, mime = STATIC[url.path]
+        body = (HERE / name).read_bytes()
+        return Response(200, "OK", Headers({"Content-Type": mime,
+                                            "Content-Length": str(len(body)),
+                                            "Cache-Control": "no-store"}), body)
+
+    # -- the WebSocket: events in, pictures out --------------------------------------------
+    async def _handler(self, websocket) -> None:
+        self.clients.add(websocket)
+        self.worker.post({"type": "hello"})
+        try:
+            async for message in websocket:
+                if isinstance(message, str):
+                    try:
+                        event = json.loads(message)
+                    except ValueError:
+                        continue
+                    if isinstance(event, dict):
+                        self.worker.post(event)
+        except Exception:  # a tab that went away mid-message: the others go on
+            pass
+        finally:
+            self.clients.discard(websocket)
+            self.worker.post({"type": "bye"})
+
+    def _send(self, meta: dict, data: bytes) -> None:
+        """From the worker thread: broadcast a picture to every tab."""
+        text = json.dumps(meta)
+        self.last = (text, data)
+        self.loop.call_soon_threadsafe(self._broadcast, text, data)
+
+    def _broadcast(self, text: str, data: bytes) -> None:
+        for ws in list(self.clients):
+            asyncio.ensure_future(self._send_to(ws, text, data))
+
+    @staticmethod
+    async def _send_to(ws, text: str, data: bytes) -> None:
+        try:
+            await ws.send(text)
+            await ws.send(data)
+        except Exception:  # closed meanwhile
+            pass
+
+    # -- running ---------------------------------------------------------------------------
+    def url(self, host: str | None = None) -> str:
+        host = host or self.host
+        shown = f"[{host}]" if ":" in host else host
+        return f"http://{shown}:{self.port}/?token={self.token}"
+
+    async def _main(self, ready) -> None:
+        try:
+            from websockets.asyncio.server import serve
+        except ImportError:
+            raise InputError(NEEDS) from None
+        from .worker import Worker
+
+        self.loop = asyncio.get_running_loop()
+        self.worker = Worker(self.make_session, self._send, self.quality)
+        self.worker.start()
+        await asyncio.to_thread(self.worker.ready.wait)
+        if self.worker.failure is not None:
+            raise self.worker.failure
+        stop = self.loop.create_future()
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self.loop.add_signal_handler(sig, lambda: stop.done() or stop.set_result(None))
+        try:
+            async with serve(self._handler, self.host, self.port,
+                             process_request=self._process_request, max_size=2 ** 16,
+                             compression=None) as server:
+                self.port = next(iter(server.sockets)).getsockname()[1]
+                ready(self)
+                await stop
+        except OSError as exc:
+            raise InputError(f"--serve: cannot listen on {self.host}:{self.port} "
+                             f"({exc.strerror or exc}); pick another port (0: any free one)") \
+                from None
+        finally:
+            self.worker.stop()
+            await asyncio.to_thread(self.worker.join, 10)
+
+    def run(self, ready=None) -> None:
+        """Serve until SIGINT / SIGTERM; ``ready(server)`` is called once it listens."""
+        asyncio.run(self._main(ready or announce))
+
+
+def announce(server: Server) -> None:
+    """Say where the page is, and how to reach it from another machine."""
+    print(f"facet view: open {server.url()}", flush=True)
+    if server.host in LOCAL:
+        print(f"  from another machine: ssh -L {server.port}:127.0.0.1:{server.port} "
+              f"USER@THIS-HOST, then open the URL above there", flush=True)
+    else:
+        print(f"facet view: warning: listening on {server.host}, beyond this machine: anyone "
+              "with the URL (its token) can see and drive the view", file=sys.stderr,
+              flush=True)
+    print("  Ctrl-C stops it", flush=True)
+
+
+def serve(source, address: str, **session_args) -> None:
+    """Serve the viewer of ``source`` at ``address`` ([HOST:]PORT) until interrupted;
+    ``session_args`` go to facet.viewing.session.Session."""
+    host, port = parse_address(address)
+    try:
+        import websockets  # noqa: F401
+    except ImportError:
+        raise InputError(NEEDS) from None
+    from ..viewing.session import Session
+
+    Server(lambda: Session(source, **session_args), host, port).run()

@@ -1,0 +1,111 @@
+"""The served viewer's render thread: it owns the headless session (its GL context is
+current in this thread only), applies the page's events in order, draws when something
+changed, plays or refines, and hands each picture to the server to broadcast: JPEG while
+the view changes, PNG once it has been still for ``LOSSLESS_AFTER`` seconds. Idle, it
+waits on its queue (and looks at the open file every ``POLL`` seconds)."""
+
+from __future__ import annotations
+
+import queue
+import threading
+import time
+
+from ..viewing.debounce import POLL
+from .encode import jpeg, png
+
+LOSSLESS_AFTER = 0.3  # seconds still before the lossless picture is sent
+IN_FLIGHT = 2  # pictures sent but not yet shown by a page, before drawing waits
+
+
+class Worker(threading.Thread):
+    """Runs ``make_session()`` in its own thread; ``post(event)`` from any thread;
+    ``send(meta, data)`` is called from this thread with each picture."""
+
+    def __init__(self, make_session, send, quality: int):
+        super().__init__(name="facet-serve-render", daemon=True)
+        self.make_session, self.send, self.quality = make_session, send, quality
+        self.events: queue.SimpleQueue = queue.SimpleQueue()
+        self.ready = threading.Event()  # the session exists (or failed: self.failure)
+        self.failure: BaseException | None = None
+        self.index = 0  # pictures sent
+        self.shown = 0  # the last picture a page said it showed
+        self.pages = 0  # pages connected: none, nothing is drawn
+
+    def post(self, event: dict) -> None:
+        self.events.put(event)
+
+    def stop(self) -> None:
+        self.events.put(None)
+
+    def run(self) -> None:
+        try:
+            session = self.make_session()
+        except BaseException as exc:  # reported by the server, in the main thread
+            self.failure = exc
+            self.ready.set()
+            return
+        self.ready.set()
+        try:
+            self._loop(session)
+        finally:
+            session.close()
+
+    def _loop(self, session) -> None:
+        lossless_due = None  # when the last JPEG's lossless picture is due
+        while True:
+            busy = (self.pages > 0 and session.wants_frame
+                    and self.index - self.shown < IN_FLIGHT)
+            wait = 0.0 if busy else POLL
+            if lossless_due is not None and not busy:
+                wait = max(0.0, min(wait, lossless_due - time.monotonic()))
+            events = self._take(wait)
+            if events is None:
+                return
+            for event in events:
+                kind = event.get("type")
+                if kind == "frame_feedback":
+                    self.shown = max(self.shown, int(event.get("index", 0)))
+                elif kind == "hello":  # a new page: it needs the picture now
+                    self.pages += 1
+                    self.shown = self.index  # what went before went to no one waiting
+                    session.request_frame()
+                elif kind == "bye":
+                    self.pages = max(self.pages - 1, 0)
+                else:
+                    session.handle(event)
+            if session.quitting:
+                session.quitting = False  # q in a page: nothing to close (the server stays)
+            if self.pages == 0 or self.index - self.shown >= IN_FLIGHT:
+                lossless_due = None if self.pages == 0 else lossless_due
+                continue
+            picture = session.frame()
+            if picture is not None:
+                still = not (session.refining or session.animated)
+                self._send(session, picture, lossless=False)
+                lossless_due = time.monotonic() + LOSSLESS_AFTER if still else None
+            elif lossless_due is not None and time.monotonic() >= lossless_due:
+                self._send(session, session.last, lossless=True)
+                lossless_due = None
+
+    def _take(self, wait: float):
+        """The events waiting (at least one if any comes within ``wait`` seconds); None
+        when asked to stop."""
+        out = []
+        try:
+            out.append(self.events.get(timeout=wait) if wait > 0 else
+                       self.events.get_nowait())
+            while True:
+                out.append(self.events.get_nowait())
+        except queue.Empty:
+            pass
+        return None if None in out else out
+
+    def _send(self, session, picture, lossless: bool) -> None:
+        self.index += 1
+        camera = session.camera()
+        meta = {"type": "frame", "index": self.index, "lossless": lossless,
+                "mime": "image/png" if lossless else "image/jpeg",
+                "width": int(picture.shape[1]), "height": int(picture.shape[0]),
+                "status": session.status(), "camera": camera.describe(
+                    int(picture.shape[1]), int(picture.shape[0]))}
+        self.send(meta, png(picture) if lossless else jpeg(picture, self.quality))

@@ -1,0 +1,206 @@
+"""``facet view --serve``: the viewer served to a web page over a WebSocket. The protocol
+from a Python client (token, pictures JPEG while moving then PNG when still, refinement,
+the camera of each picture), the command's errors, and end to end in headless Chromium:
+drag on the page and find the picture changed and equal to the headless render of the new
+camera (golden tolerance, edges masked as in tests/test_notebook_widget.py), keys, and two
+tabs seeing one session. Servers bind 127.0.0.1 and are stopped by the tests."""
+
+import asyncio
+import io
+import json
+import re
+import signal
+import subprocess
+import sys
+import urllib.error
+import urllib.request
+
+import numpy as np
+import pytest
+
+from browser import camera_from, canvas_pixels, chromium, quit_chromium, wait_for
+from conftest import ROOT
+from test_golden import MAX_DIFFERING
+from test_notebook_widget import same_picture
+
+pytest.importorskip("websockets", reason="the serve extra (websockets) is not installed")
+
+FACET = [sys.executable, "-m", "facet"]
+MODEL = str(ROOT / "models" / "default.obj")
+
+
+class Served:
+    """``facet view --serve 127.0.0.1:0`` in a subprocess, stopped on exit."""
+
+    def __init__(self, *args):
+        self.proc = subprocess.Popen([*FACET, "view", MODEL, "--serve", "127.0.0.1:0", *args],
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        line = self.proc.stdout.readline()
+        found = re.search(r"http://\S+", line)
+        if not found:
+            self.stop()
+            raise AssertionError(f"no URL printed: {line!r} {self.proc.stderr.read()!r}")
+        self.url = found.group(0)
+        self.hint = self.proc.stdout.readline()
+        self.ws = self.url.replace("http://", "ws://").replace("/?", "/ws?")
+
+    def stop(self) -> int:
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGTERM)
+        try:
+            return self.proc.wait(20)
+        finally:
+            if self.proc.poll() is None:
+                self.proc.kill()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
+
+@pytest.fixture(scope="module")
+def served():
+    with Served() as s:
+        yield s
+
+
+def _status(url: str) -> int:
+    try:
+        with urllib.request.urlopen(url, timeout=20) as r:
+            return r.status
+    except urllib.error.HTTPError as exc:
+        return exc.code
+
+
+def test_the_page_needs_the_token_and_says_how_to_reach_it(served):
+    assert served.url.startswith("http://127.0.0.1:") and "?token=" in served.url
+    port = served.url.split(":")[2].split("/")[0]
+    assert f"ssh -L {port}:127.0.0.1:{port}" in served.hint
+    base = served.url.split("?")[0]
+    assert _status(served.url) == 200
+    assert _status(base) == 403 and _status(base + "?token=wrong") == 403
+    assert _status(served.ws.replace("ws://", "http://").split("?")[0] + "?token=x") == 403
+    assert _status(base + "nothing-here") == 404
+
+
+async def _pictures(url, events, count, timeout=60, until_lossless=False):
+    """Send ``events``, then collect ``count`` (meta, picture) pairs (at least, and up to
+    a lossless one after them, when ``until_lossless``)."""
+    from PIL import Image
+    from websockets.asyncio.client import connect
+
+    out = []
+    async with connect(url) as ws:
+        for event in events:
+            await ws.send(json.dumps(event))
+        while len(out) < count or (until_lossless and not out[-1][0]["lossless"]):
+            meta = json.loads(await asyncio.wait_for(ws.recv(), timeout))
+            data = await asyncio.wait_for(ws.recv(), timeout)
+            out.append((meta, np.array(Image.open(io.BytesIO(data)).convert("RGB"))))
+            await ws.send(json.dumps({"type": "frame_feedback", "index": meta["index"]}))
+    return out
+
+
+def test_pictures_are_jpeg_while_moving_then_lossless_when_still(served):
+    resize = {"type": "resize", "width": 160, "height": 120, "pixel_ratio": 1}
+    (moving, picture), (still, lossless) = asyncio.run(_pictures(served.ws, [resize], 2))
+    assert (moving["mime"], still["mime"]) == ("image/jpeg", "image/png")
+    assert not moving["lossless"] and still["lossless"]
+    assert picture.shape == lossless.shape == (120, 160, 3)
+    assert np.abs(picture.astype(int) - lossless).mean() < 4  # the same view, compressed
+
+
+def test_a_refining_engine_sends_pictures_until_it_converges(served):
+    events = [{"type": "resize", "width": 96, "height": 72, "pixel_ratio": 1},
+              {"type": "key_down", "key": "e"}]  # raster -> trace: 4 samples a pixel
+    got = asyncio.run(_pictures(served.ws, events, 6, until_lossless=True))
+    traced = [m for m, _ in got if "engine trace" in m["status"]]
+    samples = [int(re.search(r"(\d+)/4 samples", m["status"]).group(1)) for m in traced]
+    assert samples[-5:] == [1, 2, 3, 4, 4] and traced[-1]["lossless"]
+    asyncio.run(_pictures(served.ws, [{"type": "key_down", "key": "e"},
+                                      {"type": "key_down", "key": "e"}], 1))  # back to raster
+
+
+def test_a_bad_address_and_a_busy_port_are_one_line_each(served):
+    bad = subprocess.run([*FACET, "view", MODEL, "--serve", "localhost:99999"],
+                         capture_output=True, text=True, timeout=60)
+    assert bad.returncode == 2 and "expected [HOST:]PORT" in bad.stderr
+    assert len(bad.stderr.strip().splitlines()) == 1
+    port = served.url.split(":")[2].split("/")[0]
+    busy = subprocess.run([*FACET, "view", MODEL, "--serve", f"127.0.0.1:{port}"],
+                          capture_output=True, text=True, timeout=60)
+    assert busy.returncode == 2 and "cannot listen on 127.0.0.1:" in busy.stderr
+    assert len(busy.stderr.strip().splitlines()) == 1 and "Traceback" not in busy.stderr
+
+
+def _headless(camera_description, picture_shape):
+    """The headless render of the described camera, as the served session draws."""
+    from facet.viewing.session import Session
+
+    h, w = picture_shape[:2]
+    with Session(MODEL) as s:
+        s.resize(w, h)
+        return s.renderer.render(s.shown_scene(), camera_from(camera_description),
+                                 s.options(outputs=("color",))).color
+
+
+def _settled(driver, canvas, after: int) -> int:
+    """The index of the first lossless picture after picture ``after``."""
+    def ready():
+        index = int(canvas.get_attribute("data-frame") or 0)
+        return index if index > after and canvas.get_attribute("data-lossless") == "1" \
+            else 0
+    return wait_for(ready, f"a still picture after picture {after}")
+
+
+@pytest.fixture
+def browser():
+    driver = chromium()
+    yield driver
+    quit_chromium(driver)
+
+
+def test_dragging_in_a_browser_orbits_to_the_headless_picture(browser):
+    from selenium.webdriver import ActionChains
+
+    with Served() as s:
+        browser.get(s.url)
+        canvas = browser.find_element("id", "canvas")
+        first = _settled(browser, canvas, 0)
+        before = canvas_pixels(browser, canvas)
+        assert before.std() > 10  # a picture, not a blank page
+        ActionChains(browser).move_to_element_with_offset(canvas, -60, 0).click_and_hold() \
+            .move_by_offset(30, 10).move_by_offset(30, 10).release().perform()
+        _settled(browser, canvas, first + 1)
+        after = canvas_pixels(browser, canvas)
+        camera = json.loads(canvas.get_attribute("data-camera"))
+        assert same_picture(after, before) > 0.01  # it turned
+        assert same_picture(after, _headless(camera, after.shape)) <= MAX_DIFFERING
+        assert s.stop() in (0, -signal.SIGTERM, 128 + signal.SIGTERM)
+
+
+def test_keys_in_the_page_and_two_tabs_seeing_one_session(browser):
+    with Served() as s:
+        browser.get(s.url)
+        canvas = browser.find_element("id", "canvas")
+        first = _settled(browser, canvas, 0)
+        canvas.send_keys("o")  # orthographic
+        _settled(browser, canvas, first)
+        assert json.loads(canvas.get_attribute("data-camera"))["model"] == "orthographic"
+        one = browser.current_window_handle
+        browser.switch_to.new_window("tab")
+        browser.get(s.url)
+        other = browser.find_element("id", "canvas")
+        _settled(browser, other, 0)
+        assert json.loads(other.get_attribute("data-camera"))["model"] == "orthographic"
+        other.send_keys("b")  # background: seen in both tabs
+        index = _settled(browser, other, int(other.get_attribute("data-frame")))
+        mine = canvas_pixels(browser, other)
+        browser.switch_to.window(one)
+        wait_for(lambda: int(canvas.get_attribute("data-frame")) >= index
+                 and canvas.get_attribute("data-lossless") == "1", "the first tab's picture")
+        theirs = canvas_pixels(browser, canvas)
+        assert mine.shape == theirs.shape and np.array_equal(mine, theirs)
+        assert not np.array_equal(mine[0, 0], [0, 0, 0])  # the new background
