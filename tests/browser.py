@@ -52,7 +52,7 @@ def wait_for(condition, what: str, timeout: float = WAIT):
     end = time.monotonic() + timeout
     while True:
         value = condition()
-        if value:
+        if value.size > 0 if isinstance(value, np.ndarray) else bool(value):
             return value
         if time.monotonic() > end:
             raise AssertionError(f"timed out after {timeout:.0f} s waiting for {what}")

@@ -1,0 +1,89 @@
+"""The notebook widget end to end: JupyterLab on 127.0.0.1 (started and stopped here), a
+notebook that calls ``facet.show`` on a model, run in headless Chromium (Debian's, driven by
+Selenium). A drag on the widget must change the picture, and the picture the page shows once
+the view is still must be the headless render of the kernel's new camera (golden tolerance,
+edges masked as in tests/test_notebook_widget.py)."""
+
+import json
+import time
+
+import numpy as np
+import pytest
+
+from browser import camera_from, canvas_pixels, chromium, quit_chromium, wait_for
+from conftest import ROOT
+from test_golden import MAX_DIFFERING
+from test_notebook_widget import same_picture
+
+pytest.importorskip("jupyter_rfb", reason="the notebook extra (jupyter_rfb) is not installed")
+pytest.importorskip("jupyterlab", reason="JupyterLab is not installed (the dev extra has it)")
+
+MODEL = str(ROOT / "models" / "default.obj")
+RUN = "[data-command='notebook:run-cell-and-select-next']"
+STILL = 0.6  # seconds a picture must stay unchanged to count as the still (lossless) one
+
+
+def _settled(driver, element, previous=None) -> np.ndarray:
+    """The picture ``element`` shows once it differs from ``previous`` and stayed put for
+    STILL seconds (the widget sends JPEG while moving, PNG 0.3 s after)."""
+    state = {"last": None, "since": 0.0}
+
+    def still():
+        now = canvas_pixels(driver, element)
+        if previous is not None and now.shape == previous.shape and \
+                np.array_equal(now, previous):
+            return None
+        if state["last"] is None or now.shape != state["last"].shape or \
+                not np.array_equal(now, state["last"]):
+            state["last"], state["since"] = now, time.monotonic()
+            return None
+        return now if time.monotonic() - state["since"] >= STILL else None
+    return wait_for(still, "the widget's picture to settle")
+
+
+def _run_cell(driver, index: int) -> None:
+    """Select cell ``index`` and run it (the toolbar's run button)."""
+    cells = driver.find_elements("css selector", ".jp-Notebook .jp-Cell")
+    cells[index].find_element("css selector", ".jp-InputPrompt").click()
+    driver.find_element("css selector", RUN).click()
+
+
+def test_a_drag_in_the_notebook_widget_gives_the_headless_picture(tmp_path):
+    from selenium.webdriver import ActionChains
+
+    from facet.viewing.session import Session
+    from jupyter_lab import JupyterLab, notebook
+
+    camera_file = tmp_path / "camera.json"
+    notebook(tmp_path / "view.ipynb", [
+        f"import facet\nw = facet.show({MODEL!r}, size=(400, 300))\nw",
+        "import json\nw_, h_ = w.session.surface_size\n"
+        f"open({str(camera_file)!r}, 'w').write(json.dumps(w.camera().describe(w_, h_)))"])
+    lab = JupyterLab(tmp_path)
+    driver = chromium()
+    try:
+        driver.get(lab.url("view.ipynb"))
+        wait_for(lambda: "| Idle" in driver.find_element("css selector", "body").text,
+                 "the kernel to start")
+        wait_for(lambda: driver.find_elements("css selector", RUN), "the notebook")
+        _run_cell(driver, 0)
+        img = wait_for(lambda: driver.find_elements("css selector", "img.renderview-view"),
+                       "the widget")[0]
+        before = _settled(driver, img)
+        assert before.std() > 10  # a picture, not a blank widget
+        ActionChains(driver).move_to_element_with_offset(img, -60, 0).click_and_hold() \
+            .move_by_offset(30, 10).move_by_offset(30, 10).release().perform()
+        after = _settled(driver, img, before)
+        _run_cell(driver, 1)
+        camera = json.loads(wait_for(lambda: camera_file.exists() and camera_file.read_text(),
+                                     "the kernel to write its camera"))
+    finally:
+        quit_chromium(driver)
+        lab.stop()
+    assert same_picture(after, before) > 0.01  # it turned
+    assert (camera["width"], camera["height"]) == (after.shape[1], after.shape[0])
+    with Session(MODEL) as s:
+        s.resize(camera["width"], camera["height"])
+        ref = s.renderer.render(s.shown_scene(), camera_from(camera),
+                                s.options(outputs=("color",))).color
+    assert same_picture(after, ref) <= MAX_DIFFERING
