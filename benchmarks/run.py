@@ -218,6 +218,7 @@ def main() -> None:
     import batch
     import gltf
     import instancing
+    import interactive
     import load
     import points
     import raytrace
@@ -232,6 +233,7 @@ def main() -> None:
     transparency.main()
     turntable.main()
     viewer.main()
+    interactive.main()
     gltf.main()
     instancing.table(a.quick)
     load.table(a.quick)

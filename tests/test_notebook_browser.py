@@ -52,6 +52,7 @@ def test_a_drag_in_the_notebook_widget_gives_the_headless_picture(tmp_path):
     from selenium.webdriver import ActionChains
 
     from facet.viewing.session import Session
+
     from jupyter_lab import JupyterLab, notebook
 
     camera_file = tmp_path / "camera.json"
