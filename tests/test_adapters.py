@@ -59,6 +59,29 @@ def test_a_trimesh_draws_as_the_same_arrays_do(renderer, kind):
         del texture
 
 
+def test_face_colours_colour_their_faces_and_a_box_stays_flat(renderer):
+    """trimesh's face_colors (a box with one colour per side, as trimesh's own examples
+    make): each face in its colour, each side lit evenly (it was grey and smooth-shaded:
+    found in the docs' gallery)."""
+    box = trimesh.creation.box((1, 1, 1))
+    sides = np.array([[230, 40, 30], [30, 200, 40], [40, 60, 230]], np.uint8)
+    axis = np.abs(box.face_normals).argmax(axis=1)  # x sides red, y green, z blue
+    box.visual.face_colors = np.hstack([sides[axis], np.full((12, 1), 255, np.uint8)])
+    scene = facet.Scene(ambient=0.0)
+    scene.add(box, facet.Material(color=(1, 1, 1), ks=0.0))
+    scene.add_light(facet.DirectionalLight(direction=(-1.0, -1.2, -0.8)))
+    camera = facet.Camera.look_at((2.2, 1.8, 2.6), (0, 0, 0), fov_y=40)
+    frame = renderer(64, 64).render(scene, camera, outputs=("color", "ids", "normals"))
+    color = frame.color[..., :3].astype(int)
+    hit = frame.object_ids == 0
+    dominant = color[hit].argmax(axis=1)
+    assert {0, 1, 2} <= set(np.unique(dominant))  # three sides, three colours
+    for channel in range(3):  # each side: one lit value (flat), not a gradient
+        side = hit & (color.argmax(axis=2) == channel) & (color.max(axis=2) > 40)
+        values = color[side][:, channel]
+        assert side.sum() > 20 and np.percentile(values, 90) - np.percentile(values, 10) <= 3
+
+
 def test_a_trimesh_scene_keeps_its_graph_and_point_clouds_become_points(renderer):
     ts = trimesh.Scene()
     ts.add_geometry(trimesh.creation.icosphere(subdivisions=2), node_name="ball")

@@ -59,9 +59,31 @@ def trimesh_geometry(tm, mesh_class, name: str = "trimesh"):
         colors = np.asarray(visual.vertex_colors, dtype=np.uint8)
         if len(colors) != len(tm.vertices):
             colors = None
+    elif getattr(visual, "kind", None) == "face" and len(tm.faces):
+        return _face_colored(tm, mesh_class, name, trimesh_material(visual))
     normals = tm._cache.cache.get("vertex_normals") if hasattr(tm, "_cache") else None
     return mesh_class(np.asarray(tm.vertices), np.asarray(tm.faces), normals, uv, name=name,
                       colors=colors, material=trimesh_material(visual))
+
+
+FACE_CREASE = 30.0  # degrees: a face colour's corner keeps the smooth normal within this
+
+
+def _face_colored(tm, mesh_class, name: str, material):
+    """A mesh with a colour per face (trimesh's face_colors): each face gets corners of its
+    own with its colour; a corner keeps the vertex's smooth normal unless it turns more than
+    FACE_CREASE from the face's (a box stays flat, a sphere smooth)."""
+    faces = np.asarray(tm.faces)
+    corners = faces.reshape(-1)
+    colors = np.repeat(np.asarray(tm.visual.face_colors, dtype=np.uint8), 3, axis=0)
+    smooth = np.asarray(tm.vertex_normals)[faces]  # (F, 3, 3)
+    flat = np.asarray(tm.face_normals)[:, None, :]
+    keep = np.einsum("fcj,fkj->fc", smooth, flat) > np.cos(np.radians(FACE_CREASE))
+    normals = np.where(keep[..., None], smooth, flat).reshape(-1, 3)
+    uv = getattr(tm.visual, "uv", None)
+    return mesh_class(np.asarray(tm.vertices)[corners], np.arange(len(corners)).reshape(-1, 3),
+                      normals, None if uv is None else np.asarray(uv)[corners], name=name,
+                      colors=colors, material=material)
 
 
 def trimesh_material(visual):
