@@ -1,4 +1,5 @@
-"""The README's commands run as written: every `facet ...` line of its shell blocks parses
+"""The documented commands run as written (the README's and every docs/ page's): every
+`facet ...` line of their shell blocks parses
 (no unknown option, no usage error), every file it reads is in the repository, and every
 one that writes files and needs nothing this machine lacks (a window, GPUs, a Ray
 cluster) runs from a fresh folder holding the repository's files, exits 0 and writes."""
@@ -15,6 +16,8 @@ import pytest
 from conftest import ROOT
 
 README = ROOT / "README.md"
+# The documented commands: the README's and every page of the documentation site's.
+PAGES = [README, *sorted((ROOT / "docs").rglob("*.md"))]
 NEEDS = ("--ray", "--gpus")  # a cluster, several GPUs
 
 
@@ -22,18 +25,32 @@ def commands() -> list[list[str]]:
     """Each `facet ...` / `python -m facet ...` line of the README's sh blocks, as argv
     after the program name (continued lines joined, comments dropped)."""
     out = []
-    for block in re.findall(r"```sh\n(.*?)```", README.read_text(), re.S):
+    blocks = [b for page in PAGES for b in re.findall(r"```sh\n(.*?)```", page.read_text(),
+                                                      re.S)]
+    for block in blocks:
         for line in block.replace("\\\n", " ").splitlines():
             argv = shlex.split(line, comments=True)
             if argv[:1] == ["facet"]:
-                out.append(argv[1:])
+                argv = argv[1:]
             elif argv[:3] == ["python", "-m", "facet"]:
-                out.append(argv[3:])
+                argv = argv[3:]
+            else:
+                continue
+            if argv not in out:
+                out.append(argv)
     return out
 
 
 def test_the_readme_has_commands():
     assert len(commands()) >= 20
+
+
+def test_the_readme_is_short_and_its_links_exist():
+    """The README is the front page (at most ~250 lines); the guide is in docs/."""
+    text = README.read_text()
+    assert len(text.splitlines()) <= 250
+    for target in re.findall(r"\]\(([^)#:]+)\)", text):
+        assert (ROOT / target).exists(), f"README links to {target}: not in the repository"
 
 
 def _inputs(args) -> list[str]:

@@ -76,8 +76,13 @@ def _face_colored(tm, mesh_class, name: str, material):
     faces = np.asarray(tm.faces)
     corners = faces.reshape(-1)
     colors = np.repeat(np.asarray(tm.visual.face_colors, dtype=np.uint8), 3, axis=0)
-    smooth = np.asarray(tm.vertex_normals)[faces]  # (F, 3, 3)
-    flat = np.asarray(tm.face_normals)[:, None, :]
+    v = np.asarray(tm.vertices, dtype=np.float64)
+    cross = np.cross(v[faces[:, 1]] - v[faces[:, 0]], v[faces[:, 2]] - v[faces[:, 0]])
+    summed = np.zeros_like(v)  # area-weighted vertex normals (trimesh's need scipy)
+    np.add.at(summed, faces, cross[:, None, :])
+    summed /= np.maximum(np.linalg.norm(summed, axis=1, keepdims=True), 1e-30)
+    smooth = summed[faces]  # (F, 3, 3)
+    flat = (cross / np.maximum(np.linalg.norm(cross, axis=1, keepdims=True), 1e-30))[:, None]
     keep = np.einsum("fcj,fkj->fc", smooth, flat) > np.cos(np.radians(FACE_CREASE))
     normals = np.where(keep[..., None], smooth, flat).reshape(-1, 3)
     uv = getattr(tm.visual, "uv", None)
