@@ -22,7 +22,8 @@ def main(out: str = "engines.png") -> None:
     scene = facet.load_scene(MODELS / "cornell.toml")
     pictures = []
     with facet.Renderer(160, 160) as renderer:
-        for engine, extra in (("raster", {}), ("trace", {}), ("path", {"spp": 32, "denoise": True})):
+        path = {"spp": 32, "denoise": True}  # 32 samples a pixel, then the denoiser
+        for engine, extra in (("raster", {}), ("trace", {}), ("path", path)):
             frame = renderer.render(scene, engine=engine, outputs=("color",), **extra)
             pictures.append(frame.color[..., :3])
     Image.fromarray(np.hstack(pictures)).save(out)
