@@ -141,16 +141,17 @@ class Camera:
             raise InputError("frame: direction must not be zero")
         d = d / np.linalg.norm(d)
         center = b.mean(axis=0)
-        radius = max(np.linalg.norm(b[1] - b[0]) / 2.0, 1e-6)
+        radius = max(float(np.linalg.norm(b[1] - b[0])) / 2.0, 1e-6)
         corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
         # Corners in the basis of a camera at `center` (x right, y up, z towards the viewer).
         rot = T.look_at(center, center + d, up)[:3, :3]
         local = (corners - center) @ rot.T
         tan_y = np.tan(np.radians(fov_y) / 2.0)
         if ortho:
-            half = max(np.abs(local[:, 1]).max(), np.abs(local[:, 0]).max() / aspect, 1e-6)
+            half = max(float(np.abs(local[:, 1]).max()),
+                       float(np.abs(local[:, 0]).max()) / aspect, 1e-6)
             dist = 2.0 * radius * margin
-            height = 2.0 * half * margin
+            height: float | None = 2.0 * half * margin
         else:
             need = np.maximum(np.abs(local[:, 0]) / (tan_y * aspect), np.abs(local[:, 1]) / tan_y)
             dist = max(float((local[:, 2] + need).max()) * margin, 1e-6)
@@ -178,10 +179,12 @@ class Camera:
         if self.ortho_height is not None:
             h = self.ortho_height / 2.0
             return T.orthographic(-h * aspect, h * aspect, -h, h, self.near, self.far)
+        assert self.fov_y is not None  # a perspective camera without intrinsics has one
         return T.perspective(self.fov_y, aspect, self.near, self.far)
 
     def _intrinsics_projection(self, width: int, height: int) -> np.ndarray:
         k = self.intrinsics
+        assert k is not None
         if (width, height) != (k.width, k.height):
             raise InputError(f"camera intrinsics are for {k.width}x{k.height} images, "
                              f"but the render is {width}x{height}")

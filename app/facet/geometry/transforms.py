@@ -121,7 +121,7 @@ def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
         raise InputError("look_at: eye and target are the same point")
     w = w / np.linalg.norm(w)
     u = np.cross(up, w)
-    if np.linalg.norm(u) < 1e-9 * max(np.linalg.norm(up), 1e-300):
+    if np.linalg.norm(u) < 1e-9 * max(float(np.linalg.norm(up)), 1e-300):
         raise InputError("look_at: up is parallel to the viewing direction; choose another up")
     u = u / np.linalg.norm(u)
     v = np.cross(w, u)

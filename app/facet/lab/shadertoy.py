@@ -23,8 +23,11 @@ errors, each line naming its pass, errors before warnings, mapped to the user's 
 from __future__ import annotations
 
 import datetime
+import functools
 import warnings
+from collections.abc import Hashable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -91,7 +94,7 @@ class ShaderToy:
             self.targets = self._make_targets()
             self._bind()
             for p in self.project.ordered():
-                self.watched.add(p.key, lambda p=p: self._compile(p))
+                self.watched.add(p.key, functools.partial(self._compile, p))
                 self.watched.labels[p.key] = p.name
             if len(self.project.passes) == 1:
                 self.watched.labels.clear()  # one pass: no need to name it
@@ -157,7 +160,8 @@ class ShaderToy:
                      for key, prog in self.programs.items()}
 
     @property
-    def programs(self) -> dict[str, Program]:
+    def programs(self) -> dict[Hashable, Program]:
+        """The compiled programs, by pass key."""
         return self.watched.programs
 
     def changed(self) -> bool:
@@ -260,7 +264,7 @@ class ShaderToy:
         self.time = time
 
     def _draw_pass(self, p: P.Pass, shared: dict, time: float) -> None:
-        prog = self.programs[p.key].gl
+        prog: Any = self.programs[p.key].gl  # moderngl types a member as any kind of one
         cube = p.key == "cube"
         w, h = (self.cube_size,) * 2 if cube else (self.width, self.height)
         values = dict(shared, iResolution=(float(w), float(h), 1.0),

@@ -11,6 +11,8 @@ the window, and an idle widget draws nothing.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import InputError
@@ -55,6 +57,13 @@ class _WidgetMixin:
     **options
         Render options over the scene's (``engine="path"``, ``shading="pbr"``, ...).
     """
+
+    if TYPE_CHECKING:  # jupyter_rfb's RemoteFrameBuffer gives these
+        def request_draw(self) -> None: ...
+        def close(self) -> None: ...
+        quality: int
+        css_width: str
+        css_height: str
 
     def __init__(self, source, size=None, quality: int = QUALITY, **options):
         session = Session(source, size=size, options=options)

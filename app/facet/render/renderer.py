@@ -85,11 +85,12 @@ class Renderer:
                     if context is None else context)
         self.cache = ResourceCache(self.ctx)
         self._engines: dict = {}  # name -> engine (facet.render.engine), made on first use
-        self._finisher = None  # the finishing pass, made on first use
+        self._finisher: Finisher | None = None  # the finishing pass, made on first use
         self._warned: set[str] = set()  # what the engines cannot honour, said once
         self._surfaces: Surfaces | None = None
         self._closed = False
-        self._unread = None  # the last Frame with channels still on the GPU (weakly)
+        # The last Frame with channels still on the GPU (weakly).
+        self._unread: weakref.ref[Frame] | None = None
         self._inside = False  # the context is current (render, present): read directly
         with self.ctx:
             # What the MSAA policy needs to know (facet.scene.options.clamp_msaa).
@@ -283,7 +284,7 @@ class Renderer:
             self._draw_exact(engine, scene, state, aux, surf)
             return {name: self._reader(surf, name) for name in aux}
         snapshot = frozen(scene)
-        drawn = []
+        drawn: list = []
 
         def draw():
             if not drawn:

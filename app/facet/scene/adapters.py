@@ -8,6 +8,8 @@ numpy: ``facet.Mesh(np.asarray(m.vertices), np.asarray(m.triangles))``) goes thr
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from ..errors import InputError
@@ -17,7 +19,7 @@ def is_trimesh(value) -> bool:
     return type(value).__module__.split(".")[0] == "trimesh"
 
 
-def trimesh_parts(value, mesh_class) -> list[tuple[str, object, np.ndarray]]:
+def trimesh_parts(value, mesh_class) -> list[tuple[str, Any, np.ndarray]]:
     """[(name, Mesh or Points, 4x4 part -> world)] of a trimesh Trimesh, Scene or
     PointCloud; ``mesh_class``: facet.scene.mesh.Mesh (given, so that this module and
     that one do not import each other)."""

@@ -11,12 +11,16 @@ renderer can cache their upload by object identity.
 from __future__ import annotations
 
 import warnings
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import FacetWarning, InputError
 from ..geometry import transforms as T
 from .normals import MAX_COORDINATE  # beyond it float32 squares overflow
+
+if TYPE_CHECKING:
+    from .points import Lines, Points
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -217,11 +221,11 @@ class Mesh:
         if len(v) != self.vertex_count:
             raise InputError(f"{self.name}: {len(v)} scalars for {self.vertex_count} vertices")
         return Mesh(self.positions, self.faces, self.normals, self.uvs, name=self.name,
-                    material=Material(color=(1.0, 1.0, 1.0)) if self.material is None else
-                    replace(self.material, base_color=(1.0, 1.0, 1.0, self.material.base_color[3]),
-                            base_color_texture=None)
+                    material=Material(color=np.ones(3)) if self.material is None else
+                    replace(self.material, base_color=np.array(
+                        [1.0, 1.0, 1.0, self.material.base_color[3]]), base_color_texture=None)
                     if isinstance(self.material, PbrMaterial) else
-                    replace(self.material, color=(1.0, 1.0, 1.0), texture=None),
+                    replace(self.material, color=np.ones(3), texture=None),
                     colors=colors_for(v, colormap, limits), uvs1=self.uvs1,
                     tangents=self._tangents, closed=self._closed, checked=True,
                     scalars=self.scalars)
@@ -257,7 +261,7 @@ class Mesh:
 
     @classmethod
     def load_rigged(cls, path, *, crease: float | None = None) -> tuple[list, dict, list,
-                                                                         object]:
+                                                                         Any]:
         """``(*load_contents(path), rig)``: with the Rig of the file's animations, skins and
         morph targets (facet.scene.animation; None when nothing in it moves), whose part
         ``i`` is ``parts[i]`` (at rest)."""
@@ -266,7 +270,7 @@ class Mesh:
 
         raw, cameras, lights, rig = load_file(path,
                                               DEFAULT_CREASE if crease is None else crease)
-        made: dict[int, Mesh] = {}
+        made: dict[int, Mesh | Points | Lines] = {}
         parts = []
         for name, data, matrix in raw:
             if id(data) not in made:
@@ -282,8 +286,9 @@ class Mesh:
         return cls.load_rigged(path, crease=crease)[:3]
 
     @classmethod
-    def _from_file(cls, data: dict) -> Mesh:
-        """A Mesh from facet.scene.loading's arguments; a bad array names the file."""
+    def _from_file(cls, data: dict) -> Mesh | Points | Lines:
+        """A Mesh (or Points, Lines) from facet.scene.loading's arguments; a bad array names
+        the file."""
         from ..errors import MeshError
 
         args = dict(data)
@@ -330,7 +335,7 @@ class Mesh:
             if not closed:  # perhaps only split at seams: weld positions and retry
                 closed = _closed(_weld_key(self.positions)[faces], len(self.positions))
             self._closed = closed
-        return self._closed
+        return bool(self._closed)
 
     def flat_shaded(self) -> Mesh:
         """A copy with one vertex per face corner and the face's geometric normal on each."""

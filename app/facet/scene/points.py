@@ -118,13 +118,14 @@ class Points:
                     not (np.isfinite(radius) and radius > 0):
                 raise InputError(f"{name}: radius must be a positive number of scene units, "
                                  f"got {radius!r}")
-            self.radius, self.size = float(radius), None
+            self.radius: float | None = float(radius)
+            self.size: float | None = None
         else:
             self.size = _pixels(DEFAULT_POINT_SIZE if size is None else size, name, "size")
             self.radius = None
         self.edl = self.normals is None if edl is None else bool(edl)
         self.material = material if material is not None else _default_material(self.colors)
-        self._bounds = None
+        self._bounds: np.ndarray | None = None
 
     def colored_by(self, values, colormap: str = "viridis", limits=None) -> Points:
         """The same cloud coloured by per-point ``values`` (N,) through ``colormap`` over
@@ -205,7 +206,7 @@ class Lines:
         self.width = _pixels(DEFAULT_LINE_WIDTH if width is None else width, name, "width")
         self.material = material if material is not None else _default_material(self.colors)
         self.normals = None
-        self._bounds = None
+        self._bounds: np.ndarray | None = None
 
     def widened(self, width: float) -> Lines:
         """The same lines ``width`` pixels wide (the arrays are shared)."""

@@ -16,6 +16,8 @@ Object space, y up. Every size must be a finite number > 0.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ..errors import InputError
@@ -67,7 +69,10 @@ def plane(size=1.0) -> Mesh:
 
 def cube(size=1.0) -> Mesh:
     half = _size(size, "cube size", 3) / 2
-    pos, nrm, uvs, faces = [], [], [], []
+    pos: list = []
+    nrm: list = []
+    uvs: list = []
+    faces: list = []
     for axis in range(3):
         for sign in (1.0, -1.0):
             n = np.zeros(3)
@@ -158,8 +163,9 @@ def torus(major_radius=1.0, minor_radius=0.25, segments: int = SEGMENTS,
     return _merge([_lathe(prof, nrm, np.linspace(0, 1, rings + 1), segments)], "torus")
 
 
-PRIMITIVES = {"sphere": sphere, "plane": plane, "disk": disk, "cube": cube,
-              "cylinder": cylinder, "cone": cone, "torus": torus}
+PRIMITIVES: dict[str, Callable[..., Mesh]] = {
+    "sphere": sphere, "plane": plane, "disk": disk, "cube": cube, "cylinder": cylinder,
+    "cone": cone, "torus": torus}
 # The size parameters each primitive takes (scene files validate against these).
 PRIMITIVE_PARAMS = {"sphere": ("radius",), "plane": ("size",), "disk": ("radius",),
                     "cube": ("size",),

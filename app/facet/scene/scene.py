@@ -6,6 +6,7 @@ No GL lives here; a ``Renderer`` caches GPU copies keyed by these objects.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -17,6 +18,11 @@ from .material import Material, as_color
 from .mesh import Mesh
 from .options import parse_layer
 
+if TYPE_CHECKING:
+    from .pbr import PbrMaterial
+    from .points import Lines, Points
+    from .shapes import Shape
+
 # The shader's light array size; also the most lights a scene may hold.
 MAX_LIGHTS = 16
 
@@ -26,8 +32,8 @@ class SceneObject:
     """One placed mesh. ``transform``: 4x4 object -> world. ``id``: its label in id buffers."""
 
     id: int
-    mesh: Mesh
-    material: Material
+    mesh: Mesh | Points | Lines
+    material: Material | PbrMaterial
     transform: np.ndarray = field(default_factory=lambda: np.eye(4))
     name: str = ""
     # Motion blur: the object -> world matrix at shutter close (``transform`` is at shutter
@@ -35,7 +41,7 @@ class SceneObject:
     transform_end: np.ndarray | None = None
     # An exact analytic shape (facet.scene.shapes) the ray tracer intersects; ``mesh`` is
     # then its tessellation, which the rasterizer draws. None for meshes.
-    shape: object = None
+    shape: Shape | None = None
 
     @property
     def infinite(self) -> bool:
@@ -79,7 +85,7 @@ class Scene:
         # pose some of the objects and cameras at a time (``at``).
         self.animated: list = []
 
-    def add(self, mesh, material: Material | None = None, transform=None, *,
+    def add(self, mesh, material: Material | PbrMaterial | None = None, transform=None, *,
             name: str = "", transform_end=None) -> int | list[int]:
         """Place ``mesh`` (a ``Mesh``, ``Points``, ``Lines``, an analytic ``facet.shapes``
         shape, or trimesh's Trimesh, PointCloud or Scene: facet.scene.adapters) in the
@@ -97,8 +103,9 @@ class Scene:
         if is_trimesh(mesh):
             parts = trimesh_parts(mesh, Mesh)
             base = np.eye(4) if transform is None else np.asarray(transform, np.float64)
-            ids = [self.add(part, material, base @ matrix, name=name or part_name,
-                            transform_end=transform_end) for part_name, part, matrix in parts]
+            ids = [cast(int, self.add(part, material, base @ matrix, name=name or part_name,
+                                      transform_end=transform_end))  # one geometry: an id
+                   for part_name, part, matrix in parts]
             return ids if type(mesh).__name__ == "Scene" else ids[0]
 
         shape = mesh if isinstance(mesh, Shape) else None

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import difflib
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 
@@ -21,6 +22,7 @@ from ..geometry import transforms as T
 from .material import Material
 from .mesh import Mesh
 from .options import AA_KEYS, PARSERS, ParsedLayer, check_one_aa, parse_option
+from .pbr import PbrMaterial
 from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
 from .scene import Scene
 from .scenefile_lights import read_camera, read_lights
@@ -58,7 +60,7 @@ def load_scene(path, *, crease: float | None = None) -> Scene:
 class _SceneBuilder:
     def __init__(self, r: _Reader, base: Path, crease: float | None = None):
         self.r, self.base, self.crease = r, base, crease
-        self.parts_cache: dict[Path, list] = {}
+        self.parts_cache: dict[tuple[Path, float | None], tuple[list, Any]] = {}
         self.texture_cache: dict[Path, object] = {}
 
     def build(self, data: dict) -> Scene:
@@ -109,12 +111,13 @@ class _SceneBuilder:
         except FacetError as exc:
             self.r.fail(f"render.{key}", _strip_key(str(exc), key))
 
-    def material(self, t, where: str) -> Material:
+    def material(self, t, where: str) -> Material | PbrMaterial:
         r = self.r
         if isinstance(t, dict) and is_pbr(t):
             return read_pbr(r, t, where, MATERIAL, self.texture)
         r.table(t, where, MATERIAL + PBR)  # (PBR: for "did you mean" only)
-        kw = {"color": r.color(t["color"], f"{where}.color")} if "color" in t else {}
+        kw: dict[str, Any] = {"color": r.color(t["color"], f"{where}.color")} \
+            if "color" in t else {}
         for key in ("ka", "kd", "ks", "shininess"):
             if key in t:
                 kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
@@ -187,7 +190,7 @@ class _SceneBuilder:
         if len(items) > budget("objects"):
             r.fail("objects", f"{len(items):,} objects, more than facet's budget of "
                    f"{budget('objects'):,} (--budget objects=N)")
-        nodes = {}
+        nodes: dict[str, dict] = {}
         for i, t in enumerate(items):
             where = f"objects[{i}]"
             r.table(t, where, OBJECT)
@@ -213,12 +216,12 @@ class _SceneBuilder:
             if "material" in t:
                 material = self.object_material(t["material"], f"{where}.material", materials)
             parts, rig = self.geometry(t, where)
-            ids = []
+            ids: list[int] = []
             for part_name, mesh, matrix in parts:
                 try:
-                    ids.append(scene.add(
+                    ids.append(cast(int, scene.add(  # one geometry: an id
                         mesh, material, node["world"] @ matrix, name=part_name or name,
-                        transform_end=node["world_end"] @ matrix if moving else None))
+                        transform_end=node["world_end"] @ matrix if moving else None)))
                 except FacetError as exc:
                     r.fail(where, str(exc))
             if rig is not None:  # the model's animations, skins and morphs, placed here
@@ -229,10 +232,13 @@ class _SceneBuilder:
     def resolve_parents(self, nodes: dict) -> list[str]:
         """Node names with every parent before its children (in time linear in the nodes);
         cycles, unknown parents and chains deeper than the depth budget fail."""
-        r, order, state = self.r, [], {}
+        r = self.r
+        order: list[str] = []
+        state: dict[str, str] = {}
         limit = budget("depth")
         for name in nodes:
-            chain, seen = [], set()
+            chain: list[str] = []
+            seen: set[str] = set()
             current = name
             while current is not None and state.get(current) != "done":
                 if current in seen:
@@ -312,7 +318,7 @@ class _SceneBuilder:
             return T.shear(**{k: r.number(x, f"{at}.{k}") for k, x in v.items()})
         return r.matrix(v, at)
 
-    def object_material(self, value, where: str, materials: dict) -> Material:
+    def object_material(self, value, where: str, materials: dict) -> Material | PbrMaterial:
         if isinstance(value, str):
             if value not in materials:
                 close = difflib.get_close_matches(value, list(materials), n=1)
@@ -321,7 +327,7 @@ class _SceneBuilder:
             return materials[value]
         return self.material(value, where)
 
-    def geometry(self, t: dict, where: str) -> list:
+    def geometry(self, t: dict, where: str) -> tuple[list, Any]:
         r = self.r
         if "mesh" in t and "primitive" in t:
             r.fail(where, "give either 'mesh' (a file) or 'primitive', not both")
@@ -365,7 +371,7 @@ class _SceneBuilder:
         for p in params:
             if p not in PRIMITIVE_PARAMS[kind]:
                 r.fail(f"{where}.{p}", f"{kind} takes {', '.join(PRIMITIVE_PARAMS[kind])}")
-        kwargs = {}
+        kwargs: dict[str, Any] = {}
         for p in params:
             v = t[p]
             if kind == "plane" and v == float("inf"):  # size = inf: the infinite plane

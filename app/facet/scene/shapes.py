@@ -20,6 +20,7 @@ included: the tracer intersects in object space).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -113,7 +114,7 @@ def _plane_mesh(w: float, d: float) -> Mesh:
     return P.plane([w, d])
 
 
-_TESSELLATE = {
+_TESSELLATE: dict[str, Callable[..., Mesh]] = {
     "sphere": lambda r: P.sphere(r, SEGMENTS, RINGS),
     "plane": _plane_mesh,
     "disk": lambda r: P.disk(r, SEGMENTS),
@@ -130,7 +131,8 @@ def _tessellation(kind: str, params: tuple) -> Mesh:
     renderer uploads) it once."""
     return _TESSELLATE[kind](*params)
 # Scene-file primitives that are shapes (their parameters as facet.scene.primitives names).
-SHAPES = {"sphere": lambda radius=1.0: Sphere(radius), "plane": lambda size=1.0: Plane(size),
-          "disk": lambda radius=1.0: Disk(radius), "cube": lambda size=1.0: Box(size),
-          "cylinder": lambda radius=0.5, height=1.0: Cylinder(radius, height),
-          "cone": lambda radius=0.5, height=1.0: Cone(radius, height)}
+SHAPES: dict[str, Callable[..., Shape]] = {
+    "sphere": lambda radius=1.0: Sphere(radius), "plane": lambda size=1.0: Plane(size),
+    "disk": lambda radius=1.0: Disk(radius), "cube": lambda size=1.0: Box(size),
+    "cylinder": lambda radius=0.5, height=1.0: Cylinder(radius, height),
+    "cone": lambda radius=0.5, height=1.0: Cone(radius, height)}

@@ -4,6 +4,7 @@ either way a ``Scene`` (no GL)."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import cast
 
 from .mesh import Mesh
 from .scene import Scene
@@ -31,7 +32,8 @@ def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
         return load_scene(path, crease=crease)
     parts, cameras, lights, rig = Mesh.load_rigged(path, crease=crease)
     scene = Scene()
-    ids = [scene.add(mesh, transform=matrix, name=name) for name, mesh, matrix in parts]
+    ids = [cast(int, scene.add(mesh, transform=matrix, name=name))  # one geometry: an id
+           for name, mesh, matrix in parts]
     if rig is not None:
         from .animation import Animated
 

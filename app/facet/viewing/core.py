@@ -87,7 +87,7 @@ class ViewerCore(ViewerActions):
         raise NotImplementedError
 
     @property
-    def pointer_size(self) -> tuple[int, int]:
+    def pointer_size(self) -> tuple[float, float]:
         """The size of the space pointer events come in (a window's screen coordinates, a
         page's CSS pixels), which may differ from the pixels drawn."""
         return self.surface_size

@@ -14,10 +14,15 @@ from the user), ``key_down`` (``key``: one character, or a name such as ``"Escap
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import InputError
 from .core import ViewerCore
+
+if TYPE_CHECKING:
+    from ..gl.targets import Canvas
 
 WHEEL_NOTCH = 100.0  # wheel pixels a browser reports for one notch (zoom step)
 LEFT, RIGHT, MIDDLE = 1, 2, 3  # jupyter_rfb's button numbers
@@ -42,10 +47,11 @@ class Session(ViewerCore):
                          time_end=time_end, sizes=sizes)
         from ..render.renderer import Renderer
 
-        self._size = tuple(int(v) for v in self.initial_size)  # pixels drawn
-        self._pointer = self._size  # the events' CSS pixels
+        w, h = self.initial_size
+        self._size: tuple[int, int] = (int(w), int(h))  # pixels drawn
+        self._pointer: tuple[float, float] = (float(w), float(h))  # the events' CSS pixels
         self._own_renderer = renderer is None
-        self.canvas = None
+        self.canvas: Canvas | None = None
         self.quitting = False  # q was pressed: the front closes the view
         self.last: np.ndarray | None = None  # the last picture drawn
         self.frames = 0  # pictures drawn
@@ -57,7 +63,7 @@ class Session(ViewerCore):
         return self._size
 
     @property
-    def pointer_size(self) -> tuple[int, int]:
+    def pointer_size(self) -> tuple[float, float]:
         return self._pointer
 
     def grab(self) -> np.ndarray:
@@ -71,8 +77,8 @@ class Session(ViewerCore):
         """The view is ``width`` x ``height`` CSS pixels at ``pixel_ratio`` pixels each."""
         if not (width >= 1 and height >= 1 and 0 < pixel_ratio <= 8):
             return  # a hidden or collapsed view: keep the last size
-        pixels = tuple(min(max(int(round(v * pixel_ratio)), 1), MAX_SIDE)
-                       for v in (width, height))
+        pw, ph = (min(max(int(round(v * pixel_ratio)), 1), MAX_SIDE) for v in (width, height))
+        pixels = (pw, ph)
         self._pointer = (float(width), float(height))
         if pixels != self._size:
             self._size = pixels
@@ -108,15 +114,16 @@ class Session(ViewerCore):
             return self._draw()
 
     def _draw(self) -> np.ndarray:
-        if self.canvas is None or self.canvas.size != self._size:
+        canvas = self.canvas
+        if canvas is None or canvas.size != self._size:
             from ..gl.targets import Canvas
 
-            if self.canvas is not None:
-                self.canvas.release()
+            if canvas is not None:
+                canvas.release()
                 self.canvas = None
-            self.canvas = Canvas(self.renderer.ctx, *self._size)
-        self.draw_into(self.canvas.framebuffer)
-        self.last = self.canvas.read()
+            canvas = self.canvas = Canvas(self.renderer.ctx, *self._size)
+        self.draw_into(canvas.framebuffer)
+        self.last = canvas.read()
         self.frames += 1
         return self.last
 

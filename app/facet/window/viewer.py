@@ -52,7 +52,7 @@ class Viewer(ViewerCore):
         return tuple(self.glfw.get_framebuffer_size(self.window))
 
     @property
-    def pointer_size(self) -> tuple[int, int]:
+    def pointer_size(self) -> tuple[float, float]:
         return self.win.size
 
     def show_status(self, text: str) -> None:
