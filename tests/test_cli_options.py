@@ -163,15 +163,17 @@ def test_shader_help_examples_exist_and_its_size_default_is_true(capsys):
     assert f"default {DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}" in " ".join(text.split())
 
 
-def test_readme_names_real_examples_and_every_viewer_key():
-    readme = (ROOT / "README.md").read_text()
-    for name in re.findall(r"glsl/examples/(\w+\.frag)", readme):
-        assert (ROOT / "glsl" / "examples" / name).is_file(), name
+def test_the_docs_name_real_examples_and_every_viewer_key():
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    for page in pages:
+        for name in re.findall(r"glsl/examples/(\w+\.frag)", page.read_text()):
+            assert (ROOT / "glsl" / "examples" / name).is_file(), (page.name, name)
     from facet.viewing.keys import KEYMAP
 
+    viewer = (ROOT / "docs" / "guide" / "viewer.md").read_text()
     for key in KEYMAP:
         if len(key) == 1:
-            assert f"`{key}`" in readme, f"the README's key table lacks {key}"
+            assert f"`{key}`" in viewer, f"the viewer page's key table lacks {key}"
 
 
 def test_a_gif_turntable_is_not_black(tmp_path):

@@ -8,15 +8,35 @@ from __future__ import annotations
 
 
 def render_dataset(manifest, out, *, defaults=None, workers=None, gpus=None, quiet=True,
-                   confine="manifest", ray=None):
-    """Render every job of ``manifest`` (a manifest file, a glob of model files, or a list
-    of facet.batch.manifest.Job) into the folder ``out``; returns the counts (done,
-    failed, skipped, views, seconds). ``confine``: where jobs may read files. By default
-    ("manifest") a manifest file's own folder, and for a model it lists elsewhere that
-    model's folder (the manifest named it; what the model refers to must lie beside or
-    under it), so a manifest or model from elsewhere cannot pull in the rest of the
-    machine; a folder: that folder alone, for every job; None: no confinement. ``ray``:
-    run on Ray (facet.batch.ray_runner): True for a local cluster, or a cluster's address."""
+                   confine="manifest", ray=None) -> dict:
+    """Render every job of a manifest into a dataset folder, on every core (and GPU, or
+    a Ray cluster), resuming what is already there.
+
+    Parameters
+    ----------
+    manifest : str, Path or list of facet.batch.manifest.Job
+        A manifest file (TOML / JSON lines), a glob of model files, or jobs.
+    out : str or Path
+        The output folder (``index.jsonl``, one folder of views per model).
+    defaults : dict, optional
+        Job settings under the manifest's own (``views``, ``outputs``, ``size``, ...).
+    workers : int, optional
+        Worker processes (default: one per core, or one per GPU).
+    gpus : list of int, optional
+        EGL device indices, one worker each.
+    quiet : bool
+        No progress lines.
+    confine : str, Path or None
+        Where jobs may read files: ``"manifest"`` (a manifest file's folder, and a model's
+        own folder for a model it names elsewhere), a folder for every job, or None.
+    ray : bool or str, optional
+        Run on Ray: True for a local cluster, or a cluster's address.
+
+    Returns
+    -------
+    dict
+        The counts: ``done``, ``failed``, ``skipped``, ``views`` and ``seconds``.
+    """
     from pathlib import Path
 
     from .manifest import load_manifest

@@ -31,7 +31,18 @@ DEFAULT_DIRECTION = (-0.55, -0.4, -1.0)
 
 @dataclass
 class Intrinsics:
-    """OpenCV pinhole intrinsics for an image of ``width`` x ``height`` pixels."""
+    """OpenCV pinhole intrinsics for an image of ``width`` x ``height`` pixels
+    (pixel centres at integer coordinates, row 0 at the top).
+
+    Parameters
+    ----------
+    fx, fy : float
+        Focal lengths, pixels.
+    cx, cy : float
+        The principal point, pixels.
+    width, height : int
+        The image size the intrinsics are for.
+    """
 
     fx: float
     fy: float
@@ -47,11 +58,23 @@ class Intrinsics:
 
 
 class Camera:
-    """A camera: ``view`` (4x4 world -> camera) and one projection.
+    """A camera: ``view`` (world -> camera, OpenGL axes) and one projection.
 
     Build one with ``Camera.look_at``, ``Camera.from_intrinsics`` or ``Camera.frame``.
-    Exactly one of ``fov_y`` (perspective, degrees), ``ortho_height`` (parallel projection,
-    scene units tall) or ``intrinsics`` is set.
+    Exactly one of ``fov_y``, ``ortho_height`` or ``intrinsics`` is set.
+
+    Parameters
+    ----------
+    view : (4, 4) float
+        World -> camera transform (x right, y up, looking down -z).
+    fov_y : float or None
+        Vertical field of view, degrees (a perspective camera).
+    ortho_height : float or None
+        Height of the view in scene units (a parallel projection).
+    intrinsics : Intrinsics or None
+        OpenCV intrinsics (a pinhole camera of a fixed image size).
+    near, far : float
+        Clipping distances along the view axis, 0 < near < far.
     """
 
     def __init__(self, view, *, fov_y: float | None = 45.0, ortho_height: float | None = None,
@@ -100,7 +123,27 @@ class Camera:
     def look_at(cls, eye, target, up=(0.0, 1.0, 0.0), *, fov_y: float = 45.0,
                 ortho_height: float | None = None, near: float = 0.1,
                 far: float = 100.0) -> Camera:
-        """Camera at ``eye`` looking at ``target``; perspective unless ``ortho_height`` is given."""
+        """A camera at ``eye`` looking at ``target``; perspective unless ``ortho_height``
+        is given.
+
+        Parameters
+        ----------
+        eye, target : (3,) float
+            Position and the point looked at, world space.
+        up : (3,) float
+            World up (not parallel to the viewing direction).
+        fov_y : float
+            Vertical field of view, degrees.
+        ortho_height : float, optional
+            Make a parallel projection this many scene units tall.
+        near, far : float
+            Clipping distances.
+
+        Returns
+        -------
+        Camera
+            The camera.
+        """
         return cls(T.look_at(eye, target, up), fov_y=fov_y, ortho_height=ortho_height,
                    near=near, far=far)
 
@@ -108,10 +151,24 @@ class Camera:
     def from_intrinsics(cls, fx: float, fy: float, cx: float, cy: float, width: int,
                         height: int, pose=None, *, near: float = 0.01,
                         far: float = 100.0) -> Camera:
-        """Camera from OpenCV intrinsics.
+        """A camera from OpenCV intrinsics; reprojects to OpenCV's pixels exactly.
 
-        ``pose`` is the 4x4 camera-to-world transform in OpenCV camera axes (x right, y down,
-        z forward), i.e. the inverse of OpenCV's extrinsics [R | t]. Default: identity.
+        Parameters
+        ----------
+        fx, fy, cx, cy : float
+            Focal lengths and principal point, pixels.
+        width, height : int
+            The image size (renders must use it).
+        pose : (4, 4) float, optional
+            Camera -> world in OpenCV camera axes (x right, y down, z forward): the inverse of
+            OpenCV's extrinsics [R | t]. Default: identity.
+        near, far : float
+            Clipping distances.
+
+        Returns
+        -------
+        Camera
+            The camera.
         """
         vals = np.array([fx, fy, cx, cy], dtype=np.float64)
         if not np.all(np.isfinite(vals)) or fx <= 0 or fy <= 0:
@@ -127,11 +184,32 @@ class Camera:
     def frame(cls, bounds, direction=None, up=(0.0, 1.0, 0.0), *,
               fov_y: float = 40.0, aspect: float = 1.0, ortho: bool = False,
               margin: float = FRAME_MARGIN) -> Camera:
-        """A camera looking along ``direction`` that fits the box ``bounds`` (2, 3) in view
-        (default: ``default_direction(up)``, from the front, right and above).
+        """A camera looking along ``direction`` that fits the box ``bounds`` in view.
 
-        The distance is the smallest for which all eight box corners fall inside the frustum
-        (for an image of the given ``aspect`` = width / height), times ``margin``.
+        The distance is the smallest for which all eight corners fall inside the frustum (for an
+        image of the given ``aspect``), times ``margin``.
+
+        Parameters
+        ----------
+        bounds : (2, 3) float
+            Min and max corners of the box, world space (``scene.bounds``).
+        direction : (3,) float, optional
+            Viewing direction (default: from the front, right and above, relative to ``up``).
+        up : (3,) float
+            World up.
+        fov_y : float
+            Vertical field of view, degrees.
+        aspect : float
+            Image width / height.
+        ortho : bool
+            A parallel projection instead.
+        margin : float
+            Room around the box (1: touching).
+
+        Returns
+        -------
+        Camera
+            The camera, near and far fitted around the box.
         """
         b = np.asarray(bounds, dtype=np.float64).reshape(2, 3)
         if not np.all(np.isfinite(b)):
@@ -165,14 +243,42 @@ class Camera:
     @classmethod
     def looking_at_bounds(cls, eye, target, up, bounds, *, fov_y: float = 40.0,
                           ortho_height: float | None = None) -> Camera:
-        """``look_at`` with near and far planes fitted around the box ``bounds`` (2, 3)."""
+        """``look_at`` with near and far planes fitted around a box.
+
+        Parameters
+        ----------
+        eye, target, up : (3,) float
+            As ``look_at``.
+        bounds : (2, 3) float
+            The box the clipping planes must hold.
+        fov_y : float
+            Vertical field of view, degrees.
+        ortho_height : float, optional
+            A parallel projection this tall instead.
+
+        Returns
+        -------
+        Camera
+            The camera.
+        """
         view = T.look_at(eye, target, up)
         near, far = depth_range(view, bounds)
         return cls(view, fov_y=fov_y, ortho_height=ortho_height, near=near, far=far)
 
     # -- projection --------------------------------------------------------------------------
     def projection(self, width: int, height: int) -> np.ndarray:
-        """The 4x4 view -> clip matrix for an image of ``width`` x ``height`` pixels."""
+        """The camera -> clip matrix for an image of ``width`` x ``height`` pixels.
+
+        Parameters
+        ----------
+        width, height : int
+            The image size (the intrinsics' for an intrinsics camera).
+
+        Returns
+        -------
+        (4, 4) float64 ndarray
+            OpenGL's projection matrix.
+        """
         if self.intrinsics is not None:
             return self._intrinsics_projection(width, height)
         aspect = width / height
@@ -203,7 +309,18 @@ class Camera:
         return m
 
     def K(self, width: int, height: int) -> np.ndarray:  # noqa: N802
-        """OpenCV camera matrix for an image of this size (perspective cameras only)."""
+        """The OpenCV camera matrix for an image of this size (perspective cameras only).
+
+        Parameters
+        ----------
+        width, height : int
+            The image size.
+
+        Returns
+        -------
+        (3, 3) float64 ndarray
+            ``[[fx, 0, cx], [0, fy, cy], [0, 0, 1]]``.
+        """
         if self.intrinsics is not None:
             return self.intrinsics.K
         if self.fov_y is None:
@@ -213,17 +330,41 @@ class Camera:
                          [0.0, 0.0, 1.0]])
 
     def orbit(self, center, axis, degrees: float) -> Camera:
-        """This camera moved ``degrees`` around the line through ``center`` along ``axis``
-        (right-handed), still looking the same way relative to the centre. Projection,
-        near and far are kept."""
+        """This camera moved ``degrees`` around the line through ``center`` along
+        ``axis`` (right-handed), looking the same way relative to the centre.
+
+        Parameters
+        ----------
+        center : (3,) float
+            A point on the axis, world space.
+        axis : (3,) float
+            The axis direction.
+        degrees : float
+            The angle.
+
+        Returns
+        -------
+        Camera
+            A new camera (projection, near and far kept).
+        """
         m = T.compose(T.translate(-np.asarray(center, dtype=np.float64)),
                       T.rotate(axis, degrees), T.translate(center))
         # The camera's pose (camera -> world) is moved by m, so the view is view @ m^-1.
         return self.with_view(self.view @ np.linalg.inv(m))
 
     def with_view(self, view) -> Camera:
-        """The same camera (projection, near, far, lens) with another world -> camera view,
-        e.g. ``view @ reflection`` for a mirror's camera (facet.render.raster.mirror)."""
+        """The same camera (projection, near, far, lens) with another view.
+
+        Parameters
+        ----------
+        view : (4, 4) float
+            World -> camera, e.g. ``view @ reflection`` for a mirror's camera.
+
+        Returns
+        -------
+        Camera
+            A new camera.
+        """
         moved = Camera(view, fov_y=self.fov_y, ortho_height=self.ortho_height,
                        intrinsics=self.intrinsics, near=self.near, far=self.far)
         moved.aperture, moved.focus_distance = self.aperture, self.focus_distance
@@ -232,10 +373,18 @@ class Camera:
     def describe(self, width: int, height: int) -> dict:
         """Plain data for re-projecting a render of ``width`` x ``height`` (JSON-ready).
 
-        ``world_to_camera`` uses OpenCV axes (x right, y down, z forward), matching ``K``;
-        ``world_to_camera_opengl`` is ``view`` (x right, y up, z backwards);
-        ``projection_opengl`` maps OpenGL camera space to clip space. ``K`` is None for
-        orthographic cameras, which give ``ortho_height`` (scene units) instead.
+        Parameters
+        ----------
+        width, height : int
+            The image size.
+
+        Returns
+        -------
+        dict
+            ``model``, ``width``, ``height``, ``near``, ``far``, ``K`` (3x3 lists; None for
+            orthographic cameras, which give ``ortho_height``), ``world_to_camera`` (OpenCV axes:
+            x right, y down, z forward, matching ``K``), ``world_to_camera_opengl`` (``view``),
+            ``projection_opengl`` (camera -> clip) and ``eye``.
         """
         info = {
             "model": "orthographic" if self.is_orthographic else "perspective",

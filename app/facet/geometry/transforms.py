@@ -32,19 +32,47 @@ def _vec3(v, name: str) -> np.ndarray:
 
 
 def identity() -> np.ndarray:
-    """The 4x4 identity."""
+    """The 4x4 identity.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
+    """
     return np.eye(4)
 
 
 def translate(offset) -> np.ndarray:
-    """Translation by ``offset`` (3,): p' = p + offset."""
+    """Translation by ``offset``: ``p' = p + offset``.
+
+    Parameters
+    ----------
+    offset : (3,) float
+        The displacement, in the units of the space it acts in.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
+    """
     m = np.eye(4)
     m[:3, 3] = _vec3(offset, "offset")
     return m
 
 
 def scale(factor) -> np.ndarray:
-    """Scale about the origin: a number (uniform) or three per-axis factors."""
+    """Scale about the origin.
+
+    Parameters
+    ----------
+    factor : float or (3,) float
+        One factor for every axis, or one per axis (non-zero).
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
+    """
     f = np.asarray(factor, dtype=np.float64).reshape(-1)
     if f.size == 1:
         f = np.repeat(f, 3)
@@ -52,10 +80,20 @@ def scale(factor) -> np.ndarray:
 
 
 def rotate(axis, degrees: float) -> np.ndarray:
-    """Rotation by ``degrees`` about a unit-normalised ``axis`` through the origin.
+    """Rotation by ``degrees`` about ``axis`` through the origin (right-handed:
+    counter-clockwise looking down the axis towards the origin).
 
-    Counter-clockwise when looking from the tip of ``axis`` towards the origin (right-hand
-    rule). Rodrigues' formula: R = cos t I + sin t [a]x + (1 - cos t) a a^T.
+    Parameters
+    ----------
+    axis : (3,) float
+        The axis direction (normalised here; non-zero).
+    degrees : float
+        The angle.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
     """
     a = _vec3(axis, "axis")
     n = np.linalg.norm(a)
@@ -71,25 +109,66 @@ def rotate(axis, degrees: float) -> np.ndarray:
 
 
 def rotate_x(degrees: float) -> np.ndarray:
-    """Rotation about +x (y towards z)."""
+    """Rotation about +x (y towards z).
+
+    Parameters
+    ----------
+    degrees : float
+        The angle.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
+    """
     return rotate((1, 0, 0), degrees)
 
 
 def rotate_y(degrees: float) -> np.ndarray:
-    """Rotation about +y (z towards x)."""
+    """Rotation about +y (z towards x).
+
+    Parameters
+    ----------
+    degrees : float
+        The angle.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
+    """
     return rotate((0, 1, 0), degrees)
 
 
 def rotate_z(degrees: float) -> np.ndarray:
-    """Rotation about +z (x towards y)."""
+    """Rotation about +z (x towards y).
+
+    Parameters
+    ----------
+    degrees : float
+        The angle.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
+    """
     return rotate((0, 0, 1), degrees)
 
 
 def shear(**amounts: float) -> np.ndarray:
-    """Shear: ``shear(xy=a)`` adds ``a * y`` to x; any of xy, xz, yx, yz, zx, zy.
+    """Shear: ``shear(xy=a)`` adds ``a * y`` to x (the first letter is the coordinate
+    changed, the second the one it follows).
 
-    The first letter is the coordinate that changes, the second the one it grows with,
-    so ``shear(xy=0.5, zx=1)`` is x' = x + 0.5 y, z' = z + x.
+    Parameters
+    ----------
+    **amounts : float
+        Any of ``xy``, ``xz``, ``yx``, ``yz``, ``zx``, ``zy``.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
     """
     m = np.eye(4)
     for key, value in amounts.items():
@@ -102,7 +181,19 @@ def shear(**amounts: float) -> np.ndarray:
 
 
 def compose(*steps: np.ndarray) -> np.ndarray:
-    """The matrix that applies ``steps`` first to last: compose(A, B, C) = C @ B @ A."""
+    """The matrix that applies ``steps`` first to last: ``compose(A, B, C) = C @ B @ A``
+    ("shear then rotate" is ``compose(Sh, R)``).
+
+    Parameters
+    ----------
+    *steps : (4, 4) float
+        Transforms, in the order they act.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
+    """
     m = np.eye(4)
     for step in steps:
         m = np.asarray(step, dtype=np.float64) @ m
@@ -110,10 +201,22 @@ def compose(*steps: np.ndarray) -> np.ndarray:
 
 
 def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
-    """The viewing transformation: world space -> camera space (OpenGL axes).
+    """The viewing transformation: world space -> camera space (OpenGL axes: x right,
+    y up, looking down -z).
 
-    The camera sits at ``eye`` looking at ``target``; ``up`` picks the roll. Its rows are the
-    camera basis u (right), v (up), w (backwards, -view direction) and the translation -R·eye.
+    Parameters
+    ----------
+    eye : (3,) float
+        The camera's position, world space.
+    target : (3,) float
+        The point it looks at (not ``eye``).
+    up : (3,) float
+        World up (not parallel to ``target - eye``).
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        world -> camera (``view``).
     """
     eye, target, up = _vec3(eye, "eye"), _vec3(target, "target"), _vec3(up, "up")
     w = eye - target
@@ -132,7 +235,22 @@ def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
 
 
 def perspective(fov_y: float, aspect: float, near: float, far: float) -> np.ndarray:
-    """Perspective projection (OpenGL clip space) with vertical field of view ``fov_y`` degrees."""
+    """Perspective projection to OpenGL clip space.
+
+    Parameters
+    ----------
+    fov_y : float
+        Vertical field of view, degrees (0, 180).
+    aspect : float
+        Width / height of the image.
+    near, far : float
+        Distances of the clipping planes, 0 < near < far.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        camera -> clip.
+    """
     if not 0.0 < fov_y < 180.0:
         raise InputError(f"fov_y must be in (0, 180) degrees, got {fov_y}")
     _check_depth_range(near, far, perspective=True)
@@ -150,7 +268,21 @@ def perspective(fov_y: float, aspect: float, near: float, far: float) -> np.ndar
 
 def orthographic(left: float, right: float, bottom: float, top: float,
                  near: float, far: float) -> np.ndarray:
-    """Parallel projection of the view-space box [left, right] x [bottom, top] x [-far, -near]."""
+    """Parallel projection of the camera-space box [left, right] x [bottom, top] x
+    [-far, -near] to OpenGL clip space.
+
+    Parameters
+    ----------
+    left, right, bottom, top : float
+        The box's sides, camera space.
+    near, far : float
+        Distances of the clipping planes, near < far.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        camera -> clip.
+    """
     if right == left or top == bottom:
         raise InputError("orthographic: the box has zero width or height")
     _check_depth_range(near, far, perspective=False)
@@ -172,10 +304,18 @@ def _check_depth_range(near: float, far: float, perspective: bool) -> None:
 
 
 def normal_matrix(m) -> np.ndarray:
-    """(M^-1)^T of the upper 3x3: transforms normals so they stay perpendicular to surfaces.
+    """(M^-1)^T of the upper 3x3: transforms normals so they stay perpendicular to
+    surfaces (never transform normals by M).
 
-    A tangent t transforms as M t; a normal n must keep n·t = 0, so n' = G n with
-    G^T M = I, i.e. G = (M^-1)^T (the notes' argument). Raises ValueError for a singular M.
+    Parameters
+    ----------
+    m : (4, 4) or (3, 3) float
+        An invertible transform.
+
+    Returns
+    -------
+    (3, 3) float64 ndarray
+        The normal matrix; renormalise normals after applying it.
     """
     # (M^-1)^T = cof(M) / det(M): the cofactors in plain floats (this runs per object per
     # frame, where numpy's inverse of a 3x3 costs more than the arithmetic).
@@ -190,7 +330,20 @@ def normal_matrix(m) -> np.ndarray:
 
 
 def transform_points(m, points) -> np.ndarray:
-    """Apply a 4x4 matrix to (N, 3) points, with the perspective divide."""
+    """Apply a 4x4 matrix to points, with the perspective divide.
+
+    Parameters
+    ----------
+    m : (4, 4) float
+        The transform.
+    points : (N, 3) float
+        The points.
+
+    Returns
+    -------
+    (N, 3) float64 ndarray
+        The transformed points (divided by w).
+    """
     p = np.asarray(points, dtype=np.float64)
     h = p @ m[:3, :3].T + m[:3, 3]
     w = p @ m[3, :3] + m[3, 3]
@@ -198,8 +351,19 @@ def transform_points(m, points) -> np.ndarray:
 
 
 def reflection(plane) -> np.ndarray:
-    """The 4x4 mirror image in the plane n . x + d = 0 (``plane`` = (n, d), n unit):
-    x' = x - 2 (n . x + d) n. Its determinant is -1 (it swaps handedness)."""
+    """The mirror image in the plane ``n . x + d = 0``: ``x' = x - 2 (n . x + d) n``.
+    Its determinant is -1 (it swaps handedness).
+
+    Parameters
+    ----------
+    plane : (4,) float
+        ``(n, d)`` with ``n`` a unit normal.
+
+    Returns
+    -------
+    (4, 4) float64 ndarray
+        The matrix (column vectors: ``p' = M @ p``).
+    """
     plane = np.asarray(plane, dtype=np.float64)
     n, d = plane[:3], plane[3]
     m = np.eye(4)
@@ -208,9 +372,22 @@ def reflection(plane) -> np.ndarray:
     return m
 
 
-def fit_plane(points, tolerance: float = 1e-4):
-    """(n, d) with unit n of the plane through ``points`` (N, 3), or None when they are not
-    flat within ``tolerance`` times their extent (or span no plane)."""
+def fit_plane(points, tolerance: float = 1e-4) -> np.ndarray | None:
+    """The plane through ``points``, if they are flat.
+
+    Parameters
+    ----------
+    points : (N, 3) float
+        The points.
+    tolerance : float
+        How far from the plane a point may lie, relative to the points' extent.
+
+    Returns
+    -------
+    (4,) float64 ndarray or None
+        ``(n, d)`` with unit ``n`` (``n . x + d = 0``), or None when the points are not
+        flat within the tolerance or span no plane.
+    """
     p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     centre = p.mean(axis=0)
     extent = float(np.ptp(p, axis=0).max()) if len(p) else 0.0

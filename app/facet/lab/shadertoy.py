@@ -54,13 +54,34 @@ FILLED = ("iResolution", "iTime", "iTimeDelta", "iFrame", "iFrameRate", "iMouse"
 
 
 class ShaderToy:
-    """A Shadertoy-style program set over one GL context (a headless one by default).
+    """A Shadertoy-style program set (Image, Buffer A-D, Cube A, Common) over one GL
+    context, headless by default; ``close()`` releases it.
 
-    ``image``, ``buffers`` ({"a": path, ...}), ``cube`` (the Cube A pass) and ``common``
-    are shader files; ``channels`` ({0: "buffer-a", 1: "wood.png", ...}) apply to every
-    pass that does not set its own in ``pass_channels`` ({"image": {0: ...}, "a": ...});
-    values are what facet.lab.project.channel takes, or Channel objects. Or give a whole
-    ``project`` (facet.lab.project: a TOML project, a Shadertoy JSON export).
+    Parameters
+    ----------
+    image : str or Path, optional
+        The Image pass's file (Shadertoy's ``mainImage``, or a glslViewer ``main``).
+    buffers : dict, optional
+        ``{"a": path, ...}``: Buffer A-D.
+    common : str or Path, optional
+        Code put before every pass.
+    channels : dict, optional
+        ``{0: "buffer-a", 1: "wood.png", ...}`` for every pass that sets none of its own
+        (what facet.lab.project.channel takes, or Channel objects).
+    size : (int, int)
+        The output size.
+    context : moderngl.Context, optional
+        A context to draw in (a window's); default a headless one.
+    project : facet.lab.project.Project, optional
+        A whole project instead (a TOML project, a Shadertoy JSON export).
+    pass_channels : dict, optional
+        ``{"image": {0: ...}, "a": {...}}``: channels of one pass.
+    cube : str or Path, optional
+        The Cube A pass (``mainCubemap``).
+    cube_size : int
+        Texels along a side of Cube A's faces.
+    date : datetime.datetime, optional
+        ``iDate`` (default 2000-01-01 00:00:00; None: the wall clock).
     """
 
     def __init__(self, image=None, *, buffers: dict | None = None, common=None,
@@ -166,12 +187,29 @@ class ShaderToy:
 
     def changed(self) -> bool:
         """Whether any watched file's content differs from the last (re)load (a missing
-        include that now exists counts)."""
+        include that now exists counts).
+
+        Returns
+        -------
+        bool
+            True when a ``reload`` would compile.
+        """
         return self.watched.changed()
 
     def reload(self, force: bool = False) -> ReloadResult:
-        """Recompile every pass when a file changed (or ``force``); keep the old programs if
-        any pass fails."""
+        """Recompile every pass when a file changed; keep the old programs if any pass fails.
+
+        Parameters
+        ----------
+        force : bool
+            Recompile even when nothing changed.
+
+        Returns
+        -------
+        ReloadResult
+            ``success``, ``changed`` and ``errors`` (compiler-style lines, mapped to your
+            files).
+        """
         with self.ctx:
             result = self.watched.reload(force)
             if result.success and result.changed:
@@ -221,8 +259,14 @@ class ShaderToy:
 
     # -- uniforms ------------------------------------------------------------------------
     def active_uniforms(self) -> dict[str, tuple[str, int, bool]]:
-        """name -> (GLSL type, array length, filled by facet) over every pass (the linked
-        programs' active uniforms: ones the compiler optimised away are not listed)."""
+        """The active uniforms over every pass (ones the compiler optimised away are not
+        listed).
+
+        Returns
+        -------
+        dict
+            ``{name: (GLSL type, array length, filled by facet)}``.
+        """
         found = {}
         for prog in self.programs.values():
             for name, (gl_type, length) in prog.uniform_types().items():
@@ -230,7 +274,15 @@ class ShaderToy:
         return dict(sorted(found.items()))
 
     def set_uniform(self, name: str, value) -> None:
-        """Set a user uniform in every pass that uses it (kept across reloads)."""
+        """Set a user uniform in every pass that uses it (kept across reloads).
+
+        Parameters
+        ----------
+        name : str
+            The uniform (not one facet fills).
+        value : float or sequence of float
+            Its value(s), as many as its type holds.
+        """
         where = ", ".join(str(p) for p in self.paths.values())
         values = check_uniform(name, value, list(self.programs.values()), set(FILLED), where)
         if values is None:
@@ -243,8 +295,21 @@ class ShaderToy:
     # -- rendering -----------------------------------------------------------------------
     def step(self, time: float, time_delta: float, mouse=(0.0, 0.0, 0.0, 0.0),
              date: datetime.datetime | None = None, fps: float = 60.0) -> None:
-        """Run every pass once: frame ``self.frame`` at ``time`` seconds. ``date``: iDate
-        (default: ``self.date``; the wall clock where that is None)."""
+        """Run every pass once: frame ``self.frame`` at ``time`` seconds.
+
+        Parameters
+        ----------
+        time : float
+            ``iTime``, seconds.
+        time_delta : float
+            ``iTimeDelta``.
+        mouse : (4,) float
+            ``iMouse``, pixels.
+        date : datetime.datetime, optional
+            ``iDate`` (default ``self.date``; the wall clock where that is None).
+        fps : float
+            ``iFrameRate``.
+        """
         date = date or self.date or datetime.datetime.now()
         seconds = date.hour * 3600 + date.minute * 60 + date.second + date.microsecond / 1e6
         day = (float(date.year), float(date.month - 1), float(date.day), seconds)
@@ -327,9 +392,25 @@ class ShaderToy:
 
     def render(self, time: float = 0.0, *, fps: float = 60.0, mouse=(0.0, 0.0, 0.0, 0.0),
                date=None) -> np.ndarray:
-        """The image at ``time`` seconds as float32 (H, W, 4), row 0 at the top. With buffers,
-        frames run from 0 at a fixed step of 1 / ``fps`` up to ``time`` (so feedback is
-        deterministic); without, one frame is drawn."""
+        """The image at ``time`` seconds. With buffers, frames run from 0 at a fixed step of
+        1 / ``fps`` up to ``time`` (so feedback is deterministic); without, one frame is drawn.
+
+        Parameters
+        ----------
+        time : float
+            Seconds.
+        fps : float
+            The step of the frames that lead up to ``time``.
+        mouse : (4,) float
+            ``iMouse``, pixels.
+        date : datetime.datetime, optional
+            ``iDate``.
+
+        Returns
+        -------
+        (H, W, 4) float32 ndarray
+            Row 0 at the top.
+        """
         target = int(round(time * fps))
         if len(self.project.passes) == 1:
             self.frame = target
@@ -342,7 +423,13 @@ class ShaderToy:
         return self.read()
 
     def resize(self, width: int, height: int) -> None:
-        """New output size (a window was resized): buffers start again from frame 0."""
+        """A new output size (a window was resized): buffers start again from frame 0.
+
+        Parameters
+        ----------
+        width, height : int
+            Pixels.
+        """
         if (width, height) == (self.width, self.height):
             return
         with self.ctx:
@@ -364,12 +451,24 @@ class ShaderToy:
         self.frame, self.time = 0, 0.0
 
     def read(self) -> np.ndarray:
+        """The Image pass's latest picture.
+
+        Returns
+        -------
+        (H, W, 4) float32 ndarray
+            Row 0 at the top.
+        """
         with self.ctx:
             return self.targets.read()
 
     def read_cube(self) -> np.ndarray:
-        """The Cube A pass's latest cube map, (6, S, S, 4) float32 in OpenGL's face order,
-        rows as written (t = 0 first)."""
+        """The Cube A pass's latest cube map.
+
+        Returns
+        -------
+        (6, S, S, 4) float32 ndarray
+            OpenGL's face order, rows as written (t = 0 first).
+        """
         with self.ctx:
             return self.targets.read_cube()
 

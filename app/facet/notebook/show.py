@@ -3,8 +3,10 @@ glfw window."""
 
 from __future__ import annotations
 
+from typing import Any
 
-def show(source=None, size=None, **options):
+
+def show(source=None, size=None, **options) -> Any:
     """Show ``source`` interactively.
 
     Parameters

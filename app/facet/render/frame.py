@@ -22,6 +22,8 @@ never pays for it.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from ..errors import InputError
@@ -31,15 +33,31 @@ CHANNELS = ("depth", "object_ids", "normals", "position", "uv")
 
 
 class Frame:
-    """One render's results (see the module docstring).
+    """One render's results as numpy arrays, row 0 at the top (the module docstring says
+    how the exact channels are made).
 
-    The exact channels are read back from the GPU (and, under MSAA, drawn) when first
-    used: a caller that only looks at ``color`` (the common case) does not pay for depth
-    and ids.
-    The renderer reads whatever is still unread, of a frame that is still referenced,
-    before its targets are drawn over again (``settle``), so a frame's arrays never change.
-    Reading happens in the thread that rendered (a GL context belongs to one thread):
+    The exact channels are read back from the GPU when first used: a caller that looks only at
+    ``color`` does not pay for depth and ids. Reading happens in the thread that rendered;
     ``settle()`` there before handing a frame to another thread or process.
+
+    Parameters
+    ----------
+    color : (H, W, 4) uint8 or float32, or None
+        Straight alpha; float32 with ``float_color`` (linear).
+    depth : (H, W) float32, or None
+        Linear depth along the camera axis, scene units; 0 where nothing was hit.
+    object_ids : (H, W) int32, or None
+        The ids ``Scene.add`` returned; -1 for the background.
+    camera : Camera
+        The camera rendered through.
+    normals : (H, W, 3) float32, optional
+        World-space unit normals; 0 where nothing was hit.
+    position : (H, W, 3) float32, optional
+        World-space positions; 0 where nothing was hit.
+    uv : (H, W, 2) float32, optional
+        Texture coordinates; 0 where nothing was hit or there are none.
+    size : (int, int)
+        (width, height).
     """
 
     def __init__(self, color, depth, object_ids, camera: Camera, normals=None,
@@ -83,13 +101,25 @@ class Frame:
         return f"Frame({self.size[0]}x{self.size[1]}, color, {', '.join(shown)})"
 
     def camera_normals(self) -> np.ndarray:
-        """Normals in camera space (OpenGL axes: x right, y up, z towards the viewer)."""
+        """Normals in camera space.
+
+        Returns
+        -------
+        (H, W, 3) float32 ndarray
+            OpenGL axes: x right, y up, z towards the viewer.
+        """
         if self.normals is None:
             raise InputError("this frame has no normals; render with outputs=(..., 'normals')")
         return (self.normals @ self.camera.view[:3, :3].T).astype(np.float32)
 
     def camera_info(self) -> dict:
-        """The camera as plain data (see ``Camera.describe``) for this image size."""
+        """The camera as plain data for this image size.
+
+        Returns
+        -------
+        dict
+            ``Camera.describe(width, height)``.
+        """
         return self.camera.describe(*self.size)
 
     def _repr_png_(self) -> bytes | None:
@@ -125,16 +155,28 @@ class Frame:
         return (f"<div style='display:flex;gap:1em;align-items:flex-start'>{image}"
                 f"<table>{table}</table></div>")
 
-    def save(self, path, quality: int | None = None):
-        """Write the colour image: PNG (RGBA if the background is transparent), JPEG,
-        WebP, TIFF (``quality`` for JPEG and WebP), or with float colour
-        (``float_color=True``) OpenEXR / Radiance HDR (linear values)."""
+    def save(self, path, quality: int | None = None) -> Path:
+        """Write the colour image, its format by the file's suffix.
+
+        PNG (RGBA if the background is transparent), JPEG, WebP or TIFF; with float colour
+        (``float_color=True``) OpenEXR or Radiance HDR keep the linear values.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file (its folder must exist).
+        quality : int, optional
+            JPEG / WebP quality, 1-100.
+
+        Returns
+        -------
+        Path
+            The file written.
+        """
         from ..image.writers import FLOAT_FORMATS, save_float_color, save_image, to_uint8
 
         if self.color is None:
             raise InputError("this frame has no colour output to save")
-        from pathlib import Path
-
         if Path(path).suffix.lower() in FLOAT_FORMATS:
             if self.color.dtype == np.uint8:
                 raise InputError(f"{path}: keeps linear float colour; render with "

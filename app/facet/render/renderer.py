@@ -62,12 +62,29 @@ from .state import FrameState
 class Renderer:
     """Renders scenes headlessly (``render``) or into a window (``present``).
 
-    ``Renderer(width, height, msaa, **options)``: the options this renderer gives every call
-    (facet.scene.options; e.g. ``shading="blinn"``, ``srgb=True``, ``float_color=True``),
-    above a scene's own and below each call's keywords. ``context``: a window's GL context
-    (used, not owned); otherwise a headless one is made (``device``: the EGL device index;
-    ``backend``: auto / egl / osmesa, facet.gl.context). ``close()`` (or leaving a ``with``
-    block) releases the context and every GL object.
+    The options given here are this renderer's, for every call: above a scene's own and below
+    each call's keywords (facet.scene.options). ``close()`` (or leaving a ``with`` block)
+    releases the context and every GL object.
+
+    Parameters
+    ----------
+    width, height : int, optional
+        The image size (both or neither: without, the scene's size, else 1280x720).
+    msaa : int, optional
+        Multisample anti-aliasing samples (0, 2, 4, 8, 16).
+    context : moderngl.Context, optional
+        A window's GL context (used, not owned); otherwise a headless one is made.
+    device : int, optional
+        The EGL device (GPU) index for the headless context.
+    backend : str, optional
+        ``auto``, ``egl`` or ``osmesa`` (facet.gl.context).
+    **options
+        Render options, e.g. ``shading="blinn"``, ``srgb=True``, ``float_color=True``.
+
+    Raises
+    ------
+    facet.ContextError
+        When no OpenGL context can be made (says what was tried and what to install).
     """
 
     def __init__(self, width: int | None = None, height: int | None = None,
@@ -111,10 +128,26 @@ class Renderer:
 
     def options(self, scene: Scene, options=None, *, front: str | None = None,
                 **kwargs) -> RenderOptions:
-        """The options a call with these arguments renders with: a ``RenderOptions``
-        passed in is used as it is (a front resolved it), with ``kwargs`` on top; otherwise
-        (facet.scene.options.options_for) the ``front``'s defaults < the scene's < this
-        renderer's < ``options`` (a mapping) < ``kwargs``."""
+        """The options a call with these arguments renders with.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene (its own options are a layer).
+        options : RenderOptions or mapping, optional
+            A ``RenderOptions`` is used as it is (a front resolved it), with ``kwargs`` on top;
+            a mapping is one more layer.
+        front : str, optional
+            Whose defaults (facet.scene.options.FRONT_DEFAULTS: ``view``, ...).
+        **kwargs
+            Render options, the top layer.
+
+        Returns
+        -------
+        RenderOptions
+            The front's defaults < the scene's < this renderer's < ``options`` < ``kwargs``,
+            MSAA clamped to what this GL supports.
+        """
         if isinstance(options, RenderOptions):
             opts = options.merged(kwargs)
         else:
@@ -123,17 +156,48 @@ class Renderer:
         return opts if aa is opts.aa else replace(opts, aa=aa)
 
     def camera(self, scene: Scene, opts: RenderOptions) -> Camera:
-        """The scene's camera the options name (else its first), else one framing it (at
-        the options' time: animations move cameras and change the bounds)."""
+        """The camera a render of ``scene`` uses when none is given.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene.
+        opts : RenderOptions
+            The options (their ``camera`` name, ``time`` and ``up``).
+
+        Returns
+        -------
+        Camera
+            The scene's camera the options name (else its first), else one framing it at the
+            options' time.
+        """
         scene = staged(scene, opts)
         return scene.camera(opts.camera) or Camera.frame(scene.bounds, up=opts.up,
                                                          aspect=opts.width / opts.height)
 
     def render(self, scene: Scene, camera: Camera | None = None, options=None,
                **kwargs) -> Frame:
-        """Render ``scene`` through ``camera`` (default: ``camera(scene, options)``) into
-        numpy arrays. Keywords are render options (facet.scene.options.RenderOptions:
-        ``outputs``, ``aa``, ``msaa``, ``shadows``, ``shading``, ``srgb``, ...)."""
+        """Render ``scene`` into numpy arrays.
+
+        Parameters
+        ----------
+        scene : Scene
+            What to draw.
+        camera : Camera, optional
+            Default: ``camera(scene, options)`` (the scene's, else framed).
+        options : RenderOptions or mapping, optional
+            Render options for this call.
+        **kwargs
+            Render options for this call (``outputs``, ``aa``, ``msaa``, ``spp``, ``shadows``,
+            ``shading``, ``engine``, ``time``, ``srgb``, ``background``, ...); a call never
+            changes the next one.
+
+        Returns
+        -------
+        Frame
+            ``color`` (H, W, 4) uint8 (or float32 with ``float_color``), ``depth`` (H, W)
+            float32 linear, ``object_ids`` (H, W) int32, and the other outputs asked for.
+        """
         self._check_open()
         opts = self.options(scene, options, **kwargs)
         scene = staged(scene, opts)
@@ -147,12 +211,31 @@ class Renderer:
 
     def present(self, scene: Scene, camera: Camera, framebuffer, options=None, *,
                 sample: int | None = None, **kwargs) -> int:
-        """Draw into a window's ``framebuffer`` (bottom-up, like GL) with the sequence of
-        ``render``; call it with the window's context current (re-entering a current EGL
-        context here would drop what was drawn). ``sample`` None: one picture, what a
-        moving camera shows (no supersampling: lens, shutter and area lights at their
-        centres). ``sample`` k: add supersample k (0 starts over) and show the mean so far;
-        after the last the picture equals ``render``'s. Returns the samples shown."""
+        """Draw into a window's framebuffer with ``render``'s sequence (call it with the
+        window's context current).
+
+        Parameters
+        ----------
+        scene : Scene
+            What to draw.
+        camera : Camera
+            The window's camera.
+        framebuffer : moderngl.Framebuffer
+            Bottom-up, like GL's default framebuffer.
+        options : RenderOptions or mapping, optional
+            Render options.
+        sample : int, optional
+            None: one picture, what a moving camera shows (lens, shutter and area lights at
+            their centres). k: add supersample k (0 starts over) and show the mean so far; after
+            the last the picture equals ``render``'s.
+        **kwargs
+            Render options.
+
+        Returns
+        -------
+        int
+            The supersamples shown.
+        """
         self._check_open()
         opts = self.options(scene, options, **kwargs)
         scene = staged(scene, opts)
@@ -163,7 +246,24 @@ class Renderer:
             self._inside = False
 
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
-        """How many supersamples the colour of this render sums (0: one picture)."""
+        """How many supersamples the colour of this render sums.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene.
+        camera : Camera
+            The camera.
+        options : RenderOptions or mapping, optional
+            Render options.
+        **kwargs
+            Render options.
+
+        Returns
+        -------
+        int
+            The count (0: one picture).
+        """
         opts = self.options(scene, options, **kwargs)
         scene = staged(scene, opts)
         aa = self._engine(opts.engine).sampling(
@@ -393,7 +493,13 @@ class Renderer:
         return self._surfaces
 
     def resize(self, width: int, height: int) -> None:
-        """A new default size for later calls (a window was resized)."""
+        """A new default size for later calls (a window was resized).
+
+        Parameters
+        ----------
+        width, height : int
+            Pixels.
+        """
         self.defaults = ParsedLayer({**self.defaults, **parse_layer({"size": (width, height)})})
 
     def _check_open(self) -> None:
@@ -417,7 +523,13 @@ class Renderer:
             self.ctx.release()
 
     def gl_error(self) -> str:
-        """The context's pending GL error ('GL_NO_ERROR' when all is well)."""
+        """The context's pending GL error.
+
+        Returns
+        -------
+        str
+            ``'GL_NO_ERROR'`` when all is well.
+        """
         with self.ctx:
             return self.ctx.error
 

@@ -51,10 +51,21 @@ def sky_color(directions, zenith, horizon, ground) -> np.ndarray:
 
 
 class Environment:
-    """``faces``: (6, S, S, 3) float32 >= 0 (radiance: above 1 from HDR images), OpenGL
-    cube-map order. ``equirect``: (H, W, 3) the same radiance as a latitude-longitude image
-    (row 0 the zenith, u = 0.5 + atan2(x, -z) / 2 pi), or None: what the path tracer
-    importance-samples (facet.render.trace.env_sampling)."""
+    """Light from every direction around the scene, as a cube map (``Scene(environment=)``,
+    the ``environment`` option): what mirrors and glass reflect, what the path tracer and
+    image-based lighting are lit by.
+
+    Parameters
+    ----------
+    faces : (6, S, S, 3) float32
+        Radiance >= 0 (above 1 from HDR images), OpenGL cube-map order (+X, -X, +Y, -Y, +Z,
+        -Z).
+    name : str
+        Label used in messages.
+    equirect : (H, W, 3) float32, optional
+        The same radiance as a latitude-longitude image (row 0 the zenith,
+        u = 0.5 + atan2(x, -z) / 2 pi): what the path tracer importance-samples.
+    """
 
     SKY = ((0.25, 0.45, 0.85), (0.85, 0.9, 1.0), (0.3, 0.28, 0.25))
 
@@ -75,8 +86,14 @@ class Environment:
         self.linear = False
 
     def decoded(self) -> Environment:
-        """This environment's display values decoded to linear radiance (itself when it
-        is linear); made once."""
+        """This environment's display values decoded to linear radiance (itself when it is
+        linear); made once.
+
+        Returns
+        -------
+        Environment
+            The linear environment.
+        """
         if self.linear:
             return self
         cached = getattr(self, "_decoded", None)
@@ -92,13 +109,37 @@ class Environment:
 
     @classmethod
     def sky(cls, zenith=SKY[0], horizon=SKY[1], ground=SKY[2], size: int = 128) -> Environment:
-        """A generated sky gradient."""
+        """A generated sky gradient.
+
+        Parameters
+        ----------
+        zenith, horizon, ground : (3,) float
+            The colours overhead, at the horizon and below it.
+        size : int
+            Texels along a cube face's side.
+
+        Returns
+        -------
+        Environment
+            The sky.
+        """
         grid = sky_color(equirect_directions(256, 128), zenith, horizon, ground)
         return cls(sky_color(face_directions(size), zenith, horizon, ground), "sky", grid)
 
     @classmethod
     def constant(cls, color) -> Environment:
-        """The same radiance from every direction (``color``: linear RGB)."""
+        """The same radiance from every direction.
+
+        Parameters
+        ----------
+        color : (3,) float
+            Linear RGB.
+
+        Returns
+        -------
+        Environment
+            The environment.
+        """
         from .material import as_color
 
         c = as_color(color, "environment color")
@@ -108,7 +149,18 @@ class Environment:
 
     @classmethod
     def from_faces(cls, paths) -> Environment:
-        """Six images, in the order +X, -X, +Y, -Y, +Z, -Z."""
+        """A cube map of six images.
+
+        Parameters
+        ----------
+        paths : six str or Path
+            The faces in the order +X, -X, +Y, -Y, +Z, -Z, square and of one size.
+
+        Returns
+        -------
+        Environment
+            The environment.
+        """
         from .texture import Texture
 
         if len(paths) != 6:
@@ -124,10 +176,23 @@ class Environment:
 
     @classmethod
     def from_equirect(cls, path, size: int = 256) -> Environment:
-        """An equirectangular (latitude-longitude) image resampled onto the cube (its
-        texels sampled where they are: no float copy of a whole 8-bit image). HDR files
-        (.hdr, .exr: facet.scene.hdr_image) keep their linear radiance, above 1 too; 8-bit
-        images are values in [0, 1]."""
+        """An equirectangular (latitude-longitude) image resampled onto the cube.
+
+        HDR files (.hdr, .exr) keep their linear radiance, above 1 too; 8-bit images are values
+        in [0, 1].
+
+        Parameters
+        ----------
+        path : str or Path
+            The image.
+        size : int
+            Texels along a cube face's side.
+
+        Returns
+        -------
+        Environment
+            The environment.
+        """
         from .hdr_image import is_hdr, read_hdr_image
         from .texture import Texture
 

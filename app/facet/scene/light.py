@@ -45,6 +45,19 @@ def _attenuation(v) -> np.ndarray:
 
 @dataclass
 class DirectionalLight:
+    """An infinitely distant light (the sun).
+
+    Parameters
+    ----------
+    direction : (3,) float
+        Where the light travels, world space (towards the light is ``-direction``).
+    color : (3,) float
+        Linear RGB, each >= 0.
+    intensity : float
+        Multiplies ``color`` (>= 0).
+    cast_shadows : bool
+        Whether it casts shadows when a render asks for them.
+    """
     direction: np.ndarray = field(default_factory=lambda: np.array([-1.0, -1.0, -1.0]))
     color: np.ndarray = field(default_factory=lambda: np.ones(3))
     intensity: float = 1.0
@@ -59,6 +72,21 @@ class DirectionalLight:
 
 @dataclass
 class PointLight:
+    """A light at a point, shining every way.
+
+    Parameters
+    ----------
+    position : (3,) float
+        World space.
+    color : (3,) float
+        Linear RGB, each >= 0.
+    intensity : float
+        Multiplies ``color`` (>= 0).
+    cast_shadows : bool
+        Whether it casts shadows when a render asks for them.
+    attenuation : (3,) float
+        ``(c, l, q)``: intensity falls off as 1 / (c + l d + q d^2), d the distance.
+    """
     position: np.ndarray = field(default_factory=lambda: np.array([0.0, 5.0, 5.0]))
     color: np.ndarray = field(default_factory=lambda: np.ones(3))
     intensity: float = 1.0
@@ -74,6 +102,26 @@ class PointLight:
 
 @dataclass
 class SpotLight:
+    """A point light limited to a cone: full inside ``inner_angle``, falling smoothly to
+    zero at ``outer_angle``.
+
+    Parameters
+    ----------
+    position : (3,) float
+        World space.
+    direction : (3,) float
+        The cone's axis, where the light travels.
+    color : (3,) float
+        Linear RGB, each >= 0.
+    intensity : float
+        Multiplies ``color`` (>= 0).
+    cast_shadows : bool
+        Whether it casts shadows when a render asks for them.
+    attenuation : (3,) float
+        ``(c, l, q)``: intensity falls off as 1 / (c + l d + q d^2), d the distance.
+    inner_angle, outer_angle : float
+        Half-angles, degrees, 0 <= inner <= outer < 90.
+    """
     position: np.ndarray = field(default_factory=lambda: np.array([0.0, 5.0, 5.0]))
     direction: np.ndarray = field(default_factory=lambda: np.array([0.0, -1.0, -1.0]))
     color: np.ndarray = field(default_factory=lambda: np.ones(3))
@@ -97,10 +145,29 @@ class SpotLight:
 
 @dataclass
 class AreaLight:
-    """A rectangle of ``size`` (width, height) centred at ``position`` and facing ``normal``,
-    emitting ``color * intensity`` in total. Rendered by supersampling: each sample replaces
-    it by a point light at another point of its area (a jittered pattern), so shadow edges
-    turn into penumbrae (notes §2.11). A render without supersampling uses its centre."""
+    """A rectangle emitting ``color * intensity`` in total, facing ``normal``.
+
+    Rendered by supersampling: each sample replaces it by a point light at another point of
+    its area (a jittered pattern), so shadow edges turn into penumbrae; a render without
+    supersampling uses its centre. The path tracer samples it as an emitter.
+
+    Parameters
+    ----------
+    position : (3,) float
+        Its centre, world space.
+    normal : (3,) float
+        The side it lights.
+    size : (float, float)
+        Width and height, scene units (> 0).
+    color : (3,) float
+        Linear RGB, each >= 0.
+    intensity : float
+        Multiplies ``color`` (>= 0).
+    cast_shadows : bool
+        Whether it casts shadows when a render asks for them.
+    attenuation : (3,) float
+        ``(c, l, q)``: intensity falls off as 1 / (c + l d + q d^2), d the distance.
+    """
 
     position: np.ndarray = field(default_factory=lambda: np.array([0.0, 5.0, 0.0]))
     normal: np.ndarray = field(default_factory=lambda: np.array([0.0, -1.0, 0.0]))
@@ -123,21 +190,44 @@ class AreaLight:
         self.attenuation = _attenuation(self.attenuation)
 
     def axes(self) -> tuple[np.ndarray, np.ndarray]:
-        """The rectangle's unit edge directions (a, b), a x b = normal."""
+        """The rectangle's unit edge directions.
+
+        Returns
+        -------
+        tuple of two (3,) float64 ndarray
+            ``(a, b)`` with ``a x b = normal``.
+        """
         n = self.normal
         a = np.cross(n, (0.0, 1.0, 0.0) if abs(n[1]) < 0.99 else (1.0, 0.0, 0.0))
         a /= np.linalg.norm(a)
         return a, np.cross(n, a)
 
     def corners(self) -> np.ndarray:
-        """(4, 3) the rectangle's corners, counter-clockwise seen from its lit side."""
+        """The rectangle's corners.
+
+        Returns
+        -------
+        (4, 3) float64 ndarray
+            Counter-clockwise seen from its lit side, world space.
+        """
         a, b = self.axes()
         w, h = self.size
         return np.array([self.position + a * u * w + b * v * h
                          for u, v in ((-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5))])
 
     def point_light(self, u: float = 0.0, v: float = 0.0) -> PointLight:
-        """The point light at (u, v) in [-0.5, 0.5]^2 of the rectangle."""
+        """The point light at one point of the rectangle.
+
+        Parameters
+        ----------
+        u, v : float
+            Coordinates in [-0.5, 0.5] along ``axes()`` (0, 0: the centre).
+
+        Returns
+        -------
+        PointLight
+            A light of the rectangle's colour, intensity and attenuation there.
+        """
         a, b = self.axes()
         p = self.position + a * u * self.size[0] + b * v * self.size[1]
         return PointLight(p, self.color, self.intensity, self.attenuation,

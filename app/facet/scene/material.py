@@ -26,10 +26,39 @@ def as_color(value, name: str, channels=(3,)) -> np.ndarray:
 
 @dataclass
 class Material:
-    """Phong material. ``color`` (3,) floats in [0, 1]; ``ka``, ``kd``, ``ks`` >= 0;
-    ``shininess`` (the exponent n) >= 0. ``texture`` (a ``facet.scene.texture.Texture``)
-    multiplies ``color`` at each point by the image at the mesh's texture coordinates; the
-    mesh's vertex colours, if any, multiply it too."""
+    """A Phong material (``PbrMaterial`` is glTF's metallic-roughness).
+
+    The shading equation is the notes' Phong: ambient ``ka``, diffuse ``kd`` and specular
+    ``ks`` terms with exponent ``shininess``. ``texture`` multiplies ``color`` at each point by
+    the image at the mesh's texture coordinates; the mesh's vertex colours, if any, multiply
+    it too.
+
+    Parameters
+    ----------
+    color : (3,) float
+        Base colour in [0, 1] (display-referred, like a picked colour).
+    ka, kd, ks : float
+        Ambient, diffuse and specular weights (>= 0).
+    shininess : float
+        The specular exponent n (>= 0).
+    name : str
+        Label used in messages.
+    texture : Texture, optional
+        An image over the mesh's uvs.
+    shader : UserShader, optional
+        The material's own GLSL (facet.scene.shader).
+    opacity : float
+        Below 1: transparent (order-independent transparency).
+    reflectivity : float
+        In [0, 1]: the mix towards the scene's environment (or, with ``mirror``, the
+        mirrored scene).
+    ior : float
+        Index of refraction (> 1) for refraction with Fresnel; 0: none.
+    gloss : float
+        0: a sharp mirror; up to 1: reflections blurred (by supersampling).
+    mirror : bool
+        A planar mirror (needs a flat mesh and ``reflectivity`` > 0).
+    """
 
     color: np.ndarray = field(default_factory=lambda: np.array([0.8, 0.8, 0.8]))
     ka: float = 1.0

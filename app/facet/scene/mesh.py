@@ -176,14 +176,32 @@ class Mesh:
 
     @classmethod
     def load(cls, path, *, flat: bool = False, crease: float | None = None) -> Mesh:
-        """Read a mesh file (OBJ, STL, PLY, OFF, glTF/GLB) as ONE mesh.
+        """Read a mesh file (OBJ, STL, PLY, OFF, glTF/GLB) as one mesh.
 
-        A file with several parts is merged, each part placed by its node transform, with
-        the first part's material (a warning says so when the parts' materials differ: use
-        ``facet.open_scene`` or ``Mesh.load_parts`` to keep them). Normals: the file's, else
-        split at ``crease`` degrees (default facet.scene.normals.DEFAULT_CREASE).
-        ``flat=True`` gives faceted normals (see ``flat_shaded``). Raises
-        ``facet.MeshError`` naming the file when it cannot be read.
+        A file of several parts is merged, each placed by its node transform, with the first
+        part's material (a warning says so when the parts' materials differ: ``facet.open_scene``
+        or ``Mesh.load_parts`` keep them apart). Skinned and morphed parts stand in their rest
+        pose with default weights.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file.
+        flat : bool
+            Faceted normals (see ``flat_shaded``).
+        crease : float, optional
+            Where a file has no normals, split them at edges sharper than this many degrees
+            (default facet.scene.normals.DEFAULT_CREASE).
+
+        Returns
+        -------
+        Mesh
+            The mesh, with the file's material as ``material``.
+
+        Raises
+        ------
+        facet.MeshError
+            When the file cannot be read (the message names it).
         """
         parts, _, _, rig = cls.load_rigged(path, crease=crease)
         if rig is not None:  # skins and default morph weights applied, nothing playing
@@ -207,10 +225,26 @@ class Mesh:
         return mesh.flat_shaded() if flat else mesh
 
     def colored_by(self, values, colormap: str = "viridis", limits=None) -> Mesh:
-        """A copy coloured by per-vertex ``values`` (N,) through ``colormap`` (a name:
-        facet.scene.colormap; matplotlib's when installed) over ``limits`` (low, high;
-        default the values' range); its material white (its other properties kept), so
-        the colours show as the colormap gives them."""
+        """A copy coloured by per-vertex scalars through a colormap.
+
+        Its material turns white (its other properties kept), so the colours show as the
+        colormap gives them.
+
+        Parameters
+        ----------
+        values : (N,) float
+            One value per vertex (NaN shows grey).
+        colormap : str
+            A colormap name (facet.scene.colormap: matplotlib's when installed; viridis,
+            coolwarm and gray built in).
+        limits : (float, float), optional
+            The values mapped to the colormap's ends (default: the values' range).
+
+        Returns
+        -------
+        Mesh
+            The coloured copy.
+        """
         from dataclasses import replace
 
         from .colormap import colors_for
@@ -232,10 +266,20 @@ class Mesh:
 
     @classmethod
     def from_trimesh(cls, tm) -> Mesh:
-        """A Mesh of a trimesh.Trimesh: its vertices, faces, vertex normals (when it has
-        them), texture coordinates, vertex colours and material (facet.scene.adapters); a
-        trimesh Scene's parts are merged, placed by its graph (``Scene.add`` keeps them
-        apart)."""
+        """A Mesh of a trimesh geometry: its vertices, faces, normals (when it has them),
+        texture coordinates, vertex or face colours and material (facet.scene.adapters).
+
+        Parameters
+        ----------
+        tm : trimesh.Trimesh or trimesh.Scene
+            The geometry; a Scene's parts are merged, each placed by its graph (``Scene.add``
+            keeps them apart).
+
+        Returns
+        -------
+        Mesh
+            The mesh.
+        """
         from .adapters import trimesh_parts
 
         parts = [(n, m, x) for n, m, x in trimesh_parts(tm, cls) if m.kind == "mesh"]
@@ -249,22 +293,64 @@ class Mesh:
     @classmethod
     def load_parts(cls, path, *, crease: float | None = None) -> list[tuple[str, Mesh,
                                                                              np.ndarray]]:
-        """The parts of a mesh file as (name, mesh, 4x4 part -> file transform), each mesh
-        with its own material: a glTF keeps its nodes and primitives (a mesh used by several
-        nodes is made once), an OBJ one part per material, other formats one part."""
+        """The parts of a mesh file, each with its own material: a glTF keeps its nodes and
+        primitives (a mesh used by several nodes is made once), an OBJ one part per material,
+        other formats one part.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file.
+        crease : float, optional
+            Where a file has no normals, split them at edges sharper than this many degrees
+            (default facet.scene.normals.DEFAULT_CREASE).
+
+        Returns
+        -------
+        list of (str, Mesh | Points | Lines, (4, 4) float64 ndarray)
+            Each part's name, geometry (with its own material) and part -> file transform.
+        """
         return cls.load_file(path, crease=crease)[0]
 
     @classmethod
     def load_file(cls, path, *, crease: float | None = None) -> tuple[list, dict]:
-        """``(load_parts(path), {name: Camera})``: the parts and the file's cameras."""
+        """The parts of a mesh file and its cameras.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file.
+        crease : float, optional
+            Where a file has no normals, split them at edges sharper than this many degrees
+            (default facet.scene.normals.DEFAULT_CREASE).
+
+        Returns
+        -------
+        tuple of (list, dict)
+            ``load_parts(path)`` and ``{name: Camera}``.
+        """
         return cls.load_contents(path, crease=crease)[:2]
 
     @classmethod
     def load_rigged(cls, path, *, crease: float | None = None) -> tuple[list, dict, list,
                                                                          Any]:
-        """``(*load_contents(path), rig)``: with the Rig of the file's animations, skins and
-        morph targets (facet.scene.animation; None when nothing in it moves), whose part
-        ``i`` is ``parts[i]`` (at rest)."""
+        """The parts, cameras and lights of a mesh file, and its rig.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file.
+        crease : float, optional
+            Where a file has no normals, split them at edges sharper than this many degrees
+            (default facet.scene.normals.DEFAULT_CREASE).
+
+        Returns
+        -------
+        tuple of (list, dict, list, Rig or None)
+            ``load_contents(path)`` and the Rig of the file's animations, skins and morph targets
+            (facet.scene.animation; None when nothing in it moves), whose part ``i`` is
+            ``parts[i]`` at rest.
+        """
         from .loading import load_file
         from .normals import DEFAULT_CREASE
 
@@ -280,9 +366,22 @@ class Mesh:
 
     @classmethod
     def load_contents(cls, path, *, crease: float | None = None) -> tuple[list, dict, list]:
-        """``(load_parts(path), {name: Camera}, lights)``: the parts, the file's cameras
-        and its lights (glTF's KHR_lights_punctual). The parts stand at rest: animations,
-        skins and morph targets need ``load_rigged`` (``facet.load`` poses them)."""
+        """The parts, cameras and lights (glTF's KHR_lights_punctual) of a mesh file, at
+        rest (``load_rigged`` adds the animations; ``facet.load`` poses them).
+
+        Parameters
+        ----------
+        path : str or Path
+            The file.
+        crease : float, optional
+            Where a file has no normals, split them at edges sharper than this many degrees
+            (default facet.scene.normals.DEFAULT_CREASE).
+
+        Returns
+        -------
+        tuple of (list, dict, list)
+            ``load_parts(path)``, ``{name: Camera}`` and the lights.
+        """
         return cls.load_rigged(path, crease=crease)[:3]
 
     @classmethod
@@ -338,7 +437,13 @@ class Mesh:
         return bool(self._closed)
 
     def flat_shaded(self) -> Mesh:
-        """A copy with one vertex per face corner and the face's geometric normal on each."""
+        """A copy with one vertex per face corner and each face's geometric normal.
+
+        Returns
+        -------
+        Mesh
+            The faceted copy (colours, uvs and scalars follow their corners).
+        """
         tri = self.positions[self.faces].astype(np.float64)  # (F, 3, 3)
         n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         length = np.linalg.norm(n, axis=1, keepdims=True)

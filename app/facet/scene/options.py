@@ -66,31 +66,62 @@ MAX_FRAMES = 100_000  # the most frames of any sequence: turntables, shader sequ
 
 @dataclass(frozen=True)
 class RenderOptions:
-    """How to render (see the module docstring for where each value comes from).
+    """How to render: every knob of a render, parsed and typed (the module docstring says
+    where each value comes from: facet's defaults < a front's < the scene's < explicit
+    layers). Build one with ``RenderOptions.build``; ``Renderer.render(**options)`` takes the
+    same names as raw values.
 
-    size : (width, height) pixels            background : RGBA or None (the scene's)
-    shading : one of SHADING                 aa : AntiAliasing (none / msaa:N / ssaa:P:N)
-    shadows : shadow maps / rays (None: the engine's default); pcf : PCF radius
-    srgb : colour management (image.colorspace)
-    float_color : float32 colour out         outputs : channels to return (OUTPUTS)
-    camera : a scene camera's name or None   aperture, focus : a lens over the camera's
-    environment : an Environment or None (options_for: the scene's)
-    lights : LIGHTS                          wireframe : overlay the triangle edges
-    time : seconds: where the scene's animations stand (facet.scene.animation) and users'
-           shaders' u_time                   engine : one of ENGINES (facet.render.engine)
-    animation : which animation plays (a name or an index); None: all of them
-    variant : a glTF material variant's name (KHR_materials_variants); None: the default
-    shutter : seconds the shutter stays open from ``time``: animated scenes blur as they
-              move (supersampled over the shutter); 0: a still
-    max_depth : the ray tracer's reflection/refraction recursion (1: the notes' one
-                reflection and one transmission ray; default DEFAULT_MAX_DEPTH)
-    seed : the random stream: the path tracer's paths and the jittered / random / poisson
-           pixel patterns (the same seed, the same picture)
-    up : the world's up axis: default cameras frame the scene and turntables orbit
-         around it (CAD and scanner files are often z-up)
-    cull : back-face culling: "auto" (where it cannot change the picture), "on", "off"
-    denoise : the path tracer's picture through Intel Open Image Denoise, fed the first
-              hit's albedo and normal (facet.render.denoise); never the exact channels
+    Parameters
+    ----------
+    size : (int, int)
+        (width, height), pixels.
+    background : (4,) float, optional
+        RGBA in [0, 1]; None: the scene's.
+    shading : str
+        One of SHADING (``auto`` picks by material).
+    aa : AntiAliasing
+        ``none``, ``msaa:N`` or ``ssaa:PATTERN:N`` (raw: ``aa``, ``msaa=N``, ``spp=N``).
+    shadows : bool, optional
+        Shadow maps / shadow rays; None: the engine's default (the tracers cast them).
+    pcf : int
+        Percentage-closer filtering radius of shadow maps, texels.
+    srgb : bool
+        Colour management (linear lighting, sRGB output; facet.image.colorspace).
+    float_color : bool
+        Float32 linear colour out (for EXR / HDR).
+    outputs : tuple of str
+        Channels to return (OUTPUTS: color, depth, ids, normals, position, uv).
+    camera : str, optional
+        A scene camera's name.
+    aperture, focus : float, optional
+        A thin lens over the camera: depth of field.
+    environment : Environment, optional
+        Background and reflection source (default: the scene's).
+    lights : str
+        LIGHTS: ``auto`` (the scene's, else a rig following the camera), ``scene``,
+        ``camera``.
+    wireframe : bool
+        Overlay the triangle edges.
+    time : float
+        Seconds: where the scene's animations stand, and users' shaders' ``u_time``.
+    animation : str or int, optional
+        Which animation plays (a name or an index); None: all of them.
+    variant : str, optional
+        A glTF material variant's name (KHR_materials_variants).
+    shutter : float
+        Seconds the shutter stays open from ``time`` (motion blur); 0: a still.
+    engine : str
+        ENGINES: ``raster``, ``trace`` (Whitted) or ``path`` (physically based).
+    max_depth : int
+        The tracers' recursion depth.
+    seed : int
+        The random stream (the same seed, the same picture).
+    up : (3,) float
+        The world's up axis (framing, turntables).
+    cull : str
+        Back-face culling: ``auto`` (where it cannot change the picture), ``on``, ``off``.
+    denoise : bool
+        The path tracer's picture through Intel Open Image Denoise (the ``denoise`` extra).
     """
 
     size: tuple[int, int] = (800, 600)
@@ -128,23 +159,57 @@ class RenderOptions:
 
     @classmethod
     def build(cls, *layers, **options) -> RenderOptions:
-        """Defaults, then each layer in order (a later one wins), then ``options`` (raw
-        values as keywords: ``RenderOptions.build(aa="ssaa:jittered:16", shadows=True)``).
-        A layer is a mapping of raw values, a ``RenderOptions`` (all of its values), or
-        None."""
+        """Defaults, then each layer in order (a later one wins), then ``options``.
+
+        Parameters
+        ----------
+        *layers : mapping of raw values, RenderOptions, or None
+            Layers, lowest first.
+        **options
+            Raw values, the top layer: ``RenderOptions.build(aa="ssaa:jittered:16", shadows=True)``.
+
+        Returns
+        -------
+        RenderOptions
+            The options.
+
+        Raises
+        ------
+        facet.InputError
+            A value one option cannot take (one line naming it), an unknown name (with a
+            did-you-mean).
+        """
         values: dict = {}
         for layer in (*layers, options):
             values.update(parse_layer(layer))
         return cls(**values)
 
     def merged(self, *layers) -> RenderOptions:
-        """These options with ``layers`` on top."""
+        """These options with ``layers`` on top.
+
+        Parameters
+        ----------
+        *layers : mapping of raw values, RenderOptions, or None
+            Layers, lowest first.
+
+        Returns
+        -------
+        RenderOptions
+            The merged options (``self`` when there is nothing to merge).
+        """
         values: dict = {}
         for layer in layers:
             values.update(parse_layer(layer))
         return replace(self, **values) if values else self
 
     def as_layer(self) -> dict:
+        """Every value as a layer (what ``build`` takes).
+
+        Returns
+        -------
+        dict
+            ``{option: typed value}``.
+        """
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
     @property

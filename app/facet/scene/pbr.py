@@ -29,10 +29,20 @@ FILTERS = ("nearest", "linear")
 class TextureSlot:
     """One image a material samples, as glTF's textureInfo describes it.
 
-    ``texcoord``: which coordinate set (0: ``Mesh.uvs``, 1: ``Mesh.uvs1``). ``transform``:
-    (3, 3) applied to (u, v, 1) before sampling (KHR_texture_transform; identity without).
-    ``wrap``: (s, t) each of WRAP_MODES. ``filter``: (minification, magnification) each of
-    FILTERS; ``mipmaps``: whether minification blends mip levels.
+    Parameters
+    ----------
+    texture : Texture
+        The image.
+    texcoord : int
+        Which coordinate set: 0 ``Mesh.uvs``, 1 ``Mesh.uvs1``.
+    transform : (3, 3) float
+        Applied to (u, v, 1) before sampling (KHR_texture_transform; identity without).
+    wrap : (str, str)
+        (s, t), each of WRAP_MODES (``repeat``, ``clamp``, ``mirror``).
+    filter : (str, str)
+        (minification, magnification), each of FILTERS.
+    mipmaps : bool
+        Whether minification blends mip levels.
     """
 
     texture: object  # facet.scene.texture.Texture
@@ -80,40 +90,88 @@ COLOR_SLOTS = ("base_color", "emissive", "specular_color", "sheen_color")  # sRG
 
 @dataclass
 class PbrMaterial:
-    """glTF metallic-roughness. ``base_color`` (4,) linear RGBA; ``metallic``, ``roughness``
-    in [0, 1]; ``emissive`` (3,) linear, times ``emissive_strength``; texture slots
-    (``TextureSlot`` or None): ``base_color_texture`` (sRGB, RGBA multiplies base_color),
-    ``metallic_roughness_texture`` (B: metallic, G: roughness), ``normal_texture``
-    (tangent space, x and y scaled by ``normal_scale``), ``occlusion_texture`` (R, mixed
-    in by ``occlusion_strength``), ``emissive_texture`` (sRGB). ``alpha_mode``: OPAQUE
-    (alpha ignored), MASK (drawn where alpha >= ``alpha_cutoff``) or BLEND (transparent);
-    ``double_sided`` False culls back faces; ``unlit`` shows the base colour only
-    (KHR_materials_unlit). Vertex colours multiply the base colour.
+    """glTF's metallic-roughness material, with the KHR material extensions.
 
-    The dielectric's specular lobe (KHR_materials_ior and _specular): reflectance at normal
-    incidence ((ior - 1) / (ior + 1))^2 (0.04 at the default ``ior`` 1.5) times
-    ``specular_color`` (3,) linear, clipped to 1, times ``specular``; at grazing angles
-    ``specular``. ``specular`` 0 leaves a Lambertian surface of the base colour.
+    The dielectric's specular lobe (KHR_materials_ior and _specular) reflects
+    ((ior - 1) / (ior + 1))^2 at normal incidence (0.04 at ior 1.5) times ``specular_color``,
+    clipped to 1, times ``specular``; ``specular`` 0 leaves a Lambertian surface.
+    ``transmission`` is the share of the dielectric's diffuse part that passes through,
+    tinted by the base colour (smooth: Snell's refraction; rough: GGX transmission);
+    ``thickness`` 0 is thin-walled, above 0 the mesh bounds a volume of index ``ior`` that
+    absorbs by Beer-Lambert (``attenuation_color`` is what is left after
+    ``attenuation_distance``). ``clearcoat`` is a clear layer (ior 1.5) on top, a second GGX
+    lobe; ``sheen_color`` the soft back-scattering of cloth. Vertex colours multiply the base
+    colour. Each extension's texture multiplies its factor.
 
-    ``transmission`` (KHR_materials_transmission): the share of the dielectric's diffuse
-    part that passes through instead, tinted by the base colour (smooth: Snell's
-    refraction; rough: GGX microfacet transmission). ``thickness`` 0 is thin-walled (rays
-    go on unbent); above 0 the mesh bounds a volume (KHR_materials_volume) of index
-    ``ior`` that absorbs by Beer-Lambert: ``attenuation_color`` (3,) is what is left after
-    ``attenuation_distance`` (inf: clear).
-
-    ``clearcoat`` (KHR_materials_clearcoat): a clear dielectric layer (ior 1.5) on top, of
-    ``clearcoat_roughness``: a second GGX lobe weighted by the layer's Fresnel factor, the
-    base beneath it dimmed by what that reflects. ``sheen_color`` (3,) linear and
-    ``sheen_roughness`` (KHR_materials_sheen): the soft back-scattering of cloth, a lobe
-    under the coat that dims the base by its own albedo.
-
-    The extensions' texture slots multiply their factors: ``specular_texture`` (A),
-    ``specular_color_texture`` (sRGB RGB), ``transmission_texture`` (R),
-    ``thickness_texture`` (G), ``clearcoat_texture`` (R), ``clearcoat_roughness_texture``
-    (G), ``clearcoat_normal_texture`` (the coat's own tangent-space normal, x and y scaled
-    by ``clearcoat_normal_scale``), ``sheen_color_texture`` (sRGB RGB) and
-    ``sheen_roughness_texture`` (A)."""
+    Parameters
+    ----------
+    base_color : (4,) float
+        Linear RGBA.
+    metallic, roughness : float
+        In [0, 1].
+    emissive : (3,) float
+        Linear emitted radiance, times ``emissive_strength``.
+    emissive_strength : float
+        KHR_materials_emissive_strength.
+    base_color_texture : TextureSlot, optional
+        sRGB RGBA, multiplies ``base_color``.
+    metallic_roughness_texture : TextureSlot, optional
+        B: metallic, G: roughness.
+    normal_texture : TextureSlot, optional
+        Tangent-space normals; x and y scaled by ``normal_scale``.
+    normal_scale : float
+        See ``normal_texture``.
+    occlusion_texture : TextureSlot, optional
+        R, mixed in by ``occlusion_strength``.
+    occlusion_strength : float
+        See ``occlusion_texture``.
+    emissive_texture : TextureSlot, optional
+        sRGB, multiplies ``emissive``.
+    alpha_mode : str
+        ``OPAQUE`` (alpha ignored), ``MASK`` (drawn where alpha >= ``alpha_cutoff``) or
+        ``BLEND`` (transparent).
+    alpha_cutoff : float
+        See ``alpha_mode``.
+    double_sided : bool
+        False culls back faces.
+    unlit : bool
+        Shows the base colour only (KHR_materials_unlit).
+    name : str
+        Label used in messages.
+    ior : float
+        Index of refraction (KHR_materials_ior).
+    specular : float
+        KHR_materials_specular's factor (``specular_texture``: A).
+    specular_color : (3,) float
+        Linear (``specular_color_texture``: sRGB RGB).
+    transmission : float
+        KHR_materials_transmission (``transmission_texture``: R).
+    thickness : float
+        KHR_materials_volume (``thickness_texture``: G).
+    attenuation_color : (3,) float
+        What is left after ``attenuation_distance`` inside the volume.
+    attenuation_distance : float
+        Scene units (inf: clear).
+    clearcoat, clearcoat_roughness : float
+        KHR_materials_clearcoat (``clearcoat_texture``: R, ``clearcoat_roughness_texture``:
+        G, ``clearcoat_normal_texture`` scaled by ``clearcoat_normal_scale``).
+    sheen_color : (3,) float
+        KHR_materials_sheen, linear (``sheen_color_texture``: sRGB RGB).
+    sheen_roughness : float
+        KHR_materials_sheen (``sheen_roughness_texture``: A).
+    specular_texture, specular_color_texture : TextureSlot, optional
+        KHR_materials_specular's textures (above).
+    transmission_texture, thickness_texture : TextureSlot, optional
+        KHR_materials_transmission's and _volume's (above).
+    clearcoat_texture, clearcoat_roughness_texture : TextureSlot, optional
+        The clear coat's factors' textures.
+    clearcoat_normal_texture : TextureSlot, optional
+        The coat's own tangent-space normals.
+    clearcoat_normal_scale : float
+        See ``clearcoat_normal_texture``.
+    sheen_color_texture, sheen_roughness_texture : TextureSlot, optional
+        The sheen's textures.
+    """
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
     metallic: float = 1.0

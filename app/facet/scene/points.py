@@ -78,17 +78,25 @@ def _pixels(value, name: str, what: str) -> float:
 
 
 class Points:
-    """A point cloud (module docstring).
+    """A point cloud: round discs a number of pixels across, or spheres of a radius in scene
+    units (module docstring).
 
     Parameters
     ----------
-    positions : (N, 3) finite floats, object space
-    colors : (N, 3|4) floats in [0, 1] or uint8, sRGB-encoded; None: the material's colour
-    normals : (N, 3) optional; points with normals are lit
-    size : pixels across (screen-size); the default when ``radius`` is not given
-    radius : scene units (world-size discs); give ``size`` or ``radius``, not both
-    edl : eye-dome lighting for unlit points (default on when there are no normals)
-    name : label used in messages
+    positions : (N, 3) float
+        Finite positions, object space.
+    colors : (N, 3) or (N, 4) float in [0, 1] or uint8, optional
+        sRGB-encoded colours; None: the material's colour.
+    normals : (N, 3) float, optional
+        Points with normals are lit; without, they are drawn unlit (eye-dome lit).
+    size : float, optional
+        Pixels across (screen-size points); the default when ``radius`` is not given.
+    radius : float, optional
+        Scene units (world-size discs); give ``size`` or ``radius``, not both.
+    edl : bool, optional
+        Eye-dome lighting for unlit points (default: on when there are no normals).
+    name : str
+        Label used in messages.
     """
 
     kind = "points"
@@ -128,8 +136,22 @@ class Points:
         self._bounds: np.ndarray | None = None
 
     def colored_by(self, values, colormap: str = "viridis", limits=None) -> Points:
-        """The same cloud coloured by per-point ``values`` (N,) through ``colormap`` over
-        ``limits`` (facet.scene.colormap)."""
+        """The same cloud coloured by per-point scalars through a colormap.
+
+        Parameters
+        ----------
+        values : (N,) float
+            One value per point (NaN shows grey).
+        colormap : str
+            A colormap name (facet.scene.colormap).
+        limits : (float, float), optional
+            The values mapped to the colormap's ends (default: the values' range).
+
+        Returns
+        -------
+        Points
+            The coloured cloud (positions shared).
+        """
         from .colormap import colors_for
 
         v = np.asarray(values, dtype=np.float64).reshape(-1)
@@ -141,8 +163,20 @@ class Points:
                       scalars=self.scalars)
 
     def sized(self, size: float | None = None, radius: float | None = None) -> Points:
-        """The same cloud drawn ``size`` pixels across or of world ``radius`` (one of them;
-        the arrays are shared)."""
+        """The same cloud drawn at another size (one of ``size`` and ``radius``).
+
+        Parameters
+        ----------
+        size : float, optional
+            Pixels across.
+        radius : float, optional
+            Scene units.
+
+        Returns
+        -------
+        Points
+            The resized cloud (arrays shared).
+        """
         return Points(self.positions, self.colors, self.normals, size=size, radius=radius,
                       edl=self.edl, name=self.name, material=self.material,
                       scalars=self.scalars)
@@ -169,15 +203,20 @@ class Points:
 
 
 class Lines:
-    """Line segments (module docstring).
+    """Line segments a number of pixels wide (module docstring).
 
     Parameters
     ----------
-    positions : (N, 3) finite floats, object space
-    segments : (M, 2) integer vertex indices, M >= 1 (None: consecutive pairs 0-1, 2-3, ...)
-    colors : (N, 3|4) per vertex, floats in [0, 1] or uint8, sRGB-encoded
-    width : pixels (default DEFAULT_LINE_WIDTH)
-    name : label used in messages
+    positions : (N, 3) float
+        Finite vertex positions, object space.
+    segments : (M, 2) int, optional
+        Vertex indices of each segment, M >= 1 (default: consecutive pairs 0-1, 2-3, ...).
+    colors : (N, 3) or (N, 4) float in [0, 1] or uint8, optional
+        sRGB-encoded colours per vertex.
+    width : float, optional
+        Pixels (default DEFAULT_LINE_WIDTH).
+    name : str
+        Label used in messages.
     """
 
     kind = "lines"
@@ -209,7 +248,18 @@ class Lines:
         self._bounds: np.ndarray | None = None
 
     def widened(self, width: float) -> Lines:
-        """The same lines ``width`` pixels wide (the arrays are shared)."""
+        """The same lines at another width.
+
+        Parameters
+        ----------
+        width : float
+            Pixels.
+
+        Returns
+        -------
+        Lines
+            The lines (arrays shared).
+        """
         return Lines(self.positions, self.segments, self.colors, width=width, name=self.name,
                      material=self.material)
 

@@ -49,6 +49,23 @@ def _grid(rows: int, cols: int, wrap: bool = False) -> np.ndarray:
 
 
 def sphere(radius=1.0, segments: int = SEGMENTS, rings: int = RINGS) -> Mesh:
+    """A latitude-longitude sphere: u around (from +x towards -z), v from the south pole (0)
+    to the north pole (1).
+
+    Parameters
+    ----------
+    radius : float
+        > 0.
+    segments : int
+        Divisions around the axis.
+    rings : int
+        Divisions from pole to pole.
+
+    Returns
+    -------
+    Mesh
+        With normals and texture coordinates, centred at the origin (y up).
+    """
     r = _size(radius, "sphere radius")[0]
     u = np.linspace(0, 1, segments + 1)
     v = np.linspace(0, 1, rings + 1)
@@ -61,6 +78,18 @@ def sphere(radius=1.0, segments: int = SEGMENTS, rings: int = RINGS) -> Mesh:
 
 
 def plane(size=1.0) -> Mesh:
+    """A square (or rectangle) in the xz plane facing +y; uv (0, 0) at (-x, +z).
+
+    Parameters
+    ----------
+    size : float or (float, float)
+        Side, or (width along x, depth along z).
+
+    Returns
+    -------
+    Mesh
+        With normals and texture coordinates, centred at the origin (y up).
+    """
     w, d = _size(size, "plane size", 2) / 2
     pos = [[-w, 0, d], [w, 0, d], [w, 0, -d], [-w, 0, -d]]
     uv = [[0, 0], [1, 0], [1, 1], [0, 1]]
@@ -68,6 +97,18 @@ def plane(size=1.0) -> Mesh:
 
 
 def cube(size=1.0) -> Mesh:
+    """A box of 24 vertices with flat face normals, each face mapped to the whole [0, 1]^2.
+
+    Parameters
+    ----------
+    size : float or (3,) float
+        Side, or the sides along x, y and z.
+
+    Returns
+    -------
+    Mesh
+        With normals and texture coordinates, centred at the origin (y up).
+    """
     half = _size(size, "cube size", 3) / 2
     pos: list = []
     nrm: list = []
@@ -126,12 +167,40 @@ def _cap(radius: float, y: float, up: bool, segments: int):
 
 
 def disk(radius=1.0, segments: int = SEGMENTS) -> Mesh:
+    """A disc in the xz plane facing +y.
+
+    Parameters
+    ----------
+    radius : float
+        > 0.
+    segments : int
+        Divisions around the axis.
+
+    Returns
+    -------
+    Mesh
+        With normals and texture coordinates, centred at the origin (y up).
+    """
     r = _size(radius, "disk radius")[0]
     pos, nrm, uv, faces = _cap(r, 0.0, True, segments)
     return Mesh(pos, faces, nrm, uv, name="disk")
 
 
 def cylinder(radius=0.5, height=1.0, segments: int = SEGMENTS) -> Mesh:
+    """A capped cylinder, its axis along y, its base at -height / 2.
+
+    Parameters
+    ----------
+    radius, height : float
+        > 0.
+    segments : int
+        Divisions around the axis.
+
+    Returns
+    -------
+    Mesh
+        With normals and texture coordinates, centred at the origin (y up).
+    """
     r = _size(radius, "cylinder radius")[0]
     h = _size(height, "cylinder height")[0]
     side = _lathe(np.array([[r, -h / 2], [r, h / 2]]), np.array([[1.0, 0.0], [1.0, 0.0]]),
@@ -141,6 +210,20 @@ def cylinder(radius=0.5, height=1.0, segments: int = SEGMENTS) -> Mesh:
 
 
 def cone(radius=0.5, height=1.0, segments: int = SEGMENTS) -> Mesh:
+    """A capped cone, its axis along y, its base at -height / 2, its tip at +height / 2.
+
+    Parameters
+    ----------
+    radius, height : float
+        > 0.
+    segments : int
+        Divisions around the axis.
+
+    Returns
+    -------
+    Mesh
+        With normals and texture coordinates, centred at the origin (y up).
+    """
     r = _size(radius, "cone radius")[0]
     h = _size(height, "cone height")[0]
     slope = np.array([h, r]) / np.hypot(h, r)  # outward normal of the side, (radial, y)
@@ -151,6 +234,24 @@ def cone(radius=0.5, height=1.0, segments: int = SEGMENTS) -> Mesh:
 
 def torus(major_radius=1.0, minor_radius=0.25, segments: int = SEGMENTS,
           rings: int = RINGS) -> Mesh:
+    """A torus in the xz plane around the y axis.
+
+    Parameters
+    ----------
+    major_radius : float
+        From the axis to the tube's centre.
+    minor_radius : float
+        The tube's radius (< major_radius).
+    segments : int
+        Divisions around the axis.
+    rings : int
+        Divisions around the tube.
+
+    Returns
+    -------
+    Mesh
+        With normals and texture coordinates, centred at the origin (y up).
+    """
     big = _size(major_radius, "torus major_radius")[0]
     small = _size(minor_radius, "torus minor_radius")[0]
     if small >= big:

@@ -87,14 +87,27 @@ class Scene:
 
     def add(self, mesh, material: Material | PbrMaterial | None = None, transform=None, *,
             name: str = "", transform_end=None) -> int | list[int]:
-        """Place ``mesh`` (a ``Mesh``, ``Points``, ``Lines``, an analytic ``facet.shapes``
-        shape, or trimesh's Trimesh, PointCloud or Scene: facet.scene.adapters) in the
-        scene; returns its object id (0, 1, 2, ...), or for a trimesh Scene the ids of its
-        parts (each placed by its graph's transform, then ``transform``).
+        """Place a mesh, a cloud, lines, a shape or a trimesh geometry in the scene.
 
-        ``material`` defaults to the mesh file's own material, else a grey ``Material()``.
-        ``transform`` is the 4x4 object -> world matrix (default identity); with
-        ``transform_end`` (the matrix at shutter close) the object is motion-blurred.
+        Parameters
+        ----------
+        mesh : Mesh, Points, Lines, facet.shapes shape, or trimesh Trimesh / PointCloud / Scene
+            What to place (trimesh's through facet.scene.adapters: colours, uvs, materials; a
+            Scene's parts each placed by its graph, then by ``transform``).
+        material : Material or PbrMaterial, optional
+            Default: the file's own material, else a grey ``Material()``.
+        transform : (4, 4) float, optional
+            Object -> world (default identity; must be invertible).
+        name : str
+            Label (default: the mesh's name).
+        transform_end : (4, 4) float, optional
+            The transform at shutter close: the object is motion-blurred between the two.
+
+        Returns
+        -------
+        int or list of int
+            The object's id (0, 1, 2, ...: its value in ``Frame.object_ids``), or a trimesh
+            Scene's parts' ids.
         """
         from .adapters import is_trimesh, trimesh_parts
         from .points import Lines, Points
@@ -130,7 +143,18 @@ class Scene:
         return obj.id
 
     def add_light(self, light: Light) -> Light:
-        """Add a light (at most ``MAX_LIGHTS``)."""
+        """Add a light (at most ``MAX_LIGHTS``).
+
+        Parameters
+        ----------
+        light : DirectionalLight, PointLight, SpotLight or AreaLight
+            The light, world space.
+
+        Returns
+        -------
+        Light
+            ``light``.
+        """
         if not isinstance(light, (DirectionalLight, PointLight, SpotLight, AreaLight)):
             raise InputError(f"add_light expects a facet light, got {type(light).__name__}")
         if len(self.lights) >= MAX_LIGHTS:
@@ -139,16 +163,39 @@ class Scene:
         return light
 
     def add_camera(self, name: str, camera: Camera) -> Camera:
-        """Name a camera (scene files select cameras by name)."""
+        """Name a camera (scene files and ``--camera`` select cameras by name).
+
+        Parameters
+        ----------
+        name : str
+            The name.
+        camera : Camera
+            The camera.
+
+        Returns
+        -------
+        Camera
+            ``camera``.
+        """
         if not isinstance(camera, Camera):
             raise InputError(f"add_camera expects a facet.Camera, got {type(camera).__name__}")
         self.cameras[name] = camera
         return camera
 
     def camera(self, name: str | None = None) -> Camera | None:
-        """The camera called ``name``; without a name the options' camera, else the first
-        one (none for a model file's scene: ``frame_by_default``), else None (the renderer
-        then frames the scene)."""
+        """The camera a render of this scene uses.
+
+        Parameters
+        ----------
+        name : str, optional
+            A camera's name; without one the options' ``camera``, else the first one (none for a
+            model file's scene, which is framed).
+
+        Returns
+        -------
+        Camera or None
+            The camera, or None: the renderer frames the scene.
+        """
         name = name or self.options.get("camera")
         if name is None and self.frame_by_default:
             return None
@@ -160,10 +207,21 @@ class Scene:
         return next(iter(self.cameras.values()), None)
 
     def at(self, time: float = 0.0, animation=None) -> Scene:
-        """The scene as it stands at ``time`` seconds, its animations playing (all of
-        them, or the one named or numbered ``animation``), skins and morph targets
-        applied: a view sharing everything else (facet.scene.animation). Renders do this
-        with their ``time`` and ``animation`` options."""
+        """The scene as it stands at ``time``, its animations playing, skins and morph
+        targets applied (renders do this with their ``time`` and ``animation`` options).
+
+        Parameters
+        ----------
+        time : float
+            Seconds.
+        animation : str or int, optional
+            Play only the animation of this name or index (default: all of them).
+
+        Returns
+        -------
+        Scene
+            A view sharing everything else (facet.scene.animation).
+        """
         from .animation import pose_scene
 
         return pose_scene(self, time, animation)
@@ -174,8 +232,21 @@ class Scene:
         return [name for a in self.animated for name in a.rig.clip_names]
 
     def view(self, objects=None, lights=None) -> Scene:
-        """A shallow copy sharing everything but ``objects`` and/or ``lights`` (for render
-        passes that draw part of a scene or swap its lights; no GL involved)."""
+        """A shallow copy sharing everything but ``objects`` and/or ``lights`` (for passes
+        that draw part of a scene or swap its lights; no GL involved).
+
+        Parameters
+        ----------
+        objects : list of SceneObject, optional
+            The objects of the copy.
+        lights : list of Light, optional
+            The lights of the copy.
+
+        Returns
+        -------
+        Scene
+            The copy.
+        """
         copy = Scene.__new__(Scene)
         copy.__dict__.update(self.__dict__)
         if objects is not None:

@@ -44,8 +44,25 @@ TRANSFORM_OPS = ("translate", "scale", "rotate", "shear", "matrix")
 
 
 def load_scene(path, *, crease: float | None = None) -> Scene:
-    """Read a TOML scene file into a ``Scene`` (with its cameras and render settings).
-    ``crease``: the default crease angle of its mesh files (an object's ``crease`` wins)."""
+    """Read a TOML scene file (docs/scene-format.md).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    crease : float, optional
+        The default crease angle of its mesh files (an object's ``crease`` wins).
+
+    Returns
+    -------
+    Scene
+        The scene, with its cameras, lights and render settings (``Scene.options``).
+
+    Raises
+    ------
+    facet.SceneError
+        One line naming the file and the key at fault.
+    """
     from ..guard import parse_toml, regular_file
 
     path = regular_file(path, "scene file", SceneError)

@@ -25,7 +25,18 @@ from pathlib import Path
 
 @dataclass(eq=False)
 class UserShader:
-    """``fragment`` (and optionally ``vertex``) GLSL files, plus user uniform values."""
+    """A material's own GLSL: a fragment stage (and optionally a vertex stage) fed by
+    facet's vertex shader, with user uniform values (docs: the shader lab).
+
+    Parameters
+    ----------
+    fragment : str or Path
+        The fragment shader file (``#version 330 core``, colour to output 0).
+    vertex : str or Path, optional
+        A vertex shader file replacing facet's.
+    uniforms : dict
+        ``{name: value}`` for the shader's own uniforms.
+    """
 
     fragment: Path
     vertex: Path | None = None

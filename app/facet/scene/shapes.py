@@ -82,29 +82,109 @@ def _sizes(value, name: str, n: int) -> tuple:
 
 
 def Sphere(radius=1.0) -> Shape:  # noqa: N802 - constructors read as classes
+    """The sphere |p| = r.
+
+    Parameters
+    ----------
+    radius : float
+        > 0.
+
+    Returns
+    -------
+    Shape
+        An exact shape: the tracers intersect its equation, the rasterizer draws a fine
+        tessellation (``Shape.mesh``). Place it with the object's transform.
+    """
     return Shape("sphere", (_positive(radius, "sphere radius"),))
 
 
 def Plane(size=None) -> Shape:  # noqa: N802
+    """The plane y = 0 facing +y, infinite or bounded to a rectangle.
+
+    Parameters
+    ----------
+    size : float or (float, float), optional
+        Side, or (width, depth); None: infinite (drawn as a square of ``INFINITE_EXTENT``,
+        left out of the scene's bounds).
+
+    Returns
+    -------
+    Shape
+        An exact shape: the tracers intersect its equation, the rasterizer draws a fine
+        tessellation (``Shape.mesh``). Place it with the object's transform.
+    """
     if size is None or (np.ndim(size) == 0 and float(size) == np.inf):
         return Shape("plane", (np.inf, np.inf))
     return Shape("plane", _sizes(size, "plane size", 2))
 
 
 def Disk(radius=1.0) -> Shape:  # noqa: N802
+    """The disc y = 0, x^2 + z^2 <= r^2, facing +y.
+
+    Parameters
+    ----------
+    radius : float
+        > 0.
+
+    Returns
+    -------
+    Shape
+        An exact shape: the tracers intersect its equation, the rasterizer draws a fine
+        tessellation (``Shape.mesh``). Place it with the object's transform.
+    """
     return Shape("disk", (_positive(radius, "disk radius"),))
 
 
 def Cylinder(radius=0.5, height=1.0) -> Shape:  # noqa: N802
+    """The cylinder x^2 + z^2 = r^2 for |y| <= h / 2, with capped ends.
+
+    Parameters
+    ----------
+    radius, height : float
+        > 0.
+
+    Returns
+    -------
+    Shape
+        An exact shape: the tracers intersect its equation, the rasterizer draws a fine
+        tessellation (``Shape.mesh``). Place it with the object's transform.
+    """
     return Shape("cylinder", (_positive(radius, "cylinder radius"),
                               _positive(height, "cylinder height")))
 
 
 def Cone(radius=0.5, height=1.0) -> Shape:  # noqa: N802
+    """The right circular cone with its apex at y = h / 2 and a capped base of radius r at
+    y = -h / 2.
+
+    Parameters
+    ----------
+    radius, height : float
+        > 0.
+
+    Returns
+    -------
+    Shape
+        An exact shape: the tracers intersect its equation, the rasterizer draws a fine
+        tessellation (``Shape.mesh``). Place it with the object's transform.
+    """
     return Shape("cone", (_positive(radius, "cone radius"), _positive(height, "cone height")))
 
 
 def Box(size=1.0) -> Shape:  # noqa: N802
+    """The box |x| <= sx / 2, |y| <= sy / 2, |z| <= sz / 2.
+
+    Parameters
+    ----------
+    size : float or (3,) float
+        Side, or (sx, sy, sz).
+
+    Returns
+    -------
+    Shape
+        An exact shape: the tracers intersect its equation, the rasterizer draws a fine
+        tessellation (``Shape.mesh``). Place it with the object's transform.
+    """
     return Shape("box", _sizes(size, "box size", 3))
 
 

@@ -15,12 +15,31 @@ def is_scene_file(path) -> bool:
 
 
 def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
-    """A scene file read with its settings, or a mesh file as a scene of its parts (each
-    with its own material and node transform; a glTF's cameras become named cameras, the
-    default view stays framed on the model; its KHR_lights_punctual lights become the
-    scene's lights). ``crease``: the angle at which vertices
-    without normals in the file are split (facet.scene.normals). ``confine``: a folder
-    outside which no file is read (facet.guard.confined)."""
+    """A scene file read with its settings, or a mesh file as a scene of its parts.
+
+    A model's parts keep their own materials and node transforms; a glTF's cameras become
+    named cameras (the default view stays framed on the model), its KHR_lights_punctual
+    lights the scene's lights, its animations the scene's (``Scene.at``).
+
+    Parameters
+    ----------
+    path : str or Path
+        A scene file (.toml) or a mesh file (OBJ, STL, PLY, OFF, glTF/GLB, point clouds).
+    crease : float, optional
+        Where a file has no normals, split them at edges sharper than this many degrees.
+    confine : str or Path, optional
+        A folder outside which no file is read (facet.guard.confined).
+
+    Returns
+    -------
+    Scene
+        The scene.
+
+    Raises
+    ------
+    facet.SceneError, facet.MeshError
+        When a file cannot be read (one line naming it, the key or the element).
+    """
     if confine is not None:
         from ..guard import confined
 
@@ -47,5 +66,25 @@ def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
 
 
 def load(path, *, crease: float | None = None, confine=None) -> Scene:
-    """``open_scene`` under the short name: ``facet.load("truck.glb")``."""
+    """``open_scene`` under the short name: ``facet.load("truck.glb")``.
+
+    Parameters
+    ----------
+    path : str or Path
+        A scene file (.toml) or a mesh file (OBJ, STL, PLY, OFF, glTF/GLB, point clouds).
+    crease : float, optional
+        Where a file has no normals, split them at edges sharper than this many degrees.
+    confine : str or Path, optional
+        A folder outside which no file is read (facet.guard.confined).
+
+    Returns
+    -------
+    Scene
+        The scene.
+
+    Raises
+    ------
+    facet.SceneError, facet.MeshError
+        When a file cannot be read (one line naming it, the key or the element).
+    """
     return open_scene(path, crease=crease, confine=confine)

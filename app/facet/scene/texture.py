@@ -14,7 +14,15 @@ from ..errors import InputError
 
 
 class Texture:
-    """An RGBA8 image to sample. ``pixels``: (H, W, 3|4) uint8 (alpha 255 is added)."""
+    """An RGBA8 image to sample (row 0 is the top, v = 1).
+
+    Parameters
+    ----------
+    pixels : (H, W, 3) or (H, W, 4) uint8
+        The image (alpha 255 is added to RGB).
+    name : str
+        Label used in messages.
+    """
 
     def __init__(self, pixels, name: str = "texture"):
         a = np.asarray(pixels)
@@ -29,12 +37,41 @@ class Texture:
 
     @classmethod
     def from_pil(cls, image, name: str = "texture") -> Texture:
+        """A texture of a Pillow image.
+
+        Parameters
+        ----------
+        image : PIL.Image.Image
+            Any mode (converted to RGBA).
+        name : str
+            Label used in messages.
+
+        Returns
+        -------
+        Texture
+            The texture.
+        """
         return cls(np.asarray(image.convert("RGBA")), name)
 
     @classmethod
     def load(cls, path) -> Texture:
-        """Read an image file through Pillow; ``InputError`` naming the file if it cannot
-        (also one beyond facet's pixel budget: facet.guard)."""
+        """Read an image file through Pillow.
+
+        Parameters
+        ----------
+        path : str or Path
+            The file.
+
+        Returns
+        -------
+        Texture
+            The texture, named after the file.
+
+        Raises
+        ------
+        facet.InputError
+            When it cannot be read, or is beyond facet's pixel budget (facet.guard).
+        """
         from PIL import UnidentifiedImageError
 
         from ..guard import open_image, regular_file
@@ -49,8 +86,22 @@ class Texture:
     @classmethod
     def checker(cls, squares: int = 8, size: int = 512,
                 colors=((0.85, 0.85, 0.85), (0.25, 0.25, 0.25))) -> Texture:
-        """A ``squares`` x ``squares`` checkerboard (``size`` pixels square), for models with
-        texture coordinates but no image. The bottom-left square has the first colour."""
+        """A checkerboard, for models with texture coordinates but no image.
+
+        Parameters
+        ----------
+        squares : int
+            Squares along each side.
+        size : int
+            Pixels along each side (squares <= size <= 8192).
+        colors : two (3,) float
+            The squares' colours in [0, 1]; the bottom-left square has the first.
+
+        Returns
+        -------
+        Texture
+            The texture.
+        """
         if not (1 <= squares <= size and 1 <= size <= 8192):
             raise InputError(f"checker: need 1 <= squares <= size <= 8192, got {squares}, "
                              f"{size}")

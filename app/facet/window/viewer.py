@@ -26,11 +26,39 @@ IDLE_WAIT = 0.5  # longest sleep between events when nothing happens
 
 
 class Viewer(ViewerCore):
-    """A window showing a scene (or a mesh or scene file). ``run()`` blocks until it closes;
-    between runs (or before one) a script can ``set_camera``, ``request_frame``, ``save``.
-    ``options``: raw render options over the scene's (e.g. the command line's); ``size``
-    and ``msaa``, when given, join them. The window opens at the options' size (the
-    scene's, else the viewer's default, facet.scene.options.FRONT_DEFAULTS)."""
+    """A window showing a scene, drawn as ``facet render`` draws it.
+
+    ``run()`` blocks until it closes; between runs (or before one) a script can
+    ``set_camera``, ``request_frame``, ``save``. The keys and the mouse are the viewer's
+    (``h`` prints them); ``close()`` (or ``with``) releases the window and its GL.
+
+    Parameters
+    ----------
+    source : Scene or str or Path
+        A scene, or a mesh or scene file (reloaded when it changes on disk).
+    size : (int, int), optional
+        The window's size (default: the options', the scene's, else 1280x720).
+    msaa : int, optional
+        Multisample anti-aliasing samples.
+    title : str
+        The window's title (until the first frame shows the status).
+    shader : UserShader, optional
+        Replaces the file's materials' shaders.
+    options : mapping, optional
+        Raw render options over the scene's (e.g. the command line's).
+    crease : float, optional
+        Where a file has no normals, split them at edges sharper than this (degrees).
+    time_end : float, optional
+        The animations loop from the options' time to this (default: their length).
+    sizes : dict, optional
+        Point and line sizes over the file's (``point_size``, ``point_radius``,
+        ``line_width``).
+
+    Raises
+    ------
+    facet.window.base.NoDisplayError
+        When there is no display to open a window on.
+    """
 
     def __init__(self, source, size=None, msaa: int | None = None, title: str = "facet",
                  shader=None, options=None, crease: float | None = None,
@@ -56,16 +84,30 @@ class Viewer(ViewerCore):
         return self.win.size
 
     def show_status(self, text: str) -> None:
+        """Show a one-line status in the title.
+
+        Parameters
+        ----------
+        text : str
+            The line.
+        """
         self.win.set_title(text)
 
     def grab(self) -> np.ndarray:
-        """The window's current picture, (H, W, 3) uint8, row 0 at the top."""
+        """The window's current picture.
+
+        Returns
+        -------
+        (H, W, 3) uint8 ndarray
+            Row 0 at the top.
+        """
         w, h = self.surface_size
         with self.ctx:
             data = self.ctx.screen.read(viewport=(0, 0, w, h), components=3)
         return np.frombuffer(data, np.uint8).reshape(h, w, 3)[::-1].copy()
 
-    def quit(self):
+    def quit(self) -> None:
+        """Close the window at the next turn of ``run``'s loop."""
         self.win.quit()
 
     # -- drawing -------------------------------------------------------------------------
@@ -146,11 +188,28 @@ class Viewer(ViewerCore):
 def view(scene, size=None, msaa: int | None = None, shader=None, options=None,
          crease: float | None = None, time_end: float | None = None,
          sizes: dict | None = None) -> None:
-    """Open a window on ``scene`` (a Scene or a file path) and block until it closes;
-    ``shader`` (a UserShader) replaces the file's materials' shaders; ``options`` are
-    render options over the scene's; ``crease`` splits normals of files without them;
-    ``time_end``: the animations loop from the options' time to it; ``sizes``: point and
-    line sizes over the file's (facet.cli.args.sprite_sizes)."""
+    """Open a window on a scene and block until it closes (``facet view``).
+
+    Parameters
+    ----------
+    scene : Scene or str or Path
+        A scene, or a mesh or scene file.
+    size : (int, int), optional
+        The window's size.
+    msaa : int, optional
+        Multisample anti-aliasing samples.
+    shader : UserShader, optional
+        Replaces the file's materials' shaders.
+    options : mapping, optional
+        Raw render options over the scene's (e.g. the command line's).
+    crease : float, optional
+        Where a file has no normals, split them at edges sharper than this (degrees).
+    time_end : float, optional
+        The animations loop from the options' time to this (default: their length).
+    sizes : dict, optional
+        Point and line sizes over the file's (``point_size``, ``point_radius``,
+        ``line_width``).
+    """
     with Viewer(scene, size, msaa, shader=shader, options=options, crease=crease,
                 time_end=time_end, sizes=sizes) as v:
         v.run()
