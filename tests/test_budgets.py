@@ -1,6 +1,6 @@
 """facet's resource budgets (facet.budgets): stated once, printed by `facet info`, listed
-in the docs (docs/guide/rendering.md), raised or lowered by `facet --budget NAME=VALUE` and FACET_BUDGET_NAME, and
-each one enforced where the input meets it."""
+in the docs (docs/guide/rendering.md), raised or lowered by `facet --budget NAME=VALUE`
+and FACET_BUDGET_NAME, and each one enforced where the input meets it."""
 
 import re
 from pathlib import Path
