@@ -106,3 +106,19 @@ def test_the_commands_run_as_written(tmp_path):
     assert ran >= 15
     assert not [p for p in tmp_path.iterdir() if p.is_symlink() and not p.exists()]
     assert Path(tmp_path / "dataset" / "index.jsonl").is_file()
+
+
+@pytest.mark.slow
+def test_the_readmes_python_runs_as_written(tmp_path):
+    """Each python block of the README that opens no window runs from a folder holding the
+    repository's models, and the picture it saves is there."""
+    blocks = [b for b in re.findall(r"```python\n(.*?)```", README.read_text(), re.S)
+              if "facet.show" not in b and "facet.view" not in b]
+    assert blocks
+    (tmp_path / "models").symlink_to(ROOT / "models")
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
+    for block in blocks:
+        run = subprocess.run([sys.executable, "-c", block], cwd=tmp_path, env=env,
+                             capture_output=True, text=True, timeout=300)
+        assert run.returncode == 0, run.stderr
+    assert (tmp_path / "torus.png").is_file()
