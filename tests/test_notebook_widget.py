@@ -143,3 +143,19 @@ def test_show_outside_jupyter_opens_the_window(monkeypatch):
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     with pytest.raises(NoDisplayError, match="no display"):
         facet.show(default_model())
+
+
+def test_s_saves_the_picture_shown_and_m_changes_the_shading(widget, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    shown = widget.get_frame().copy()
+    widget.press("s")  # a screenshot into the kernel's folder, with its camera beside it
+    saved = sorted(tmp_path.glob("facet-*.png"))
+    assert len(saved) == 1 and saved[0].with_suffix(".json").is_file()
+    from PIL import Image
+
+    assert np.array_equal(np.asarray(Image.open(saved[0]).convert("RGB")), shown)
+    before = widget.session.options().shading
+    widget.press("m")
+    assert widget.session.options().shading != before
+    changed = widget.get_frame()
+    assert same_picture(changed, headless(widget)) <= MAX_DIFFERING
