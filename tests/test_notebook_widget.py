@@ -159,3 +159,33 @@ def test_s_saves_the_picture_shown_and_m_changes_the_shading(widget, tmp_path, m
     assert widget.session.options().shading != before
     changed = widget.get_frame()
     assert same_picture(changed, headless(widget)) <= MAX_DIFFERING
+
+
+def test_the_widget_reloads_its_file_when_it_changes(tmp_path):
+    """As the window does: the open file is looked at (``watch``, on the kernel's event loop
+    every WATCH_EVERY seconds), a change that stays put is loaded, the camera kept."""
+    import time
+
+    import trimesh
+
+    from facet.notebook.widget import widget_class
+
+    path = tmp_path / "model.ply"
+    trimesh.creation.box().export(path)
+    w = widget_class()(str(path), size=(96, 72))
+    try:
+        first = w.get_frame().copy()
+        camera = w.camera().view.copy()
+        assert w.watch() and w.get_frame() is None  # nothing changed: nothing drawn
+        trimesh.creation.icosphere(subdivisions=3).export(path)
+        end = time.monotonic() + 30
+        while w.session.triangles == 12 and time.monotonic() < end:
+            w.watch()  # the change must stay put for the debounce interval
+            time.sleep(0.02)
+        assert w.session.triangles == 1280 and w._rfb_draw_requested
+        assert np.allclose(w.camera().view, camera)  # reloaded in place
+        assert same_picture(w.get_frame(), first) > 0.01
+        w.session.close()
+        assert not w.watch()  # a closed widget stops looking
+    finally:
+        w.session.close()

@@ -32,8 +32,8 @@ MODEL = str(ROOT / "models" / "default.obj")
 class Served:
     """``facet view --serve 127.0.0.1:0`` in a subprocess, stopped on exit."""
 
-    def __init__(self, *args):
-        self.proc = subprocess.Popen([*FACET, "view", MODEL, "--serve", "127.0.0.1:0", *args],
+    def __init__(self, *args, model: str = MODEL):
+        self.proc = subprocess.Popen([*FACET, "view", model, "--serve", "127.0.0.1:0", *args],
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         line = self.proc.stdout.readline()
         found = re.search(r"http://\S+", line)
@@ -123,6 +123,34 @@ def test_a_refining_engine_sends_pictures_until_it_converges(served):
     assert samples[-5:] == [1, 2, 3, 4, 4] and traced[-1]["lossless"]
     asyncio.run(_pictures(served.ws, [{"type": "key_down", "key": "e"},
                                       {"type": "key_down", "key": "e"}], 1))  # back to raster
+
+
+def test_the_served_viewer_reloads_its_file_when_it_changes(tmp_path):
+    import trimesh
+
+    path = tmp_path / "model.ply"
+    trimesh.creation.box().export(path)
+
+    async def session(url):
+        from websockets.asyncio.client import connect
+
+        async with connect(url) as ws:
+            await ws.send(json.dumps({"type": "resize", "width": 64, "height": 48}))
+            statuses, changed = [], False
+            while True:
+                meta = json.loads(await asyncio.wait_for(ws.recv(), 60))
+                await asyncio.wait_for(ws.recv(), 60)
+                await ws.send(json.dumps({"type": "frame_feedback", "index": meta["index"]}))
+                statuses.append(meta["status"])
+                if meta["lossless"] and "1,280 triangles" in meta["status"]:
+                    return statuses  # the new model, drawn and still
+                if meta["lossless"] and not changed:  # the box shown: now change the file
+                    trimesh.creation.icosphere(subdivisions=3).export(path)
+                    changed = True
+
+    with Served(model=str(path)) as s:
+        statuses = asyncio.run(session(s.ws))
+    assert "12 triangles" in statuses[0] and "1,280 triangles" in statuses[-1]
 
 
 def test_a_bad_address_and_a_busy_port_are_one_line_each(served):

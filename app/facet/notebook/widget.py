@@ -19,6 +19,7 @@ from ..errors import InputError
 from ..viewing.session import Session
 
 QUALITY = 80  # JPEG quality while the view moves (lossless once it is still)
+WATCH_EVERY = 0.25  # seconds between looks at the open file (and users' shaders)
 SIZE = (640, 480)  # CSS pixels, when neither the call nor the scene gives a size
 NEEDS = "the notebook widget needs jupyter_rfb: pip install 'facet[notebook]'"
 
@@ -74,6 +75,7 @@ class _WidgetMixin:
         w, h = session.surface_size
         self.css_width, self.css_height = f"{w}px", f"{h}px"
         self.quality = int(quality)
+        self._watching = self._schedule_watch()
 
     # -- jupyter_rfb's two methods ---------------------------------------------------------
     def handle_event(self, event: dict) -> None:
@@ -92,12 +94,40 @@ class _WidgetMixin:
     def get_frame(self) -> np.ndarray | None:
         """The next picture, (H, W, 3) uint8, or None when nothing changed; asks for
         another while the view refines or plays."""
-        if self.session.canvas is None and self.session.last is not None:
-            return None  # closed
+        if self.session.closed:
+            return None
         picture = self.session.frame()
         if self.session.animated or self.session.refining:
             self.request_draw()
         return picture
+
+    # -- the open file ---------------------------------------------------------------------
+    def _schedule_watch(self) -> bool:
+        """Look at the open file again in WATCH_EVERY seconds, on the kernel's event loop
+        (none outside a running loop: a script calls ``watch()`` itself)."""
+        import asyncio
+
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:
+            return False
+        loop.call_later(WATCH_EVERY, self._watch_and_again)
+        return True
+
+    def _watch_and_again(self) -> None:
+        if self.watch():
+            self._schedule_watch()
+
+    def watch(self) -> bool:
+        """Reload the open file (and users' shaders) when they changed, as the window does,
+        and ask for a picture when there is one to draw; returns False once the widget is
+        closed (the loop stops looking)."""
+        session = self.session
+        if session.closed:
+            return False
+        if session.poll():
+            self.request_draw()
+        return True
 
     # -- for scripts -------------------------------------------------------------------
     def camera(self):

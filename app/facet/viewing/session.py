@@ -53,6 +53,7 @@ class Session(ViewerCore):
         self._own_renderer = renderer is None
         self.canvas: Canvas | None = None
         self.quitting = False  # q was pressed: the front closes the view
+        self.closed = False
         self.last: np.ndarray | None = None  # the last picture drawn
         self.frames = 0  # pictures drawn
         self.start(Renderer() if renderer is None else renderer)
@@ -134,6 +135,16 @@ class Session(ViewerCore):
             self.check_files()
             return self._draw() if self.wants_frame else None
 
+    def poll(self) -> bool:
+        """Reload the open file and user shaders when they changed (and then stayed put);
+        returns whether there is a picture to draw. What a front without its own frame
+        loop calls every so often (the notebook widget)."""
+        if self.closed:
+            return False
+        with self.renderer.ctx:
+            self.check_files()
+            return self.wants_frame
+
     def set_size(self, width: int, height: int) -> None:
         """Draw at ``width`` x ``height`` pixels (events in the same units)."""
         if not (isinstance(width, int) and isinstance(height, int) and width >= 1
@@ -143,7 +154,11 @@ class Session(ViewerCore):
         self.resize(width, height)
 
     def close(self) -> None:
-        """Release the canvas (and the renderer when the session made it)."""
+        """Release the canvas (and the renderer when the session made it). Safe to call
+        twice."""
+        if self.closed:
+            return
+        self.closed = True
         if self.canvas is not None:
             with self.renderer.ctx:
                 self.canvas.release()
