@@ -6,7 +6,9 @@ window's controls and keys (drag orbits, right / shift drag pans, the wheel zoom
 engine, ``m`` shading, ``s`` screenshot, ... ``h`` lists them) and draws the next picture.
 jupyter_rfb sends it as JPEG while the view changes and as a lossless PNG once it has been
 still for a moment; a still view refines (supersampling, the tracers) frame by frame as in
-the window, and an idle widget draws nothing.
+the window, and an idle widget draws nothing. The open file is looked at every
+``WATCH_EVERY`` seconds on the kernel's event loop and reloaded when it changed, as the
+window reloads it.
 """
 
 from __future__ import annotations
