@@ -244,3 +244,42 @@ def test_keys_in_the_page_and_two_tabs_seeing_one_session(browser):
         theirs = _shows(browser, canvas, lambda _, pixels: pixels[0, 0].any(),
                         "the new background in the first tab")
         assert mine.shape == theirs.shape and np.array_equal(mine, theirs)
+
+
+HOLD_PNG = """
+// Before the page's script: PNG decodes wait until window.__release() (a slow decode of a
+// large still picture), and every picture index the canvas shows is recorded.
+window.__held = 0; window.__shown = [];
+let release; const gate = new Promise((r) => { release = r });
+window.__release = () => release();
+const decode = window.createImageBitmap.bind(window);
+window.createImageBitmap = async (blob) => {
+  if (blob.type === 'image/png') { window.__held += 1; await gate }
+  return decode(blob);
+};
+document.addEventListener('DOMContentLoaded', () => {
+  const c = document.getElementById('canvas');
+  new MutationObserver(() => window.__shown.push(Number(c.dataset.frame)))
+    .observe(c, {attributes: true, attributeFilter: ['data-frame']});
+});
+"""
+
+
+def test_a_slow_decode_never_puts_an_older_picture_over_a_newer_one(browser):
+    """Decoding finishes out of order (a still view's PNG is larger than the next moving
+    JPEG): the page must not show the older picture after the newer one (it did: the
+    canvas went back to the stale still picture)."""
+    browser.execute_cdp_cmd("Page.addScriptToEvaluateOnNewDocument", {"source": HOLD_PNG})
+    with Served() as s:
+        browser.get(s.url)
+        canvas = browser.find_element("id", "canvas")
+        wait_for(lambda: browser.execute_script("return window.__held") >= 1,
+                 "the still picture's decode to start")
+        shown = int(canvas.get_attribute("data-frame") or 0)
+        canvas.send_keys("b")  # a new background: a newer (JPEG) picture
+        wait_for(lambda: int(canvas.get_attribute("data-frame") or 0) > shown + 1,
+                 "the newer picture")
+        browser.execute_script("window.__release()")
+        _shows(browser, canvas, lambda _, pixels: pixels[0, 0].any(), "the new background")
+        indices = browser.execute_script("return window.__shown")
+    assert indices == sorted(indices), indices

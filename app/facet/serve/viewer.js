@@ -14,6 +14,7 @@
   ws.binaryType = 'blob'
   let meta = null
   let open = false
+  let drawn = 0 // the index of the picture on the canvas: decoding may finish out of order
   const send = (event) => { if (open) ws.send(JSON.stringify(event)) }
   const modifiers = (ev) => ['Shift', 'Control', 'Alt', 'Meta'].filter((m) => ev.getModifierState(m))
   const BUTTONS = { 0: 1, 1: 3, 2: 2 } // DOM button -> jupyter_rfb's (1 left, 2 right, 3 middle)
@@ -36,6 +37,12 @@
     const m = meta
     meta = null
     const bitmap = await createImageBitmap(new Blob([ev.data], { type: m.mime }))
+    if (m.index < drawn) { // a newer picture is already shown: this one is stale
+      bitmap.close()
+      send({ type: 'frame_feedback', index: m.index })
+      return
+    }
+    drawn = m.index
     if (canvas.width !== m.width || canvas.height !== m.height) {
       canvas.width = m.width
       canvas.height = m.height
