@@ -145,7 +145,11 @@ def test_a_job_that_kills_its_worker_every_time_fails_alone(tmp_path):
     """A job whose worker dies each time it runs it (as a model too large for memory
     would; here the test kills the worker whenever the job writes a view) is found by
     running the suspects alone, fails with its one line, and the others are done."""
-    models, out, proc = _start_batch(tmp_path, 5, views=30, workers=2)
+    # m02 has many more views, so each attempt at it runs long enough for this loop to see
+    # its first view and kill its worker mid-job on a loaded machine (with 30 views it could
+    # finish between two looks, and a later kill hit another job running alone).
+    models, out, proc = _start_batch(tmp_path, 5, views=30, workers=2,
+                                     own={"m02": {"views": {"plan": "sphere", "count": 600}}})
     killed, last = 0, 0.0
     end = time.time() + 120
     while proc.poll() is None and time.time() < end:
@@ -171,11 +175,14 @@ def test_zero_workers_is_an_error(tmp_path, capsys):
     assert "--workers must be at least 1, got 0" in capsys.readouterr().err
 
 
-def _start_batch(tmp_path, n: int, views: int, workers: int):
+def _start_batch(tmp_path, n: int, views: int, workers: int, own: dict | None = None):
     """(models, output folder, process) of `facet batch` started on ``n`` generated models
-    with ``views`` views each at 96x96 and ``workers`` worker processes."""
+    with ``views`` views each at 96x96 and ``workers`` worker processes; ``own``: a job's
+    own settings, by model name."""
     models = make_models(tmp_path / "models", n)
-    manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
+    own = own or {}
+    manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}", **own.get(m.stem, {})}
+                                         for m in models],
                               {"size": [96, 96], "views": {"plan": "sphere", "count": views}})
     out = tmp_path / "out"
     env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
