@@ -25,10 +25,8 @@ from __future__ import annotations
 
 import argparse
 import io
-import statistics
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import moderngl
@@ -38,6 +36,8 @@ import trimesh
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import facet  # noqa: E402
+
+from timing import median_time  # noqa: E402
 
 SHARED = HERE.parents[1] / "shared" / "gltf"
 DTYPES = {5120: "i1", 5121: "u1", 5122: "<i2", 5123: "<u2", 5125: "<u4", 5126: "<f4"}
@@ -169,14 +169,6 @@ def pyrender_frame(path: Path, renderer) -> None:
     scene.add(pyrender.DirectionalLight(intensity=3.0), pose=pose)
     renderer.render(scene)
 
-
-def median_time(fn, runs: int) -> float:
-    times = []
-    for _ in range(runs):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
 
 
 def table(quick: bool = False, extra: tuple = ()) -> None:

@@ -16,7 +16,6 @@ maps, both at 4 samples per pixel. Prints tables; asserts nothing.
 
 from __future__ import annotations
 
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -24,19 +23,13 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from timing import median_time
+
 HERE = Path(__file__).resolve().parent
 SHARED = HERE.parents[1] / "shared" / "models"
 SIZE = 1024
 LIGHT = np.array([-0.4, -1.0, -0.3]) / np.linalg.norm([-0.4, -1.0, -0.3])
 
-
-def _best(fn, runs=3) -> float:
-    times = []
-    for _ in range(runs):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
 
 
 def _meshes(quick: bool):
@@ -64,7 +57,7 @@ def _embree(vertices, faces, origins, dirs):
     TriangleMesh(scene, tri)
     scene.run(o[:1], d[:1])  # the first query commits the scene
     build = time.perf_counter() - t
-    prim = _best(lambda: scene.run(o, d))  # nearest hit: the triangle per ray
+    prim = median_time(lambda: scene.run(o, d))  # nearest hit: the triangle per ray
     found = scene.run(o, d, output=1)
     hit = found["geomID"] >= 0
     start = o[hit] + d[hit] * found["tfar"][hit, None]
@@ -74,7 +67,7 @@ def _embree(vertices, faces, origins, dirs):
     normals *= -np.sign(np.sum(normals * d[hit], axis=1))[:, None]  # towards the eye
     start = (start + normals * 1e-4).astype(np.float32)
     to_light = np.broadcast_to(-LIGHT, start.shape).astype(np.float32)
-    shadow = _best(lambda: scene.run(start, to_light, query="OCCLUDED"))
+    shadow = median_time(lambda: scene.run(start, to_light, query="OCCLUDED"))
     return build, prim, int(hit.sum()), shadow
 
 
@@ -96,7 +89,7 @@ def table(quick: bool) -> None:
     with Renderer(SIZE, SIZE) as r:
         for name, vertices, faces in _meshes(quick):
             tri = vertices[faces].astype(np.float32)
-            build = _best(lambda tri=tri: build_bvh(tri.min(axis=1), tri.max(axis=1)), 1)
+            build = median_time(lambda tri=tri: build_bvh(tri.min(axis=1), tri.max(axis=1)), 1)
             scene = facet.Scene()
             scene.add(facet.Mesh(vertices, faces))
             scene.add_light(facet.DirectionalLight(LIGHT))
@@ -126,10 +119,10 @@ def _facet_times(r, scene, camera):
     run(("ids",))  # upload, compile
     # The ids read back: a frame's exact channels are read lazily, and the GL does the
     # work only when something waits for it.
-    primary = _best(lambda: run(("ids",)).object_ids)
+    primary = median_time(lambda: run(("ids",)).object_ids)
     hits = int((run(("ids",)).object_ids >= 0).sum())
-    return (primary, hits, _best(lambda: run(("color",))),
-            _best(lambda: run(("color",), True)))
+    return (primary, hits, median_time(lambda: run(("color",))),
+            median_time(lambda: run(("color",), True)))
 
 
 def _rays(camera):
@@ -159,8 +152,8 @@ def frame(quick: bool) -> None:
         traced = dict(engine="trace", shadows=True, max_depth=1, outputs=("color",))
         for kw in (raster, traced):
             r.render(scene, **kw)
-        t_raster = _best(lambda: r.render(scene, **raster))
-        t_trace = _best(lambda: r.render(scene, **traced))
+        t_raster = median_time(lambda: r.render(scene, **raster))
+        t_trace = median_time(lambda: r.render(scene, **traced))
     print(f"{'rasterized, shadow maps, 4x MSAA':>44} | {t_raster * 1e3:8.1f}")
     print(f"{'traced, shadow rays, one bounce, 4 spp':>44} | {t_trace * 1e3:8.1f}   "
           f"ratio {t_trace / t_raster:.1f}")

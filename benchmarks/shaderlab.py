@@ -15,6 +15,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from timing import median_time
+
 ROOT = Path(__file__).resolve().parents[1]
 SIZE = (800, 450)
 SHADERS = ("waves.frag", "sdf.frag")
@@ -115,19 +117,12 @@ def assembly() -> None:
             for f in files:
                 f.read_bytes()
 
-        floor = _median(read)
-        ms = _median(lambda path=path: expand(path))
+        floor = median_time(read, 20)
+        ms = median_time(lambda path=path: expand(path), 20)
         print(f"{stage:>30} | {len(source.origin):6d} {floor * 1e3:8.3f} {ms * 1e3:9.3f} "
               f"{ms / floor:6.1f}")
 
 
-def _median(call, repeats: int = 20) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        call()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 if __name__ == "__main__":
