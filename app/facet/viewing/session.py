@@ -18,7 +18,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import InputError
 from .core import ViewerCore
 
 if TYPE_CHECKING:
@@ -144,14 +143,6 @@ class Session(ViewerCore):
         with self.renderer.ctx:
             self.check_files()
             return self.wants_frame
-
-    def set_size(self, width: int, height: int) -> None:
-        """Draw at ``width`` x ``height`` pixels (events in the same units)."""
-        if not (isinstance(width, int) and isinstance(height, int) and width >= 1
-                and height >= 1):
-            raise InputError(f"a view's size is two positive integers, got {width!r}, "
-                             f"{height!r}")
-        self.resize(width, height)
 
     def close(self) -> None:
         """Release the canvas (and the renderer when the session made it). Safe to call
