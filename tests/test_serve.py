@@ -153,6 +153,19 @@ def test_the_served_viewer_reloads_its_file_when_it_changes(tmp_path):
     assert "12 triangles" in statuses[0] and "1,280 triangles" in statuses[-1]
 
 
+def test_q_in_a_page_says_in_one_line_that_the_server_stays(tmp_path):
+    with Served() as s:
+        keys = [{"type": "resize", "width": 32, "height": 24},
+                {"type": "key_down", "key": "q"}, {"type": "key_down", "key": "Escape"},
+                {"type": "key_down", "key": "o"}]  # then a change: a picture after them
+        got = asyncio.run(_pictures(s.ws, keys, 1, until_lossless=True))
+        assert s.proc.poll() is None  # still serving
+        s.stop()
+        err = s.proc.stderr.read()
+    assert err.count("q and Esc do not stop a served viewer") == 1, err
+    assert got[-1][0]["camera"]["model"] == "orthographic"
+
+
 def test_a_bad_address_and_a_busy_port_are_one_line_each(served):
     bad = subprocess.run([*FACET, "view", MODEL, "--serve", "localhost:99999"],
                          capture_output=True, text=True, timeout=60)

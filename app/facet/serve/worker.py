@@ -7,6 +7,7 @@ waits on its queue (and looks at the open file every ``POLL`` seconds)."""
 from __future__ import annotations
 
 import queue
+import sys
 import threading
 import time
 
@@ -30,6 +31,7 @@ class Worker(threading.Thread):
         self.index = 0  # pictures sent
         self.shown = 0  # the last picture a page said it showed
         self.pages = 0  # pages connected: none, nothing is drawn
+        self.said_quit = False  # the line about q in a page was printed
 
     def post(self, event: dict) -> None:
         self.events.put(event)
@@ -73,8 +75,13 @@ class Worker(threading.Thread):
                     self.pages = max(self.pages - 1, 0)
                 else:
                     session.handle(event)
-            if session.quitting:
-                session.quitting = False  # q in a page: nothing to close (the server stays)
+            if session.quitting:  # q / Esc in a page: the server stays for the other tabs
+                session.quitting = False
+                if not self.said_quit:
+                    self.said_quit = True
+                    print("facet view: q and Esc do not stop a served viewer (other tabs may "
+                          "be watching); close the tab, and Ctrl-C here stops the server",
+                          file=sys.stderr, flush=True)
             if self.pages == 0 or self.index - self.shown >= IN_FLIGHT:
                 lossless_due = None if self.pages == 0 else lossless_due
                 continue
