@@ -346,6 +346,44 @@ def test_animation_picks_one_by_name_or_index(tmp_path, capsys):
     assert not out.exists()
 
 
+def _two_clips(tmp_path):
+    """A box with two clips driving its translation: "survey" along +x, then "run" along
+    +y (as a Fox has Survey, Walk and Run on one skeleton)."""
+    b = GltfBuilder()
+    node = b.node(mesh=_box(b))
+    clips = []
+    for name, axis in (("survey", 0), ("run", 1)):
+        values = np.zeros((2, 3))
+        values[1, axis] = 2.0
+        clips.append({"name": name, "samplers": [_sampler(b, [0, 1], values, "LINEAR")],
+                      "channels": [{"sampler": 0, "target": {"node": node,
+                                                              "path": "translation"}}]})
+    b.doc["animations"] = clips
+    return b.write_gltf(tmp_path / "clips.gltf")
+
+
+def test_the_first_animation_plays_by_default_and_all_only_when_asked(tmp_path, renderer):
+    """Every glTF viewer plays a file's first clip unless told otherwise: the default pose
+    is "survey"'s (x moves, y stays), in Python and through a render; "all" plays both
+    (the later clip wins) with one warning line naming the clips that collide. (Old code:
+    every clip played by default and the last won: the box moved up.)"""
+    scene = facet.load(_two_clips(tmp_path))
+    moved = scene.at(0.5).objects[0].transform[:3, 3]
+    np.testing.assert_allclose(moved, [1.0, 0.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose(scene.at(0.5, "run").objects[0].transform[:3, 3], [0, 1, 0],
+                               atol=1e-9)
+    r = renderer(32, 32)
+    camera = facet.Camera.look_at((0, 0, 8), (0, 0, 0), fov_y=40)
+    default = r.render(scene, camera, time=0.5, shadows=False).object_ids
+    first = r.render(scene, camera, time=0.5, animation=0, shadows=False).object_ids
+    np.testing.assert_array_equal(default, first)
+    with pytest.warns(facet.FacetWarning) as caught:
+        both = scene.at(0.5, "all").objects[0].transform[:3, 3]
+    np.testing.assert_allclose(both, [0.0, 1.0, 0.0], atol=1e-9)
+    lines = [str(w.message) for w in caught]
+    assert len(lines) == 1 and "'survey' and 'run'" in lines[0], lines
+
+
 # -- bad files ------------------------------------------------------------------------------
 def _edit(path, change):
     doc = json.loads(path.read_text())

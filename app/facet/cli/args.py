@@ -191,8 +191,8 @@ def add_render_options(p, size_default: str) -> None:
                    "sequence of (B - A) x --fps frames (GIF, MP4 or a PNG pattern), or "
                    "spreads A..B over a --turntable's frames; 'facet view' loops A..B")
     g.add_argument("--animation", metavar="NAME|INDEX",
-                   help="which of the model's animations plays (default: all of them; "
-                   "'facet info' lists them)")
+                   help="which of the model's animations plays (default: the first, as "
+                   "glTF viewers play it; 'all': every clip at once; 'facet info' lists them)")
     g.add_argument("--shutter", metavar="S",
                    help="motion blur: the shutter stays open S seconds from --time and the "
                    "animations blur as they move (supersampled; default 0)")

@@ -20,8 +20,9 @@ facet reads:
   world frame (the mesh node's own transform is not applied, as the specification says);
   normals move by the inverse transpose of the blended matrix, tangents by the matrix.
 
-Every clip plays at once by default (channels of later clips win where two drive the same
-property); ``animation=NAME|INDEX`` plays one. All of it is numpy over whole arrays (no
+The first clip plays by default, as glTF viewers do; ``animation=NAME|INDEX`` plays another,
+``animation="all"`` every clip at once (later clips win where two drive the same property, and
+a warning says which clips collide). All of it is numpy over whole arrays (no
 Python loop over vertices or keys; one loop over the nodes for their world matrices).
 """
 
@@ -38,6 +39,7 @@ from .skinned import SkinnedPose  # a pose deformed on demand (the GPU's, else n
 INTERPOLATIONS = ("STEP", "LINEAR", "CUBICSPLINE")
 PATHS = ("translation", "rotation", "scale", "weights")
 NO_CLIPS = ("no clips",)  # Rig.clips_for: nothing plays (a model without the named one)
+ALL_CLIPS = "all"  # Rig.clips_for: every clip at once (a clip's own name "all" wins)
 SLERP_LINEAR = 0.9995  # cos(angle) above which slerp is a normalised lerp (sin ~ 0)
 
 
@@ -209,21 +211,24 @@ class Rig:
         return True
 
     def clips_for(self, which) -> list[Clip]:
-        """The clips that play: all (None), one by name, or one by index (NO_CLIPS:
-        none)."""
+        """The clips that play: the first (None), all (``ALL_CLIPS``), one by name, or one
+        by index (NO_CLIPS: none)."""
         if which is None:
-            return self.clips
+            return self.clips[:1]
         if which is NO_CLIPS:
             return []
         if isinstance(which, str) and which in self.clip_names:
             return [self.clips[self.clip_names.index(which)]]
+        if which == ALL_CLIPS:
+            _warn_overlaps(self.clips)
+            return self.clips
         index = which if isinstance(which, int) else \
             int(which) if isinstance(which, str) and which.isdigit() else None
         if index is not None and 0 <= index < len(self.clips):
             return [self.clips[index]]
         known = ", ".join(f"{i}: {n}" for i, n in enumerate(self.clip_names)) or "none"
         raise InputError(f"animation {which!r}: no such animation in this model "
-                         f"(animations: {known})")
+                         f"(animations: {known}; or all)")
 
     def duration(self, which=None) -> float:
         return max((c.duration for c in self.clips_for(which)), default=0.0)
@@ -281,6 +286,33 @@ class Rig:
         return out, cams
 
 
+_WARNED_OVERLAPS: set = set()
+
+
+def _warn_overlaps(clips: list) -> None:
+    """One warning line (once per set of clips) when clips played together drive the same
+    node's property: the later clip's value is the one drawn."""
+    owner: dict = {}
+    clash: list = []
+    for k, clip in enumerate(clips):
+        for c in clip.channels:
+            first = owner.setdefault((c.node, c.path), k)
+            if first != k and (first, k) not in clash:
+                clash.append((first, k))
+    key = tuple(id(c) for c in clips)
+    if not clash or key in _WARNED_OVERLAPS:
+        return
+    _WARNED_OVERLAPS.add(key)
+    import warnings
+
+    from ..errors import FacetWarning
+
+    names = [c.name or str(k) for k, c in enumerate(clips)]
+    pairs = ", ".join(f"{names[a]!r} and {names[b]!r}" for a, b in clash)
+    warnings.warn(f"animation 'all': clips {pairs} drive the same nodes; the later clip's "
+                  "values are drawn there", FacetWarning, stacklevel=4)
+
+
 @dataclass
 class Animated:
     """A rig placed in a scene: rig part ``i`` is scene object ``objects[i]``, the whole
@@ -314,8 +346,8 @@ class Animated:
 
 
 def pose_scene(scene, time: float, which=None):
-    """``scene`` as it stands at ``time`` seconds with the clips ``which`` playing (every
-    clip by default; Rig.clips_for): a view whose animated objects and cameras are posed;
+    """``scene`` as it stands at ``time`` seconds with the clips ``which`` playing (each
+    model's first clip by default; Rig.clips_for): a view whose animated objects and cameras are posed;
     ``scene`` itself when nothing in it is animated."""
     animated = getattr(scene, "animated", None)
     if not animated:

@@ -105,7 +105,8 @@ class RenderOptions:
     time : float
         Seconds: where the scene's animations stand, and users' shaders' ``u_time``.
     animation : str or int, optional
-        Which animation plays (a name or an index); None: all of them.
+        Which animation plays (a name or an index; "all": every clip at once); None: the
+        first of each model, as glTF viewers play it.
     variant : str, optional
         A glTF material variant's name (KHR_materials_variants).
     shutter : float
