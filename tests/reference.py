@@ -44,8 +44,10 @@ def linear_depth(view, points):
     return -(points @ view[:3, :3].T + view[:3, 3])[..., 2]
 
 
-def phong(points, normals, to_eye, color, material, lights, ambient, blinn=False):
-    """The notes' shading equation at world points (H, W, 3), clamped to [0, 1].
+def phong(points, normals, to_eye, color, material, lights, ambient, blinn=False,
+          clamp=True):
+    """The notes' shading equation at world points (H, W, 3), clamped to [0, 1] (unless
+    ``clamp`` is False: the local colour a reflective surface shares with its reflection).
 
     I = I_a k_a C + sum_i I_i (k_d C max(N.L, 0) + k_s max(R.V, 0)^n), specular only where
     N.L > 0. ``lights``: facet light objects; point/spot attenuation 1 / (c + l d + q d^2).
@@ -82,7 +84,7 @@ def phong(points, normals, to_eye, color, material, lights, ambient, blinn=False
         spec = np.maximum(spec_base, 0) ** material.shininess
         term = material.kd * C * np.maximum(n_dot_l, 0)[..., None] + material.ks * spec[..., None]
         out = out + np.where(lit[..., None], intensity * falloff[..., None] * term, 0.0)
-    return np.clip(out, 0.0, 1.0)
+    return np.clip(out, 0.0, 1.0) if clamp else out
 
 
 def sphere_reference(camera, width, height, center, radius, material, lights, ambient,

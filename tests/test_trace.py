@@ -229,6 +229,35 @@ def test_reflection_and_refraction_follow_snell_and_fresnel(renderer, case):
         assert tir.sum() > 100 and close[tir & calm].mean() > 0.97
 
 
+def test_a_reflective_highlight_is_clamped_as_a_pixel_not_before_it_is_shared(renderer):
+    """A red Phong sphere with reflectivity 0.3 over a black background, lit so that its
+    highlight's red is far above 1: the notes' Whitted equation gives (1 - r) I_local +
+    r I_reflected, clamped once as a pixel; the traced colour equals a numpy tracer of it
+    (the reflections see the black background). The old tracer clamped I_local first, so
+    red stopped at 1 - r = 0.70 across the highlight (17/255 and more off)."""
+    from reference import phong, ray_sphere
+
+    camera = Camera.look_at((0, 0, 4), (0, 0, 0), fov_y=35, near=0.5, far=20)
+    material = Material(color=(1.0, 0.3, 0.2), ka=0.2, kd=0.9, ks=0.9, shininess=12,
+                        reflectivity=0.3)
+    light = DirectionalLight(direction=(-0.3, -0.4, -1.0), intensity=1.4)
+    scene = Scene(ambient=0.3, background=(0, 0, 0))
+    scene.add_light(light)
+    scene.add(shapes.Sphere(1.0), material)
+    frame = renderer(S, S).render(scene, camera, engine="trace", aa="none", shadows=False,
+                                  float_color=True)
+    origins, dirs = pixel_rays(camera.view, camera.projection(S, S), S, S)
+    t = ray_sphere(origins, dirs, (0, 0, 0), 1.0)
+    hit = np.isfinite(t)
+    p = origins + np.where(hit, t, 0)[..., None] * dirs
+    local = phong(p, p, -dirs, material.color, material, [light], 0.3, clamp=False)
+    expected = np.clip((1 - material.reflectivity) * local, 0, 1)
+    inside = erode(hit, 1)
+    got = frame.color[..., :3]
+    assert local[inside][:, 0].max() > 1.6  # the highlight is saturated in the local colour
+    assert np.abs(got - expected)[inside].max() <= 2 / 255
+
+
 def test_transparency_passes_light_through(renderer):
     """A pane of opacity a over the background gives a C + (1 - a) background, exactly
     where it covers (unlit), and its shadow keeps (1 - a) of the light."""

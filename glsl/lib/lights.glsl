@@ -96,10 +96,11 @@ float incident_light(int i, vec3 p, out vec3 L) {
 #endif
 #endif
 
-// I = I_a k_a C + sum_i (diffuse + specular), clamped to [0, 1]. ``albedo`` multiplies C
-// where it varies over the surface (texture x vertex colour; vec3(1) for plain materials).
-// blinn selects the halfway-vector specular.
-vec3 shade_scene(vec3 p, vec3 N, vec3 V, vec3 albedo, bool blinn) {
+// I = I_a k_a C + sum_i (diffuse + specular), not clamped: what a surface adds before it is
+// mixed with its reflection (the notes clamp the pixel, not the local colour). ``albedo``
+// multiplies C where it varies over the surface (texture x vertex colour; vec3(1) for
+// plain materials). blinn selects the halfway-vector specular.
+vec3 light_scene(vec3 p, vec3 N, vec3 V, vec3 albedo, bool blinn) {
     vec3 I = AMBIENT_TERM * albedo;
     for (int i = 0; i < LIGHTS_IN_USE; ++i) {
         vec3 L;
@@ -110,5 +111,10 @@ vec3 shade_scene(vec3 p, vec3 N, vec3 V, vec3 albedo, bool blinn) {
             ? blinn_light(N, L, V, diffuse, LIGHT_SPECULAR(i), SHININESS)
             : phong_light(N, L, V, diffuse, LIGHT_SPECULAR(i), SHININESS));
     }
-    return clamp(I, 0.0, 1.0);
+    return I;
+}
+
+// The same, clamped to [0, 1]: the colour of a surface that reflects nothing.
+vec3 shade_scene(vec3 p, vec3 N, vec3 V, vec3 albedo, bool blinn) {
+    return clamp(light_scene(p, N, V, albedo, blinn), 0.0, 1.0);
 }

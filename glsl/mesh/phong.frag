@@ -140,9 +140,9 @@ void main() {
 #elif defined(SHADE_NORMALS)
     vec3 rgb = normalize(v_normal_world) * 0.5 + 0.5;  // world-space normal as colour
 #elif defined(SHADE_BLINN)
-    vec3 rgb = shade_scene(v_pos_world, N, V, albedo, true);
+    vec3 rgb = light_scene(v_pos_world, N, V, albedo, true);
 #else  // SHADE_PHONG, SHADE_FLAT
-    vec3 rgb = shade_scene(v_pos_world, N, V, albedo, false);
+    vec3 rgb = light_scene(v_pos_world, N, V, albedo, false);
 #endif
 #ifdef EDL
     rgb *= texelFetch(u_edl_shade, ivec2(gl_FragCoord.xy), 0).r;
@@ -157,10 +157,14 @@ void main() {
         vec3 refracted = texture(u_environment, refract(-V, N, 1.0 / u_ior)).rgb;
         env = mix(refracted, reflected, fresnel);
     }
-    rgb = mix(rgb, env, u_reflectivity);
-#endif
-#ifdef HAS_MIRROR
-    rgb = mix(rgb, texelFetch(u_mirror, ivec2(gl_FragCoord.xy), 0).rgb, u_mirror_weight);
+    // The local colour's share is clamped as a pixel is, not the local colour before
+    // it is shared: a highlight brighter than 1 still shows through (1 - reflectivity).
+    rgb = clamp((1.0 - u_reflectivity) * rgb, 0.0, 1.0) + u_reflectivity * env;
+#elif defined(HAS_MIRROR)
+    rgb = clamp((1.0 - u_mirror_weight) * rgb, 0.0, 1.0)
+        + u_mirror_weight * texelFetch(u_mirror, ivec2(gl_FragCoord.xy), 0).rgb;
+#else
+    rgb = clamp(rgb, 0.0, 1.0);
 #endif
 #ifdef OIT
     write_color(rgb, u_opacity);

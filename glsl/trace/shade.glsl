@@ -243,11 +243,8 @@ vec3 shade_pbr(Surface s, vec3 V) {
 }
 #endif
 
-// The local colour of a surface seen from direction V (towards the viewer).
-vec3 shade_surface(Surface s, vec3 V) {
-#ifdef PBR_SLOTS
-    if (material_texel(s.inst, 7).z > 0.5) return shade_pbr(s, V);
-#endif
+// The Phong models' local colour of a surface seen from V (not clamped).
+vec3 local_colour(Surface s, vec3 V) {
     vec3 c = s.color;
     g_ambient_term = u_ambient.rgb * s.k.x * c;
     g_kd_c = s.k.y * c;
@@ -259,10 +256,21 @@ vec3 shade_surface(Surface s, vec3 V) {
 #elif defined(SHADE_NORMALS)
     return (s.front ? s.n : -s.n) * 0.5 + 0.5;  // the outward normal, as rasterized
 #elif defined(SHADE_FLAT)
-    return shade_scene(s.p, s.ng, V, s.albedo, false);
+    return light_scene(s.p, s.ng, V, s.albedo, false);
 #elif defined(SHADE_BLINN)
-    return shade_scene(s.p, s.n, V, s.albedo, true);
+    return light_scene(s.p, s.n, V, s.albedo, true);
 #else  // SHADE_PHONG; SHADE_GOURAUD is a rasterizer's per-vertex shortcut: traced as Phong
-    return shade_scene(s.p, s.n, V, s.albedo, false);
+    return light_scene(s.p, s.n, V, s.albedo, false);
 #endif
+}
+
+// The local colour of a surface seen from direction V (towards the viewer), times the
+// share ``keep`` it adds beside its reflection (1 - reflectivity). The Phong models clamp
+// that share as a pixel is clamped, not the local colour before it is shared: a highlight
+// brighter than 1 still shows through (1 - reflectivity), as the notes' equation has it.
+vec3 shade_surface(Surface s, vec3 V, float keep) {
+#ifdef PBR_SLOTS
+    if (material_texel(s.inst, 7).z > 0.5) return keep * shade_pbr(s, V);
+#endif
+    return clamp(keep * local_colour(s, V), 0.0, 1.0);
 }

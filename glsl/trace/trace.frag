@@ -59,7 +59,7 @@ void main() {
         f_color = vec4(u_background.rgb * u_background.a, u_background.a);
 #endif
     } else {
-        f_color = vec4(shade_surface(surface_at(h0, o0, d0), -d0), 1.0);
+        f_color = vec4(shade_surface(surface_at(h0, o0, d0), -d0, 1.0), 1.0);
     }
 #else
     // The stack: origin, direction (w: 1 for the eye ray and what passes straight through
@@ -169,8 +169,7 @@ void main() {
             }
         }
 #endif
-        vec3 local = shade_surface(s, -d);
-        color += w * opacity * (1.0 - reflectivity) * local;
+        color += w * opacity * shade_surface(s, -d, 1.0 - reflectivity);
         if (eye) alpha += w.x * opacity;
         vec3 carried = w * opacity * reflectivity;
         if (reflectivity > 0.0 && max(carried.r, max(carried.g, carried.b)) > MIN_WEIGHT) {
