@@ -7,6 +7,7 @@ from pathlib import Path
 
 import moderngl
 
+from . import bindings
 from .glsl_source import glsl_root
 from .shaders import Program, compile_program
 
@@ -17,7 +18,8 @@ def fullscreen_vertex() -> Path:
 
 class FullScreenPass:
     """A fragment program over the whole viewport. ``textures`` maps sampler uniforms to
-    (texture, unit); other keyword values are uniforms."""
+    textures (each bound at its unit, facet.gl.bindings); other keyword values are
+    uniforms."""
 
     def __init__(self, ctx: moderngl.Context, fragment, *, program: Program | None = None):
         self.ctx = ctx
@@ -27,9 +29,8 @@ class FullScreenPass:
         self.vao = ctx.vertex_array(self.program.gl, [])
 
     def draw(self, textures: dict | None = None, **uniforms) -> None:
-        for name, (texture, unit) in (textures or {}).items():
-            texture.use(location=unit)
-            self.program.set(name, unit)
+        for name, texture in (textures or {}).items():
+            texture.use(location=bindings.unit(name))
         for name, value in uniforms.items():
             self.program.set(name, value)
         self.vao.render(vertices=3)

@@ -17,7 +17,8 @@ import moderngl
 import numpy as np
 
 from ..errors import ShaderError
-from .glsl_source import ExpandedSource, display_path, expand
+from . import bindings
+from .glsl_source import ExpandedSource, display_path, expand, glsl_root
 
 _MESA = re.compile(r"^\s*\d+:(\d+)\((\d+)\):\s*(error|warning)\s*:?\s*(.*)$", re.I)
 _NVIDIA = re.compile(r"^\s*\d+\((\d+)\)\s*:\s*(error|warning)\s*\w*\s*:?\s*(.*)$", re.I)
@@ -138,6 +139,12 @@ def compile_program(ctx: moderngl.Context, vertex, fragment, defines=None,
     except moderngl.Error as exc:
         resolved = {Path(k).resolve(): v for k, v in (texts or {}).items()}
         raise map_log(str(exc), sources, resolved) from None
+    # Every sampler and block to its unit and binding (facet.gl.bindings); facet's own GLSL
+    # may declare no sampler the table lacks.
+    root = glsl_root().resolve()
+    own = fragment_text is None and all(
+        f.resolve().is_relative_to(root) for src in sources.values() for f in src.files)
+    bindings.bind(prog, own, _link_label(sources))
     return Program(prog, sources)
 
 

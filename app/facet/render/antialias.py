@@ -22,7 +22,6 @@ from ..geometry.sampling import pattern
 from ..gl.fullscreen import FullScreenPass
 from ..scene.light import AreaLight
 from ..scene.options import DISTRIBUTED_AA, AntiAliasing, parse_aa
-from .state import UNITS
 
 
 def jitter_matrix(dx: float, dy: float, width: int, height: int) -> np.ndarray:
@@ -61,7 +60,7 @@ class Accumulator:
         ctx.disable(ctx.DEPTH_TEST)
         ctx.enable(ctx.BLEND)
         ctx.blend_func = ctx.ONE, ctx.ONE
-        self.add.draw({"u_sample": (self.sample_tex, UNITS["post"])})
+        self.add.draw({"u_sample": self.sample_tex})
         ctx.disable(ctx.BLEND)
         ctx.enable(ctx.DEPTH_TEST)
 

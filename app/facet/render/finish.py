@@ -15,7 +15,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..gl.fullscreen import FullScreenPass
-from .state import UNITS
 
 
 @dataclass(frozen=True)
@@ -53,7 +52,7 @@ class Finisher:
         ctx = self.ctx
         target.use()
         ctx.disable(ctx.DEPTH_TEST | ctx.BLEND)
-        self.pass_.draw({"u_source": (source, UNITS["post"])}, u_scale=float(finish.scale),
+        self.pass_.draw({"u_source": source}, u_scale=float(finish.scale),
                         u_unpremultiply=finish.empty is not None,
                         u_empty=finish.empty or (0.0, 0.0, 0.0), u_encode_srgb=finish.srgb,
                         u_clamp=finish.clamp)

@@ -11,15 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..gl.bindings import SLOT_SAMPLERS, unit
 from ..scene.pbr import COLOR_SLOTS, SLOTS, PbrMaterial
 from ..srgb import linear_to_srgb, srgb_to_linear
 
-PBR_UNITS = {slot: 13 + i for i, slot in enumerate(SLOTS)}  # after facet.render.state.UNITS
-IBL_UNITS = {"lut": 27, "irradiance": 28, "prefiltered": 29}  # after PBR_UNITS
-# glsl/mesh/slots.glsl's sampler and define of each slot: u_tex_<short>, TEX_<SHORT>.
-_SHORT = {"base_color": "base", "metallic_roughness": "mr"}
-SLOT_UNIFORMS = {s: f"u_tex_{_SHORT.get(s, s)}" for s in SLOTS}
-SLOT_DEFINES = {s: f"TEX_{_SHORT.get(s, s).upper()}" for s in SLOTS}
+# glsl/mesh/slots.glsl's define of each slot: TEX_<SHORT> for its sampler u_tex_<short>.
+SLOT_DEFINES = {s: f"TEX_{name[len('u_tex_'):].upper()}" for s, name in SLOT_SAMPLERS.items()}
 SRGB_SLOTS = COLOR_SLOTS  # colour images; the others hold data
 
 
@@ -130,11 +127,10 @@ def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> lis
             sets.append(0)
             mirrors.append((0.0, 0.0))
             continue
-        unit = PBR_UNITS[slot_name]
-        cache.texture(slot.texture, slot_name in SRGB_SLOTS, slot.mipmaps).use(location=unit)
-        samplers.get(slot).use(location=unit)
-        bound.append(unit)
-        prog.set(SLOT_UNIFORMS[slot_name], unit, strict=False)
+        at = unit(SLOT_SAMPLERS[slot_name])
+        cache.texture(slot.texture, slot_name in SRGB_SLOTS, slot.mipmaps).use(location=at)
+        samplers.get(slot).use(location=at)
+        bound.append(at)
         transforms.append(slot.transform)
         sets.append(slot.texcoord)
         mirrors.append(tuple(1.0 if w == "mirror" else 0.0 for w in slot.wrap))

@@ -4,7 +4,7 @@ explicitly (nothing is parked on the renderer between calls).
 ``FrameState`` holds the camera and image size, how the target is oriented, the colour mode,
 the lights as the shaders read them (packed once per frame into the std140 block of
 glsl/lib/lights.glsl), the shadow maps drawn for this frame, the environment, and the
-per-sample jitter of supersampling. ``UNITS`` is the one table of texture units.
+per-sample jitter of supersampling. Texture units are facet.gl.bindings'.
 """
 
 from __future__ import annotations
@@ -19,13 +19,6 @@ from ..image.colorspace import srgb_to_linear
 from ..scene.light import DirectionalLight, PointLight, SpotLight
 from ..scene.scene import MAX_LIGHTS
 
-# Texture units. Scene passes: the material's texture, the shadow atlas, the environment
-# cube, a mirror's reflection. Full-screen passes (accumulation, OIT composite, finishing)
-# read their inputs from the "post" units. The ray tracer's scene data (glsl/trace/data.glsl)
-# has units of its own: every sampler a program declares needs a unit of its own type.
-UNITS = {"material": 0, "shadow": 1, "environment": 2, "mirror": 3, "post": 4, "post2": 5,
-         "tris": 6, "tri_index": 7, "vertices": 8, "nodes": 9, "instances": 10, "tlas": 11,
-         "textures": 12, "edl": 13, "joints": 14, "targets": 15}
 LIGHT_KIND = {DirectionalLight: 0, PointLight: 1, SpotLight: 2}  # LIGHT_* in lighting.glsl
 
 

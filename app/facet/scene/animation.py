@@ -347,8 +347,8 @@ class Animated:
 
 def pose_scene(scene, time: float, which=None):
     """``scene`` as it stands at ``time`` seconds with the clips ``which`` playing (each
-    model's first clip by default; Rig.clips_for): a view whose animated objects and cameras are posed;
-    ``scene`` itself when nothing in it is animated."""
+    model's first clip by default; Rig.clips_for): a view whose animated objects and
+    cameras are posed; ``scene`` itself when nothing in it is animated."""
     animated = getattr(scene, "animated", None)
     if not animated:
         if which is not None and not getattr(scene, "posed", False):

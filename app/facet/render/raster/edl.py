@@ -18,10 +18,10 @@ class EdlTarget:
         self.shade = self.shade_fbo = None
         self.shade_pass = None  # made on first use
 
-    def draw_shade(self, width: int, height: int, draw, unit: int):
+    def draw_shade(self, width: int, height: int, draw):
         """The eye-dome shade of what ``draw()`` draws (a texture: 1 where nothing), from
-        its linear depth (read through texture ``unit``). The framebuffer bound before is
-        bound again (its depth test as it was)."""
+        its linear depth. The framebuffer bound before is bound again (its depth test as it
+        was)."""
         if self.size != (width, height):
             self.release()
             self.size = (width, height)
@@ -44,7 +44,7 @@ class EdlTarget:
             self.shade_fbo.use()
             depth_test = self.ctx.DEPTH_TEST
             self.ctx.disable(depth_test)
-            self.shade_pass.draw({"u_edl_depth": (self.texture, unit)},
+            self.shade_pass.draw({"u_edl_depth": self.texture},
                                  u_edl_strength=EDL_STRENGTH, u_edl_radius=EDL_RADIUS)
             self.ctx.enable(depth_test)
         finally:

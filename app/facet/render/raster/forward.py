@@ -17,6 +17,7 @@ from functools import lru_cache
 import numpy as np
 
 from ...geometry import transforms as T
+from ...gl.bindings import BLOCKS, unit
 from ...gl.fullscreen import FullScreenPass
 from ...gl.glsl_source import glsl_root
 from ...gl.resources import ResourceCache
@@ -25,7 +26,6 @@ from ...gl.targets import aux_locations, writing
 from ...scene.pbr import as_phong
 from ...scene.scene import MAX_LIGHTS, Scene
 from ..materials import (
-    IBL_UNITS,
     SlotSamplers,
     as_pbr,
     model_for,
@@ -34,7 +34,7 @@ from ..materials import (
     slot_defines,
 )
 from ..shading import SHADING_MODELS, check_shading
-from ..state import UNITS, FrameState, pack_lights
+from ..state import FrameState, pack_lights
 from .culling import Culling, det3
 from .edl import EdlTarget
 from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
@@ -42,10 +42,9 @@ from .instancing import INSTANCE_LAYOUT, batches, instance_rows
 from .mirror import MirrorTargets, mirror_plane
 from .skinning import POSE_DEFINES, JointRows, bind_pose, gpu_pose, pose_buffers
 from .sprites import set_sprite_uniforms, sprite_variant, uses_edl
-from .transmission import TRANSMISSION_UNIT, TransmissionTarget, transmits
+from .transmission import TransmissionTarget, transmits
 from .user_shaders import UserPrograms
 
-LIGHTS_BINDING = 0
 MAX_PROGRAMS = 16  # compiled mesh programs kept per renderer (least recently used go)
 
 
@@ -190,8 +189,6 @@ class ForwardPass:
             vertex = "mesh/sprite.vert" if variant.sprite else spec.vertex
             prog = compile_program(self.ctx, root / vertex, root / spec.fragment,
                                    variant.defines())
-            if "Lights" in prog.gl:
-                prog.gl["Lights"].binding = LIGHTS_BINDING
             self.programs[variant] = prog
             while len(self.programs) > MAX_PROGRAMS:
                 _, old = self.programs.popitem(last=False)
@@ -213,7 +210,7 @@ class ForwardPass:
         if state.lights_block != self._lights_bytes:
             self.lights_ubo.write(state.lights_block)
             self._lights_bytes = state.lights_block
-        self.lights_ubo.bind_to_uniform_block(LIGHTS_BINDING)
+        self.lights_ubo.bind_to_uniform_block(BLOCKS["Lights"])
         view_projection = state.view_projection()
         # Flipping y mirrors the image, so counter-clockwise front faces turn clockwise; so
         # does looking through a mirror, and so does an object whose transform mirrors
@@ -307,19 +304,16 @@ class ForwardPass:
             if oit:
                 prog.set("u_opacity", m.opacity, strict)
             if mirror:
-                reflections[id(obj)].use(location=UNITS["mirror"])
-                prog.set("u_mirror", UNITS["mirror"])
+                reflections[id(obj)].use(location=unit("u_mirror"))
                 prog.set("u_mirror_weight", m.reflectivity)
             elif reflects:
-                self.cache.cube(env).use(location=UNITS["environment"])
-                prog.set("u_environment", UNITS["environment"])
+                self.cache.cube(env).use(location=unit("u_environment"))
                 prog.set("u_reflectivity", m.reflectivity)
                 prog.set("u_ior", m.ior)
                 prog.set("u_gloss", m.gloss)
                 prog.set("u_gloss_jitter", tuple(float(v) for v in state.gloss_jitter))
             if m.texture is not None:
-                self.cache.texture(m.texture, state.srgb).use(location=UNITS["material"])
-                prog.set("u_texture", UNITS["material"], strict)
+                self.cache.texture(m.texture, state.srgb).use(location=unit("u_texture"))
                 slot = getattr(m, "base_color_texture", None)
                 prog.set("u_uv_transform", np.eye(3) if slot is None else slot.transform,
                          strict=False)
@@ -350,11 +344,10 @@ class ForwardPass:
                             light_kinds=())
             shade = self.edl.draw_shade(
                 state.width, state.height,
-                lambda: buffers.draw_sprites(self.ctx, draw(depth).gl), UNITS["edl"])
+                lambda: buffers.draw_sprites(self.ctx, draw(depth).gl))
             variant = replace(variant, edl=True)
             prog = draw(variant)
-            shade.use(location=UNITS["edl"])
-            prog.set("u_edl_shade", UNITS["edl"])
+            shade.use(location=unit("u_edl_shade"))
             buffers.draw_sprites(self.ctx, prog.gl)
             return
         buffers.draw_sprites(self.ctx, draw(variant).gl)
@@ -431,25 +424,21 @@ class ForwardPass:
             prog.set("u_object_id", obj.id + 1)
         bound = set_pbr_material(prog, m, self.cache, self.samplers)
         if colour_pass:
-            self.ibl.lut().use(location=IBL_UNITS["lut"])
-            prog.set("u_ibl_lut", IBL_UNITS["lut"], strict=False)
+            self.ibl.lut().use(location=unit("u_ibl_lut"))
         if env is not None and colour_pass:
             irradiance, prefiltered = self.ibl.maps(env)
-            irradiance.use(location=IBL_UNITS["irradiance"])
-            prefiltered.use(location=IBL_UNITS["prefiltered"])
-            prog.set("u_irradiance", IBL_UNITS["irradiance"], strict=False)
-            prog.set("u_prefiltered", IBL_UNITS["prefiltered"], strict=False)
+            irradiance.use(location=unit("u_irradiance"))
+            prefiltered.use(location=unit("u_prefiltered"))
             prog.set("u_prefiltered_levels", float(PREFILTER_LEVELS), strict=False)
         if behind is not None:
-            behind.use(location=TRANSMISSION_UNIT)
-            prog.set("u_behind", TRANSMISSION_UNIT)
+            behind.use(location=unit("u_behind"))
             prog.set("u_behind_width", float(behind.width))
             prog.set("u_view_projection", view_projection)
             prog.set("u_transmission", (m.transmission, m.thickness, max(m.ior, 1.0)))
             prog.set("u_absorption", tuple(float(c) for c in m.absorption))
         self._render(prog, *place)
-        for unit in bound:  # sampler objects outlive the draw otherwise
-            self.ctx.clear_samplers(unit, unit + 1)
+        for at in bound:  # sampler objects outlive the draw otherwise
+            self.ctx.clear_samplers(at, at + 1)
 
     def _frame_uniforms(self, prog: Program, state: FrameState, view_projection, eye,
                         user: bool) -> None:
@@ -464,7 +453,7 @@ class ForwardPass:
             prog.set("u_time", float(state.time), strict)
             prog.set("u_resolution", (float(state.width), float(state.height)), strict)
         if state.shadows:
-            state.shadows.bind(prog, UNITS["shadow"])
+            state.shadows.bind(prog)
 
     def _draw_reflections(self, scene: Scene, state: FrameState) -> dict:
         """Draw each mirror's reflection into its texture (facet.render.raster.mirror), before the
@@ -518,7 +507,7 @@ class ForwardPass:
             self._sky = FullScreenPass(self.ctx, "post/sky.frag")
         self.ctx.disable(self.ctx.DEPTH_TEST)
         with writing(self.ctx.fbo, exact=False):  # the exact channels keep their "nothing"
-            self._sky.draw({"u_environment": (self.cache.cube(env), UNITS["environment"])},
+            self._sky.draw({"u_environment": self.cache.cube(env)},
                            u_inv_view_projection=np.linalg.inv(view_projection),
                            u_viewport=(float(width), float(height)))
         self.ctx.enable(self.ctx.DEPTH_TEST)

@@ -81,7 +81,7 @@ class ImageLighting:
             for tex in entry[1]:
                 tex.release()
         cube = self.cache.cube(environment)
-        source = {"u_source": (cube, 0)}
+        source = {"u_source": cube}
         # Irradiance: its cosine lobe spans the sphere; a mip of about 16 texels suffices.
         lod = max(float(np.log2(environment.size / 16.0)), 0.0)
         irradiance = self.ctx.texture(IRRADIANCE_SIZE, 4, _half(self._draw(

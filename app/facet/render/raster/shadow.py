@@ -21,12 +21,12 @@ import numpy as np
 
 from ...errors import InputError
 from ...geometry import transforms as T
+from ...gl.bindings import unit
 from ...gl.glsl_source import glsl_root
 from ...gl.shaders import compile_program
 from ...scene.light import DirectionalLight, PointLight, SpotLight
 from ...scene.options import PCF_CHOICES
 from ...scene.scene import Scene
-from ..state import UNITS
 from .instancing import batches
 from .skinning import POSE_DEFINES, JointRows, bind_pose, gpu_pose, pose_buffers
 
@@ -105,10 +105,9 @@ class ShadowData:
     tiles: int
     pcf: int  # filter kernel radius in texels
 
-    def bind(self, prog, unit: int) -> None:
+    def bind(self, prog) -> None:
         """Point a lighting program at the atlas and the lights' shadow matrices."""
-        self.atlas.use(location=unit)
-        prog.set("u_shadow_atlas", unit)
+        self.atlas.use(location=unit("u_shadow_atlas"))
         if "u_shadow_matrix" in prog._active:
             member = prog.gl["u_shadow_matrix"]
             # The linker may trim the array to the tiles the program can reach.
@@ -230,8 +229,7 @@ class ShadowMaps:
             return prog
         m = obj.material
         slot = m.base_color_texture
-        self.cache.texture(slot.texture, False).use(location=UNITS["material"])
-        prog.set("u_texture", UNITS["material"])
+        self.cache.texture(slot.texture, False).use(location=unit("u_texture"))
         prog.set("u_uv_transform", slot.transform)
         prog.set("u_base_alpha", float(m.base_color[3]))
         prog.set("u_alpha_cutoff", m.alpha_cutoff)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..state import UNITS
+from ...gl.bindings import unit
 
 MAX_MORPH = 64  # morph targets the vertex shader blends (more: numpy)
 MORPH_WIDTH = 4096  # texels per row of the targets' texture
@@ -45,8 +45,7 @@ class JointRows:
             self.texture = self.ctx.texture((3, max(count, 64)), 4, dtype="f4")
             self.texture.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
         self.texture.write(rows.tobytes(), viewport=(0, 0, 3, count))
-        self.texture.use(location=UNITS["joints"])
-        prog.set("u_joints", UNITS["joints"])
+        self.texture.use(location=unit("u_joints"))
 
     def release(self) -> None:
         if self.texture is not None:
@@ -72,8 +71,7 @@ def bind_pose(prog, mesh, buffers, joint_rows: JointRows) -> None:
     if joints:
         joint_rows.bind(mesh.joint_matrices, prog)
     if morphed:
-        buffers.morph.use(location=UNITS["targets"])
-        prog.set("u_targets", UNITS["targets"])
+        buffers.morph.use(location=unit("u_targets"))
         w = np.zeros(MAX_MORPH, np.float32)
         w[:len(mesh.morph_weights)] = mesh.morph_weights
         prog.set_array("u_morph_weights", w)

@@ -15,8 +15,6 @@ all of it exactly).
 
 from __future__ import annotations
 
-TRANSMISSION_UNIT = 33  # after facet.render.materials' units and the path tracer's
-
 
 def transmits(material) -> bool:
     """Whether a metallic-roughness ``material`` lets light through."""

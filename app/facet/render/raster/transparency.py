@@ -22,7 +22,6 @@ from __future__ import annotations
 import numpy as np
 
 from ...gl.fullscreen import FullScreenPass
-from ..state import UNITS
 
 WEIGHT_SCALE, WEIGHT_MIN = 3000.0, 0.01  # w = max(WEIGHT_MIN, WEIGHT_SCALE (1 - z)^3)
 
@@ -111,8 +110,7 @@ class Transparency:
         # opaque background stays opaque and a transparent one gets the layers' coverage.
         ctx.blend_func = (ctx.SRC_ALPHA, ctx.ONE_MINUS_SRC_ALPHA, ctx.ONE,
                           ctx.ONE_MINUS_SRC_ALPHA)
-        self.composite.draw({"u_accum": (self.accum, UNITS["post"]),
-                             "u_reveal": (self.reveal, UNITS["post2"])})
+        self.composite.draw({"u_accum": self.accum, "u_reveal": self.reveal})
         ctx.disable(ctx.BLEND)
         ctx.enable(ctx.DEPTH_TEST)
 

@@ -17,6 +17,7 @@ import weakref
 
 import numpy as np
 
+from ...gl.bindings import BLOCKS, unit
 from ...gl.fullscreen import FullScreenPass
 from ...gl.glsl_source import glsl_root
 from ...gl.shaders import compile_program
@@ -29,7 +30,7 @@ from ..antialias import accumulation
 from ..engine import Engine, grid_or_jittered
 from ..materials import as_pbr, feature_lines, phong_color
 from ..shading import SHADING_MODELS
-from ..state import UNITS, FrameState, pack_lights
+from ..state import FrameState, pack_lights
 from . import pack
 from .sprites import sprite_lines, sprite_radii
 
@@ -263,20 +264,17 @@ class TraceEngine(Engine):
             root = glsl_root()
             prog = compile_program(self.ctx, root / "post" / "fullscreen.vert",
                                    root / "trace" / f"{stage}.frag", defines)
-            if "Lights" in prog.gl:
-                prog.gl["Lights"].binding = 1
             self.programs[key] = FullScreenPass(self.ctx, None, program=prog)
         return self.programs[key]
 
     def _bind(self, scene, state: FrameState, program: FullScreenPass) -> None:
         unbounded, has_tlas, single = self._instances(scene, state)
         self.lights_ubo.write(state.lights_block)
-        self.lights_ubo.bind_to_uniform_block(1)
+        self.lights_ubo.bind_to_uniform_block(BLOCKS["Lights"])
         prog = program.program
         for name in ("tris", "tri_index", "vertices", "nodes", "instances", "tlas",
                      "textures"):
-            self._textures[name].use(location=UNITS[name])
-            prog.set(f"u_{name}", UNITS[name], strict=False)
+            self._textures[name].use(location=unit(f"u_{name}"))
         prog.set("u_unbounded", unbounded, strict=False)
         prog.set("u_has_tlas", has_tlas, strict=False)
         prog.set("u_single", single, strict=False)
@@ -311,8 +309,7 @@ class TraceEngine(Engine):
             program.program.set(name, value, strict=False)
         textures = self._more_textures()
         if state.environment is not None:
-            textures["u_environment"] = (self.cache.cube(state.environment),
-                                         UNITS["environment"])
+            textures["u_environment"] = self.cache.cube(state.environment)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
         program.draw(textures)
         self.ctx.enable(self.ctx.DEPTH_TEST)

@@ -33,8 +33,6 @@ from .env_sampling import distribution
 from .sprites import sprite_lines
 
 STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag
-EMITTERS_UNIT = 30  # after facet.render.materials.IBL_UNITS
-SKY_UNITS = (31, 32, 34)  # cdf, pdf, radiance (33: facet.render.raster.transmission)
 
 
 class PathEngine(TraceEngine):
@@ -112,11 +110,10 @@ class PathEngine(TraceEngine):
         return out
 
     def _more_textures(self) -> dict:
-        out = {"u_emitters": (self._textures["emitters"], EMITTERS_UNIT)}
+        out = {"u_emitters": self._textures["emitters"]}
         if self._sky_entry is not None and self._sky_entry[1] is not None:
             cdf, pdf, radiance, _ = self._sky_entry[1]
-            out.update(u_sky_cdf=(cdf, SKY_UNITS[0]), u_sky_pdf=(pdf, SKY_UNITS[1]),
-                       u_sky_radiance=(radiance, SKY_UNITS[2]))
+            out.update(u_sky_cdf=cdf, u_sky_pdf=pdf, u_sky_radiance=radiance)
         return out
 
     def _sky(self, environment):
