@@ -12,7 +12,7 @@ translated and any other is refused:
   no absorption, base colour 1): ``dielectric`` of the same ior;
 - emission: an ``area`` emitter (one-sided unless double-sided: Mitsuba's emitters are);
 - an area light: the emitting rectangle facet's path tracer makes of it
-  (facet.render.trace.area_lights), an ``area`` emitter on a black rectangle;
+  (facet.render.path.area_lights), an ``area`` emitter on a black rectangle;
 - a constant environment: a ``constant`` emitter; an HDR image: an ``envmap`` (Y up, row
   0 at the zenith, as facet reads them).
 
@@ -79,7 +79,7 @@ def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
         elif environment is not None:
             desc["sky"] = {"type": "constant", "radiance": {
                 "type": "rgb", "value": [float(c) for c in environment]}}
-        from facet.render.trace.area_lights import AreaEmitters
+        from facet.render.path.area_lights import AreaEmitters
 
         for i, obj in enumerate(scene.objects + AreaEmitters().objects(scene)):
             mesh = obj.mesh

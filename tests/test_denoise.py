@@ -36,7 +36,10 @@ def test_a_denoised_picture_is_nearer_the_converged_one_and_as_bright():
     def rmse(x):
         return float(np.sqrt(((x - reference) ** 2).mean()))
 
-    assert rmse(clean) < 0.5 * rmse(raw), (rmse(clean), rmse(raw))
+    # (The raw picture samples the lamp as a light: 41% of its error goes. Before the
+    # path tracer counted its emitters ahead of the first draw, a new renderer's first
+    # picture sampled none, was noisier, and lost over half.)
+    assert rmse(clean) < 0.65 * rmse(raw), (rmse(clean), rmse(raw))
     assert clean.mean() == pytest.approx(reference.mean(), rel=0.03)
     # block by block (8 x 8 pixels), the brightness stays where it was
     blocks = [x.reshape(4, 8, 4, 8, 3).mean(axis=(1, 3)) for x in (clean, reference)]

@@ -65,7 +65,7 @@ def test_the_tracer_names_what_it_does_not_draw_once(renderer):
         glass = PbrMaterial(metallic=1.0, roughness=0.3, transmission=0.5)
         assert _warnings(r, _scene(glass), engine="trace") == []
         assert _warnings(r, _scene(), max_depth=3) == [
-            "max_depth sets the ray tracer's bounces; the rasterizer ignores it"]
+            "max_depth sets the tracers' recursion and bounces; the rasterizer ignores it"]
 
 
 def test_one_warning_line_on_the_command_line(tmp_path):

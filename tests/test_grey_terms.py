@@ -27,7 +27,7 @@ def _scene(color=(0.6, 0.6, 0.6), light=(1.0, 1.0, 1.0)):
 def _render(scene, **options):
     with Renderer(64, 48) as r:
         frame = r.render(scene, CAMERA, **options)
-        return frame.color, {v.grey for v in r.forward.programs}
+        return frame.color, {v.grey for v in r._engines["raster"].forward.programs}
 
 
 @pytest.mark.parametrize("shading", ["phong", "blinn", "flat", "gouraud"])

@@ -1,4 +1,4 @@
-"""Emitting analytic shapes as lights (facet.render.trace.emitters): a point uniformly by
+"""Emitting analytic shapes as lights (facet.render.path.emitters): a point uniformly by
 area on a sphere, disk, plane, box, cylinder or cone, weighed against BSDF sampling by
 multiple importance sampling. A sphere lamp above a Lambertian floor against the closed
 form (the floor below it shows albedo x L x (R / H)^2); every shape's light the same with
@@ -10,7 +10,7 @@ import pytest
 
 import facet
 from facet.geometry.camera import Camera
-from facet.render.trace.path_engine import PathEngine
+from facet.render.path.engine import PathEngine
 from facet.scene.pbr import PbrMaterial
 
 ALBEDO, RADIANCE, HEIGHT = 0.7, 3.0, 1.2
@@ -76,7 +76,7 @@ def test_every_shape_is_light_sampled_to_the_same_picture_with_less_noise(name):
 
 
 def test_shape_areas_and_what_is_left_to_bsdf_sampling():
-    from facet.render.trace.emitters import shape_area
+    from facet.render.path.emitters import shape_area
 
     def area(shape, transform=None):
         scene = facet.Scene()

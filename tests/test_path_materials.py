@@ -11,7 +11,7 @@ import pytest
 
 import facet
 from facet.geometry.camera import Camera
-from facet.render.trace.path_engine import PathEngine
+from facet.render.path.engine import PathEngine
 from facet.scene.light import DirectionalLight
 from facet.scene.mesh import Mesh
 from facet.scene.pbr import PbrMaterial, TextureSlot, texture_transform

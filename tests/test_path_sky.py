@@ -7,7 +7,7 @@ import pytest
 
 import facet
 from facet.geometry.camera import Camera
-from facet.render.trace.path_engine import PathEngine
+from facet.render.path.engine import PathEngine
 from facet.scene.environment import equirect_directions, load_environment
 from facet.scene.hdr_image import read_hdr_image, write_hdr
 from facet.scene.pbr import PbrMaterial

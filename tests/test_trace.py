@@ -337,7 +337,7 @@ def test_bad_tracer_options_and_a_scene_too_big(renderer):
             r.render(scene, engine=kwargs.pop("engine", "trace"), **kwargs)
     r.render(scene, engine="trace", outputs=("ids",))  # the tracer exists now
     tracer = r._engine("trace")
-    limit, tracer.max_texels = tracer.max_texels, 100
+    limit, tracer.rays.max_texels = tracer.rays.max_texels, 100
     bigger = Scene()
     bigger.add(sphere_mesh(4))
     try:

@@ -101,19 +101,19 @@ def test_user_shader_reload_and_errors(renderer, tmp_path):
     centre = lambda: r.render(scene, CAMERA).color[SIZE // 2, SIZE // 2, :3]  # noqa: E731
     assert tuple(centre()) == (255, 0, 0)
     with r.ctx:
-        assert r.forward.user.reload().changed is False
+        assert r.user_programs().reload().changed is False
     lib.write_text("vec3 tint() { return vec3(0.0, 1.0, 0.0); }\n")
     with r.ctx:
-        assert r.forward.user.reload().success
+        assert r.user_programs().reload().success
     assert tuple(centre()) == (0, 255, 0)
     lib.write_text("// line 1\nvec3 tint() { return vec3(zero); }\n")
     with r.ctx:
-        result = r.forward.user.reload()
+        result = r.user_programs().reload()
     assert not result.success and "lib.glsl:2:" in result.errors.splitlines()[0]
     assert tuple(centre()) == (0, 255, 0)  # the last good program keeps drawing
     lib.write_text("vec3 tint() { return vec3(0.0, 0.0, 1.0); }\n")
     with r.ctx:
-        assert r.forward.user.reload().success
+        assert r.user_programs().reload().success
     assert tuple(centre()) == (0, 0, 255)
 
 

@@ -109,10 +109,9 @@ def add_shader_options(p) -> None:
 def add_render_options(p, size_default: str) -> None:
     """The render options of ``facet render`` and ``facet view``. Each one left out takes
     the scene file's [render] value, else facet's default."""
-    from ..scene.option_values import DEFAULT_BOUNCES
+    from ..render.capabilities import CAPABILITIES
     from ..scene.options import (
         CULL,
-        DEFAULT_MAX_DEPTH,
         ENGINES,
         LIGHTS,
         MSAA_CHOICES,
@@ -141,9 +140,9 @@ def add_render_options(p, size_default: str) -> None:
                    "emitting surfaces, glass; linear radiance)")
     g.add_argument("--max-depth", metavar="N",
                    help="the tracers' bounces: the ray tracer's reflection/refraction "
-                   f"depth (default {DEFAULT_MAX_DEPTH}; 1 is one reflection and one "
-                   "transmission ray), the path tracer's bounces after the eye ray "
-                   f"(default {DEFAULT_BOUNCES})")
+                   f"depth (default {CAPABILITIES['trace'].max_depth}; 1 is one reflection "
+                   "and one transmission ray), the path tracer's bounces after the eye ray "
+                   f"(default {CAPABILITIES['path'].max_depth})")
     g.add_argument("--seed", metavar="N",
                    help="the random stream (path tracer, jittered patterns): the same seed "
                    "gives the same picture (default 0)")

@@ -1,6 +1,8 @@
-"""The engines behind one door: the rasterizer and the ray tracer draw one scene, with the
-same lights and materials, behind one interface; the ``engine`` option picks one per render
-call (facet.render.renderer asks ``engine_for`` once and calls nothing else engine-specific).
+"""The engines behind one door: the rasterizer, the Whitted ray tracer and the path tracer
+draw one scene, with the same lights and materials, behind one interface; they are siblings
+(the tracers share the ray scene of facet.render.rays, neither derives from the other). The
+``engine`` option picks one per render call (facet.render.renderer asks ``engine_for`` once
+and calls nothing else engine-specific).
 
 An engine, given the frame's shared state (facet.render.state.FrameState):
 
@@ -18,7 +20,10 @@ An engine, given the frame's shared state (facet.render.state.FrameState):
                                              bound target (``deferred_exact``: may be drawn
                                              later, from a snapshot of ``exact_scene``)
     unsupported(opts, scene)                 what it cannot honour: one line each, which the
-                                             renderer warns once (never silently dropped)
+                                             renderer warns once (never silently dropped),
+                                             from its row of facet.render.capabilities
+    decided(opts)                            the options with what was not given decided
+                                             by it (its defaults: the same table)
 
 ``ENGINE_CLASSES`` maps each name of facet.scene.options.ENGINES to its class, loaded on
 first use; a new engine is a new module and a row here.
@@ -30,11 +35,12 @@ from importlib import import_module
 
 from ..scene.options import AntiAliasing, parse_aa
 from .antialias import accumulation
+from .capabilities import CAPABILITIES, Capabilities
 
 ENGINE_CLASSES = {
     "raster": ("facet.render.raster.engine", "RasterEngine"),
     "trace": ("facet.render.trace.engine", "TraceEngine"),
-    "path": ("facet.render.trace.path_engine", "PathEngine"),
+    "path": ("facet.render.path.engine", "PathEngine"),
 }
 
 
@@ -54,10 +60,20 @@ class Engine:
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache
 
+    @property
+    def capabilities(self) -> Capabilities:
+        """This engine's row of facet.render.capabilities."""
+        return CAPABILITIES[self.name]
+
+    def decided(self, opts):
+        """``opts`` with what was not given decided by this engine (the renderer calls the
+        methods below with these)."""
+        return self.capabilities.decided(opts)
+
     def sampling(self, opts, scene, camera, preview: bool) -> AntiAliasing | None:
         """The supersampling the colour needs: the options' (or the distributed effects'),
         None for one picture; a window's moving view (``preview``) gets one picture."""
-        return None if preview else accumulation(opts.aa, scene, camera, opts.shadows_on)
+        return None if preview else accumulation(opts.aa, scene, camera, opts.shadows)
 
     def draws_together(self, scene) -> bool:
         """Whether colour and the exact channels may come from one pass."""
@@ -82,6 +98,14 @@ class Engine:
         raise NotImplementedError
 
     def unsupported(self, opts, scene) -> list[str]:
+        """What this engine cannot honour, a line each: its table's options (given in
+        ``opts``, before ``decided``) and material features, then ``more_lines``."""
+        caps = self.capabilities
+        return caps.option_lines(opts) + self.more_lines(opts, scene) + \
+            caps.feature_lines(scene)
+
+    def more_lines(self, opts, scene) -> list[str]:
+        """Lines of what this engine does not honour beyond its table's (scene-dependent)."""
         return []
 
     def release(self) -> None:

@@ -266,8 +266,9 @@ class Renderer:
         """
         opts = self.options(scene, options, **kwargs)
         scene = staged(scene, opts)
-        aa = self._engine(opts.engine).sampling(
-            opts, scene, with_lens(camera, opts.aperture, opts.focus), False)
+        engine = self._engine(opts.engine)
+        aa = engine.sampling(engine.decided(opts), scene,
+                             with_lens(camera, opts.aperture, opts.focus), False)
         return aa.samples if aa is not None else 0
 
     # -- the pass sequence ---------------------------------------------------------------
@@ -275,7 +276,8 @@ class Renderer:
         self._settle()
         engine = self._engine(opts.engine)
         scene, state = prepare_frame(scene, camera, opts, dest.window is not None)  # 1
-        self._warn(engine.unsupported(opts, scene))
+        self._warn(engine.unsupported(opts, scene))  # (what was given, before it decides)
+        opts = engine.decided(opts)
         if opts.denoise:
             self._warn(denoise_lines(engine, dest))
         surf = self._surfaces_for(opts.size)
@@ -469,10 +471,11 @@ class Renderer:
             self._engines[name] = engine_for(name)(self.ctx, self.cache)
         return self._engines[name]
 
-    @property
-    def forward(self):
-        """The rasterizer's forward pass (its programs, users' mesh shaders)."""
-        return self._engine("raster").forward
+    def user_programs(self):
+        """Users' mesh shaders' programs (facet.render.raster.user_shaders), or None while
+        no rasterizer has drawn (nothing builds one to ask)."""
+        raster = self._engines.get("raster")
+        return raster.forward.user if raster is not None else None
 
     @property
     def finisher(self) -> Finisher:

@@ -82,7 +82,7 @@ class Environment:
         self.name = name
         # Linear radiance (HDR images, constant colours); else display values, as the
         # generated sky's and 8-bit images' are (a linear-light engine decodes them where
-        # the rasterizer shows them as given: facet.render.trace.path_engine).
+        # the rasterizer shows them as given: facet.render.path.engine).
         self.linear = False
 
     def decoded(self) -> Environment:

@@ -33,11 +33,7 @@ PCF_CHOICES = (0, 1, 2)  # shadow filter kernel radius: one tap, 3 x 3, 5 x 5
 # when the scene has lights.
 LIGHTS = ("auto", "scene", "camera")
 ENGINES = ("raster", "trace", "path")  # rasterizer, ray tracer, path tracer (facet.render.engine)
-# Engines whose shadows are on unless asked otherwise (a shadow ray costs no extra pass).
-SHADOWS_BY_DEFAULT = ("trace", "path")
 CULL = ("auto", "on", "off")  # back-face culling (facet.render.raster.culling)
-DEFAULT_MAX_DEPTH = 5  # reflection/refraction bounces of the ray tracer
-DEFAULT_BOUNCES = 8  # the path tracer's max_depth when it is left at DEFAULT_MAX_DEPTH
 DEFAULT_AA = "msaa:4"
 # Files without normals: vertices split where faces meet at more than this many degrees
 # (facet.scene.normals; 180: all smooth).

@@ -33,7 +33,6 @@ from .option_values import (  # noqa: F401 - the vocabularies, importable from h
     CULL,
     DEFAULT_AA,
     DEFAULT_CREASE,
-    DEFAULT_MAX_DEPTH,
     DEFAULT_OUTPUTS,
     DISTRIBUTED_AA,
     ENGINES,
@@ -45,7 +44,6 @@ from .option_values import (  # noqa: F401 - the vocabularies, importable from h
     PATH_KEYS,
     PCF_CHOICES,
     SHADING,
-    SHADOWS_BY_DEFAULT,
     AntiAliasing,
     _default_aa,
     clamp_msaa,
@@ -83,8 +81,8 @@ class RenderOptions:
         ``none``, ``msaa:N`` or ``ssaa:PATTERN:N`` (raw: ``aa``, ``msaa=N``, ``spp=N``).
     shadows : bool, optional
         Shadow maps / shadow rays; None: the engine's default (the tracers cast them).
-    pcf : int
-        Percentage-closer filtering radius of shadow maps, texels.
+    pcf : int, optional
+        Percentage-closer filtering radius of shadow maps, texels; None: 1.
     srgb : bool
         Colour management (linear lighting, sRGB output; facet.image.colorspace).
     float_color : bool
@@ -113,8 +111,9 @@ class RenderOptions:
         Seconds the shutter stays open from ``time`` (motion blur); 0: a still.
     engine : str
         ENGINES: ``raster``, ``trace`` (Whitted) or ``path`` (physically based).
-    max_depth : int
-        The tracers' recursion depth.
+    max_depth : int, optional
+        The Whitted tracer's recursion depth, the path tracer's bounces; None: the engine's
+        (5 and 8; facet.render.capabilities).
     seed : int
         The random stream (the same seed, the same picture).
     up : (3,) float
@@ -130,7 +129,7 @@ class RenderOptions:
     shading: str = "auto"
     aa: AntiAliasing = field(default_factory=_default_aa)
     shadows: bool | None = None  # None: the engine's default (rasterizer off, tracer on)
-    pcf: int = 1
+    pcf: int | None = None  # None: the rasterizer's 1
     srgb: bool = False
     float_color: bool = False
     outputs: tuple[str, ...] = DEFAULT_OUTPUTS
@@ -145,18 +144,11 @@ class RenderOptions:
     variant: str | None = None
     shutter: float = 0.0
     engine: str = "raster"
-    max_depth: int = DEFAULT_MAX_DEPTH
+    max_depth: int | None = None  # None: the engine's (facet.render.capabilities)
     seed: int = 0
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
     cull: str = "auto"
     denoise: bool = False
-
-    @property
-    def shadows_on(self) -> bool:
-        """Whether this render has shadows: as asked, else the engine's default (the ray
-        tracer casts shadow rays, the rasterizer draws shadow maps only when asked)."""
-        return self.shadows if self.shadows is not None else \
-            self.engine in SHADOWS_BY_DEFAULT
 
     @classmethod
     def build(cls, *layers, **options) -> RenderOptions:

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..render.capabilities import decided
 from .keys import AA_CYCLE, TURNTABLE_FRAMES, help_text
 from .playback import FRAME_STEP, SECOND_STEP
 
@@ -78,7 +79,7 @@ class ViewerActions:
         print(f"aa: {self.keys['aa']}")
 
     def toggle_shadows(self):
-        self.keys["shadows"] = not self.options().shadows_on
+        self.keys["shadows"] = not decided(self.options()).shadows
 
     def cycle_engine(self):
         from ..scene.options import ENGINES

@@ -137,9 +137,10 @@ class ViewerCore(ViewerActions):
         gets)."""
         if not self.playback.playing:
             return False
+        user = self.renderer.user_programs()
         return bool(self.scene.animations) or (
-            any(o.material.shader is not None for o in self.scene.objects)
-            and self.renderer.forward.user.reads_time())
+            user is not None and any(o.material.shader is not None for o in self.scene.objects)
+            and user.reads_time())
 
     @property
     def wants_frame(self) -> bool:
@@ -215,7 +216,7 @@ class ViewerCore(ViewerActions):
         text = f"facet - {name} - {self.triangles:,} triangles"
         if fps is not None:
             text += f" - {fps:.0f} fps"
-        engine = self.keys.get("engine") or "raster"
+        engine = self.options().engine  # the keys', the flag's or the scene file's
         if engine != "raster":
             text += f" - engine {engine}"
         if self.scene.animations:
@@ -294,8 +295,8 @@ class ViewerCore(ViewerActions):
     def _check_shaders(self) -> None:
         """Reload user shaders whose files changed and then stayed put; a failure keeps the
         last good program."""
-        user = self.renderer.forward.user
-        if not self._shader_watch.due(user.changed):
+        user = self.renderer.user_programs()
+        if user is None or not self._shader_watch.due(user.changed):
             return
         with self.renderer.ctx:
             result = user.reload()

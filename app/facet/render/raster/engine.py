@@ -8,11 +8,8 @@ channels from the opaque objects in a single-sample pass, drawn when first read.
 from __future__ import annotations
 
 from ...gl.targets import clear_frame
-from ...scene.options import DEFAULT_MAX_DEPTH
-from ...scene.pbr import PbrMaterial
 from ..antialias import has_area_lights, point_lights_for
 from ..engine import Engine
-from ..materials import feature_lines
 from .forward import ForwardPass
 from .overlay import wireframe_overlay
 from .shadow import ShadowMaps
@@ -40,7 +37,7 @@ class RasterEngine(Engine):
 
     def prepare(self, scene, state, opts, aa):
         """The shadow maps, once per frame (per sample for area lights, sample_state)."""
-        if opts.shadows_on and not (aa is not None and has_area_lights(scene)):
+        if opts.shadows and not (aa is not None and has_area_lights(scene)):
             return state.with_(shadows=self.shadows.draw(point_lights_for(scene), opts.pcf))
         return state
 
@@ -79,7 +76,7 @@ class RasterEngine(Engine):
 
     def sample_state(self, scene, scene_k, state, opts, k: int, plain: bool):
         """Area lights: the maps follow the lights' points of sample ``k`` (``scene_k``)."""
-        if opts.shadows_on and has_area_lights(scene) and not plain:
+        if opts.shadows and has_area_lights(scene) and not plain:
             return state.with_(shadows=self.shadows.draw(scene_k, opts.pcf, k))
         return state
 
@@ -101,27 +98,14 @@ class RasterEngine(Engine):
         self.forward.draw(scene, state.with_(shading="unlit", shadows=None, environment=None),
                           aux=aux, colour_pass=False)
 
-    def unsupported(self, opts, scene) -> list[str]:
-        lines = []
-        if opts.max_depth != DEFAULT_MAX_DEPTH:
-            lines.append("max_depth sets the ray tracer's bounces; the rasterizer ignores it")
-        if opts.shadows_on and any(o.mesh.kind != "mesh" for o in scene.objects):
-            lines.append("points and lines cast no shadow maps in the rasterizer (the "
-                         "tracers' spheres and capsules cast shadows)")
-        return lines + feature_lines(scene, _dropped, "the rasterizer")
+    def more_lines(self, opts, scene) -> list[str]:
+        if opts.shadows and any(o.mesh.kind != "mesh" for o in scene.objects):
+            return ["points and lines cast no shadow maps in the rasterizer (the tracers' "
+                    "spheres and capsules cast shadows)"]
+        return []
 
     def release(self) -> None:
         if self._shadows is not None:
             self._shadows.release()
         self.forward.release()
 
-
-def _dropped(m) -> list[str]:
-    """The material features of ``m`` the rasterizer does not draw."""
-    if not isinstance(m, PbrMaterial):
-        return []
-    out = []
-    if m.transmission > 0 and m.alpha_mode == "BLEND":
-        out.append("KHR_materials_transmission in BLEND materials (the transparent pass "
-                   "draws its diffuse part)")
-    return out

@@ -1,3 +1,2 @@
-"""The ray tracer: the second engine behind facet.render.renderer (``engine="trace"``).
-``pack`` lays the scene out in arrays (no GL), ``engine`` uploads them and runs
-glsl/trace/ over the pixels."""
+"""The Whitted ray tracer, the second engine behind facet.render.renderer
+(``engine="trace"``), over the ray scene it shares with the path tracer (facet.render.rays)."""

@@ -1,6 +1,6 @@
 """The ray tracer's scene as arrays of texels (numpy, no GL), in the layout glsl/trace/ reads.
 
-Per mesh, once (``mesh_data``, cached by facet.render.trace.engine while the mesh lives):
+Per mesh, once (``mesh_data``, cached by facet.render.rays.scene while the mesh lives):
 its triangles in hierarchy order as (v0, e1, e2), their vertex indices, the vertices'
 normal, uv sets, colour and tangent frame (``VERTEX_TEXELS`` each), and its hierarchy
 (facet.geometry.bvh) in object space, with both children's boxes in each node. Moving or
@@ -99,7 +99,7 @@ def mesh_data(mesh, tangents: bool = False, radii=None) -> MeshData:
     """The tracer's arrays for ``mesh`` (module docstring); its tangent frames when it has
     them or ``tangents`` (a normal map needs them: computed from the uvs, once per mesh).
     Points and lines (``radii``: one per point or segment) become spheres and capsules
-    (facet.render.trace.sprites)."""
+    (facet.render.rays.sprites)."""
     if mesh.kind != "mesh":
         from .sprites import sprite_data
 

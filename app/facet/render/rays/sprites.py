@@ -1,6 +1,6 @@
 """Points and lines for the tracers (numpy, no GL): a point cloud is a mesh of spheres and a
 line set a mesh of capsules (cylinders with round ends), packed like a mesh's triangles
-(facet.render.trace.pack) with the primitive's kind in the first texel's w, and traversed
+(facet.render.rays.pack) with the primitive's kind in the first texel's w, and traversed
 by the same hierarchy (glsl/trace/bvh.glsl: hit_primitive).
 
 Per primitive, three texels: a sphere (centre, KIND_SPHERE), (radius, 0, 0, 0), 0; a capsule

@@ -3,7 +3,7 @@
 The rasterizer and the Whitted tracer draw an ``AreaLight`` as a point light at another
 point of its rectangle in each supersample (facet.render.antialias). The path tracer makes
 it what it stands for: a one-sided rectangle that emits on its ``normal`` side, sampled as
-a light like every emitting surface (facet.render.trace.emitters) and seen where a camera
+a light like every emitting surface (facet.render.path.emitters) and seen where a camera
 ray or a reflection meets it. Its radiance keeps the light's strength: seen from far along
 its normal, a rectangle of area A and radiance L is a point source of intensity L A, which
 gives irradiance L A / d^2; facet's point light of intensity I gives pi I / d^2 (with

@@ -1,7 +1,7 @@
 """The path tracer's emitters as a table for light sampling (numpy, no GL).
 
 Every triangle of a mesh whose material emits (emissive factor x strength, as
-facet.render.trace.pack lays it out) is a light, and so is every emitting analytic shape
+facet.render.rays.pack lays it out) is a light, and so is every emitting analytic shape
 (facet.scene.shapes) of finite area. glsl/trace/path.frag picks one by its share of the
 emitted power, area x luminance of the factor (a binary search in the cumulative shares),
 then a point uniformly on it by area; the density of that point per unit area is then

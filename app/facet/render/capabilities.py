@@ -1,0 +1,149 @@
+"""What each engine honours, declared once (no GL): its defaults for the options a user
+leaves unset, the options it cannot honour when they are given, and the material features
+it leaves out or draws otherwise.
+
+Options keep "not given" (None) until the engine decides (``decided``): the rasterizer draws
+shadow maps only when asked, the tracers cast shadow rays unless told not to; ``max_depth``
+is the Whitted tracer's recursion depth (5) and the path tracer's bounces (8) when not given,
+and the rasterizer takes none. An engine's ``unsupported`` lines (facet.render.engine) are
+made from its row here, so a feature the table says an engine leaves out is always named in
+a warning line, and the differential tests read the same table.
+
+Material features have the names glTF and facet's docs give them (``material_features``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+
+@dataclass(frozen=True)
+class OptionLimit:
+    """An option an engine does not honour as given: ``given(opts)`` on the options before
+    the engine decided them; ``line`` the warning."""
+
+    given: object  # (RenderOptions) -> bool
+    line: str
+
+
+@dataclass(frozen=True)
+class Capabilities:
+    """One engine's row of the table (module docstring)."""
+
+    noun: str  # how warnings name it: "the rasterizer"
+    shadows: bool  # shadows when the options do not say
+    max_depth: int | None  # recursion depth or bounces when not given; None: takes none
+    options: tuple[OptionLimit, ...] = ()
+    # material feature -> what the engine draws instead (absent: honoured)
+    leaves_out: dict[str, str] = field(default_factory=dict)
+
+    def decided(self, opts):
+        """``opts`` with what was not given decided by this engine."""
+        return replace(opts, shadows=self.shadows if opts.shadows is None else opts.shadows,
+                       max_depth=self.max_depth if opts.max_depth is None else opts.max_depth,
+                       pcf=1 if opts.pcf is None else opts.pcf)
+
+    def option_lines(self, opts) -> list[str]:
+        return [limit.line for limit in self.options if limit.given(opts)]
+
+    def feature_lines(self, scene) -> list[str]:
+        """One line per feature of the scene's materials this engine leaves out, with how
+        many objects use it."""
+        counts: dict[str, int] = {}
+        for obj in scene.objects:
+            for feature in material_features(obj.material):
+                if feature in self.leaves_out:
+                    counts[feature] = counts.get(feature, 0) + 1
+        total = len(scene.objects)
+        return [f"{self.noun} ignores {feature} ({n} of {total} objects): "
+                f"{self.leaves_out[feature]}" for feature, n in counts.items()]
+
+
+def material_features(m) -> list[str]:
+    """The features a material uses, by the names of glTF (and facet's Phong material)."""
+    out = ["users' mesh shaders"] if m.shader is not None else []
+    if not hasattr(m, "metallic"):  # a Phong Material (its module needs numpy: --help)
+        return out + [name for name, used in (
+            ("Phong reflectivity", m.reflectivity > 0), ("Phong ior", m.ior > 0),
+            ("Phong gloss", m.gloss > 0 and m.reflectivity > 0),
+            ("planar mirrors", m.mirror)) if used]
+    return out + [name for name, used in (
+        ("baseColorTexture", m.base_color_texture is not None),
+        ("metallicRoughnessTexture", m.metallic_roughness_texture is not None),
+        ("normalTexture", m.normal_texture is not None),
+        ("occlusionTexture", m.occlusion_texture is not None),
+        ("emissiveTexture", m.emissive_texture is not None),
+        ("alphaMode MASK", m.alpha_mode == "MASK"),
+        ("alphaMode BLEND", m.alpha_mode == "BLEND"),
+        ("KHR_materials_unlit", m.unlit),
+        ("KHR_materials_ior", m.ior != 1.5),
+        ("KHR_materials_specular", m.specular != 1.0 or any(m.specular_color != 1.0) or
+         m.specular_texture is not None or m.specular_color_texture is not None),
+        ("KHR_materials_transmission", m.transmission > 0),
+        ("KHR_materials_transmission in BLEND materials",
+         m.transmission > 0 and m.alpha_mode == "BLEND"),
+        ("KHR_materials_volume", m.transmission > 0 and m.thickness > 0),
+        ("thicknessTexture", m.thickness_texture is not None),
+        ("KHR_materials_clearcoat", m.clearcoat > 0),
+        ("clearcoatNormalTexture", m.clearcoat > 0 and m.clearcoat_normal_texture is not None),
+        ("KHR_materials_sheen", bool(any(m.sheen_color > 0))),
+        ("KHR_materials_emissive_strength", m.emissive_strength != 1.0)) if used]
+
+
+def _given(key: str):
+    return lambda opts: getattr(opts, key) is not None
+
+
+_EXACT_SHADOWS = OptionLimit(_given("pcf"), "pcf filters shadow maps; {noun}'s shadow rays are "
+                             "exact")
+_NO_WIREFRAME = OptionLimit(lambda o: o.wireframe, "{noun} draws no wireframe overlay")
+_NO_CULL = OptionLimit(lambda o: o.cull == "on", "{noun} culls no back faces for cull = on "
+                       "(only single-sided glTF materials lose theirs)")
+
+
+def _row(noun: str, shadows: bool, max_depth, options=(), leaves_out=None) -> Capabilities:
+    limits = tuple(OptionLimit(o.given, o.line.format(noun=noun)) for o in options)
+    return Capabilities(noun, shadows, max_depth, limits, dict(leaves_out or {}))
+
+
+CAPABILITIES: dict[str, Capabilities] = {
+    "raster": _row("the rasterizer", False, None, (
+        OptionLimit(_given("max_depth"), "max_depth sets the tracers' recursion and bounces; "
+                    "the rasterizer ignores it"),), {
+        "KHR_materials_transmission in BLEND materials":
+            "the transparent pass draws its diffuse part"}),
+    "trace": _row("the ray tracer", True, 5, (
+        _NO_WIREFRAME, _NO_CULL, _EXACT_SHADOWS,
+        OptionLimit(lambda o: o.shading == "gouraud",
+                    "the ray tracer shades gouraud as phong (per pixel)")), {
+        "users' mesh shaders": "the material's Phong terms are traced"}),
+    "path": _row("the path tracer", True, 8, (
+        _NO_WIREFRAME, _NO_CULL, _EXACT_SHADOWS,
+        OptionLimit(lambda o: o.shadows is False,
+                    "the path tracer always traces shadows (shadows = off ignored)"),
+        OptionLimit(lambda o: o.shading not in ("auto", "pbr", "phong"),
+                    "the path tracer shades by the metallic-roughness model, not the "
+                    "shading option's model")), {
+        "users' mesh shaders": "traced by the material's metallic-roughness mapping",
+        "occlusionTexture": "it traces occlusion itself",
+        "Phong reflectivity": "mirrors are traced as the metallic-roughness mapping of the "
+                              "Phong terms",
+        "Phong ior": "refraction is traced as a transparent surface that does not bend "
+                     "light"}),
+}
+
+
+def decided(opts):
+    """``opts`` with what was not given decided by the engine they name.
+
+    Parameters
+    ----------
+    opts : RenderOptions
+        Options as resolved from their layers.
+
+    Returns
+    -------
+    RenderOptions
+        ``shadows``, ``max_depth`` and ``pcf`` set.
+    """
+    return CAPABILITIES[opts.engine].decided(opts)

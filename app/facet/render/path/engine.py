@@ -1,0 +1,159 @@
+"""The path tracer as an engine (facet.render.engine): colour from glsl/trace/path.frag
+over its ray scene (facet.render.rays, the Whitted tracer's sibling): light that bounces
+between surfaces, by the glTF metallic-roughness model (lib/pbr.glsl, the rasterizer's),
+with its emitters (facet.render.path.emitters), area lights as emitting rectangles
+(facet.render.path.area_lights) and the sky as a light (facet.render.path.sky).
+
+One path per pixel and supersample; a sum of samples (msaa:N or spp=N: N paths per pixel).
+The random stream of a path is a hash of its pixel and sample index, so a picture is the
+same on every run. Its colour is linear radiance: float colour as it is, 8-bit colour
+sRGB-encoded (as the rasterizer's metallic-roughness model writes it), in either colour
+mode. ``max_depth`` is the most bounces after the eye ray (8 when not given:
+facet.render.capabilities).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ...scene.light import AreaLight
+from ...srgb import srgb_to_linear
+from ..antialias import accumulation
+from ..engine import Engine, grid_or_jittered
+from ..materials import as_pbr
+from ..rays import pack
+from ..rays.scene import RayScene
+from ..rays.sprites import sprite_lines
+from .area_lights import AreaEmitters, strip_area_points
+from .emitters import pack_emitters
+from .sky import SkyLight
+
+STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag
+
+
+class PathEngine(Engine):
+    """The path tracer of one renderer (module docstring). ``strategy``: how emitters and
+    the environment are found, "mis" (light and BSDF sampling, power heuristic), "light"
+    or "bsdf" alone (the same picture, noisier: for tests of the estimator)."""
+
+    name = "path"
+    radiance = True
+    strategy = "mis"
+
+    def __init__(self, ctx, cache):
+        super().__init__(ctx, cache)
+        self.rays = RayScene(ctx, cache)
+        self.sky = SkyLight(ctx)
+        self._areas = AreaEmitters()
+        self._lit_by = None  # the frame's scene, whose area lights are rectangles here
+        self._sample = 0  # the supersample being drawn (sample_state)
+        self._emitter_count = 0
+        self._emitter_pdf = np.zeros(0)
+        self._emitters_key = None
+
+    def sampling(self, opts, scene, camera, preview: bool):
+        """Always a sum: msaa:N is N paths per pixel (none: one through the centre)."""
+        if preview:
+            return grid_or_jittered(1)
+        aa = accumulation(opts.aa, scene, camera, opts.shadows)
+        return aa if aa is not None else grid_or_jittered(opts.aa.msaa or 1)
+
+    def prepare(self, scene, state, opts=None, aa=None):
+        """The ray scene's upload, with the area lights' rectangles."""
+        self._lit_by = scene
+        scene = self._areas.with_rectangles(scene)
+        self.rays.prepare(scene, state, _layer_requests(scene))
+        return state
+
+    def sample_state(self, scene, scene_k, state, opts, k: int, plain: bool):
+        """Sample k's stream; the points that stand in for area lights elsewhere go (their
+        rectangles emit instead)."""
+        self._sample = k
+        self._lit_by = scene
+        if any(isinstance(x, AreaLight) for x in scene.lights):
+            return state.with_(lights=strip_area_points(scene, scene_k, state.lights))
+        return state
+
+    def _with_rectangles(self, scene):
+        if self._lit_by is not None:
+            rectangles = self._areas.objects(self._lit_by)
+            if rectangles:
+                return scene.view(objects=scene.objects + rectangles)
+        return scene
+
+    def draw_sample(self, scene, state, opts, surf, background) -> None:
+        scene = self._with_rectangles(scene)
+        if not state.srgb:  # a display value here; the output is encoded (Engine.radiance)
+            background = (*srgb_to_linear(np.asarray(background[:3])), background[3])
+            # So are the generated sky's and 8-bit images' values (the rasterizer shows
+            # them as given): their radiance is what they show once encoded.
+            if state.environment is not None:
+                state = replace(state, environment=state.environment.decoded())
+        sky = self.sky.textures(state.environment)
+        program = self.rays.program("path", state, False, extra=_material_defines(scene) + (
+            ("SKY_DISTRIBUTION",) if sky is not None else ()))
+        textures = {"u_emitters": "emitters"}  # a scene texture (RayScene.draw_colour)
+        if sky is not None:
+            textures.update(u_sky_cdf=sky[0], u_sky_pdf=sky[1], u_sky_radiance=sky[2])
+        self.rays.draw_colour(
+            scene, state, program, textures, self._emitter_rows,
+            u_background=background, u_max_depth=int(opts.max_depth),
+            u_sample=self._sample, u_flip_y=int(state.flip_y), u_seed=int(opts.seed),
+            u_strategy=STRATEGIES[self.strategy],
+            u_emitter_count=lambda: self._emitter_count,  # (counted while binding)
+            u_sky_size=sky[3] if sky is not None else (1, 1))
+
+    def draw_exact(self, scene, state, aux, albedo: bool = False) -> None:
+        """The exact channels; ``albedo``: the first hit's albedo into colour too (the
+        denoiser's guide)."""
+        self.rays.draw_exact(scene, state, aux, _material_defines(scene) +
+                             (("ALBEDO",) if albedo else ()), self._emitter_rows)
+
+    def _emitter_rows(self, rows, ordered) -> None:
+        """The emitters' table (facet.render.path.emitters) uploaded when it changed, and
+        each instance row's density factor."""
+        key = tuple((i, id(o.mesh), np.asarray(o.transform).tobytes(),
+                     tuple(as_pbr(o.material).emissive * as_pbr(o.material).emissive_strength))
+                    for i, o in enumerate(ordered) if o.shape is None)
+        if key != self._emitters_key or "emitters" not in self.rays.textures:
+            tris = {id(o.mesh): self.rays.meshes[o.mesh].tris for o in ordered
+                    if o.shape is None}
+            table, pdf = pack_emitters(ordered, lambda o: as_pbr(o.material), tris,
+                                       self.rays.first_tri)
+            self.rays.upload("emitters", table)
+            self._emitter_count = len(table) if pdf.any() else 0
+            self._emitter_pdf = pdf
+            self._emitters_key = key
+        rows[:, pack.MATERIAL_ROW + 7, 0] = self._emitter_pdf
+
+    def more_lines(self, opts, scene) -> list[str]:
+        lines = sprite_lines(scene, "the path tracer")
+        areas = [x for x in scene.lights if isinstance(x, AreaLight)]
+        if any(not np.array_equal(x.attenuation, (0.0, 0.0, 1.0)) for x in areas):
+            lines.append("the path tracer's area lights are emitting rectangles: they fall "
+                         "off with the inverse square of the distance (their attenuation "
+                         "is ignored)")
+        return lines
+
+    def release(self) -> None:
+        self.sky.release()
+        self.rays.release()
+
+
+def _layer_requests(scene) -> list:
+    """Every image of the materials' slots (facet.render.rays.pack.PATH_SLOTS), a Phong
+    material's as the slot of its metallic-roughness mapping: all linear."""
+    out = []
+    for obj in scene.objects:
+        m = as_pbr(obj.material)
+        out += [(slot.texture, pack.slot_mode(name, slot)) for name, slot in m.slots.items()
+                if name in pack.PATH_SLOTS]
+    return out
+
+
+def _material_defines(scene) -> tuple:
+    """The material's own slots (PBR_SLOTS); HAS_ALPHA when some are not opaque."""
+    alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" for o in scene.objects)
+    return ("PBR_SLOTS", "PATH_TRACER") + (("HAS_ALPHA",) if alpha else ())

@@ -1,0 +1,217 @@
+"""The ray scene on the GPU, shared by the Whitted tracer and the path tracer (siblings that
+each own one): the meshes' triangles and hierarchies, the placed instances and their top
+level, the materials' images as layers of one texture array, and the lights' block, uploaded
+from what facet.render.rays.pack lays out; and the full-screen programs of glsl/trace/ that
+read them, compiled once per set of defines.
+
+Meshes are packed once per Mesh (kept while it lives) and the geometry textures are uploaded
+again only when the set of meshes changes; instances and the top level are packed per call
+(per supersample when objects move, for motion blur): a turntable or a moving camera never
+rebuilds a mesh's hierarchy.
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import numpy as np
+
+from ...gl.bindings import BLOCKS, unit
+from ...gl.fullscreen import FullScreenPass
+from ...gl.glsl_source import glsl_root
+from ...gl.shaders import compile_program
+from ...gl.targets import aux_locations
+from ...scene.scene import MAX_LIGHTS
+from ..materials import as_pbr, phong_color
+from ..shading import SHADING_MODELS
+from ..state import FrameState, pack_lights
+from . import pack
+from .layers import texture_array
+from .sprites import sprite_radii
+
+
+class RayScene:
+    """One engine's ray scene (module docstring). ``programs``: compiled passes by stage
+    and defines."""
+
+    def __init__(self, ctx, cache):
+        self.ctx, self.cache = ctx, cache
+        self.programs: dict[tuple, FullScreenPass] = {}
+        self.meshes = weakref.WeakKeyDictionary()  # Mesh -> pack.MeshData
+        self._sprite_sizes: dict[int, int | None] = {}  # id(points) -> its radii's hash
+        self._geometry_key: tuple | None = None
+        self._geometry_refs: list = []  # the meshes of the uploaded geometry (alive)
+        self.roots: dict[int, int] = {}
+        self.first_tri: dict[int, int] = {}
+        self.textures: dict[str, object] = {}
+        self._layers_key: tuple | None = None
+        self.layers: dict = {}
+        self.lights_ubo = ctx.buffer(reserve=len(pack_lights((), np.zeros(3))))
+        limit = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
+        self.max_texels = pack.TEX_WIDTH * limit
+
+    # -- uploads ---------------------------------------------------------------------------
+    def upload(self, name: str, rows: np.ndarray, dtype: str = "f4") -> None:
+        """Rows of texels as the scene texture ``name`` (replacing the last one)."""
+        image = pack.to_texels(rows)
+        old = self.textures.pop(name, None)
+        if old is not None:
+            old.release()
+        tex = self.ctx.texture((pack.TEX_WIDTH, image.shape[0]), 4, image.tobytes(),
+                               dtype=dtype)
+        tex.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
+        self.textures[name] = tex
+
+    def prepare(self, scene, state: FrameState, requests: list) -> None:
+        """Geometry for ``scene`` and its images ``requests`` ((texture, mode) pairs,
+        facet.render.rays.layers), each uploaded only when it changed."""
+        self._geometry(scene, state)
+        self._texture_layers(requests, state.srgb)
+
+    def _geometry(self, scene, state) -> None:
+        """Every mesh's triangles and hierarchy, uploaded when the set of meshes changed (or,
+        for points and lines sized in pixels, their radii: facet.render.rays.sprites)."""
+        meshes = list({id(o.mesh): o.mesh for o in scene.objects if o.shape is None}.values())
+        framed = {id(o.mesh) for o in scene.objects
+                  if o.shape is None and as_pbr(o.material).normal_mapped}
+        radii = {id(o.mesh): sprite_radii(o, state.camera, state.width, state.height)
+                 for o in scene.objects if o.mesh.kind != "mesh"}
+        sized = {k: hash(r.tobytes()) for k, r in radii.items()}
+        key = tuple((id(m), id(m) in framed, sized.get(id(m))) for m in meshes)
+        if key == self._geometry_key and "tris" in self.textures:
+            return
+        data = []
+        for mesh in meshes:
+            cached = self.meshes.get(mesh)
+            if cached is None or (id(mesh) in framed and not cached.has_tangents) or \
+                    self._sprite_sizes.get(id(mesh)) != sized.get(id(mesh)):
+                self.meshes[mesh] = pack.mesh_data(mesh, id(mesh) in framed,
+                                                   radii.get(id(mesh)))
+                self._sprite_sizes[id(mesh)] = sized.get(id(mesh))
+            data.append(self.meshes[mesh])
+        if not data:  # shapes only: one dummy triangle keeps every sampler valid
+            from ...scene.mesh import Mesh
+
+            data = [pack.mesh_data(Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]))]
+        geo = pack.pack_geometry(data, self.max_texels)
+        self.upload("tris", geo["tris"])
+        self.upload("tri_index", geo["index"], "i4")
+        self.upload("vertices", geo["vertices"])
+        self.upload("nodes", geo["nodes"])
+        self.roots = {id(m): int(r) for m, r in zip(meshes, geo["root"], strict=False)}
+        self.first_tri = {id(m): int(f) for m, f in zip(meshes, geo["first_tri"],
+                                                        strict=False)}
+        self._geometry_key, self._geometry_refs = key, meshes
+
+    def _texture_layers(self, requests: list, srgb: bool) -> None:
+        """The requested images as layers of one texture array, keyed (id(texture), mode)
+        (facet.render.rays.layers)."""
+        requests = list({(id(t), c): (t, c) for t, c in requests}.values())
+        key = (tuple((id(t), c) for t, c in requests), srgb)
+        if key == self._layers_key:
+            return
+        old = self.textures.pop("textures", None)
+        if old is not None:
+            old.release()
+        self.textures["textures"] = texture_array(self.ctx, requests, srgb)
+        self.layers = {(id(t), c): i for i, (t, c) in enumerate(requests)}
+        self._layers_key = key
+
+    def instances(self, scene, state: FrameState, more_rows=None) -> tuple[int, bool, int]:
+        """Upload the placed objects (``more_rows(rows, ordered)`` may add to their rows):
+        (unbounded count, has a top level, the single bounded instance without one or
+        -1)."""
+        boxes = {id(o.mesh): self.meshes[o.mesh].bounds for o in scene.objects
+                 if o.mesh.kind != "mesh" and o.shape is None}
+        rows, tlas, unbounded, ordered = pack.pack_instances(
+            scene.objects, self.roots, lambda m: phong_color(m, state), self.layers, boxes)
+        if more_rows is not None:
+            more_rows(rows, ordered)
+        self.upload("instances", rows.reshape(-1, 4))
+        self.upload("tlas", tlas.reshape(-1, 4) if tlas is not None else
+                    np.zeros((4, 4), np.float32))
+        single = unbounded if tlas is None and len(rows) > unbounded else -1
+        return unbounded, tlas is not None, single
+
+    # -- programs and draws ----------------------------------------------------------------
+    def program(self, stage: str, state: FrameState, shadows: bool, aux=(),
+                secondary: bool = False, extra=()) -> FullScreenPass:
+        """glsl/trace/<stage>.frag with the frame's defines and ``extra`` ones. The lights
+        are looped over at run time (u_light_count), not unrolled per light set as the
+        rasterizer's are: each unrolled light would inline a whole shadow ray's traversal,
+        and one program serves every light set."""
+        model = "phong" if state.shading in ("auto", "pbr") else state.shading
+        defines = {SHADING_MODELS[model].define: None, "MAX_LIGHTS": MAX_LIGHTS,
+                   **pack.layout_defines()}
+        flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
+                 "LINEAR_OUT": state.linear_out,
+                 "SECONDARY": secondary and stage == "trace",
+                 "HAS_ENVIRONMENT": state.environment is not None and stage != "primary"}
+        defines.update({k: None for k, on in flags.items() if on})
+        defines.update({k: None for k in extra})
+        for name, location in aux_locations(aux).items():
+            defines[f"OUT_{name.upper()}"] = location
+        key = (stage, tuple(sorted(defines.items())))
+        if key not in self.programs:
+            root = glsl_root()
+            prog = compile_program(self.ctx, root / "post" / "fullscreen.vert",
+                                   root / "trace" / f"{stage}.frag", defines)
+            self.programs[key] = FullScreenPass(self.ctx, None, program=prog)
+        return self.programs[key]
+
+    def bind(self, scene, state: FrameState, program: FullScreenPass, more_rows=None) -> None:
+        """The scene's textures, instances and lights for ``program``, and the camera."""
+        unbounded, has_tlas, single = self.instances(scene, state, more_rows)
+        self.lights_ubo.write(state.lights_block)
+        self.lights_ubo.bind_to_uniform_block(BLOCKS["Lights"])
+        prog = program.program
+        for name in ("tris", "tri_index", "vertices", "nodes", "instances", "tlas",
+                     "textures"):
+            self.textures[name].use(location=unit(f"u_{name}"))
+        prog.set("u_unbounded", unbounded, strict=False)
+        prog.set("u_has_tlas", has_tlas, strict=False)
+        prog.set("u_single", single, strict=False)
+        prog.set("u_inv_view_projection", np.linalg.inv(state.view_projection()))
+        prog.set("u_viewport", (float(state.width), float(state.height)))
+
+    def draw_colour(self, scene, state: FrameState, program: FullScreenPass, textures=None,
+                    more_rows=None, **uniforms) -> None:
+        """Draw a colour ``program`` over the scene into the bound target, with the
+        environment, ``textures`` ({sampler: texture, or the name of one of the scene's
+        textures, made while binding}) and ``uniforms`` (those it lacks skipped; a callable
+        is asked for its value after binding, when ``more_rows`` has made it)."""
+        self.bind(scene, state, program, more_rows)
+        textures = {k: self.textures[v] if isinstance(v, str) else v
+                    for k, v in (textures or {}).items()}
+        for name, value in uniforms.items():
+            value = value() if callable(value) else value
+            if not isinstance(value, int):  # a vector: ints stay ints (ivec uniforms)
+                value = tuple(v if isinstance(v, int) else float(v) for v in value)
+            program.program.set(name, value, strict=False)
+        if state.environment is not None:
+            textures["u_environment"] = self.cache.cube(state.environment)
+        self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
+        program.draw(textures)
+        self.ctx.enable(self.ctx.DEPTH_TEST)
+
+    def draw_exact(self, scene, state: FrameState, aux, defines=(), more_rows=None) -> None:
+        """The exact channels ``aux`` at pixel centres into the bound target (cleared), by
+        glsl/trace/primary.frag with the materials read as ``defines`` say."""
+        program = self.program("primary", state, False, aux, extra=defines)
+        self.bind(scene, state, program, more_rows)
+        prog = program.program
+        camera = state.camera
+        prog.set("u_eye_world", tuple(float(v) for v in camera.eye), strict=False)
+        prog.set("u_forward", tuple(float(v) for v in camera.forward), strict=False)
+        self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
+        program.draw()
+        self.ctx.enable(self.ctx.DEPTH_TEST)
+
+    def release(self) -> None:
+        for program in self.programs.values():
+            program.release()
+        self.programs.clear()
+        for tex in self.textures.values():
+            tex.release()
+        self.textures.clear()
+        self.lights_ubo.release()
