@@ -1,26 +1,63 @@
-// A glTF material's texture slots (facet.render.materials, facet.scene.pbr.SLOTS order):
-// each with its coordinate set (v_uv or v_uv1, which the including stage declares), its
-// KHR_texture_transform matrix and mirrored axes (repeat and clamp are the sampler's).
-const int SLOT_BASE = 0, SLOT_MR = 1, SLOT_NORMAL = 2, SLOT_OCCLUSION = 3, SLOT_EMISSIVE = 4,
-          SLOT_SPECULAR = 5, SLOT_SPECULAR_COLOR = 6, SLOT_TRANSMISSION = 7,
-          SLOT_THICKNESS = 8, SLOT_CLEARCOAT = 9, SLOT_CLEARCOAT_ROUGHNESS = 10,
-          SLOT_CLEARCOAT_NORMAL = 11, SLOT_SHEEN_COLOR = 12, SLOT_SHEEN_ROUGHNESS = 13;
-const int SLOT_COUNT = 14;
-uniform mat3 u_slot_transform[SLOT_COUNT];
-uniform float u_slot_set[SLOT_COUNT];   // 0: v_uv, 1: v_uv1
-uniform vec2 u_slot_mirror[SLOT_COUNT];  // 1 on mirrored axes
+// The rasterizer's side of the material record (facet.render.material_record): the record
+// of the object being drawn as one uniform array, and a sampler per texture slot (the
+// slot's repeat and clamp are its sampler's, facet.render.materials.SlotSamplers), each
+// enabled by its TEX_<SLOT> define; then the shared accessor, lib/material.glsl.
+uniform vec4 u_material[RECORD_TEXELS];
 uniform sampler2D u_tex_base, u_tex_mr, u_tex_normal, u_tex_occlusion, u_tex_emissive,
                   u_tex_specular, u_tex_specular_color, u_tex_transmission, u_tex_thickness,
                   u_tex_clearcoat, u_tex_clearcoat_roughness, u_tex_clearcoat_normal,
                   u_tex_sheen_color, u_tex_sheen_roughness;
 
-vec4 sample_slot(sampler2D tex, int k) {
-#ifdef HAS_UV1
-    vec2 uv = u_slot_set[k] > 0.5 ? v_uv1 : v_uv;
-#else
-    vec2 uv = v_uv;
-#endif
-    uv = (u_slot_transform[k] * vec3(uv, 1.0)).xy;
-    uv = mix(uv, 1.0 - abs(mod(uv, 2.0) - 1.0), u_slot_mirror[k]);
-    return texture(tex, uv);
+vec4 record_texel(int rec, int k) {
+    return u_material[k];
 }
+
+vec4 slot_image(int rec, int k, vec2 uv) {
+#define SLOT_IMAGE(NAME, SAMPLER) if (k == NAME) return texture(SAMPLER, uv);
+#ifdef TEX_BASE
+    SLOT_IMAGE(SLOT_BASE_COLOR, u_tex_base)
+#endif
+#ifdef TEX_MR
+    SLOT_IMAGE(SLOT_METALLIC_ROUGHNESS, u_tex_mr)
+#endif
+#ifdef TEX_NORMAL
+    SLOT_IMAGE(SLOT_NORMAL, u_tex_normal)
+#endif
+#ifdef TEX_OCCLUSION
+    SLOT_IMAGE(SLOT_OCCLUSION, u_tex_occlusion)
+#endif
+#ifdef TEX_EMISSIVE
+    SLOT_IMAGE(SLOT_EMISSIVE, u_tex_emissive)
+#endif
+#ifdef TEX_SPECULAR
+    SLOT_IMAGE(SLOT_SPECULAR, u_tex_specular)
+#endif
+#ifdef TEX_SPECULAR_COLOR
+    SLOT_IMAGE(SLOT_SPECULAR_COLOR, u_tex_specular_color)
+#endif
+#ifdef TEX_TRANSMISSION
+    SLOT_IMAGE(SLOT_TRANSMISSION, u_tex_transmission)
+#endif
+#ifdef TEX_THICKNESS
+    SLOT_IMAGE(SLOT_THICKNESS, u_tex_thickness)
+#endif
+#ifdef TEX_CLEARCOAT
+    SLOT_IMAGE(SLOT_CLEARCOAT, u_tex_clearcoat)
+#endif
+#ifdef TEX_CLEARCOAT_ROUGHNESS
+    SLOT_IMAGE(SLOT_CLEARCOAT_ROUGHNESS, u_tex_clearcoat_roughness)
+#endif
+#ifdef TEX_CLEARCOAT_NORMAL
+    SLOT_IMAGE(SLOT_CLEARCOAT_NORMAL, u_tex_clearcoat_normal)
+#endif
+#ifdef TEX_SHEEN_COLOR
+    SLOT_IMAGE(SLOT_SHEEN_COLOR, u_tex_sheen_color)
+#endif
+#ifdef TEX_SHEEN_ROUGHNESS
+    SLOT_IMAGE(SLOT_SHEEN_ROUGHNESS, u_tex_sheen_roughness)
+#endif
+#undef SLOT_IMAGE
+    return vec4(1.0);
+}
+
+#include "lib/material.glsl"

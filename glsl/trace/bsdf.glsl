@@ -15,7 +15,7 @@
 // (GGX and cosine mixture) is what multiple importance sampling weighs against light
 // sampling; delta lobes and transmission (which light sampling never reaches through the
 // opaque shadow rays) are not weighed.
-#include "lib/pbr.glsl"
+#include "lib/layers.glsl"
 #include "lib/sampling.glsl"
 
 const float SMOOTH_ROUGHNESS = 0.03;
@@ -54,12 +54,7 @@ float fresnel_dielectric(float cos_i, float eta) {
 
 Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
     Bsdf b;
-    b.m = pbr_surface_full(mat.base, mat.metallic, mat.roughness, dot(N, V), mat.f0_d,
-                           mat.f90_d);
-    pbr_sheen(b.m, mat.sheen, mat.sheen_roughness);
-    pbr_coat(b.m, mat.clearcoat, mat.clearcoat_roughness, mat.cc_n, V);
-    b.c_trans = b.m.c_diff * mat.transmission;
-    b.m.c_diff *= 1.0 - mat.transmission;
+    b.m = layered_surface(mat, N, mat.cc_n, V, b.c_trans);
     b.thin = mat.thin;
     float ior = max(mat.ior, 1.0);
     b.eta = mat.thin ? 1.0 : (front ? ior : 1.0 / ior);

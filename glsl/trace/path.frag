@@ -150,11 +150,7 @@ float visibility(vec3 o, vec3 d, float t_max) {
         Hit h = trace_scene(o, d, t_max, false);
         if (h.inst < 0) return through;
         Surface s = surface_at(h, o, d);
-        int mode;
-        float cutoff;
-        float a = coverage(h.inst, s, mode, cutoff);
-        if (mode == ALPHA_OPAQUE || (mode == ALPHA_MASK && a >= cutoff)) return 0.0;
-        if (mode == ALPHA_BLEND) through *= 1.0 - a;
+        through *= lets_through(s);
         if (through <= 0.0) return 0.0;
         o = offset_ray(s.p, -s.ng);
         t_max -= h.t;
@@ -251,7 +247,7 @@ vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
         h = Hit(dist, inst, tri, b, vec3(0.0), vec2(0.0));
     }
     Surface s = surface_at(h, p, L);
-    Material m = material_at(inst, s);
+    Material m = material_of(s);
     float cos_l = abs(dot(s.ng, L));
     pdf = cos_l > 0.0 ? m.emit_pdf * dist * dist / cos_l : 0.0;
     bool one_sided = (int(fetch(u_instances, inst * INSTANCE_TEXELS + 6).w)
@@ -305,13 +301,13 @@ void main() {
         }
         Surface s = surface_at(h, o, d);
 #ifdef HAS_ALPHA
-        if (passes(h.inst, s, random01())) {  // not there for this ray: on, unchanged
+        if (passes(s, random01())) {  // not there for this ray: on, unchanged
             o = offset_ray(s.p, -s.ng);
             t_max -= h.t;
             continue;
         }
 #endif
-        Material mat = material_at(h.inst, s);
+        Material mat = material_of(s);
         // What it emits towards the eye, or towards the last surface that sampled its BSDF.
         bool one_sided = (int(fetch(u_instances, h.inst * INSTANCE_TEXELS + 6).w)
                           & FLAG_ONE_SIDED) != 0;

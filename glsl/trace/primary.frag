@@ -46,10 +46,7 @@ void main() {
         // The path tracer's materials: cut-outs (alpha MASK) are not there, as rasterized.
         if (h.inst < 0) break;
         Surface c = surface_at(h, o, d);
-        int mode;
-        float cutoff;
-        float a = coverage(h.inst, c, mode, cutoff);
-        if (mode != ALPHA_MASK || a >= cutoff) break;
+        if (!cut_out(c)) break;
         o = offset_ray(c.p, -c.ng);
         t_max -= h.t;
 #else
@@ -63,7 +60,7 @@ void main() {
     Surface s = surface_at(h, o, d);
 #endif
 #if defined(ALBEDO) && defined(PBR_SLOTS)
-    Material m = material_at(h.inst, s);
+    Material m = material_of(s);
     f_color = vec4(m.unlit ? m.base : mix(m.base, vec3(1.0),
                                           m.transmission * (1.0 - m.metallic)), 1.0);
 #endif

@@ -1,11 +1,9 @@
 // Placed objects (instances) and the top level over them; hits and the surfaces they give.
-// An instance is INSTANCE_TEXELS texels (facet.render.trace.pack):
+// An instance is INSTANCE_TEXELS texels (facet.render.rays.pack):
 //   0-2  world -> object rows          3-5  object -> world rows
 //   6    (kind, mesh root node, object id, flags: FLAG_COLORS | FLAG_ONE_SIDED)
-//   7    shape parameters              8    material (C rgb, k_a)
-//   9    (k_d, k_s, shininess, opacity)  10 (reflectivity, ior, gloss, texture layer or -1)
-//   11   (base colour rgb, metallic)     12 (emitted radiance rgb, roughness): the
-//        metallic-roughness model the path tracer shades by (glsl/trace/path.frag)
+//   7    shape parameters
+//   MATERIAL_ROW...  its material's record (facet.render.material_record)
 #include "trace/bvh.glsl"
 #include "trace/shapes.glsl"
 
@@ -28,7 +26,7 @@ vec3 apply_rows(int base, vec3 p, float w) {  // rows base..base+2 times (p, w)
 }
 
 float instance_opacity(int i) {
-    return fetch(u_instances, i * INSTANCE_TEXELS + 9).w;
+    return fetch(u_instances, i * INSTANCE_TEXELS + MATERIAL_ROW + REC_PHONG).w;
 }
 
 // Instance i against the ray, in its object space (t keeps its world meaning).

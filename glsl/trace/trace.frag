@@ -41,6 +41,67 @@ vec3 tilt(vec3 r, float gloss) {  // the rasterizer's glossy tilt
     return gloss_tilt(r, gloss, u_gloss_jitter);
 }
 
+// The ray stack (SECONDARY): origin, direction (w: 1 for the eye ray and what passes
+// straight through it, which decide coverage; 2 a reflection of the scene in a glTF
+// material, whose sky is the ambient light; 0 the rest), weight (w: bounces so far), and
+// the segment's end.
+vec4 ray_o[RAY_STACK], ray_d[RAY_STACK], ray_w[RAY_STACK];
+float ray_end[RAY_STACK];
+int sp = 0;
+
+void push(vec3 o, vec3 d, float kind, vec3 w, int depth, float end) {
+    if (sp >= RAY_STACK || max(w.r, max(w.g, w.b)) <= MIN_WEIGHT) return;
+    ray_o[sp] = vec4(o, 0.0);
+    ray_d[sp] = vec4(d, kind);
+    ray_w[sp] = vec4(w, float(depth));
+    ray_end[sp++] = end;
+}
+
+#ifdef PBR_SLOTS
+// The GGX lobe's directional albedo with multiple scattering kept (lib/pbr.glsl's scale).
+vec3 lobe_albedo(float n_dot_v, float roughness, vec3 f0) {
+    float e = ggx_albedo(n_dot_v, roughness);
+    return e + f0 * (1.0 - e);
+}
+
+// The scene reflected in a glossy lobe about N: a ray carrying ``albedo`` (the lobe's
+// reflectance, weighted), tilted by the roughness across supersamples. It takes over from
+// the ambient split sum's part as the roughness falls from TRACED_ROUGHNESS to half of it;
+// returns how much it took over (0: none traced).
+float push_reflection(Surface s, vec3 d, vec3 N, float roughness, vec3 albedo, int depth) {
+    float traced = clamp(2.0 - 2.0 * roughness / TRACED_ROUGHNESS, 0.0, 1.0);
+    vec3 w = albedo * traced;
+    if (traced <= 0.0 || sp >= RAY_STACK || max(w.r, max(w.g, w.b)) <= MIN_WEIGHT) return 0.0;
+    push(offset_ray(s.p, s.ng), gloss_tilt(reflect(d, N), roughness * roughness,
+                                          u_gloss_jitter), 2.0, w, depth + 1, INF);
+    return traced;
+}
+
+// KHR_materials_transmission: a refraction ray (Snell's law at the ior; on unbent when
+// thin-walled) carrying what the dielectric's Fresnel factor lets through, tinted by the
+// base colour and absorbed on the way out of a volume (w: the ray that arrived, after t).
+// Past the critical angle the same share turns back inside, no more: its Fresnel part is
+// already the reflection ray's (counting both as all of it added light at every internal
+// bounce: glass rims went white).
+void push_transmission(Surface s, vec3 d, float t, Material mat, inout vec3 w, int depth) {
+    float trans = mat.transmission * (1.0 - mat.metallic);
+    if (trans <= 0.0) return;
+    // Leaving a volume through its far side: what it absorbed over the t it crossed.
+    if (!s.front && !mat.thin) w *= exp(-mat.absorption * t);
+    float eta = mat.thin ? 1.0 : (s.front ? 1.0 / max(mat.ior, 1.0) : max(mat.ior, 1.0));
+    vec3 t_dir = mat.thin ? d : refract(d, s.n, eta);
+    float cos_v = clamp(-dot(d, s.n), 0.0, 1.0);
+    vec3 f_d = mat.f0_d + (mat.f90_d - mat.f0_d) * pow(1.0 - cos_v, 5.0);
+    vec3 passed = w * trans * mat.base * (1.0 - f_d);
+    bool inward = dot(t_dir, t_dir) > 0.0;
+    if (!inward) t_dir = reflect(d, s.n);  // total internal reflection
+    if (depth < u_max_depth)
+        push(offset_ray(s.p, inward ? -s.ng : s.ng), gloss_tilt(
+            normalize(t_dir), mat.roughness * mat.roughness, u_gloss_jitter), 0.0, passed,
+            depth + 1, INF);
+}
+#endif
+
 void main() {
     vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
     vec4 near = u_inv_view_projection * vec4(ndc, -1.0, 1.0);
@@ -62,16 +123,7 @@ void main() {
         f_color = vec4(shade_surface(surface_at(h0, o0, d0), -d0, 1.0), 1.0);
     }
 #else
-    // The stack: origin, direction (w: 1 for the eye ray and what passes straight through
-    // it, which decide coverage), weight (w: bounces so far), and the segment's end.
-    vec4 ray_o[RAY_STACK], ray_d[RAY_STACK], ray_w[RAY_STACK];
-    float ray_end[RAY_STACK];
-    int sp = 0;
-    ray_o[0] = vec4(o0, 0.0);
-    ray_d[0] = vec4(normalize(span), 1.0);
-    ray_w[0] = vec4(1.0, 1.0, 1.0, 0.0);
-    ray_end[0] = length(span);  // the eye ray stops at the far plane, as rasterized
-    sp = 1;
+    push(o0, normalize(span), 1.0, vec3(1.0), 0, length(span));  // ends at the far plane
     vec3 color = vec3(0.0);
     float alpha = 0.0;
     for (int segment = 0; segment < MAX_SEGMENTS && sp > 0; ++segment) {
@@ -102,71 +154,37 @@ void main() {
         }
         Surface s = surface_at(h, o, d);
 #ifdef PBR_SLOTS
-        if (cut_out(h.inst, s)) {  // a cut-out (alpha MASK): on through, unchanged
-            if (sp < RAY_STACK) {
-                ray_o[sp] = vec4(offset_ray(s.p, -s.ng), 0.0);
-                ray_d[sp] = vec4(d, kind);
-                ray_w[sp] = vec4(w, depth);
-                ray_end[sp++] = eye ? end - h.t : INF;
-            }
+        if (cut_out(s)) {  // a cut-out (alpha MASK): on through, unchanged
+            push(offset_ray(s.p, -s.ng), d, kind, w, depth, eye ? end - h.t : INF);
             continue;
         }
 #endif
         float opacity = s.fx.x, reflectivity = s.fx.y, ior = s.fx.z, gloss = s.fx.w;
 #ifdef PBR_SLOTS
-        g_traced_specular = 0.0;
-        if (fetch(u_instances, h.inst * INSTANCE_TEXELS + MATERIAL_ROW + 7).z > 0.5) {
-            Material mat = material_at(h.inst, s);
+        g_traced_specular = g_traced_coat = 0.0;
+        if (own_pbr(s)) {
+            Material mat = material_of(s);
             // BLEND: covered by the factor x texture x vertex alpha here, not the factor's.
-            if (mat.alpha_mode == ALPHA_BLEND) opacity = mat.alpha;
-            // The scene reflected in a glossy surface: a ray carrying the specular lobe's
-            // albedo (F at N.V times its directional albedo, multiple scattering kept),
-            // tilted by the roughness across supersamples; it takes over from the
-            // ambient split sum's specular part (g_traced_specular) as the roughness
-            // falls from TRACED_ROUGHNESS to half of it.
-            float traced = clamp(2.0 - 2.0 * mat.roughness / TRACED_ROUGHNESS, 0.0, 1.0);
-            if (!mat.unlit && traced > 0.0 && depth < u_max_depth && sp < RAY_STACK) {
+            if (mat.alpha_mode == ALPHA_MODE_BLEND) opacity = mat.alpha;
+            if (!mat.unlit && depth < u_max_depth) {
                 vec3 N = valid_normal(mat.n, s.ng, -d);
                 float n_dot_v = max(dot(N, -d), 1e-4);
                 vec3 f0 = mix(mat.f0_d, mat.base, mat.metallic);
-                float f90 = mix(mat.f90_d, 1.0, mat.metallic);
-                float e = ggx_albedo(n_dot_v, mat.roughness);
-                vec3 spec = (f0 + (f90 - f0) * schlick_weight(n_dot_v)) * e
-                          * (1.0 + f0 * ((1.0 - e) / e));
-                vec3 mirrored = w * opacity * traced * spec;
-                if (max(mirrored.r, max(mirrored.g, mirrored.b)) > MIN_WEIGHT) {
-                    ray_o[sp] = vec4(offset_ray(s.p, s.ng), 0.0);
-                    ray_d[sp] = vec4(gloss_tilt(reflect(d, N), mat.roughness * mat.roughness,
-                                                u_gloss_jitter), 2.0);
-                    ray_w[sp] = vec4(mirrored, depth + 1);
-                    ray_end[sp++] = INF;
-                    g_traced_specular = traced;
-                }
+                vec3 spec = (f0 + (mix(mat.f90_d, 1.0, mat.metallic) - f0)
+                             * schlick_weight(n_dot_v)) * lobe_albedo(n_dot_v, mat.roughness, f0);
+                vec3 N_c = valid_normal(mat.cc_n, s.ng, -d);
+                float cc_v = clamp(dot(N_c, -d), 1e-4, 1.0);
+                    float f_c = mat.clearcoat * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0)
+                                             * schlick_weight(cc_v));
+                // The coat above dims what lies under it (lib/layers.glsl's order); its
+                // own reflection shows its normal map in what the scene reflects.
+                g_traced_specular = push_reflection(s, d, N, mat.roughness, w * opacity
+                                                    * (1.0 - f_c) * spec, depth);
+                g_traced_coat = push_reflection(s, d, N_c, mat.clearcoat_roughness,
+                                                w * opacity * f_c * ggx_albedo(
+                                                    cc_v, mat.clearcoat_roughness), depth);
             }
-            float trans = mat.transmission * (1.0 - mat.metallic);
-            if (trans > 0.0) {
-                // Leaving a volume through its far side: what it absorbed on the way.
-                if (!s.front && !mat.thin) w *= exp(-mat.absorption * h.t);
-                float eta = mat.thin ? 1.0 : (s.front ? 1.0 / max(mat.ior, 1.0)
-                                                      : max(mat.ior, 1.0));
-                vec3 t_dir = mat.thin ? d : refract(d, s.n, eta);
-                float cos_v = clamp(-dot(d, s.n), 0.0, 1.0);
-                vec3 f_d = mat.f0_d + (mat.f90_d - mat.f0_d) * pow(1.0 - cos_v, 5.0);
-                vec3 passed = w * trans * mat.base * (1.0 - f_d);
-                bool inward = dot(t_dir, t_dir) > 0.0;
-                if (!inward) {  // total internal reflection: all of it back inside
-                    t_dir = reflect(d, s.n);
-                    passed = w * trans * mat.base;
-                }
-                if (depth < u_max_depth && sp < RAY_STACK &&
-                    max(passed.r, max(passed.g, passed.b)) > MIN_WEIGHT) {
-                    ray_o[sp] = vec4(offset_ray(s.p, inward ? -s.ng : s.ng), 0.0);
-                    ray_d[sp] = vec4(gloss_tilt(normalize(t_dir), mat.roughness * mat.roughness,
-                                                u_gloss_jitter), 0.0);
-                    ray_w[sp] = vec4(passed, depth + 1);
-                    ray_end[sp++] = INF;
-                }
-            }
+            push_transmission(s, d, h.t, mat, w, depth);
         }
 #endif
         color += w * opacity * shade_surface(s, -d, 1.0 - reflectivity);
@@ -189,28 +207,15 @@ void main() {
             if (depth >= u_max_depth) {
                 color += carried * escaped(r);  // the recursion ends here
             } else {
-                if (fresnel < 1.0 && sp < RAY_STACK) {
-                    ray_o[sp] = vec4(offset_ray(s.p, -s.ng), 0.0);
-                    ray_d[sp] = vec4(tilt(normalize(t_dir), gloss), 0.0);
-                    ray_w[sp] = vec4(carried * (1.0 - fresnel), depth + 1);
-                    ray_end[sp++] = INF;
-                }
-                if (sp < RAY_STACK) {
-                    ray_o[sp] = vec4(offset_ray(s.p, s.ng), 0.0);
-                    ray_d[sp] = vec4(r, 0.0);
-                    ray_w[sp] = vec4(carried * fresnel, depth + 1);
-                    ray_end[sp++] = INF;
-                }
+                if (fresnel < 1.0)
+                    push(offset_ray(s.p, -s.ng), tilt(normalize(t_dir), gloss), 0.0,
+                         carried * (1.0 - fresnel), depth + 1, INF);
+                push(offset_ray(s.p, s.ng), r, 0.0, carried * fresnel, depth + 1, INF);
             }
         }
-        vec3 through = w * (1.0 - opacity);
-        if (opacity < 1.0 && max(through.r, max(through.g, through.b)) > MIN_WEIGHT &&
-            sp < RAY_STACK) {
-            ray_o[sp] = vec4(offset_ray(s.p, -s.ng), 0.0);
-            ray_d[sp] = vec4(d, kind);
-            ray_w[sp] = vec4(through, depth);
-            ray_end[sp++] = eye ? end - h.t : INF;
-        }
+        if (opacity < 1.0)
+            push(offset_ray(s.p, -s.ng), d, kind, w * (1.0 - opacity), depth,
+                 eye ? end - h.t : INF);
     }
     f_color = vec4(color, alpha);
 #endif

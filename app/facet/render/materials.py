@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..gl.bindings import SLOT_SAMPLERS, unit
-from ..scene.pbr import COLOR_SLOTS, SLOTS, PbrMaterial
+from ..scene.pbr import COLOR_SLOTS, PbrMaterial
 from ..srgb import linear_to_srgb, srgb_to_linear
 
 # glsl/mesh/slots.glsl's define of each slot: TEX_<SHORT> for its sampler u_tex_<short>.
@@ -104,51 +104,17 @@ class SlotSamplers:
 
 
 def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> list[int]:
-    """The pbr model's material uniforms and texture slots; returns the units whose
-    sampler objects were bound (the caller clears them after the draw)."""
-    prog.set("u_base_color", tuple(float(c) for c in m.base_color))
-    prog.set("u_metallic", m.metallic)
-    prog.set("u_roughness", m.roughness)
-    prog.set("u_ior_f0", tuple(float(c) for c in m.ior_f0 * m.specular_color), strict=False)
-    prog.set("u_specular", m.specular, strict=False)
-    prog.set("u_clearcoat", (m.clearcoat, m.clearcoat_roughness), strict=False)
-    prog.set("u_clearcoat_normal_scale", m.clearcoat_normal_scale, strict=False)
-    prog.set("u_sheen", (*(float(c) for c in m.sheen_color), m.sheen_roughness), strict=False)
-    prog.set("u_emissive", tuple(float(c) for c in m.emissive * m.emissive_strength))
-    prog.set("u_unlit", bool(m.unlit))
-    prog.set("u_alpha_cutoff", m.alpha_cutoff, strict=False)
-    prog.set("u_normal_scale", m.normal_scale, strict=False)
-    prog.set("u_occlusion_strength", m.occlusion_strength, strict=False)
-    transforms, sets, mirrors, bound = [], [], [], []
-    for slot_name in SLOTS:
-        slot = getattr(m, f"{slot_name}_texture")
-        if slot is None:
-            transforms.append(np.eye(3))
-            sets.append(0)
-            mirrors.append((0.0, 0.0))
-            continue
+    """The pbr model's material: its record (facet.render.material_record) as the uniform
+    array ``u_material`` and each slot's image at its sampler's unit; returns the units
+    whose sampler objects were bound (the caller clears them after the draw)."""
+    from .material_record import material_record
+
+    bound = []
+    for slot_name, slot in m.slots.items():
         at = unit(SLOT_SAMPLERS[slot_name])
         cache.texture(slot.texture, slot_name in SRGB_SLOTS, slot.mipmaps).use(location=at)
         samplers.get(slot).use(location=at)
         bound.append(at)
-        transforms.append(slot.transform)
-        sets.append(slot.texcoord)
-        mirrors.append(tuple(1.0 if w == "mirror" else 0.0 for w in slot.wrap))
-    if bound:
-        # GLSL matrices are column-major: each 3x3 goes in transposed.
-        prog.set_array("u_slot_transform", np.array([t.T for t in transforms]), strict=False)
-        prog.set_array("u_slot_set", np.array(sets, dtype=np.float32), strict=False)
-        prog.set_array("u_slot_mirror", np.array(mirrors), strict=False)
+    prog.set_array("u_material", material_record(m, m.color, lambda name, slot: 0.0),
+                   strict=False)
     return bound
-
-
-def feature_lines(scene, dropped, engine: str) -> list[str]:
-    """One line per material feature that ``dropped(material)`` names, with how many of
-    the scene's objects use it."""
-    counts: dict[str, int] = {}
-    for obj in scene.objects:
-        for feature in dropped(obj.material):
-            counts[feature] = counts.get(feature, 0) + 1
-    total = len(scene.objects)
-    return [f"{engine} ignores {feature} ({n} of {total} objects)"
-            for feature, n in counts.items()]

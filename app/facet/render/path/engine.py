@@ -22,6 +22,7 @@ from ...scene.light import AreaLight
 from ...srgb import srgb_to_linear
 from ..antialias import accumulation
 from ..engine import Engine, grid_or_jittered
+from ..material_record import TEXELS
 from ..materials import as_pbr
 from ..rays import pack
 from ..rays.scene import RayScene
@@ -126,7 +127,7 @@ class PathEngine(Engine):
             self._emitter_count = len(table) if pdf.any() else 0
             self._emitter_pdf = pdf
             self._emitters_key = key
-        rows[:, pack.MATERIAL_ROW + 7, 0] = self._emitter_pdf
+        rows[:, pack.MATERIAL_ROW + TEXELS["flags"], 0] = self._emitter_pdf
 
     def more_lines(self, opts, scene) -> list[str]:
         lines = sprite_lines(scene, "the path tracer")
@@ -143,13 +144,13 @@ class PathEngine(Engine):
 
 
 def _layer_requests(scene) -> list:
-    """Every image of the materials' slots (facet.render.rays.pack.PATH_SLOTS), a Phong
-    material's as the slot of its metallic-roughness mapping: all linear."""
+    """Every image of the materials' slots but occlusion (the path tracer traces occlusion),
+    a Phong material's as the slot of its metallic-roughness mapping."""
     out = []
     for obj in scene.objects:
         m = as_pbr(obj.material)
         out += [(slot.texture, pack.slot_mode(name, slot)) for name, slot in m.slots.items()
-                if name in pack.PATH_SLOTS]
+                if name != "occlusion"]
     return out
 
 

@@ -25,6 +25,7 @@ from ...gl.shaders import Program, compile_program
 from ...gl.targets import aux_locations, writing
 from ...scene.pbr import as_phong
 from ...scene.scene import MAX_LIGHTS, Scene
+from ..material_record import record_defines
 from ..materials import (
     SlotSamplers,
     as_pbr,
@@ -107,6 +108,7 @@ class Variant:
         d.update({s: None for s in self.slots})
         if self.shading == "pbr":
             d["LUT_SIZE"] = float(LUT_SIZE)  # the split-sum table's (facet.render.raster.ibl)
+            d.update(record_defines())  # the material record's layout
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
                  "HAS_UV1": self.uv1, "HAS_TANGENTS": self.tangents,
                  "ALPHA_MASK": self.alpha_mask, "EXACT_ONLY": self.exact_only,
@@ -434,8 +436,6 @@ class ForwardPass:
             behind.use(location=unit("u_behind"))
             prog.set("u_behind_width", float(behind.width))
             prog.set("u_view_projection", view_projection)
-            prog.set("u_transmission", (m.transmission, m.thickness, max(m.ior, 1.0)))
-            prog.set("u_absorption", tuple(float(c) for c in m.absorption))
         self._render(prog, *place)
         for at in bound:  # sampler objects outlive the draw otherwise
             self.ctx.clear_samplers(at, at + 1)

@@ -22,28 +22,20 @@ import numpy as np
 
 from ...errors import InputError
 from ...geometry.bvh import build_bvh
-from ...scene.pbr import COLOR_SLOTS, PbrMaterial
+from ...scene.pbr import COLOR_SLOTS
+from ..material_record import RECORD_TEXELS, material_record, record_defines
 from ..materials import as_pbr
 
 TEX_SHIFT = 12
 TEX_WIDTH = 1 << TEX_SHIFT  # texels per texture row (glsl/trace/data.glsl)
 NODE_TEXELS = 4
 VERTEX_TEXELS = 4  # (normal, u), (v, colour rgb), (tangent xyz, handedness), (uv1, alpha, 0)
-MATERIAL_ROW = 11  # the metallic-roughness model's texels (glsl/trace/material.glsl)
-SLOT_ROW = 19  # its texture slots, SLOT_TEXELS each, in PATH_SLOTS order
-SLOT_TEXELS = 3
-# glsl/trace/material.glsl's SLOT_* (occlusion is a rasterizer's stand-in for what a tracer
-# traces; thickness scales the thickness the rasterizer's refraction assumes)
-PATH_SLOTS = ("base_color", "metallic_roughness", "normal", "emissive", "specular",
-              "specular_color", "transmission", "clearcoat", "clearcoat_roughness",
-              "clearcoat_normal", "sheen_color", "sheen_roughness")
-INSTANCE_TEXELS = SLOT_ROW + SLOT_TEXELS * len(PATH_SLOTS)
-ALPHA_MODES = {"OPAQUE": 0, "MASK": 1, "BLEND": 2}
+MATERIAL_ROW = 8  # the material record's texels (facet.render.material_record)
+INSTANCE_TEXELS = MATERIAL_ROW + RECORD_TEXELS
 # How an image is stored in the texture array: a colour image decoded to linear, one
 # decoded only in the sRGB colour mode (a Phong material's: values "as given"), data as is.
 LINEAR, AS_GIVEN, DATA = "linear", "as given", "data"
 NEAREST = " nearest"  # a suffix of the modes above
-WRAPS = {"repeat": 0, "clamp": 1, "mirror": 2}
 KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
 FLAG_COLORS, FLAG_ONE_SIDED = 1, 2  # an instance's flags (glsl/trace/scene.glsl)
 
@@ -52,7 +44,7 @@ def layout_defines() -> dict:
     """The layout's constants for the GLSL that reads it (glsl/trace/data.glsl)."""
     return {"TEX_SHIFT": TEX_SHIFT, "NODE_TEXELS": NODE_TEXELS,
             "VERTEX_TEXELS": VERTEX_TEXELS, "INSTANCE_TEXELS": INSTANCE_TEXELS,
-            "MATERIAL_ROW": MATERIAL_ROW, "SLOT_ROW": SLOT_ROW, "SLOT_TEXELS": SLOT_TEXELS,
+            "MATERIAL_ROW": MATERIAL_ROW, **record_defines(),
             "FLAG_COLORS": FLAG_COLORS, "FLAG_ONE_SIDED": FLAG_ONE_SIDED,
             **{f"KIND_{name.upper()}": kind for name, kind in KINDS.items()}}
 MAX_REFERENCE = 1 << 24  # node and triangle indices are exact in float32 up to here
@@ -214,12 +206,12 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
     flags = (FLAG_COLORS if obj.mesh.colors is not None and obj.shape is None else 0) | \
         (FLAG_ONE_SIDED if one_sided else 0)
     row[6] = (kind, root, obj.id, flags)
-    row[8] = (*material_color(mat), mat.ka)
-    row[9] = (mat.kd, mat.ks, mat.shininess, mat.opacity)
-    layer = layers.get((id(mat.texture), AS_GIVEN), -1) if mat.texture is not None else -1
-    phong_ior = 0.0 if isinstance(mat, PbrMaterial) else mat.ior  # refraction: Phong's
-    row[10] = (mat.reflectivity, phong_ior, mat.gloss, layer)
-    material_rows(row, pbr, layers, isinstance(mat, PbrMaterial))
+    phong_image = layers.get((id(mat.texture), AS_GIVEN), -1) if mat.texture is not None \
+        else -1
+    row[MATERIAL_ROW:] = material_record(
+        mat, material_color(mat),
+        lambda name, slot: layers.get((id(slot.texture), slot_mode(name, slot)), -1),
+        phong_image)
     return row
 
 
@@ -229,34 +221,6 @@ def slot_mode(name: str, slot) -> str:
     repeating texels, so that a texel's centre reads its own value)."""
     mode = LINEAR if name in COLOR_SLOTS else DATA
     return mode + NEAREST if slot.filter[1] == "nearest" else mode
-
-
-def material_rows(row: np.ndarray, m, layers: dict, pbr: bool = True) -> None:
-    """Fill the metallic-roughness texels of an instance ``row`` for PbrMaterial ``m`` (a
-    Phong material through the rasterizer's mapping, facet.render.materials.as_pbr), in the
-    layout glsl/trace/material.glsl reads; ``layers``: (id(texture), mode) -> layer;
-    ``pbr``: the object's own material is metallic-roughness (the Whitted tracer shades it
-    by this model then, by its Phong terms otherwise)."""
-    r = MATERIAL_ROW
-    row[r] = (*m.base_color[:3], m.metallic)
-    row[r + 1] = (*(m.emissive * m.emissive_strength), m.roughness)
-    row[r + 2] = (m.base_color[3], ALPHA_MODES[m.alpha_mode], m.alpha_cutoff, m.normal_scale)
-    row[r + 3] = (*(m.ior_f0 * m.specular_color), m.specular)
-    row[r + 4] = (m.transmission, m.thickness, m.ior, m.clearcoat)
-    row[r + 5] = (*m.absorption, m.clearcoat_roughness)
-    row[r + 6] = (*m.sheen_color, m.sheen_roughness)
-    row[r + 7] = (0.0, float(m.unlit), float(pbr), m.clearcoat_normal_scale)
-    for k, name in enumerate(PATH_SLOTS):
-        slot = getattr(m, f"{name}_texture")
-        at = SLOT_ROW + SLOT_TEXELS * k
-        row[at, 3] = row[at + 1, 3] = -1.0
-        if slot is None:
-            continue
-        row[at, :3], row[at + 1, :3] = slot.transform[0], slot.transform[1]
-        row[at, 3] = layers.get((id(slot.texture), slot_mode(name, slot)), -1)
-        row[at + 1, 3] = slot.texcoord + 2 * (WRAPS[slot.wrap[0]] + 3 * WRAPS[slot.wrap[1]])
-        h, w = slot.texture.pixels.shape[:2]
-        row[at + 2] = (w, h, float(slot.filter[1] == "nearest"), 0.0)
 
 
 def _world_box(obj, box=None) -> np.ndarray:

@@ -99,8 +99,7 @@ def _layer_requests(scene, pbr_shading: bool) -> list:
     for obj in scene.objects:
         m = obj.material
         if isinstance(m, PbrMaterial) and pbr_shading:
-            out += [(slot.texture, pack.slot_mode(name, slot)) for name, slot in m.slots.items()
-                    if name in pack.PATH_SLOTS]
+            out += [(slot.texture, pack.slot_mode(name, slot)) for name, slot in m.slots.items()]
         elif m.texture is not None:
             out.append((m.texture, pack.AS_GIVEN))
     return out
