@@ -59,7 +59,7 @@ def test_the_engines_decide_what_was_not_given():
     assert (given.max_depth, given.shadows) == (5, False)
 
 
-def test_a_feature_an_engine_leaves_out_is_named_in_its_warning(renderer):
+def test_a_feature_an_engine_leaves_out_is_named_in_its_warning():
     """Every feature a row says its engine leaves out, when a scene uses it, is one warning
     line naming it; a feature the engine draws is not named. The rasterizer warns about
     max_depth whenever it is given (5 too: the old check compared with the default)."""
@@ -71,14 +71,12 @@ def test_a_feature_an_engine_leaves_out_is_named_in_its_warning(renderer):
     scene = facet.Scene()
     scene.add(primitives.sphere(0.5), occluded)
     scene.add(primitives.cube(0.5), facet.Material(reflectivity=0.5))
-    r = renderer(16, 16)
     cam = facet.Camera.look_at((0, 0, 3), (0, 0, 0), fov_y=40)
     for engine, named, unnamed in (("path", ["occlusionTexture", "Phong reflectivity"], []),
                                    ("trace", [], ["occlusionTexture", "Phong reflectivity"]),
                                    ("raster", ["max_depth"], ["occlusionTexture"])):
-        with warnings.catch_warnings(record=True) as caught:
+        with warnings.catch_warnings(record=True) as caught, facet.Renderer(16, 16) as r:
             warnings.simplefilter("always")
-            r._warned.clear()
             r.render(scene, cam, engine=engine, outputs=("color",),
                      **({"max_depth": 5} if engine == "raster" else {}))
         lines = [str(w.message) for w in caught if issubclass(w.category, facet.FacetWarning)]

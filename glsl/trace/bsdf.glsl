@@ -18,7 +18,7 @@
 #include "lib/layers.glsl"
 #include "lib/sampling.glsl"
 
-const float SMOOTH_ROUGHNESS = 0.03;
+const float SMOOTH_ROUGHNESS = SMOOTH_GLASS;  // trace/material.glsl's
 
 struct Bsdf {
     PbrSurface m;    // the reflection lobes (c_diff without the transmitted share)

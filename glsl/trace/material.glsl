@@ -21,6 +21,11 @@ vec4 slot_image(int rec, int k, vec2 uv) {
 }
 
 #include "lib/material.glsl"
+#include "lib/pbr.glsl"
+
+// Below this roughness a transmitting dielectric is perfectly smooth (the path tracer's
+// delta lobes, glsl/trace/bsdf.glsl).
+const float SMOOTH_GLASS = 0.03;
 
 // The record's view of surface s (trace/shade.glsl).
 MaterialPoint point_of(Surface s) {
@@ -28,8 +33,19 @@ MaterialPoint point_of(Surface s) {
                          s.front ? 1.0 : -1.0);
 }
 
+// Surface s's material; a glass volume on a surface that bounds none (FLAG_OPEN_VOLUME,
+// facet.render.rays.pack.open_volume) is thin-walled here, absorbing over its thickness.
 Material material_of(Surface s) {
-    return material_at(s.inst, point_of(s));
+    Material m = material_at(s.inst, point_of(s));
+    int flags = int(fetch(u_instances, s.inst * INSTANCE_TEXELS + 6).w);
+    if ((flags & FLAG_OPEN_VOLUME) != 0) m.thin = true;
+    return m;
+}
+
+// What thin-walled glass absorbs as light crosses it: over the thickness of a volume traced
+// thin (FLAG_OPEN_VOLUME), nothing for glTF's thin walls (thickness 0).
+vec3 thin_absorbed(Material m) {
+    return exp(-m.absorption * m.thickness);
 }
 
 // Whether a ray passes by surface s here: a MASK material's cut-out, or (BLEND) with
@@ -49,14 +65,29 @@ bool cut_out(Surface s) {
     return mode == ALPHA_MODE_MASK && a < cutoff;
 }
 
-// What of the light on a shadow ray surface s lets through: 1 - a BLEND surface's
-// coverage, all at a MASK cut-out, nothing at an opaque surface.
-float lets_through(Surface s) {
+// What of the light on a shadow ray along d surface s lets through: all at a MASK cut-out;
+// where covered, what its transmission passes (transmission x (1 - metallic) x base colour
+// x (1 - F) at this angle, the mean over RGB: facet.render.materials.shadow_opacity's at
+// normal incidence), and a BLEND surface 1 - its coverage more. ``refracting``: glass that
+// bends light counts too (the Whitted tracer's approximation); the path tracer lets shadow
+// rays through thin-walled smooth glass only, which passes light unbent, exactly.
+float lets_through(Surface s, vec3 d, bool refracting) {
     int mode;
     float cutoff;
-    float a = coverage(s.inst, point_of(s), mode, cutoff);
-    if (mode == ALPHA_MODE_OPAQUE || (mode == ALPHA_MODE_MASK && a >= cutoff)) return 0.0;
-    return mode == ALPHA_MODE_BLEND ? 1.0 - a : 1.0;
+    MaterialPoint p = point_of(s);
+    float a = coverage(s.inst, p, mode, cutoff);
+    if (mode == ALPHA_MODE_MASK && a < cutoff) return 1.0;
+    float passed = 0.0;
+    if (record_texel(s.inst, REC_TRANSMISSION).x > 0.0) {
+        Material m = material_of(s);
+        if (refracting || (m.thin && m.roughness < SMOOTH_GLASS)) {
+            float f = schlick_weight(abs(dot(d, s.n)));
+            vec3 through = m.base * (1.0 - m.f0_d - (m.f90_d - m.f0_d) * f)
+                         * (m.thin ? thin_absorbed(m) : vec3(1.0));
+            passed = m.transmission * (1.0 - m.metallic) * dot(through, vec3(1.0 / 3.0));
+        }
+    }
+    return mode == ALPHA_MODE_BLEND ? 1.0 - a + a * passed : passed;
 }
 
 // A shading normal (a normal map's, or interpolated) bent towards the geometric normal ng

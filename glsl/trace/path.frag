@@ -150,7 +150,7 @@ float visibility(vec3 o, vec3 d, float t_max) {
         Hit h = trace_scene(o, d, t_max, false);
         if (h.inst < 0) return through;
         Surface s = surface_at(h, o, d);
-        through *= lets_through(s);
+        through *= lets_through(s, d, false);
         if (through <= 0.0) return 0.0;
         o = offset_ray(s.p, -s.ng);
         t_max -= h.t;
@@ -370,6 +370,7 @@ void main() {
         if (next.through) {
             from = offset_ray(s.p, -s.ng);
             if (!b.thin) sigma = s.front ? mat.absorption : vec3(0.0);  // in or out
+            else throughput *= thin_absorbed(mat);
             eta_scale *= b.eta * b.eta;
         }
         ++bounce;

@@ -59,7 +59,7 @@ float alpha_shadow(vec3 o, vec3 d, float t_max) {
         Hit h = trace_scene(o, d, t_max, false);
         if (h.inst < 0) return through;
         Surface s = surface_at(h, o, d);
-        through *= lets_through(s);
+        through *= lets_through(s, d, true);
         if (through <= 0.0) return 0.0;
         o = offset_ray(s.p, -s.ng);
         t_max -= h.t;

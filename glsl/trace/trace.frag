@@ -88,11 +88,12 @@ void push_transmission(Surface s, vec3 d, float t, Material mat, inout vec3 w, i
     if (trans <= 0.0) return;
     // Leaving a volume through its far side: what it absorbed over the t it crossed.
     if (!s.front && !mat.thin) w *= exp(-mat.absorption * t);
+    vec3 crossed = mat.thin ? thin_absorbed(mat) : vec3(1.0);
     float eta = mat.thin ? 1.0 : (s.front ? 1.0 / max(mat.ior, 1.0) : max(mat.ior, 1.0));
     vec3 t_dir = mat.thin ? d : refract(d, s.n, eta);
     float cos_v = clamp(-dot(d, s.n), 0.0, 1.0);
     vec3 f_d = mat.f0_d + (mat.f90_d - mat.f0_d) * pow(1.0 - cos_v, 5.0);
-    vec3 passed = w * trans * mat.base * (1.0 - f_d);
+    vec3 passed = w * trans * mat.base * (1.0 - f_d) * crossed;
     bool inward = dot(t_dir, t_dir) > 0.0;
     if (!inward) t_dir = reflect(d, s.n);  // total internal reflection
     if (depth < u_max_depth)

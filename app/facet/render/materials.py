@@ -73,6 +73,18 @@ def as_pbr(material) -> PbrMaterial:
     return pbr
 
 
+def shadow_opacity(material) -> float:
+    """How much of a light ``material`` stops, for shadow maps: its opacity, less what a
+    transmitting glTF material lets through at normal incidence (transmission x (1 -
+    metallic) x base colour x (1 - F0), the mean over RGB); the tracers' shadow rays take
+    the same share at their own angle (glsl/trace/material.glsl, lets_through)."""
+    if not isinstance(material, PbrMaterial) or material.transmission <= 0:
+        return material.opacity
+    passed = material.transmission * (1.0 - material.metallic) * float(np.mean(
+        material.base_color[:3] * (1.0 - material.dielectric_f0)))
+    return material.opacity * (1.0 - passed)
+
+
 def _phong_key(m) -> tuple:
     return (tuple(m.color), m.shininess, m.opacity, id(m.texture))
 

@@ -130,7 +130,15 @@ class PathEngine(Engine):
         rows[:, pack.MATERIAL_ROW + TEXELS["flags"], 0] = self._emitter_pdf
 
     def more_lines(self, opts, scene) -> list[str]:
-        lines = sprite_lines(scene, "the path tracer")
+        lines = sprite_lines(scene, "the path tracer") + pack.open_volume_lines(
+            scene, "the path tracer")
+        volumes = any(as_pbr(o.material).transmission > 0 and as_pbr(o.material).thickness > 0
+                      and not pack.open_volume(o) for o in scene.objects)
+        if volumes and any(not isinstance(x, AreaLight) for x in scene.lights):
+            lines.append("the path tracer lights what lies behind glass volumes by emitting "
+                         "surfaces and the sky only: point, spot and directional light "
+                         "refracted through glass (caustics) is not found by paths from the "
+                         "eye")
         areas = [x for x in scene.lights if isinstance(x, AreaLight)]
         if any(not np.array_equal(x.attenuation, (0.0, 0.0, 1.0)) for x in areas):
             lines.append("the path tracer's area lights are emitting rectangles: they fall "
@@ -155,6 +163,9 @@ def _layer_requests(scene) -> list:
 
 
 def _material_defines(scene) -> tuple:
-    """The material's own slots (PBR_SLOTS); HAS_ALPHA when some are not opaque."""
-    alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" for o in scene.objects)
+    """The material's own slots (PBR_SLOTS); HAS_ALPHA when some are not opaque or let
+    light through unbent (thin-walled glass: shadow rays pass it)."""
+    alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" or (
+        as_pbr(o.material).transmission > 0 and as_pbr(o.material).thickness == 0) or
+        pack.open_volume(o) for o in scene.objects)
     return ("PBR_SLOTS", "PATH_TRACER") + (("HAS_ALPHA",) if alpha else ())

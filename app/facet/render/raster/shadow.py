@@ -9,7 +9,9 @@
 
 The maps are drawn once per ``render`` call (supersampling and the colour passes reuse them).
 Transparent objects cast partial shadows: a dither mask keeps ``opacity`` of their texels in
-the map (glsl/shadow/depth.frag), which the PCF filter turns into shadow of that strength.
+the map (glsl/shadow/depth.frag), which the PCF filter turns into shadow of that strength;
+clear glass (KHR_materials_transmission) casts what it does not let through
+(facet.render.materials.shadow_opacity).
 The lighting side (bias, normal offset, PCF) is glsl/lib/shadows.glsl.
 """
 
@@ -27,6 +29,7 @@ from ...gl.shaders import compile_program
 from ...scene.light import DirectionalLight, PointLight, SpotLight
 from ...scene.options import PCF_CHOICES
 from ...scene.scene import Scene
+from ..materials import shadow_opacity
 from .instancing import batches
 from .skinning import POSE_DEFINES, JointRows, bind_pose, gpu_pose, pose_buffers
 
@@ -180,7 +183,7 @@ class ShadowMaps:
                     obj = item if group is None else item[0]
                     pose = (0, False) if group is not None else gpu_pose(obj.mesh)
                     prog = self._program_for(obj, group is not None, shift, *pose)
-                    prog.set("u_opacity", obj.material.opacity)
+                    prog.set("u_opacity", shadow_opacity(obj.material))
                     if any(pose):  # deformed on the GPU, from the rest mesh
                         buffers = pose_buffers(self.cache, obj.mesh, self.ctx)
                         bind_pose(prog, obj.mesh, buffers, self.joints)

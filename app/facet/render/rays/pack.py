@@ -37,7 +37,9 @@ INSTANCE_TEXELS = MATERIAL_ROW + RECORD_TEXELS
 LINEAR, AS_GIVEN, DATA = "linear", "as given", "data"
 NEAREST = " nearest"  # a suffix of the modes above
 KINDS = {"mesh": 0, "sphere": 1, "plane": 2, "disk": 3, "cylinder": 4, "cone": 5, "box": 6}
-FLAG_COLORS, FLAG_ONE_SIDED = 1, 2  # an instance's flags (glsl/trace/scene.glsl)
+# An instance's flags (glsl/trace/scene.glsl): vertex colours, single-sided, and a glass
+# volume (KHR_materials_volume) whose mesh bounds none (``open_volume``): traced thin.
+FLAG_COLORS, FLAG_ONE_SIDED, FLAG_OPEN_VOLUME = 1, 2, 4
 
 
 def layout_defines() -> dict:
@@ -46,6 +48,7 @@ def layout_defines() -> dict:
             "VERTEX_TEXELS": VERTEX_TEXELS, "INSTANCE_TEXELS": INSTANCE_TEXELS,
             "MATERIAL_ROW": MATERIAL_ROW, **record_defines(),
             "FLAG_COLORS": FLAG_COLORS, "FLAG_ONE_SIDED": FLAG_ONE_SIDED,
+            "FLAG_OPEN_VOLUME": FLAG_OPEN_VOLUME,
             **{f"KIND_{name.upper()}": kind for name, kind in KINDS.items()}}
 MAX_REFERENCE = 1 << 24  # node and triangle indices are exact in float32 up to here
 EMPTY_CHILD = ((1e30, 1e30, 1e30, -1.0), (-1e30, -1e30, -1e30, 0.0))  # lo > hi: never hit
@@ -204,7 +207,7 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
     pbr = as_pbr(mat)
     one_sided = not pbr.double_sided and not (pbr.transmission > 0 and pbr.thickness > 0)
     flags = (FLAG_COLORS if obj.mesh.colors is not None and obj.shape is None else 0) | \
-        (FLAG_ONE_SIDED if one_sided else 0)
+        (FLAG_ONE_SIDED if one_sided else 0) | (FLAG_OPEN_VOLUME if open_volume(obj) else 0)
     row[6] = (kind, root, obj.id, flags)
     phong_image = layers.get((id(mat.texture), AS_GIVEN), -1) if mat.texture is not None \
         else -1
@@ -213,6 +216,31 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
         lambda name, slot: layers.get((id(slot.texture), slot_mode(name, slot)), -1),
         phong_image)
     return row
+
+
+def open_volume(obj) -> bool:
+    """Whether ``obj`` is glass with a volume (KHR_materials_volume: transmission and a
+    thickness) on a surface that bounds none: a mesh that is not closed and consistently
+    wound (facet.scene.mesh.Mesh.closed), a plane or a disk. Tracing refraction into and
+    out of such a "volume" would bend light as a solid block does; the tracers trace it as
+    thin-walled glass instead, absorbing over the thickness the file gives (what the
+    thickness is for: the rasterizer's refraction, glsl/mesh/pbr.frag)."""
+    m = as_pbr(obj.material)
+    if m.transmission <= 0 or m.thickness <= 0 or obj.mesh.kind != "mesh":
+        return False
+    if obj.shape is not None:
+        return obj.shape.kind in ("plane", "disk")
+    return not obj.mesh.closed
+
+
+def open_volume_lines(scene, noun: str) -> list[str]:
+    """The warning line for glass volumes on open surfaces (``open_volume``)."""
+    n = sum(open_volume(o) for o in scene.objects)
+    if not n:
+        return []
+    return [f"{noun} traces KHR_materials_volume on surfaces that bound no volume (open or "
+            f"inconsistently wound meshes) as thin-walled glass that absorbs over the "
+            f"material's thickness ({n} of {len(scene.objects)} objects)"]
 
 
 def slot_mode(name: str, slot) -> str:

@@ -68,7 +68,8 @@ class TraceEngine(Engine):
         self.rays.draw_exact(scene, state, aux, _material_defines(scene, state))
 
     def more_lines(self, opts, scene) -> list[str]:
-        lines = sprite_lines(scene, "the ray tracer")
+        lines = sprite_lines(scene, "the ray tracer") + pack.open_volume_lines(
+            scene, "the ray tracer")
         if opts.environment is not None and opts.shading in ("auto", "pbr") and any(
                 isinstance(o.material, PbrMaterial) for o in scene.objects):
             lines.append("the ray tracer lights metallic-roughness materials by the ambient "
@@ -113,8 +114,9 @@ def _material_defines(scene, state) -> tuple:
                                       for o in scene.objects)
     if not pbr:
         return ()
-    # shadow rays through BLEND coverage and MASK cut-outs, texel by texel
-    alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" for o in scene.objects)
+    # shadow rays through BLEND coverage, MASK cut-outs and glass, texel by texel
+    alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" or as_pbr(o.material).transmission > 0
+                for o in scene.objects)
     return ("PBR_SLOTS",) + (("ALPHA_SHADOWS",) if alpha else ())
 
 
