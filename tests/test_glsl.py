@@ -121,7 +121,7 @@ def test_unknown_uniform_is_an_error(renderer):
     with r.ctx:
         from facet.render.raster.forward import Variant
 
-        prog = r.forward.program(Variant("unlit"))
+        prog = r._engine("raster").forward.program(Variant("unlit"))
         prog.set("u_eye_world", (0.0, 0.0, 1.0))  # declared, maybe optimised away: fine
         with pytest.raises(ShaderError, match="no uniform named 'u_colour'"):
             prog.set("u_colour", (1.0, 0.0, 0.0))

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..gl.bindings import SLOT_SAMPLERS, unit
+from ..gl.bindings import SLOT_SAMPLERS
 from ..scene.pbr import COLOR_SLOTS, PbrMaterial
 from ..srgb import linear_to_srgb, srgb_to_linear
 
@@ -87,46 +87,3 @@ def shadow_opacity(material) -> float:
 
 def _phong_key(m) -> tuple:
     return (tuple(m.color), m.shininess, m.opacity, id(m.texture))
-
-
-class SlotSamplers:
-    """moderngl samplers for the texture slots' glTF settings, made once per setting.
-    Mirrored axes clamp here and are mirrored in glsl/mesh/pbr.frag."""
-
-    def __init__(self, ctx):
-        self.ctx = ctx
-        self._samplers: dict[tuple, object] = {}
-
-    def get(self, slot):
-        key = (slot.wrap, slot.filter, slot.mipmaps)
-        if key not in self._samplers:
-            near = {"nearest": self.ctx.NEAREST, "linear": self.ctx.LINEAR}
-            mip = {"nearest": self.ctx.NEAREST_MIPMAP_LINEAR,
-                   "linear": self.ctx.LINEAR_MIPMAP_LINEAR}
-            minify = (mip if slot.mipmaps else near)[slot.filter[0]]
-            self._samplers[key] = self.ctx.sampler(
-                repeat_x=slot.wrap[0] == "repeat", repeat_y=slot.wrap[1] == "repeat",
-                filter=(minify, near[slot.filter[1]]))
-        return self._samplers[key]
-
-    def release(self) -> None:
-        for s in self._samplers.values():
-            s.release()
-        self._samplers.clear()
-
-
-def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> list[int]:
-    """The pbr model's material: its record (facet.render.material_record) as the uniform
-    array ``u_material`` and each slot's image at its sampler's unit; returns the units
-    whose sampler objects were bound (the caller clears them after the draw)."""
-    from .material_record import material_record
-
-    bound = []
-    for slot_name, slot in m.slots.items():
-        at = unit(SLOT_SAMPLERS[slot_name])
-        cache.texture(slot.texture, slot_name in SRGB_SLOTS, slot.mipmaps).use(location=at)
-        samplers.get(slot).use(location=at)
-        bound.append(at)
-    prog.set_array("u_material", material_record(m, m.color, lambda name, slot: 0.0),
-                   strict=False)
-    return bound

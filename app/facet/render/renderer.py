@@ -30,6 +30,7 @@ import threading
 import warnings
 import weakref
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -57,6 +58,9 @@ from .finish import Finisher, finish_for
 from .frame import Frame
 from .prepare import frozen, prepare_frame
 from .state import FrameState
+
+if TYPE_CHECKING:
+    from .raster.user_shaders import UserPrograms
 
 
 class Renderer:
@@ -471,9 +475,15 @@ class Renderer:
             self._engines[name] = engine_for(name)(self.ctx, self.cache)
         return self._engines[name]
 
-    def user_programs(self):
-        """Users' mesh shaders' programs (facet.render.raster.user_shaders), or None while
-        no rasterizer has drawn (nothing builds one to ask)."""
+    def user_programs(self) -> UserPrograms | None:
+        """Users' mesh shaders' programs, if a rasterizer exists (nothing builds one to ask).
+
+        Returns
+        -------
+        UserPrograms or None
+            The rasterizer's (facet.render.raster.user_shaders), or None while no
+            rasterizer has drawn.
+        """
         raster = self._engines.get("raster")
         return raster.forward.user if raster is not None else None
 

@@ -27,11 +27,9 @@ from ...scene.pbr import as_phong
 from ...scene.scene import MAX_LIGHTS, Scene
 from ..material_record import record_defines
 from ..materials import (
-    SlotSamplers,
     as_pbr,
     model_for,
     phong_color,
-    set_pbr_material,
     slot_defines,
 )
 from ..shading import SHADING_MODELS, check_shading
@@ -42,6 +40,7 @@ from .ibl import LUT_SIZE, PREFILTER_LEVELS, ImageLighting
 from .instancing import INSTANCE_LAYOUT, batches, instance_rows
 from .mirror import MirrorTargets, mirror_plane
 from .skinning import POSE_DEFINES, JointRows, bind_pose, gpu_pose, pose_buffers
+from .slots import SlotSamplers, set_pbr_material
 from .sprites import set_sprite_uniforms, sprite_variant, uses_edl
 from .transmission import TransmissionTarget, transmits
 from .user_shaders import UserPrograms
