@@ -48,8 +48,8 @@ def overhead(manifest: Path, models: int = 12, reps: int = 3) -> tuple[float, fl
     from facet.batch.layout import write_transforms, write_view
     from facet.batch.manifest import load_manifest
     from facet.batch.runner import job_options, render_jobs
+    from facet.formats.source import open_scene
     from facet.render.renderer import Renderer
-    from facet.scene.source import open_scene
 
     jobs = load_manifest(manifest)[:models + 1]
     whole, views = [], []

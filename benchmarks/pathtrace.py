@@ -39,8 +39,8 @@ def _hdr_sky(path: Path) -> Path:
     """A sky for the glTF scene: a gradient and a bright patch 25 degrees from the zenith
     (radiance 20 over 12 degrees: a small sun would make its mirror spheres' highlights
     a few pixels' worth of the error), as a Radiance .hdr file."""
+    from facet.formats.hdr_image import write_hdr
     from facet.scene.environment import equirect_directions
-    from facet.scene.hdr_image import write_hdr
 
     d = equirect_directions(512, 256)
     up = np.clip(d[..., 1], 0, 1)[..., None]

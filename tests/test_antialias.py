@@ -8,9 +8,9 @@ import pytest
 from facet.errors import InputError
 from facet.geometry import sampling
 from facet.geometry.camera import Camera
+from facet.options.render import parse_aa
 from facet.render.antialias import jitter_matrix
 from facet.scene import Material, Mesh, Scene
-from facet.scene.options import parse_aa
 
 S = 64
 CAMERA = Camera.look_at((0, 0, 3), (0, 0, 0), ortho_height=2.0, near=1, far=5)
@@ -155,6 +155,6 @@ def test_cli_aa(tmp_path, capsys):
     assert not (tmp_path / "x.png").exists()
     (tmp_path / "s.toml").write_text('[render]\naa = "poisson:8"\n[[objects]]\n'
                                      'primitive = "sphere"\n')
-    from facet.scene import load_scene
+    from facet.formats import load_scene
 
     assert str(load_scene(tmp_path / "s.toml").options["aa"]) == "ssaa:poisson:8"

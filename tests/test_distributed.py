@@ -97,7 +97,7 @@ def test_interpolate_transform_and_bad_lens():
 def test_cli_and_scene_file_lens(tmp_path, capsys):
     from facet.cli import main
     from facet.errors import SceneError
-    from facet.scene import load_scene
+    from facet.formats import load_scene
 
     out = tmp_path / "d.png"
     assert main(["render", "--aperture", "0.2", "--focus", "5", "--size", "32x24", "-q",
@@ -118,7 +118,7 @@ def test_cli_and_scene_file_lens(tmp_path, capsys):
 def test_motion_blur_in_a_scene_file(tmp_path):
     """`transform_end` (steps, like `transform`) is the pose at shutter close; children move
     with their parents; objects without it in a still hierarchy are not blurred."""
-    from facet.scene.scenefile import load_scene
+    from facet.formats.scenefile import load_scene
 
     path = tmp_path / "blur.toml"
     path.write_text("""

@@ -11,9 +11,9 @@ import pytest
 
 from facet.errors import FacetWarning
 from facet.geometry.camera import Camera
+from facet.options.render import ENGINES
 from facet.render.engine import ENGINE_CLASSES, Engine, engine_for
 from facet.scene import DirectionalLight, Material, Scene, Texture
-from facet.scene.options import ENGINES
 from facet.scene.pbr import PbrMaterial, TextureSlot, texture_transform
 from facet.scene.shader import UserShader
 

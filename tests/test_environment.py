@@ -100,7 +100,7 @@ def test_cube_map_inputs(tmp_path):
 def test_cli_and_scene_file_environment(tmp_path, capsys):
     from facet.cli import main
     from facet.errors import SceneError
-    from facet.scene import load_scene
+    from facet.formats import load_scene
 
     out = tmp_path / "e.png"
     assert main(["render", "--env", "sky", "--size", "32x24", "-q", "-o", str(out)]) == 0

@@ -1,4 +1,4 @@
-"""glTF loading (facet.scene.gltf): parts with their own materials and node transforms,
+"""glTF loading (facet.formats.gltf): parts with their own materials and node transforms,
 accessors (strided, normalized, sparse), strips and fans, materials and their textures,
 cameras, Draco, and every error, on files built in code (tests/gltf_files.py) and on the
 Khronos samples in ../shared/gltf (skipped when absent)."""

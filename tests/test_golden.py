@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from facet.formats import load_scene
 from facet.geometry.camera import Camera
-from facet.scene import Mesh, Scene, Texture, load_scene, primitives
+from facet.scene import Mesh, Scene, Texture, primitives
 from facet.scene.light import camera_rig
 from facet.scene.material import Material
 

@@ -1,5 +1,5 @@
 """Hostile glTF files: every index, count, offset, stride and type a file states is checked
-before facet reads data by it (facet.scene.gltf_check), the node graph for cycles, shared
+before facet reads data by it (facet.formats.gltf_check), the node graph for cycles, shared
 children and depth; each case is one line and exit 2 in a child process under a memory
 limit (never a signal, a hang or a traceback); and a fuzzer mutating a valid file's
 numbers and types finds no case that is not a clean render or such a line."""

@@ -14,7 +14,8 @@ PACKAGE = ROOT / "app" / "facet"
 EVERY_KEY = Path(__file__).resolve().parent / "data" / "every-key.toml"
 # Layers, lowest first (DESIGN.md): a module may import its own layer or lower ones.
 # DESIGN.md's layers, bottom up: imports point down only (the README lists them too).
-LAYERS = [{"errors", "paths", "srgb", "guard", "budgets"}, {"geometry"}, {"scene"}, {"gl"},
+LAYERS = [{"errors", "paths", "srgb", "guard", "budgets"}, {"geometry"}, {"scene"},
+          {"formats", "options"}, {"gl"},
           {"render", "image"}, {"lab", "batch", "viewing"},
           {"cli", "window", "notebook", "serve"}, {"__init__", "__main__"}]
 
@@ -43,8 +44,8 @@ def test_a_scene_file_with_every_key_loads_without_gl():
     out = _run("import sys\n"
                "for name in ('moderngl', 'glcontext', 'glfw'):\n"
                "    sys.modules[name] = None  # any import of it raises ImportError\n"
-               "from facet.scene import load_scene\n"
-               "from facet.scene.options import options_for\n"
+               "from facet.formats import load_scene\n"
+               "from facet.options.render import options_for\n"
                f"scene = load_scene({str(EVERY_KEY)!r})\n"
                "opts = options_for(scene, {'msaa': 2})\n"
                "print(len(scene.objects), opts.size, opts.shading, opts.aa, opts.shadows)")
@@ -54,14 +55,14 @@ def test_a_scene_file_with_every_key_loads_without_gl():
 def test_the_every_key_file_covers_every_key():
     """The file above must use every key the scene-file parser knows (so adding a key
     without trying it here fails)."""
-    from facet.scene import scenefile as sf
-    from facet.scene import scenefile_lights as sl
+    from facet.formats import scenefile as sf
+    from facet.formats import scenefile_lights as sl
 
     data = tomllib.loads(EVERY_KEY.read_text())
     assert set(data) == set(sf.TOP)
     # msaa and spp are sugar for aa and may not share a table with it (test_options.py)
     assert set(data["render"]) | {"msaa", "spp"} == set(sf.RENDER)
-    from facet.scene import scenefile_materials as sm
+    from facet.formats import scenefile_materials as sm
 
     tables = data["materials"].values()
     assert set().union(*(m for m in tables if not sm.is_pbr(m))) == set(sf.MATERIAL)
@@ -110,6 +111,22 @@ def _imports() -> dict[str, set[str]]:
 def _layer(module: str) -> int:
     top = module.split(".")[1] if "." in module else "__init__"
     return next(i for i, names in enumerate(LAYERS) if top in names)
+
+
+def test_the_scene_model_reads_no_files():
+    """scene/ is the model only: no module of it imports the readers (facet.formats) or the
+    options (facet.options); its classes' ``load`` find their readers through
+    facet.scene.readers, which facet.formats fills (and ``import facet`` imports)."""
+    graph = _imports()
+    above = [(a, b) for a, targets in graph.items() if a.startswith("facet.scene")
+             for b in targets if b.startswith(("facet.formats", "facet.options"))]
+    assert not above, above
+    assert "facet.formats" in graph["facet"]
+    out = _run("import facet.scene.mesh as m, facet.scene.readers as r, sys\n"
+               "m.Mesh.load('models/default.obj'.replace('models', "
+               f"{str(ROOT / 'models')!r}))\n"
+               "print('facet.formats.loading' in sys.modules)")
+    assert out.strip() == "True"
 
 
 def test_imports_point_down_the_layers():

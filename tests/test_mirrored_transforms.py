@@ -66,7 +66,7 @@ transform = [{{scale = [-1, 1, 1]}}]
 type = "directional"
 direction = [0, -1, -0.8]
 """)
-    from facet.scene.source import open_scene
+    from facet.formats.source import open_scene
 
     scene = open_scene(tmp_path / "twins.toml")
     camera = Camera.look_at((0.0, 0.5, 6.0), (0, 0, 0), fov_y=40, near=0.5, far=30)
@@ -87,7 +87,7 @@ def test_gltf_negative_scale_test_looks_like_its_reference(renderer, engine):
     """Khronos NegativeScaleTest: every cell shows a green check, none a red cross (a cross
     is the back of a single-sided panel, visible when winding or culling is wrong), and
     the spheres under scale -1 are lit like those under scale 1."""
-    from facet.scene.source import open_scene
+    from facet.formats.source import open_scene
 
     from conftest import SHARED_GLTF, shared_model
 

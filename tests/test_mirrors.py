@@ -118,7 +118,7 @@ def test_mirror_mistakes():
 
 
 def test_mirror_in_a_scene_file(tmp_path):
-    from facet.scene.scenefile import load_scene
+    from facet.formats.scenefile import load_scene
 
     path = tmp_path / "m.toml"
     path.write_text('[[objects]]\nprimitive = "plane"\nsize = 4\n'

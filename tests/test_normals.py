@@ -1,6 +1,6 @@
 """Normals where files bring none (crease splitting), tangent frames, PLY triangle strips,
 OBJ files with missing material libraries or textures, degenerate triangles, and z-up
-framing (facet.scene.normals, facet.scene.loading, facet.geometry.camera)."""
+framing (facet.scene.normals, facet.formats.loading, facet.geometry.camera)."""
 
 import warnings
 

@@ -1,5 +1,5 @@
 """One door for render options, walked key by key (no GL): for every key of the parser
-table (facet.scene.option_values.PARSERS), the same value given through each front (Python
+table (facet.options.values.PARSERS), the same value given through each front (Python
 keywords, a scene file's [render] table, `facet render` flags, `facet view` flags, a
 dataset manifest's job) resolves to the same RenderOptions, and the same bad value is
 refused with the same sentence by each. Every front hands its raw values to the one parser;
@@ -14,9 +14,9 @@ from dataclasses import replace
 import pytest
 
 from facet.errors import FacetError
-from facet.scene.option_values import PARSERS, parse_option
-from facet.scene.options import FRONT_DEFAULTS, RenderOptions, options_for
-from facet.scene.scenefile import load_scene
+from facet.formats.scenefile import load_scene
+from facet.options.render import FRONT_DEFAULTS, RenderOptions, options_for
+from facet.options.values import PARSERS, parse_option
 
 # key -> (good value, its command-line text or None, bad value or None, bad text or None).
 # A text of None: the command line has no flag for the key (the scene file, Python and
@@ -180,7 +180,7 @@ def test_a_bad_value_gets_the_same_sentence_from_every_front(tmp_path, capsys, k
 
 
 def _text_value(key, text):
-    from facet.scene.option_values import text_value
+    from facet.options.values import text_value
 
     return text_value(key, text)
 

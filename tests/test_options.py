@@ -1,5 +1,5 @@
 """Render options (no GL): the precedence defaults < front < scene file < explicit
-arguments, written once in facet.scene.options and tested here; that every front hands the
+arguments, written once in facet.options.render and tested here; that every front hands the
 same value to the one parser (and gets the same sentence back) is tests/test_option_fronts.py."""
 
 
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from facet.errors import InputError, SceneError
-from facet.scene import Scene, load_scene
-from facet.scene.options import (
+from facet.formats import load_scene
+from facet.options.render import (
     DEFAULT_AA,
     RenderOptions,
     options_for,
@@ -16,6 +16,7 @@ from facet.scene.options import (
     parse_layer,
     parse_option,
 )
+from facet.scene import Scene
 
 
 def _scene_file(tmp_path, render_table: str, extra: str = ""):

@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from facet.formats import load_scene
 from facet.gl import osmesa
 from facet.gl.context import create_headless
+from facet.options.render import OUTPUTS
 from facet.render.frame import CHANNELS
 from facet.render.renderer import Renderer
-from facet.scene import load_scene
-from facet.scene.options import OUTPUTS
 
 ROOT = Path(__file__).resolve().parents[1]
 

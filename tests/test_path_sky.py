@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 
 import facet
+from facet.formats.environment_files import load_environment
+from facet.formats.hdr_image import read_hdr_image, write_hdr
 from facet.geometry.camera import Camera
 from facet.render.path.engine import PathEngine
-from facet.scene.environment import equirect_directions, load_environment
-from facet.scene.hdr_image import read_hdr_image, write_hdr
+from facet.scene.environment import equirect_directions
 from facet.scene.pbr import PbrMaterial
 
 SUN = np.array([0.5, 0.7071, -0.5]) / np.linalg.norm([0.5, 0.7071, -0.5])

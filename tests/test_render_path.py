@@ -5,10 +5,11 @@ from Python too, and colour finishing matches the equations of facet.image.color
 import numpy as np
 import pytest
 
+from facet.formats import load_scene
 from facet.geometry.camera import Camera
 from facet.image.colorspace import linear_to_srgb, srgb_to_linear
 from facet.render.renderer import Renderer
-from facet.scene import DirectionalLight, Material, Scene, load_scene, primitives
+from facet.scene import DirectionalLight, Material, Scene, primitives
 from facet.scene.light import camera_rig
 
 from conftest import sphere_mesh

@@ -6,16 +6,10 @@ import pytest
 import trimesh
 
 from facet.errors import SceneError
+from facet.formats import load_scene
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
-from facet.scene import (
-    DirectionalLight,
-    Material,
-    PointLight,
-    Scene,
-    load_scene,
-    shapes,
-)
+from facet.scene import DirectionalLight, Material, PointLight, Scene, shapes
 
 SCENE = """
 [render]

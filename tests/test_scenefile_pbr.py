@@ -7,8 +7,8 @@ import pytest
 
 import facet
 from facet.errors import SceneError
+from facet.formats.scenefile import load_scene
 from facet.scene.pbr import PbrMaterial, texture_transform
-from facet.scene.scenefile import load_scene
 
 GOLD = """
 [materials.gold]

@@ -84,7 +84,7 @@ def test_cli_and_scene_file_shadows(tmp_path):
     from PIL import Image
 
     from facet.cli import main
-    from facet.scene import load_scene
+    from facet.formats import load_scene
 
     scene = tmp_path / "s.toml"
     scene.write_text('[render]\nsize = [64, 48]\nmsaa = 0\n[[objects]]\nprimitive = "plane"\n'
@@ -157,7 +157,8 @@ def test_area_light_penumbra_grows_with_its_size(renderer, engine):
 
 def test_area_light_in_a_scene_file(tmp_path):
     from facet.errors import SceneError
-    from facet.scene import AreaLight, load_scene
+    from facet.formats import load_scene
+    from facet.scene import AreaLight
 
     path = tmp_path / "a.toml"
     path.write_text('[[objects]]\nprimitive = "sphere"\n[[lights]]\ntype = "area"\n'

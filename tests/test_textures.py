@@ -6,10 +6,11 @@ import trimesh
 from PIL import Image
 
 from facet.errors import InputError, SceneError
+from facet.formats import load_scene
 from facet.geometry.camera import Camera
 from facet.image.colorspace import linear_to_srgb, srgb_to_linear
 from facet.render.renderer import Renderer
-from facet.scene import DirectionalLight, Material, Mesh, Scene, load_scene
+from facet.scene import DirectionalLight, Material, Mesh, Scene
 from facet.scene.texture import Texture
 
 SIZE = 64

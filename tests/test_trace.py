@@ -351,7 +351,7 @@ def test_an_infinite_plane_in_a_scene_file(tmp_path, renderer):
     """plane with size = inf: left out of the scene's bounds (framing a ball on it works),
     traced to the horizon, drawn by the rasterizer as a large square; both engines agree on
     the floor's depth in front of the camera."""
-    from facet.scene import load_scene
+    from facet.formats import load_scene
 
     path = tmp_path / "inf.toml"
     path.write_text('[[objects]]\nprimitive = "plane"\nsize = inf\n[[objects]]\n'

@@ -7,10 +7,10 @@ as lit pixels gone dark)."""
 import numpy as np
 import pytest
 
+from facet.formats.source import open_scene
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
 from facet.scene import DirectionalLight, Material, PointLight, Scene, shapes
-from facet.scene.source import open_scene
 
 S = 96
 SHAPES = {

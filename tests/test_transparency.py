@@ -80,7 +80,7 @@ def test_opaque_surfaces_hide_what_is_behind_them(renderer):
 
 def test_opacity_must_be_in_range(tmp_path):
     from facet.errors import SceneError
-    from facet.scene import load_scene
+    from facet.formats import load_scene
 
     with pytest.raises(InputError, match="opacity must be a number in"):
         Material(opacity=1.5)

@@ -49,9 +49,9 @@ def test_cli_turntable_round_trip(tmp_path, monkeypatch, target, reader):
     assert not list(tmp_path.glob(".*"))  # no temporary files left
     # Each frame is the render of its orbit camera (the file's encoding aside: PNG exact,
     # GIF a 256-colour palette, MP4 lossy), in order, the view moving between them.
+    from facet.formats.source import open_scene
     from facet.paths import default_model
     from facet.render.renderer import Renderer
-    from facet.scene.source import open_scene
 
     with Renderer() as r:
         expected = np.stack([f.color[..., :3] for f in turntable(

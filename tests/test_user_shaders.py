@@ -6,10 +6,11 @@ import numpy as np
 import pytest
 
 from facet.errors import InputError, SceneError
+from facet.formats import load_scene
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
 from facet.lab.shadertoy import ShaderToy
-from facet.scene import Material, Scene, load_scene
+from facet.scene import Material, Scene
 from facet.scene.light import camera_rig
 from facet.scene.shader import UserShader
 

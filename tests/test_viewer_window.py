@@ -308,9 +308,9 @@ def test_depth_of_field_refines_in_msaa_mode(window, tmp_path):
     """A scene camera with a lens, opened in the default MSAA mode: while the view is still
     the window refines to the headless supersampled render (depth of field and a transparent
     object included), and the camera keeps its lens."""
+    from facet.formats.scenefile import load_scene
     from facet.geometry.camera import Camera
     from facet.render.renderer import Renderer
-    from facet.scene.scenefile import load_scene
 
     from test_golden import CHANNEL_TOL, MAX_DIFFERING
 
@@ -426,7 +426,7 @@ fov = 40
 def _transforms_of(scene_path, out):
     """A transforms.json holding the scene file's camera (what `facet batch` renders from
     with plan = "cameras")."""
-    from facet.scene import load_scene
+    from facet.formats import load_scene
 
     scene = load_scene(scene_path)
     w, h = scene.options["size"]
@@ -491,8 +491,8 @@ def test_every_front_draws_the_same_first_frame(window, tmp_path):
     # The settings are really on: the background as written (sRGB mode takes it as
     # sRGB-encoded), and the ball's shadow.
     assert np.allclose(single[2, 2], np.rint(255 * np.array([0.15, 0.2, 0.3])), atol=1)
+    from facet.formats import load_scene
     from facet.render.renderer import Renderer
-    from facet.scene import load_scene
 
     with Renderer() as r:
         flat = r.render(load_scene(path), shadows=False).color[..., :3].astype(int)

@@ -16,6 +16,8 @@ Errors a user can cause raise ``facet.FacetError`` subclasses.
 
 from importlib import import_module
 
+from . import formats as _formats  # noqa: F401 - registers the readers (facet.scene.readers)
+
 __version__ = "0.1.0"
 
 _EXPORTS = {
@@ -31,10 +33,10 @@ _EXPORTS = {
     "SpotLight": "facet.scene.light",
     "AreaLight": "facet.scene.light",
     "Scene": "facet.scene.scene",
-    "RenderOptions": "facet.scene.options",
-    "load_scene": "facet.scene",
-    "open_scene": "facet.scene",
-    "load": "facet.scene",
+    "RenderOptions": "facet.options.render",
+    "load_scene": "facet.formats",
+    "open_scene": "facet.formats",
+    "load": "facet.formats",
     "PbrMaterial": "facet.scene.pbr",
     "TextureSlot": "facet.scene.pbr",
     "primitives": "facet.scene",

@@ -13,7 +13,7 @@ A manifest is a TOML file, a JSON Lines file, or a glob of model files::
     model = "models/bunny.obj"       # a mesh file or a .toml scene, relative to the manifest
     name = "bunny"                   # the job's folder (default: the model's name)
     views = { plan = "turntable", count = 12, elevation = 20 }
-    shading = "blinn"                # any render option (facet.scene.options)
+    shading = "blinn"                # any render option (facet.options.render)
     float_files = ["npy", "exr"]     # float channels as .npy (default) and / or OpenEXR
     colmap = true                    # also a COLMAP text model in JOB/sparse/0/
 
@@ -21,7 +21,7 @@ In JSON Lines each line is one job (``{"model": ..., ...}``); a line ``{"default
 sets defaults for the lines after it. A .json file may also be one document: a list of
 jobs, or ``{"defaults": {...}, "jobs": [...]}``. A glob (``"models/*.obj"``) makes one job per file.
 Views: facet.batch.views. Render options are handed raw to the one options parser
-(facet.scene.options), file names relative to the manifest's folder; a job renders with
+(facet.options.render), file names relative to the manifest's folder; a job renders with
 facet's defaults < a dataset's (FRONT_DEFAULTS["batch"]) < its scene file's [render] <
 the manifest's defaults < the command line's < its own. The whole manifest is validated
 before anything renders; an error names the line (JSON Lines) or job and the key.
@@ -40,7 +40,7 @@ from pathlib import Path
 from ..budgets import budget
 from ..errors import InputError
 from ..guard import json_depth, parse_json, regular_file
-from ..scene.options import (
+from ..options.render import (
     MAX_FRAMES,
     PARSERS,
     PATH_KEYS,
@@ -54,13 +54,13 @@ JOB_KEYS = ("model", "name", "views", "seed", "float_files", "colmap")  # and re
 FLOAT_FILES = ("npy", "exr")
 VIEW_KEYS = ("plan", "count", "elevation", "elevations", "seed", "file", "times",
              "random_times")
-FRONT = "batch"  # a dataset's defaults (facet.scene.options.FRONT_DEFAULTS)
+FRONT = "batch"  # a dataset's defaults (facet.options.render.FRONT_DEFAULTS)
 
 
 @dataclass(frozen=True)
 class Job:
     """One model's renders: its folder ``name``, views, the render options it gives
-    (parsed once: facet.scene.options; size, outputs, up, ... all among them), the float
+    (parsed once: facet.options.render; size, outputs, up, ... all among them), the float
     channels' file formats and whether a COLMAP model is written too (facet.batch.layout).
     ``given``: the options as the manifest wrote them (file names made absolute), what the
     digest reads."""

@@ -31,7 +31,7 @@ def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
     """Render one job's views into ``out / job.name``; the index record. ``load``: a
     callable giving the job's scene (default: open its model now); ``on_view(job)``:
     called as each view's files are written (progress)."""
-    from ..scene.source import open_scene
+    from ..formats.source import open_scene
 
     start = time.perf_counter()
     folder = Path(out) / job.name
@@ -80,7 +80,7 @@ def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
 
 
 def job_options(job, scene, renderer):
-    """The options of ``job``'s renders of ``scene`` (facet.scene.options.options_for: a
+    """The options of ``job``'s renders of ``scene`` (facet.options.render.options_for: a
     dataset's defaults < the scene file's [render] < the job's). A cameras file's image
     size comes before the dataset's default size (its cameras are made for it)."""
     if job.views.file is not None and "size" not in job.options and \
@@ -142,7 +142,7 @@ def _confined(root):
 
 
 def _load(model, root):
-    from ..scene.source import open_scene
+    from ..formats.source import open_scene
 
     with _confined(root):
         return open_scene(model)

@@ -1,6 +1,6 @@
 """Argument types and the option groups the subcommands share (no numpy, no GL: ``--help``
 stays instant). The render options (``add_render_options``) are taken as the text given,
-unchecked, and become one explicit layer of facet.scene.options through ``render_layer``:
+unchecked, and become one explicit layer of facet.options.render through ``render_layer``:
 a flag and a scene file's key are parsed by the same function and refused with the same
 sentence."""
 
@@ -10,7 +10,7 @@ import argparse
 import math
 
 SIZE_HELP = "image size in pixels, WIDTHxHEIGHT"
-# What happens to MSAA counts the GL cannot do (facet.scene.options.clamp_msaa).
+# What happens to MSAA counts the GL cannot do (facet.options.render.clamp_msaa).
 MSAA_POLICY = "counts above the GL's maximum are lowered to it with a warning"
 
 
@@ -53,7 +53,7 @@ def color(text: str) -> list[float]:
 def size(text: str) -> tuple[int, int]:
     """WIDTHxHEIGHT, checked by the render options' own parser (the same sentence)."""
     from ..errors import InputError
-    from ..scene.option_values import parse_option
+    from ..options.values import parse_option
 
     try:
         return parse_option("size", text)
@@ -109,8 +109,7 @@ def add_shader_options(p) -> None:
 def add_render_options(p, size_default: str) -> None:
     """The render options of ``facet render`` and ``facet view``. Each one left out takes
     the scene file's [render] value, else facet's default."""
-    from ..render.capabilities import CAPABILITIES
-    from ..scene.options import (
+    from ..options.render import (
         CULL,
         ENGINES,
         LIGHTS,
@@ -118,6 +117,7 @@ def add_render_options(p, size_default: str) -> None:
         PCF_CHOICES,
         SHADING,
     )
+    from ..render.capabilities import CAPABILITIES
 
     g = p.add_argument_group("render options (a flag overrides the scene file's [render] "
                              "value, which overrides the default)")
@@ -204,8 +204,8 @@ def add_render_options(p, size_default: str) -> None:
 
 
 def add_model_options(p) -> None:
-    """How model files are read (facet.scene.loading)."""
-    from ..scene.options import DEFAULT_CREASE
+    """How model files are read (facet.formats.loading)."""
+    from ..options.render import DEFAULT_CREASE
 
     p.add_argument("--crease", type=float, metavar="DEG",
                    help="for files without normals: split vertices where neighbouring faces "
@@ -258,8 +258,8 @@ def time_range(args) -> tuple[str | None, float | None]:
 
 def render_layer(args) -> dict:
     """The render options the command line gives, raw (None: not given): parsed with
-    every other layer by facet.scene.options."""
-    from ..scene.options import text_layer
+    every other layer by facet.options.render."""
+    from ..options.render import text_layer
 
     return text_layer({
             "time": time_range(args)[0], "animation": args.animation, "variant": args.variant,

@@ -20,7 +20,7 @@ def add_parser(sub) -> None:
 
 def describe_model(path) -> list[str]:
     """Lines saying what the model or scene file at ``path`` holds."""
-    from ..scene.source import open_scene
+    from ..formats.source import open_scene
     from ..scene.staging import variant_names
 
     scene = open_scene(path)

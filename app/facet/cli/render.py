@@ -1,6 +1,6 @@
 """``facet render``: from parsed command-line arguments to files on disk.
 
-The render options come from one place (facet.scene.options.options_for): the flags, then
+The render options come from one place (facet.options.render.options_for): the flags, then
 the scene file's [render] table, then facet's defaults. Outputs are validated before any
 work, and each file is written atomically; sequences (turntables) are encoded while
 rendering goes on (facet.cli.sequence).
@@ -186,9 +186,9 @@ def _camera(args, scene, opts):
 def _scene(args):
     """The scene to render: a scene file, or one mesh (the bundled default without MODEL),
     with --color / --texture / --frag on its material and --light replacing its lights."""
+    from ..formats.source import is_scene_file, open_scene
     from ..paths import default_model
     from ..scene.points import resize_scene
-    from ..scene.source import is_scene_file, open_scene
 
     shader = user_shader(args)
     model = args.model or default_model()
@@ -255,7 +255,7 @@ def run(args) -> list[Path]:
     """Render as the arguments say; returns the paths written."""
     from ..image.outputs import ColorOptions
     from ..image.quantize import parse_bits
-    from ..scene.options import MAX_FRAMES
+    from ..options.render import MAX_FRAMES
 
     if not 1 <= args.fov < 180:
         raise InputError(f"--fov must be in [1, 180) degrees, got {args.fov:g}")
@@ -313,8 +313,8 @@ def run(args) -> list[Path]:
 
 def resolve(args, float_color: bool = False):
     """(scene, render options, camera) of these arguments, before any GL: the flags are
-    one raw layer over the scene's own (facet.scene.options.options_for)."""
-    from ..scene.options import options_for
+    one raw layer over the scene's own (facet.options.render.options_for)."""
+    from ..options.render import options_for
 
     scene = _scene(args)
     layer = A.render_layer(args)

@@ -187,7 +187,7 @@ def run(args) -> list[Path]:
     from .sequence import progress
 
     check_sequence_path(args.output)
-    from ..scene.options import MAX_FRAMES
+    from ..options.render import MAX_FRAMES
 
     frames = int(round((end - start) * args.fps))
     if frames > MAX_FRAMES:  # the same cap as turntables, checked before any work

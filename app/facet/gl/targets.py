@@ -38,7 +38,7 @@ import moderngl
 import numpy as np
 
 from ..errors import InputError
-from ..scene.options import MSAA_CHOICES, OUTPUTS
+from ..options.render import MSAA_CHOICES, OUTPUTS
 from .context import max_image_size
 
 # Auxiliary attachment -> (components, GL dtype, numpy dtype); order fixes the locations.
@@ -171,7 +171,7 @@ class Targets:
     @_allocates
     def multisample(self, samples: int, dtype: str = "f1") -> moderngl.Framebuffer:
         """A multisampled colour + depth target (``samples`` in MSAA_CHOICES, within the
-        context's maximum: facet.scene.options.clamp_msaa decides before this)."""
+        context's maximum: facet.options.render.clamp_msaa decides before this)."""
         if samples not in MSAA_CHOICES or not samples:
             raise InputError(f"msaa must be one of {MSAA_CHOICES[1:]}, got {samples!r}")
         if samples > self.ctx.max_samples:

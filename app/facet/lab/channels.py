@@ -62,7 +62,7 @@ class ChannelResources:
 
     def cube(self, source):
         """(cube texture, (s, s)) of a folder of six faces or an environment image."""
-        from ..scene.environment import load_environment
+        from ..formats.environment_files import load_environment
 
         key = ("cube", str(source), False)
         if key not in self._textures:

@@ -1,6 +1,6 @@
 """Supersampling by accumulation and the distributed effects that ride on it.
 
-The scene is drawn once per sample of a pattern (``facet.scene.options.AntiAliasing``,
+The scene is drawn once per sample of a pattern (``facet.options.render.AntiAliasing``,
 ``ssaa:PATTERN:N``) with the projection shifted by sub-pixel offsets (in clip space, so every
 pixel moves by the same fraction of itself); each float image is added into an accumulation
 target on the GPU and the sum is divided by N once, when the colour is finished. Only colour
@@ -20,8 +20,8 @@ import numpy as np
 from ..geometry.lens import check_lens, concentric_disk, interpolate_transform, lens_camera
 from ..geometry.sampling import pattern
 from ..gl.fullscreen import FullScreenPass
+from ..options.render import DISTRIBUTED_AA, AntiAliasing, parse_aa
 from ..scene.light import AreaLight
-from ..scene.options import DISTRIBUTED_AA, AntiAliasing, parse_aa
 
 
 def jitter_matrix(dx: float, dy: float, width: int, height: int) -> np.ndarray:

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..gl.targets import Targets
-from ..scene.options import RenderOptions
+from ..options.render import RenderOptions
 from .antialias import Accumulator
 from .raster.transparency import Transparency
 

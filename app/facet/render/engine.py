@@ -25,7 +25,7 @@ An engine, given the frame's shared state (facet.render.state.FrameState):
     decided(opts)                            the options with what was not given decided
                                              by it (its defaults: the same table)
 
-``ENGINE_CLASSES`` maps each name of facet.scene.options.ENGINES to its class, loaded on
+``ENGINE_CLASSES`` maps each name of facet.options.render.ENGINES to its class, loaded on
 first use; a new engine is a new module and a row here.
 """
 
@@ -33,7 +33,7 @@ from __future__ import annotations
 
 from importlib import import_module
 
-from ..scene.options import AntiAliasing, parse_aa
+from ..options.render import AntiAliasing, parse_aa
 from .antialias import accumulation
 from .capabilities import CAPABILITIES, Capabilities
 

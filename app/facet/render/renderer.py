@@ -7,7 +7,7 @@
 window's framebuffer) are two destinations of the same sequence, ``_sequence``, whatever
 the engine (facet.render.engine: the ``engine`` option picks it once per call):
 
-1. prepare: the options (facet.scene.options, resolved once per call), the engine (and
+1. prepare: the options (facet.options.render, resolved once per call), the engine (and
    one warning line for each thing it cannot honour), the camera and its lens, the lights
    that shine (the default rig when the scene has none), background and environment; the
    frame's shared state (facet.render.state);
@@ -41,7 +41,7 @@ from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
 from ..gl.targets import writing
-from ..scene.options import (
+from ..options.render import (
     ParsedLayer,
     RenderOptions,
     clamp_msaa,
@@ -67,7 +67,7 @@ class Renderer:
     """Renders scenes headlessly (``render``) or into a window (``present``).
 
     The options given here are this renderer's, for every call: above a scene's own and below
-    each call's keywords (facet.scene.options). ``close()`` (or leaving a ``with`` block)
+    each call's keywords (facet.options.render). ``close()`` (or leaving a ``with`` block)
     releases the context and every GL object.
 
     Parameters
@@ -114,7 +114,7 @@ class Renderer:
         self._unread: weakref.ref[Frame] | None = None
         self._inside = False  # the context is current (render, present): read directly
         with self.ctx:
-            # What the MSAA policy needs to know (facet.scene.options.clamp_msaa).
+            # What the MSAA policy needs to know (facet.options.render.clamp_msaa).
             self._limits = (self.ctx.max_samples, self.ctx.info.get("GL_RENDERER", "this GL"))
             if width is not None:  # fail early on a size this GL cannot render
                 self._surfaces_for((width, height))
@@ -142,7 +142,7 @@ class Renderer:
             A ``RenderOptions`` is used as it is (a front resolved it), with ``kwargs`` on top;
             a mapping is one more layer.
         front : str, optional
-            Whose defaults (facet.scene.options.FRONT_DEFAULTS: ``view``, ...).
+            Whose defaults (facet.options.render.FRONT_DEFAULTS: ``view``, ...).
         **kwargs
             Render options, the top layer.
 

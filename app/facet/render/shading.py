@@ -1,4 +1,4 @@
-"""The shading-model table: model name (facet.scene.options.SHADING) -> the GLSL stages and
+"""The shading-model table: model name (facet.options.render.SHADING) -> the GLSL stages and
 define that implement it. Render code picks its program by this table."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..errors import InputError
-from ..scene.options import SHADING
+from ..options.render import SHADING
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..geometry.camera import Camera
-from ..scene.options import MAX_FRAMES
+from ..options.render import MAX_FRAMES
 from ..scene.scene import Scene
 
 

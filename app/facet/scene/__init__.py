@@ -1,14 +1,13 @@
 """Scene description without GL: meshes, materials, lights, the scene that holds them, and
 the render options a scene asks for. Names are imported on first use, so that importing
-``facet.scene.options`` alone (the command line's ``--help``) loads no numpy."""
+``facet.options.render`` alone (the command line's ``--help``) loads no numpy."""
 
 from importlib import import_module
 
 _EXPORTS = {
     "AreaLight": "light", "DirectionalLight": "light", "PointLight": "light",
-    "SpotLight": "light", "Material": "material", "Mesh": "mesh", "RenderOptions": "options",
+    "SpotLight": "light", "Material": "material", "Mesh": "mesh",
     "MAX_LIGHTS": "scene", "Scene": "scene", "SceneObject": "scene", "Texture": "texture",
-    "load_scene": "scenefile", "open_scene": "source", "load": "source",
     "PbrMaterial": "pbr", "TextureSlot": "pbr",
 }
 __all__ = sorted([*_EXPORTS, "primitives", "shapes"])

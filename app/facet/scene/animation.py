@@ -249,7 +249,7 @@ class Rig:
         for node, matrix in self.fixed.items():
             local[node] = matrix
         world = np.empty_like(local)
-        for node in self.order:  # parents first (facet.scene.gltf_check: a forest)
+        for node in self.order:  # parents first (facet.formats.gltf_check: a forest)
             p = self.parents[node]
             world[node] = local[node] if p < 0 else world[p] @ local[node]
         return world, weights

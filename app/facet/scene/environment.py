@@ -10,11 +10,10 @@ uploaded): texel (s, t) of a face, with sc = 2 s - 1 and tc = 2 t - 1, looks alo
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from ..errors import InputError
+from .readers import reader  # facet.formats.environment_files reads the files
 
 FACE_NAMES = ("px", "nx", "py", "ny", "pz", "nz")
 
@@ -149,7 +148,7 @@ class Environment:
 
     @classmethod
     def from_faces(cls, paths) -> Environment:
-        """A cube map of six images.
+        """A cube map of six images (read by facet.formats.environment_files).
 
         Parameters
         ----------
@@ -161,22 +160,12 @@ class Environment:
         Environment
             The environment.
         """
-        from .texture import Texture
-
-        if len(paths) != 6:
-            raise InputError(f"a cube map needs 6 face images (+X -X +Y -Y +Z -Z), got "
-                             f"{len(paths)}")
-        faces = [Texture.load(p).pixels[..., :3] for p in paths]
-        sizes = {f.shape[:2] for f in faces}
-        if len(sizes) != 1 or faces[0].shape[0] != faces[0].shape[1]:
-            listing = ", ".join(f"{Path(p).name} {f.shape[1]}x{f.shape[0]}"
-                                for p, f in zip(paths, faces, strict=True))
-            raise InputError(f"cube map faces must be square and all the same size: {listing}")
-        return cls(np.stack(faces) / 255.0, "cube map")
+        return reader("cube faces")(paths)
 
     @classmethod
     def from_equirect(cls, path, size: int = 256) -> Environment:
-        """An equirectangular (latitude-longitude) image resampled onto the cube.
+        """An equirectangular (latitude-longitude) image resampled onto the cube (read by
+        facet.formats.environment_files).
 
         HDR files (.hdr, .exr) keep their linear radiance, above 1 too; 8-bit images are values
         in [0, 1].
@@ -193,45 +182,8 @@ class Environment:
         Environment
             The environment.
         """
-        from .hdr_image import is_hdr, read_hdr_image
-        from .texture import Texture
-
-        if is_hdr(path):
-            img, scale = read_hdr_image(path), 1.0
-        else:
-            img, scale = Texture.load(path).pixels, 1.0 / 255.0
-        d = face_directions(size)
-        u = 0.5 + np.arctan2(d[..., 0], -d[..., 2]) / (2 * np.pi)
-        v = np.arccos(np.clip(d[..., 1], -1, 1)) / np.pi  # 0 at the zenith (image top)
-        h, w = img.shape[:2]
-        x = np.clip((u * w).astype(int), 0, w - 1)
-        y = np.clip((v * h).astype(int), 0, h - 1)
-        step = max(1, w // 512)  # the sampling distribution needs no more than this
-        grid = img[::step, ::step, :3].astype(np.float32) * scale
-        env = cls(img[y, x, :3].astype(np.float32) * scale, Path(path).name, grid)
-        env.linear = is_hdr(path)
-        return env
+        return reader("environment")(path, size)
 
     @property
     def size(self) -> int:
         return self.faces.shape[1]
-
-
-def load_environment(spec: str, base: Path | None = None) -> Environment:
-    """``sky``, an equirectangular image file, or a folder with px/nx/py/ny/pz/nz images."""
-    if spec == "sky":
-        return Environment.sky()
-    from ..guard import check_confined
-
-    path = Path(base or ".") / spec
-    check_confined(path, "environment file")
-    if path.is_dir():
-        faces = []
-        for name in FACE_NAMES:
-            found = sorted(path.glob(f"{name}.*"))
-            if not found:
-                raise InputError(f"{path}: no {name}.* face image (a cube map folder holds "
-                                 f"{', '.join(FACE_NAMES)})")
-            faces.append(found[0])
-        return Environment.from_faces(faces)
-    return Environment.from_equirect(path)

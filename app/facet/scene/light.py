@@ -250,7 +250,7 @@ def camera_rig(view) -> list[DirectionalLight]:
 
 
 def active_lights(lights, view, mode: str = "auto") -> list:
-    """The lights that shine in a render, by the ``lights`` option (facet.scene.options):
+    """The lights that shine in a render, by the ``lights`` option (facet.options.render):
     "auto" the scene's own or, when it has none, the camera rig for the world -> camera
     matrix ``view``; "scene" only its own; "camera" the rig in any case."""
     if mode == "camera" or (mode == "auto" and not lights):

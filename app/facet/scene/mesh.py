@@ -17,7 +17,8 @@ import numpy as np
 
 from ..errors import FacetWarning, InputError
 from ..geometry import transforms as T
-from .normals import MAX_COORDINATE  # beyond it float32 squares overflow
+from .normals import DEFAULT_CREASE, MAX_COORDINATE  # beyond it float32 squares overflow
+from .readers import reader  # facet.formats reads the files
 
 if TYPE_CHECKING:
     from .points import Lines, Points
@@ -94,7 +95,7 @@ class Mesh:
             raise InputError(f"{name}: the mesh has no faces")
         if not np.issubdtype(fac.dtype, np.integer):
             raise InputError(f"{name}: faces must be integer indices, got {fac.dtype}")
-        if not checked:  # (``checked``: facet.scene.loading checked these already)
+        if not checked:  # (``checked``: facet.formats.loading checked these already)
             self._check(pos, fac, name)
         fac = fac.astype(np.uint32, copy=False)
         if normals is None:
@@ -267,7 +268,7 @@ class Mesh:
     @classmethod
     def from_trimesh(cls, tm) -> Mesh:
         """A Mesh of a trimesh geometry: its vertices, faces, normals (when it has them),
-        texture coordinates, vertex or face colours and material (facet.scene.adapters).
+        texture coordinates, vertex or face colours and material (facet.formats.adapters).
 
         Parameters
         ----------
@@ -280,9 +281,7 @@ class Mesh:
         Mesh
             The mesh.
         """
-        from .adapters import trimesh_parts
-
-        parts = [(n, m, x) for n, m, x in trimesh_parts(tm, cls) if m.kind == "mesh"]
+        parts = [(n, m, x) for n, m, x in reader("trimesh")(tm, cls) if m.kind == "mesh"]
         if not parts:
             raise InputError(f"{type(tm).__name__} holds no triangles (a point cloud: "
                              "Scene.add or facet.Points take it)")
@@ -351,11 +350,8 @@ class Mesh:
             (facet.scene.animation; None when nothing in it moves), whose part ``i`` is
             ``parts[i]`` at rest.
         """
-        from .loading import load_file
-        from .normals import DEFAULT_CREASE
-
-        raw, cameras, lights, rig = load_file(path,
-                                              DEFAULT_CREASE if crease is None else crease)
+        raw, cameras, lights, rig = reader("mesh file")(
+            path, DEFAULT_CREASE if crease is None else crease)
         made: dict[int, Mesh | Points | Lines] = {}
         parts = []
         for name, data, matrix in raw:
@@ -386,7 +382,7 @@ class Mesh:
 
     @classmethod
     def _from_file(cls, data: dict) -> Mesh | Points | Lines:
-        """A Mesh (or Points, Lines) from facet.scene.loading's arguments; a bad array names
+        """A Mesh (or Points, Lines) from facet.formats.loading's arguments; a bad array names
         the file."""
         from ..errors import MeshError
 

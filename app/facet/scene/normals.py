@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .options import DEFAULT_CREASE  # noqa: F401 - the loaders' default, kept with the options
+from .constants import DEFAULT_CREASE  # noqa: F401 - the loaders' default
 
 MAX_COORDINATE = 1e18  # coordinates beyond overflow float32 when squared (distances)
 AREA_EPSILON = 1e-36  # below this |cross| (float32) a triangle counts as degenerate

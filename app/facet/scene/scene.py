@@ -16,7 +16,7 @@ from ..geometry.camera import Camera
 from .light import AreaLight, DirectionalLight, Light, PointLight, SpotLight
 from .material import Material, as_color
 from .mesh import Mesh
-from .options import parse_layer
+from .readers import reader  # facet.formats: trimesh objects' parts
 
 if TYPE_CHECKING:
     from .pbr import PbrMaterial
@@ -64,8 +64,9 @@ class Scene:
     background : (3,) or (4,) floats in [0, 1]; alpha 0 gives a transparent background
     options : render options this scene asks for (a scene file's [render] table), e.g.
         ``{"shadows": True, "lights": "scene"}``; explicit arguments override them
-        (facet.scene.options). Without lights the scene is lit by the default key + fill
-        rig following the camera unless ``lights`` is "scene".
+        (facet.options.render, which parses them when a render resolves its options).
+        Without lights the scene is lit by the default key + fill rig following the camera
+        unless ``lights`` is "scene".
     """
 
     def __init__(self, ambient=0.1, background=(0.0, 0.0, 0.0, 1.0), options=None):
@@ -75,7 +76,9 @@ class Scene:
         self.objects: list[SceneObject] = []
         self.lights: list[Light] = []
         self.cameras: dict[str, Camera] = {}
-        self.options = parse_layer(options)  # parsed once: {option: typed value}
+        # Raw values (a scene file's parsed [render] table: facet.options.render parses what
+        # is not parsed yet when a render resolves its options).
+        self.options = options if isinstance(options, dict) else dict(options or {})
         # A facet.scene.environment.Environment: background and reflection source.
         self.environment = None
         # True for a model file's scene: its cameras (glTF's) are there to be chosen by
@@ -92,7 +95,7 @@ class Scene:
         Parameters
         ----------
         mesh : Mesh, Points, Lines, facet.shapes shape, or trimesh Trimesh / PointCloud / Scene
-            What to place (trimesh's through facet.scene.adapters: colours, uvs, materials; a
+            What to place (trimesh's through facet.formats.adapters: colours, uvs, materials; a
             Scene's parts each placed by its graph, then by ``transform``).
         material : Material or PbrMaterial, optional
             Default: the file's own material, else a grey ``Material()``.
@@ -109,12 +112,11 @@ class Scene:
             The object's id (0, 1, 2, ...: its value in ``Frame.object_ids``), or a trimesh
             Scene's parts' ids.
         """
-        from .adapters import is_trimesh, trimesh_parts
         from .points import Lines, Points
         from .shapes import Shape
 
-        if is_trimesh(mesh):
-            parts = trimesh_parts(mesh, Mesh)
+        if reader("is trimesh")(mesh):
+            parts = reader("trimesh")(mesh, Mesh)
             base = np.eye(4) if transform is None else np.asarray(transform, np.float64)
             ids = [cast(int, self.add(part, material, base @ matrix, name=name or part_name,
                                       transform_end=transform_end))  # one geometry: an id

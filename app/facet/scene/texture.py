@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from .readers import reader  # facet.formats.images reads the file
 
 
 class Texture:
@@ -72,16 +73,7 @@ class Texture:
         facet.InputError
             When it cannot be read, or is beyond facet's pixel budget (facet.guard).
         """
-        from PIL import UnidentifiedImageError
-
-        from ..guard import open_image, regular_file
-
-        p = regular_file(path, "texture file")
-        try:
-            with open_image(p, str(p)) as img:
-                return cls.from_pil(img, p.name)
-        except (UnidentifiedImageError, OSError, ValueError) as exc:
-            raise InputError(f"{p}: cannot read the texture image ({exc})") from None
+        return reader("texture")(path)
 
     @classmethod
     def checker(cls, squares: int = 8, size: int = 512,

@@ -2,7 +2,7 @@
 pictures. A mixin of ``facet.viewing.core.ViewerCore`` (whose fronts own the surface, the
 context and the renderer, and give ``grab``, ``draw`` and ``quit``). Keys that change how
 the scene is drawn set render options in ``self.keys``, one layer over the scene's and the
-command line's (facet.scene.options), so screenshots and recorded turntables render with
+command line's (facet.options.render), so screenshots and recorded turntables render with
 exactly what the viewer shows."""
 
 from __future__ import annotations
@@ -64,7 +64,7 @@ class ViewerActions:
         self.control.toggle_projection()
 
     def cycle_shading(self):
-        from ..scene.options import SHADING
+        from ..options.render import SHADING
 
         self.keys["shading"] = _next(SHADING, self.options().shading)
         print(f"shading: {self.keys['shading']}")
@@ -82,7 +82,7 @@ class ViewerActions:
         self.keys["shadows"] = not decided(self.options()).shadows
 
     def cycle_engine(self):
-        from ..scene.options import ENGINES
+        from ..options.render import ENGINES
 
         self.keys["engine"] = _next(ENGINES, self.options().engine)
         self._samples = 0

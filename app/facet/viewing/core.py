@@ -19,13 +19,13 @@ import numpy as np
 
 from ..errors import FacetError
 from ..gl.glsl_source import file_digest
-from ..scene.options import options_for, parse_layer
+from ..options.render import options_for, parse_layer
 from ..scene.pbr import as_phong
 from .actions import ViewerActions
 from .debounce import Debounce
 from .keys import KEYMAP
 
-FRONT = "view"  # the viewer's defaults (facet.scene.options.FRONT_DEFAULTS)
+FRONT = "view"  # the viewer's defaults (facet.options.render.FRONT_DEFAULTS)
 
 
 def explicit_layer(options=None, size=None, msaa=None):
@@ -69,7 +69,7 @@ class ViewerCore(ViewerActions):
     @property
     def initial_size(self) -> tuple[int, int]:
         """The size a new surface opens at: the options' (the scene's, else the viewer's
-        default, facet.scene.options.FRONT_DEFAULTS)."""
+        default, facet.options.render.FRONT_DEFAULTS)."""
         return options_for(self.scene, self.explicit, front=FRONT).size
 
     def start(self, renderer) -> None:
@@ -97,7 +97,7 @@ class ViewerCore(ViewerActions):
 
     # -- scene, options and camera ---------------------------------------------------------
     def _load(self, path):
-        from ..scene.source import open_scene
+        from ..formats.source import open_scene
 
         scene = open_scene(path, crease=self.crease)
         if self.sizes:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..scene.option_values import ENGINES, SHADING
+from ..options.values import ENGINES, SHADING
 
 TURNTABLE_FRAMES = 36
 AA_CYCLE = ("msaa:4", "none", "ssaa:jittered:16", "ssaa:jittered:64")  # the a key's modes

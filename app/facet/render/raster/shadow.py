@@ -26,8 +26,8 @@ from ...geometry import transforms as T
 from ...gl.bindings import unit
 from ...gl.glsl_source import glsl_root
 from ...gl.shaders import compile_program
+from ...options.render import PCF_CHOICES
 from ...scene.light import DirectionalLight, PointLight, SpotLight
-from ...scene.options import PCF_CHOICES
 from ...scene.scene import Scene
 from ..materials import shadow_opacity
 from .instancing import batches

@@ -7,8 +7,8 @@ rays per pixel); what it does not honour is its row of facet.render.capabilities
 
 from __future__ import annotations
 
-from ...scene.option_values import DISTRIBUTED_AA
-from ...scene.options import parse_aa
+from ...options.render import parse_aa
+from ...options.values import DISTRIBUTED_AA
 from ...scene.pbr import PbrMaterial
 from ..antialias import accumulation
 from ..engine import Engine, grid_or_jittered

@@ -3,7 +3,7 @@ that turns a raw value (a Python keyword's, a scene file's, a manifest's, or a c
 flag's text through ``text_value``) into its typed value, or raises one InputError whose
 sentence is the same whichever front the value came from (no GL).
 
-facet.scene.options builds ``RenderOptions`` from layers of these values.
+facet.options.render builds ``RenderOptions`` from layers of these values.
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from ..errors import FacetWarning, InputError
+from ..scene.constants import DEFAULT_CREASE  # noqa: F401 - the crease option's default
 
 # This module imports numpy and the sampling patterns only inside its parsers: the command
 # line builds its --help from the vocabularies below without loading either.
@@ -35,9 +36,7 @@ LIGHTS = ("auto", "scene", "camera")
 ENGINES = ("raster", "trace", "path")  # rasterizer, ray tracer, path tracer (facet.render.engine)
 CULL = ("auto", "on", "off")  # back-face culling (facet.render.raster.culling)
 DEFAULT_AA = "msaa:4"
-# Files without normals: vertices split where faces meet at more than this many degrees
-# (facet.scene.normals; 180: all smooth).
-DEFAULT_CREASE = 60.0
+
 # Depth of field, motion blur, area-light shadows and gloss are sums over samples: a render
 # with any of them supersamples with this unless its aa already supersamples.
 DISTRIBUTED_AA = "ssaa:jittered:16"
@@ -285,7 +284,8 @@ def _integer(choices=None, minimum=None, maximum=None):
 def _environment(value, key, base=None):
     """'sky', an image or a folder of cube faces (a relative path: from ``base``, the
     folder of the file that names it), or ``{color = [r, g, b]}``: a constant radiance."""
-    from .environment import Environment, load_environment
+    from ..formats.environment_files import load_environment
+    from ..scene.environment import Environment
 
     if isinstance(value, Environment):
         return value

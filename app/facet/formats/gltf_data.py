@@ -118,7 +118,7 @@ class GltfData:
 
     def _strided(self, view: int, offset: int, count: int, width: int, dtype) -> np.ndarray:
         """(count, width) elements of bufferView ``view`` from ``offset``; every bound is
-        checked here (offset, stride and length are facet.scene.gltf_check's non-negative
+        checked here (offset, stride and length are facet.formats.gltf_check's non-negative
         integers) before the strided view is made."""
         data, start, length, stride = self.view(view)
         item = dtype.itemsize * width
@@ -144,7 +144,7 @@ class GltfData:
 
         from ..errors import FacetWarning
         from ..guard import open_image, regular_file
-        from .texture import Texture
+        from ..scene.texture import Texture
 
         img = self.gltf.images[index]
         embedded = img.bufferView is not None or (img.uri or "").startswith("data:")

@@ -55,7 +55,7 @@ def extension_fields(ext: dict, name: str, fail, slot) -> dict:
             if key in values:
                 out[keyword] = _value(values[key], kind, f"material {name!r} {key}", fail)
         for key, keyword in TEXTURES.get(extension, ()):
-            info = values.get(key)  # checked by facet.scene.gltf_check with the core's
+            info = values.get(key)  # checked by facet.formats.gltf_check with the core's
             if info is None:
                 continue
             out[f"{keyword}_texture"] = slot(info)

@@ -13,7 +13,7 @@ from layers of raw values, a later layer overriding an earlier one:
 
 That precedence is written here and nowhere else, and every front (Python keywords, scene
 files, command-line flags, the viewer's keys, dataset manifests) hands its raw values to it:
-each key is parsed by one function (facet.scene.option_values), so every front accepts and
+each key is parsed by one function (facet.options.values), so every front accepts and
 rejects the same values with the same sentence. A parsed layer (``ParsedLayer``) is never
 parsed again. ``msaa=N`` is sugar for ``aa="msaa:N"`` and ``spp=N`` for
 ``aa="ssaa:jittered:N"``; one layer may give only one of the three. A key whose value is
@@ -29,7 +29,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 
 from ..errors import InputError
-from .option_values import (  # noqa: F401 - the vocabularies, importable from here
+from .values import (  # noqa: F401 - the vocabularies, importable from here
     CULL,
     DEFAULT_AA,
     DEFAULT_CREASE,
@@ -257,7 +257,7 @@ def merge_raw(*layers) -> dict:
 
 
 def text_layer(values: dict) -> dict:
-    """A raw layer from a command line's text values (facet.scene.option_values.text_value:
+    """A raw layer from a command line's text values (facet.options.values.text_value:
     numbers where a key takes them, nothing checked)."""
     return {key: text_value(key, value) if isinstance(value, str) else value
             for key, value in values.items()}

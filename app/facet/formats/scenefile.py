@@ -19,21 +19,21 @@ import numpy as np
 from ..budgets import budget
 from ..errors import FacetError, SceneError
 from ..geometry import transforms as T
-from .material import Material
-from .mesh import Mesh
-from .options import AA_KEYS, PARSERS, ParsedLayer, check_one_aa, parse_option
-from .pbr import PbrMaterial
-from .primitives import PRIMITIVE_PARAMS, PRIMITIVES
-from .scene import Scene
+from ..options.render import AA_KEYS, PARSERS, ParsedLayer, check_one_aa, parse_option
+from ..scene.material import Material
+from ..scene.mesh import Mesh
+from ..scene.pbr import PbrMaterial
+from ..scene.primitives import PRIMITIVE_PARAMS, PRIMITIVES
+from ..scene.scene import Scene
+from ..scene.shapes import SHAPES
 from .scenefile_lights import read_camera, read_lights
 from .scenefile_materials import PBR, is_pbr, read_pbr
-from .shapes import SHAPES
 from .validate import AnyKey as _Any
 from .validate import Reader as _Reader
 from .validate import show as _show
 
 TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms", "environment")
-# The [render] table: any render option (facet.scene.options parses each).
+# The [render] table: any render option (facet.options.render parses each).
 RENDER = tuple(PARSERS)
 MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
             "gloss", "mirror", "texture", "shader", "vertex_shader", "uniforms")
@@ -93,7 +93,7 @@ class _SceneBuilder:
         self.objects(scene, data.get("objects", []), materials)
         read_lights(self.r, scene, data.get("lights", []))
         if "environment" in data:
-            from .environment import load_environment
+            from .environment_files import load_environment
 
             spec = r.string(data["environment"], "environment")
             try:
@@ -165,7 +165,7 @@ class _SceneBuilder:
     def shader(self, t: dict, where: str):
         """A material's own GLSL: shader (fragment), vertex_shader, and uniforms (the
         file-wide [uniforms] table first, the material's own on top)."""
-        from .shader import UserShader
+        from ..scene.shader import UserShader
 
         r = self.r
         uniforms = dict(self.uniforms)
@@ -187,7 +187,7 @@ class _SceneBuilder:
 
     def texture(self, value, where: str):
         """A texture: an image path (relative to the scene file) or "checker"."""
-        from .texture import Texture
+        from ..scene.texture import Texture
 
         name = self.r.string(value, where)
         if name == "checker":
@@ -242,7 +242,7 @@ class _SceneBuilder:
                 except FacetError as exc:
                     r.fail(where, str(exc))
             if rig is not None:  # the model's animations, skins and morphs, placed here
-                from .animation import Animated
+                from ..scene.animation import Animated
 
                 scene.animated.append(Animated(rig, ids, node["world"]))
 
@@ -375,7 +375,7 @@ class _SceneBuilder:
             sizes = {k: r.number(t[k], f"{where}.{k}", above=0) if k in t else None
                      for k in ("point_size", "point_radius", "line_width")}
             if any(v is not None for v in sizes.values()):
-                from .points import resize_sprites
+                from ..scene.points import resize_sprites
 
                 try:
                     parts = [(n, resize_sprites(m, **sizes), x) for n, m, x in parts]

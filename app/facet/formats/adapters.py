@@ -43,7 +43,7 @@ def trimesh_geometry(tm, mesh_class, name: str = "trimesh"):
     """A facet Mesh (``mesh_class``) or Points of one trimesh geometry."""
     import trimesh
 
-    from .points import Points
+    from ..scene.points import Points
 
     if isinstance(tm, trimesh.PointCloud):
         colors = getattr(tm, "colors", None)
@@ -100,8 +100,8 @@ def trimesh_material(visual):
 
     material = getattr(visual, "material", None)
     if isinstance(material, trimesh.visual.material.PBRMaterial):
-        from .pbr import PbrMaterial, TextureSlot
-        from .texture import Texture
+        from ..scene.pbr import PbrMaterial, TextureSlot
+        from ..scene.texture import Texture
 
         factor = material.baseColorFactor
         base = np.ones(4) if factor is None else np.asarray(factor, dtype=np.float64)
@@ -126,8 +126,8 @@ def trimesh_material(visual):
         found = _material_from_trimesh(SimpleNamespace(visual=visual))
         image = getattr(material, "image", None)
         if found is None and image is not None:  # an image and no MTL colours: as given
-            from .material import Material
-            from .texture import Texture
+            from ..scene.material import Material
+            from ..scene.texture import Texture
 
             found = Material(color=(1.0, 1.0, 1.0), texture=Texture.from_pil(image, "image"))
         return found

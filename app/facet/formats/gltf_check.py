@@ -16,8 +16,8 @@ import numbers
 
 from ..budgets import budget
 from ..errors import MeshError
+from ..options.values import number_problem
 from .gltf_materials import TEXTURES as EXTENSION_TEXTURES
-from .option_values import number_problem
 
 COMPONENTS = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}  # componentType: bytes
 INDEX_COMPONENTS = (5121, 5123, 5125)

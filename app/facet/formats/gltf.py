@@ -6,10 +6,10 @@ colours) with its own ``PbrMaterial``, placed by the node's world matrix (and ea
 EXT_mesh_gpu_instancing instances); a mesh used by several nodes is decoded once. Triangle
 strips and fans become triangles; points and lines become ``Points`` and ``Lines``
 (facet.scene.points). Animations, skins and morph targets become a Rig that poses the parts
-(facet.scene.gltf_rig). Cameras become named cameras. Supported extensions: SUPPORTED
+(facet.formats.gltf_rig). Cameras become named cameras. Supported extensions: SUPPORTED
 (KHR_draco_mesh_compression through DracoPy, KHR_mesh_quantization, KHR_texture_transform,
-the KHR_materials_* of facet.scene.gltf_materials, _variants, KHR_lights_punctual through
-facet.scene.gltf_lights, EXT_mesh_gpu_instancing, EXT_texture_webp); KHR_texture_basisu's
+the KHR_materials_* of facet.formats.gltf_materials, _variants, KHR_lights_punctual through
+facet.formats.gltf_lights, EXT_mesh_gpu_instancing, EXT_texture_webp); KHR_texture_basisu's
 PNG / JPEG fallbacks are drawn; a file that *requires* another one is refused by name, one
 that only uses another one gets a warning that it is ignored.
 
@@ -26,14 +26,14 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..errors import FacetWarning, MeshError
+from ..scene.animation import camera_view
+from ..scene.pbr import PbrMaterial, TextureSlot, texture_transform
 from ..srgb import linear_to_srgb
-from .animation import camera_view
 from .gltf_check import check_gltf
 from .gltf_data import GltfData
 from .gltf_lights import document_lights, facet_light, node_light
 from .gltf_materials import extension_fields
 from .gltf_rig import read_rig, vertex_deformation
-from .pbr import PbrMaterial, TextureSlot, texture_transform
 
 SUPPORTED = {"EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression", "KHR_mesh_quantization",
              "KHR_texture_transform",
@@ -51,11 +51,11 @@ NO_MIPS = {9728, 9729}
 
 def read_gltf(path: Path, check_mesh) -> tuple[list, dict, list, object]:
     """(parts as (name, mesh arguments, 4x4 node -> file), {camera name: Camera}, lights:
-    KHR_lights_punctual's as facet lights (facet.scene.gltf_lights), and the Rig of its
-    animations, skins and morph targets (facet.scene.gltf_rig; None when nothing moves);
+    KHR_lights_punctual's as facet lights (facet.formats.gltf_lights), and the Rig of its
+    animations, skins and morph targets (facet.formats.gltf_rig; None when nothing moves);
     the parts stand at rest, the rig poses them.
     ``check_mesh(arrays, where)`` finishes a primitive's arrays into ``Mesh`` arguments.
-    The document is checked (facet.scene.gltf_check) as JSON, before pygltflib builds it."""
+    The document is checked (facet.formats.gltf_check) as JSON, before pygltflib builds it."""
     from pygltflib import GLTF2
 
     document = _document(path)
@@ -201,7 +201,7 @@ class _Reader:
             "EXT_mesh_gpu_instancing")
         if ext is None:
             return [None]
-        from .animation import trs_matrices
+        from ..scene.animation import trs_matrices
 
         attrs = ext.get("attributes") or {}
         where = f"nodes[{index}].extensions.EXT_mesh_gpu_instancing.attributes"
@@ -347,7 +347,7 @@ class _Reader:
         """Points or Lines arguments of a POINTS / LINES / LINE_LOOP / LINE_STRIP
         primitive (its material's base colour; vertex colours; a point's normal lights
         it)."""
-        from .points import strip_segments
+        from ..scene.points import strip_segments
 
         idx = np.asarray(indices, dtype=np.int64)
         positions = values["POSITION"]
@@ -441,7 +441,7 @@ class _Reader:
 
     def _slot(self, info) -> TextureSlot | None:
         """A TextureSlot of a textureInfo (None when absent or its image is missing); the
-        extensions' come as dicts (checked as the core's: facet.scene.gltf_check)."""
+        extensions' come as dicts (checked as the core's: facet.formats.gltf_check)."""
         if isinstance(info, dict):
             info = SimpleNamespace(index=info.get("index"), texCoord=info.get("texCoord"),
                                    extensions=info.get("extensions"))

@@ -6,8 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import cast
 
-from .mesh import Mesh
-from .scene import Scene
+from ..scene.mesh import Mesh
+from ..scene.scene import Scene
 
 
 def is_scene_file(path) -> bool:
@@ -54,7 +54,7 @@ def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
     ids = [cast(int, scene.add(mesh, transform=matrix, name=name))  # one geometry: an id
            for name, mesh, matrix in parts]
     if rig is not None:
-        from .animation import Animated
+        from ..scene.animation import Animated
 
         scene.animated.append(Animated(rig, ids, cameras={n: n for n in rig.cameras}))
     for light in lights:

@@ -1,8 +1,8 @@
 """A glTF file's animations, skins and morph targets -> a facet.scene.animation.Rig.
 
 Reads the document's JSON (node weights and other keys pygltflib leaves out) and its
-accessors (facet.scene.gltf_data), and checks what the structural checker
-(facet.scene.gltf_check) cannot know without the data: that key counts agree with value
+accessors (facet.formats.gltf_data), and checks what the structural checker
+(facet.formats.gltf_check) cannot know without the data: that key counts agree with value
 counts, keys are finite and in order, joints index their skin, inverse bind matrices and
 morph targets have a value per joint and per vertex. Each failure is one MeshError line
 naming the file and the key path.
@@ -12,7 +12,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from .animation import INTERPOLATIONS, Binding, Channel, Clip, Deformation, Rig, Sampler, Skin
+from ..scene.animation import (
+    INTERPOLATIONS,
+    Binding,
+    Channel,
+    Clip,
+    Deformation,
+    Rig,
+    Sampler,
+    Skin,
+)
 
 PATH_WIDTH = {"translation": 3, "rotation": 4, "scale": 3}
 TARGET_KEYS = {"POSITION": "positions", "NORMAL": "normals", "TANGENT": "tangents"}

@@ -1,4 +1,4 @@
-"""Scene files: metallic-roughness materials (facet.scene.scenefile reads the rest).
+"""Scene files: metallic-roughness materials (facet.formats.scenefile reads the rest).
 
 A material table (``[materials.NAME]`` or an object's inline ``material = {...}``) that
 holds any of ``PBR`` keys is a glTF metallic-roughness ``PbrMaterial``; one with only
@@ -37,8 +37,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import FacetError
-from .pbr import ALPHA_MODES, FILTERS, SLOTS, WRAP_MODES, PbrMaterial, TextureSlot
-from .pbr import texture_transform as _uv_transform
+from ..scene.pbr import ALPHA_MODES, FILTERS, SLOTS, WRAP_MODES, PbrMaterial, TextureSlot
+from ..scene.pbr import texture_transform as _uv_transform
 from .validate import show
 
 PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emissive",

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import SceneError
-from .option_values import number_problem
+from ..options.values import number_problem
 
 
 def show(value) -> str:

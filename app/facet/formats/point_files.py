@@ -1,4 +1,4 @@
-"""Point clouds and lines from files (no GL), as facet.scene.loading's part arguments
+"""Point clouds and lines from files (no GL), as facet.formats.loading's part arguments
 (``kind`` "points" or "lines"; facet.scene.points makes them):
 
 * PLY vertex-only files (what scanners write): positions, red/green/blue(/alpha) colours,

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .light import DirectionalLight, PointLight, SpotLight
+from ..scene.light import DirectionalLight, PointLight, SpotLight
 
 KINDS = ("directional", "point", "spot")
 

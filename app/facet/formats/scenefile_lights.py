@@ -1,4 +1,4 @@
-"""Scene files: the [[lights]] array and the [cameras.NAME] tables (facet.scene.scenefile
+"""Scene files: the [[lights]] array and the [cameras.NAME] tables (facet.formats.scenefile
 reads the rest). Each table maps to one constructor: the lights of facet.scene.light and
 ``Camera.look_at`` / orthographic / ``Camera.from_intrinsics``."""
 
@@ -9,8 +9,8 @@ import numpy as np
 from ..errors import FacetError, SceneError
 from ..geometry import transforms as T
 from ..geometry.camera import Camera, depth_range
-from .light import AreaLight, DirectionalLight, PointLight, SpotLight
-from .scene import Scene
+from ..scene.light import AreaLight, DirectionalLight, PointLight, SpotLight
+from ..scene.scene import Scene
 from .validate import Reader
 
 LIGHT = {"ambient": ("color", "intensity"),

@@ -2,7 +2,7 @@
 transform) and named cameras, used by every front (CLI, viewer, scene files, ``Mesh.load``,
 ``facet.load``). Returns plain arrays so that it needs nothing from facet.scene.mesh.
 
-* glTF / GLB: facet.scene.gltf (pygltflib + numpy): per-primitive parts with PbrMaterial,
+* glTF / GLB: facet.formats.gltf (pygltflib + numpy): per-primitive parts with PbrMaterial,
   both uv sets, tangents, vertex colours, node transforms, cameras.
 * OBJ, STL, PLY, OFF: trimesh. An OBJ keeps one part per material (MTL: C = Kd, k_d = 1,
   k_s = mean(Ks), n = Ns, k_a = 1, map_Kd the texture); a missing .mtl or texture loads
@@ -26,9 +26,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import FacetError, FacetWarning, MeshError
-from .material import Material
-from .normals import DEFAULT_CREASE, crease_normals, face_normals
-from .texture import Texture
+from ..scene.material import Material
+from ..scene.normals import DEFAULT_CREASE, crease_normals, face_normals
+from ..scene.texture import Texture
 
 # Extensions we accept (lower case, no dot) and the trimesh file_type for each.
 FORMATS = {"obj": "obj", "stl": "stl", "ply": "ply", "off": "off", "glb": "glb",
@@ -105,7 +105,7 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
         raise MeshError(f"{at}{bad} vertices are NaN or infinite; fix or remove them")
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise MeshError(f"{at}faces refer to vertices that do not exist; the file is corrupt")
-    from .normals import MAX_COORDINATE
+    from ..scene.normals import MAX_COORDINATE
 
     reach = max(-float(vertices.min()), float(vertices.max()))
     huge = np.abs(vertices).max(axis=1) > MAX_COORDINATE if reach > MAX_COORDINATE else None
@@ -153,7 +153,7 @@ def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
 
 
 def _finish_sprites(arrays: dict, vertices: np.ndarray, p: Path, where: str) -> dict:
-    from .normals import MAX_COORDINATE
+    from ..scene.normals import MAX_COORDINATE
 
     at = f"{p}: {where}: " if where else f"{p}: "
     if len(vertices) == 0:

@@ -1,0 +1,37 @@
+"""Files -> scene objects (no GL): glTF (behind its validating layer, facet.formats.
+gltf_check), OBJ/STL/PLY/OFF and point files (loading, point_files), trimesh objects
+(adapters), facet's scene files (scenefile and its lights and materials), and the images of
+textures and environments (images, environment_files, hdr_image). Only here are files read,
+through the one guarded opener (facet.guard).
+
+Importing this package registers the readers that the scene model's classes call
+(facet.scene.readers: ``Mesh.load``, ``Texture.load``, ``Environment.from_equirect`` ...);
+it imports nothing heavy itself.
+"""
+
+from importlib import import_module
+
+from ..scene.readers import register
+
+register("mesh file", "facet.formats.loading", "load_file")
+register("texture", "facet.formats.images", "read_texture")
+register("environment", "facet.formats.environment_files", "environment_from_image")
+register("cube faces", "facet.formats.environment_files", "environment_from_faces")
+register("trimesh", "facet.formats.adapters", "trimesh_parts")
+register("is trimesh", "facet.formats.adapters", "is_trimesh")
+
+_EXPORTS = {"load_scene": "scenefile", "open_scene": "source", "load": "source",
+            "load_environment": "environment_files"}
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        value = getattr(import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

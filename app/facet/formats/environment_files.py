@@ -1,0 +1,69 @@
+"""Environments from files (no GL): an equirectangular image (8-bit, or HDR through
+facet.formats.hdr_image) resampled onto a cube, or six cube-face images; what
+``Environment.from_equirect`` / ``from_faces`` and the ``environment`` option read
+(facet.scene.readers)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..scene.environment import FACE_NAMES, Environment, face_directions
+from ..scene.texture import Texture
+from .hdr_image import is_hdr, read_hdr_image
+
+
+def environment_from_faces(paths) -> Environment:
+    """A cube map of six images (+X, -X, +Y, -Y, +Z, -Z), square and of one size."""
+    if len(paths) != 6:
+        raise InputError(f"a cube map needs 6 face images (+X -X +Y -Y +Z -Z), got "
+                         f"{len(paths)}")
+    faces = [Texture.load(p).pixels[..., :3] for p in paths]
+    sizes = {f.shape[:2] for f in faces}
+    if len(sizes) != 1 or faces[0].shape[0] != faces[0].shape[1]:
+        listing = ", ".join(f"{Path(p).name} {f.shape[1]}x{f.shape[0]}"
+                            for p, f in zip(paths, faces, strict=True))
+        raise InputError(f"cube map faces must be square and all the same size: {listing}")
+    return Environment(np.stack(faces) / 255.0, "cube map")
+
+
+def environment_from_image(path, size: int = 256) -> Environment:
+    """An equirectangular image resampled onto a cube of ``size`` texels a side (HDR files
+    keep their linear radiance; 8-bit images are values in [0, 1])."""
+    if is_hdr(path):
+        img, scale = read_hdr_image(path), 1.0
+    else:
+        img, scale = Texture.load(path).pixels, 1.0 / 255.0
+    d = face_directions(size)
+    u = 0.5 + np.arctan2(d[..., 0], -d[..., 2]) / (2 * np.pi)
+    v = np.arccos(np.clip(d[..., 1], -1, 1)) / np.pi  # 0 at the zenith (image top)
+    h, w = img.shape[:2]
+    x = np.clip((u * w).astype(int), 0, w - 1)
+    y = np.clip((v * h).astype(int), 0, h - 1)
+    step = max(1, w // 512)  # the sampling distribution needs no more than this
+    grid = img[::step, ::step, :3].astype(np.float32) * scale
+    env = Environment(img[y, x, :3].astype(np.float32) * scale, Path(path).name, grid)
+    env.linear = is_hdr(path)
+    return env
+
+
+def load_environment(spec: str, base: Path | None = None) -> Environment:
+    """``sky``, an equirectangular image file, or a folder with px/nx/py/ny/pz/nz images."""
+    if spec == "sky":
+        return Environment.sky()
+    from ..guard import check_confined
+
+    path = Path(base or ".") / spec
+    check_confined(path, "environment file")
+    if path.is_dir():
+        faces = []
+        for name in FACE_NAMES:
+            found = sorted(path.glob(f"{name}.*"))
+            if not found:
+                raise InputError(f"{path}: no {name}.* face image (a cube map folder holds "
+                                 f"{', '.join(FACE_NAMES)})")
+            faces.append(found[0])
+        return environment_from_faces(faces)
+    return environment_from_image(path)
