@@ -119,7 +119,7 @@ def test_link_error_is_reported(tmp_path, renderer):
 def test_unknown_uniform_is_an_error(renderer):
     r = renderer(16, 16)
     with r.ctx:
-        from facet.render.raster.forward import Variant
+        from facet.render.raster.variant import Variant
 
         prog = r._engine("raster").forward.program(Variant("unlit"))
         prog.set("u_eye_world", (0.0, 0.0, 1.0))  # declared, maybe optimised away: fine

@@ -1,10 +1,11 @@
-"""Grey material-light terms (facet.render.raster.forward.grey_terms): the program that reads one
+"""Grey material-light terms (facet.render.raster.variant.grey_terms): the program that reads one
 channel of each gives the very picture of the one that reads three."""
 
 import numpy as np
 import pytest
 
-import facet.render.raster.forward as forward
+import facet.render.raster.draws as draws
+import facet.render.raster.variant as variant
 from facet.geometry import transforms as T
 from facet.geometry.camera import Camera
 from facet.render.renderer import Renderer
@@ -35,7 +36,7 @@ def _render(scene, **options):
 def test_grey_terms_give_the_same_picture(monkeypatch, shading, options):
     grey, used = _render(_scene(), shading=shading, **options)
     assert used == {True}  # the grey program drew
-    monkeypatch.setattr(forward, "grey_terms", lambda terms: False)
+    monkeypatch.setattr(draws, "grey_terms", lambda terms: False)
     three, used = _render(_scene(), shading=shading, **options)
     assert used == {False}
     np.testing.assert_array_equal(grey, three)
@@ -47,4 +48,4 @@ def test_a_coloured_material_or_light_is_not_grey():
     assert _render(_scene(light=(1.0, 0.9, 0.8)))[1] == {False}
     terms = (None, np.array([0.1, 0.1, 0.1]), np.array([[0.5, 0.5, 0.5], [0.2, 0.2, 0.2]]),
              np.array([[0.3, 0.3, 0.3], [0.3, 0.3, 0.30001]]))
-    assert not forward.grey_terms(terms)
+    assert not variant.grey_terms(terms)

@@ -235,8 +235,8 @@ def mesh_uniforms(path) -> dict[str, tuple[str, int, bool]]:
     from ..gl.context import create_headless
     from ..gl.glsl_source import glsl_root
     from ..gl.shaders import compile_program
-    from ..render.raster.forward import Variant
     from ..render.raster.user_shaders import DEFAULT_VERTEX, STANDARD
+    from ..render.raster.variant import Variant
     from ..render.state import LIGHT_KIND
     from ..scene.light import DirectionalLight
 
