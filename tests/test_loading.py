@@ -6,7 +6,7 @@ import trimesh
 
 from facet.errors import FacetError, MeshError
 from facet.scene import Mesh
-from facet.scene.mesh import smooth_normals
+from facet.scene.normals import smooth_normals
 from facet.scene.pbr import PbrMaterial
 
 from conftest import shared_model

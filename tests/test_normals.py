@@ -10,7 +10,8 @@ import trimesh
 
 from facet.cli import main
 from facet.errors import FacetWarning, MeshError
-from facet.geometry.camera import Camera, default_direction
+from facet.geometry.camera import Camera
+from facet.geometry.framing import default_direction
 from facet.scene import Mesh
 from facet.scene.normals import crease_normals, tangents
 

@@ -6,6 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from facet.geometry import planes
 from facet.geometry import transforms as T
 
 finite = st.floats(-10, 10, allow_nan=False)
@@ -147,7 +148,7 @@ def test_reflection_and_plane_fit():
     determinant -1; fit_plane finds a tilted plane and rejects what is not flat."""
     n = np.array([1.0, 2.0, 2.0]) / 3.0
     plane = np.append(n, -1.5)  # n . x = 1.5
-    m = T.reflection(plane)
+    m = planes.reflection(plane)
     on = 1.5 * n + np.cross(n, [0.0, 0.0, 1.0])
     assert np.allclose(m @ np.append(on, 1), np.append(on, 1))
     assert np.allclose(m[:3, :3] @ n, -n)
@@ -155,7 +156,7 @@ def test_reflection_and_plane_fit():
     rng = np.random.default_rng(0)
     a, b = np.cross(n, [0, 0, 1.0]), np.cross(n, np.cross(n, [0, 0, 1.0]))
     pts = 1.5 * n + rng.random((50, 1)) * a + rng.random((50, 1)) * b
-    fit = T.fit_plane(pts)
+    fit = planes.fit_plane(pts)
     assert np.allclose(fit, plane) or np.allclose(fit, -plane)
-    assert T.fit_plane(pts + rng.normal(0, 0.05, pts.shape)) is None
-    assert T.fit_plane(np.outer(np.arange(5.0), n)) is None  # a line spans no plane
+    assert planes.fit_plane(pts + rng.normal(0, 0.05, pts.shape)) is None
+    assert planes.fit_plane(np.outer(np.arange(5.0), n)) is None  # a line spans no plane

@@ -22,7 +22,7 @@ __version__ = "0.1.0"
 
 _EXPORTS = {
     "Camera": "facet.geometry.camera",
-    "Intrinsics": "facet.geometry.camera",
+    "Intrinsics": "facet.geometry.intrinsics",
     "transforms": "facet.geometry",
     "Mesh": "facet.scene.mesh",
     "Points": "facet.scene.points",

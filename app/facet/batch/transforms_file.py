@@ -25,7 +25,9 @@ def read_transforms(path, bounds=None, size=None) -> list:
     """The file's cameras (facet Cameras with intrinsics) for images of ``size`` (w, h;
     default the file's: intrinsics scaled to another size); near and far fitted around
     ``bounds`` when given."""
-    from ..geometry.camera import Camera, Intrinsics, depth_range
+    from ..geometry.camera import Camera
+    from ..geometry.framing import depth_range
+    from ..geometry.intrinsics import Intrinsics
 
     path = Path(path)
     data = _document(path)

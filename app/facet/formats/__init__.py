@@ -13,7 +13,7 @@ from importlib import import_module
 
 from ..scene.readers import register
 
-register("mesh file", "facet.formats.loading", "load_file")
+register("mesh file", "facet.formats.loading", "read_parts")
 register("texture", "facet.formats.images", "read_texture")
 register("environment", "facet.formats.environment_files", "environment_from_image")
 register("cube faces", "facet.formats.environment_files", "environment_from_faces")

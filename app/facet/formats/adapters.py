@@ -121,9 +121,9 @@ def trimesh_material(visual):
     if isinstance(material, trimesh.visual.material.SimpleMaterial):
         from types import SimpleNamespace
 
-        from .loading import _material_from_trimesh  # (OBJ's MTL mapping: one place)
+        from .trimesh_files import material_from_trimesh  # (OBJ's MTL mapping: one place)
 
-        found = _material_from_trimesh(SimpleNamespace(visual=visual))
+        found = material_from_trimesh(SimpleNamespace(visual=visual))
         image = getattr(material, "image", None)
         if found is None and image is not None:  # an image and no MTL colours: as given
             from ..scene.material import Material

@@ -21,19 +21,18 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 
 from ..errors import FacetWarning, MeshError
-from ..scene.animation import camera_view
-from ..scene.pbr import PbrMaterial, TextureSlot, texture_transform
+from ..scene.pbr import PbrMaterial
 from ..srgb import linear_to_srgb
+from .gltf_cameras import gltf_camera
 from .gltf_check import check_gltf
 from .gltf_data import GltfData
 from .gltf_lights import document_lights, facet_light, node_light
-from .gltf_materials import extension_fields
 from .gltf_rig import read_rig, vertex_deformation
+from .gltf_textures import MaterialReading, _flip_v
 
 SUPPORTED = {"EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression", "KHR_mesh_quantization",
              "KHR_texture_transform",
@@ -44,9 +43,6 @@ SUPPORTED = {"EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression", "KHR_mesh_
              "KHR_xmp_json_ld"}  # (metadata: nothing to draw)
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}
-WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
-NEAREST = {9728, 9984, 9986}  # NEAREST, NEAREST_MIPMAP_*
-NO_MIPS = {9728, 9729}
 
 
 def read_gltf(path: Path, check_mesh) -> tuple[list, dict, list, object]:
@@ -119,7 +115,7 @@ def _document(path: Path) -> dict:
     return document
 
 
-class _Reader:
+class _Reader(MaterialReading):
     def __init__(self, gltf, path: Path, check_mesh, document: dict):
         self.gltf, self.path, self.check_mesh = gltf, path, check_mesh
         self.document = document
@@ -191,8 +187,9 @@ class _Reader:
             self.warn(f"leaves out {what}")
         rig = read_rig(self.document, self.data, rigged,
                        {name: node for name, (_, _, node) in cameras.items()})
-        return parts, {name: self._camera(c, world, parts) for name, (c, world, _)
-                       in cameras.items()}, lights, rig
+        views = {name: gltf_camera(self.gltf, c, world, parts, self.data.fail)
+                 for name, (c, world, _) in cameras.items()}
+        return parts, views, lights, rig
 
     def _instances(self, index: int) -> list:
         """The instance matrices (4x4 instance -> node) of node ``index``'s
@@ -225,36 +222,6 @@ class _Reader:
             self.data.fail(f"{where}.ROTATION holds a zero quaternion")
         return list(trs_matrices(values.get("TRANSLATION", np.zeros((n, 3))), rotation,
                                  values.get("SCALE", np.ones((n, 3)))))
-
-    def _decode_images(self) -> None:
-        """Every image a texture uses, decoded at once in threads (Pillow decodes outside
-        the GIL): a model's images cost about the longest one, not their sum. Warnings
-        (a missing or broken image) are said in file order afterwards."""
-        import os
-        import warnings as w
-        from concurrent.futures import ThreadPoolExecutor
-
-        sources = []
-        for t in self.document.get("textures") or []:
-            ext = (t.get("extensions") or {}).get("EXT_texture_webp") or {}
-            source = ext.get("source", t.get("source"))
-            if isinstance(source, int) and source not in sources:
-                sources.append(source)
-        if len(sources) < 2:
-            return
-
-        def decode(index):
-            with w.catch_warnings(record=True) as said:
-                w.simplefilter("always")
-                image = self.data.image(index)
-            return image, said
-
-        workers = min(len(sources), os.cpu_count() or 1, 8)
-        with ThreadPoolExecutor(workers, thread_name_prefix="facet-image") as pool:
-            for index, (image, said) in zip(sources, pool.map(decode, sources), strict=True):
-                self.textures[index] = image
-                for warning in said:
-                    w.warn(warning.message, warning.category, stacklevel=4)
 
     def warn(self, message: str) -> None:
         warnings.warn(f"{self.path.name}: {message}", FacetWarning, stacklevel=4)
@@ -404,117 +371,6 @@ class _Reader:
                 out[names[v]] = self._material(material)
         return {name: out[name] for name in names if name in out}  # the file's order
 
-    def _material(self, index: int | None) -> PbrMaterial:
-        if index is None:  # glTF's default material: white, metallic 1, roughness 1
-            return self.materials.setdefault(-1, PbrMaterial(name="default"))
-        if index not in self.materials:
-            m = self.gltf.materials[index]
-            pbr = m.pbrMetallicRoughness
-            ext = m.extensions or {}
-            strength = ext.get("KHR_materials_emissive_strength", {})
-            kw = dict(
-                base_color=np.clip(getattr(pbr, "baseColorFactor", None) or [1, 1, 1, 1],
-                                   0, 1),
-                metallic=1.0 if pbr is None or pbr.metallicFactor is None
-                else float(np.clip(pbr.metallicFactor, 0, 1)),
-                roughness=1.0 if pbr is None or pbr.roughnessFactor is None
-                else float(np.clip(pbr.roughnessFactor, 0, 1)),
-                emissive=np.clip(m.emissiveFactor or [0, 0, 0], 0, 1),
-                emissive_strength=float(strength.get("emissiveStrength", 1.0)),
-                alpha_mode=m.alphaMode or "OPAQUE",
-                alpha_cutoff=0.5 if m.alphaCutoff is None else float(m.alphaCutoff),
-                double_sided=bool(m.doubleSided), unlit="KHR_materials_unlit" in ext,
-                name=m.name or f"material{index}",
-                base_color_texture=self._slot(getattr(pbr, "baseColorTexture", None)),
-                metallic_roughness_texture=self._slot(
-                    getattr(pbr, "metallicRoughnessTexture", None)),
-                normal_texture=self._slot(m.normalTexture),
-                occlusion_texture=self._slot(m.occlusionTexture),
-                emissive_texture=self._slot(m.emissiveTexture))
-            if m.normalTexture is not None and m.normalTexture.scale is not None:
-                kw["normal_scale"] = abs(float(m.normalTexture.scale))
-            if m.occlusionTexture is not None and m.occlusionTexture.strength is not None:
-                kw["occlusion_strength"] = float(np.clip(m.occlusionTexture.strength, 0, 1))
-            kw.update(extension_fields(ext, kw["name"], self.data.fail, self._slot))
-            self.materials[index] = PbrMaterial(**kw)
-        return self.materials[index]
-
-    def _slot(self, info) -> TextureSlot | None:
-        """A TextureSlot of a textureInfo (None when absent or its image is missing); the
-        extensions' come as dicts (checked as the core's: facet.formats.gltf_check)."""
-        if isinstance(info, dict):
-            info = SimpleNamespace(index=info.get("index"), texCoord=info.get("texCoord"),
-                                   extensions=info.get("extensions"))
-        if info is None or info.index is None:
-            return None
-        tex = self.gltf.textures[info.index]
-        source = tex.source
-        ext = self.document["textures"][info.index].get("extensions") or {}
-        if isinstance((ext.get("EXT_texture_webp") or {}).get("source"), int):
-            source = ext["EXT_texture_webp"]["source"]  # Pillow decodes WebP
-        if source is None:
-            if "KHR_texture_basisu" in ext:
-                self.skipped.add("KTX2 textures without a PNG or JPEG fallback "
-                                 "(KHR_texture_basisu: no pip-installable decoder; drawn "
-                                 "without them)")
-            return None
-        if source not in self.textures:
-            self.textures[source] = self.data.image(source)
-        image = self.textures[source]
-        if image is None:
-            return None
-        texcoord = info.texCoord or 0
-        transform = np.eye(3)
-        tt = (info.extensions or {}).get("KHR_texture_transform")
-        if tt is not None:
-            transform = texture_transform(tt.get("offset", (0, 0)), tt.get("rotation", 0.0),
-                                          tt.get("scale", (1, 1)))
-            texcoord = tt.get("texCoord", texcoord)
-        wrap, filt, mips = ("repeat", "repeat"), ("linear", "linear"), True
-        if tex.sampler is not None:
-            s = self.gltf.samplers[tex.sampler]
-            wrap = (WRAP.get(s.wrapS, "repeat"), WRAP.get(s.wrapT, "repeat"))
-            filt = ("nearest" if s.minFilter in NEAREST else "linear",
-                    "nearest" if s.magFilter == 9728 else "linear")
-            mips = s.minFilter not in NO_MIPS
-        # The transform is defined on glTF's uvs (v down); facet's are flipped (v up).
-        transform = FLIP_V @ transform @ FLIP_V
-        return TextureSlot(image, min(int(texcoord), 1), transform, wrap, filt, mips)
-
-    # -- cameras -------------------------------------------------------------------------
-    def _camera(self, index: int, world: np.ndarray, parts):
-        from ..geometry.camera import Camera
-
-        cam = self.gltf.cameras[index]
-        view = camera_view(world)  # glTF cameras look down their -z, y up
-        corners = []
-        for _, args, m in parts:  # every part's box corners, in the file's frame
-            b = np.stack([args["positions"].min(axis=0), args["positions"].max(axis=0)])
-            box = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
-            corners.append(box @ m[:3, :3].T + m[:3, 3])
-        corners = np.concatenate(corners)
-        corners = np.hstack([corners, np.ones((len(corners), 1))])
-        depth = -(corners @ view[2])  # along the viewing axis
-        reach = float(max(depth.max(), 1e-3)) * 1.01
-        if cam.type == "orthographic" and cam.orthographic is not None:
-            o = cam.orthographic
-            return Camera(view, ortho_height=2.0 * abs(o.ymag or 1.0),
-                          near=max(o.znear or 0.0, 1e-4), far=o.zfar or reach)
-        p = cam.perspective
-        if p is None:
-            self.data.fail(f"camera {index} has neither perspective nor orthographic data")
-        near = p.znear or 0.01
-        return Camera(view, fov_y=float(np.degrees(p.yfov)), near=near,
-                      far=p.zfar or max(reach, near * 10))
-
-
-# glTF's texture coordinates have v = 0 at the image's top; facet's (OpenGL's) at its
-# bottom: v' = 1 - v, as a matrix on (u, v, 1) for texture transforms (its own inverse).
-FLIP_V = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 1.0], [0.0, 0.0, 1.0]])
-
-
-def _flip_v(uv: np.ndarray) -> np.ndarray:
-    return np.stack([uv[:, 0], 1.0 - uv[:, 1]], axis=1).astype(np.float32)
 
 
 def _triangles(indices: np.ndarray, mode: int, where: str, fail) -> np.ndarray:

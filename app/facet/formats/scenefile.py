@@ -21,11 +21,11 @@ from ..errors import FacetError, SceneError
 from ..geometry import transforms as T
 from ..options.render import AA_KEYS, PARSERS, ParsedLayer, check_one_aa, parse_option
 from ..scene.material import Material
-from ..scene.mesh import Mesh
 from ..scene.pbr import PbrMaterial
 from ..scene.primitives import PRIMITIVE_PARAMS, PRIMITIVES
 from ..scene.scene import Scene
 from ..scene.shapes import SHAPES
+from .loading import read_parts
 from .scenefile_lights import read_camera, read_lights
 from .scenefile_materials import PBR, is_pbr, read_pbr
 from .validate import AnyKey as _Any
@@ -362,7 +362,7 @@ class _SceneBuilder:
                            f"smooth), got {_show(t['crease'])}")
             if (path, crease) not in self.parts_cache:
                 try:
-                    parts, _, _, rig = Mesh.load_rigged(path, crease=crease)
+                    parts, _, _, rig = read_parts(path, crease)
                 except FacetError as exc:
                     r.fail(f"{where}.mesh", str(exc))
                 self.parts_cache[path, crease] = parts, rig

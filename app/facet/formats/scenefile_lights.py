@@ -8,7 +8,8 @@ import numpy as np
 
 from ..errors import FacetError, SceneError
 from ..geometry import transforms as T
-from ..geometry.camera import Camera, depth_range
+from ..geometry.camera import Camera
+from ..geometry.framing import depth_range
 from ..scene.light import AreaLight, DirectionalLight, PointLight, SpotLight
 from ..scene.scene import Scene
 from .validate import Reader

@@ -6,8 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import cast
 
-from ..scene.mesh import Mesh
 from ..scene.scene import Scene
+from .loading import read_parts
 
 
 def is_scene_file(path) -> bool:
@@ -49,7 +49,7 @@ def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
         from .scenefile import load_scene
 
         return load_scene(path, crease=crease)
-    parts, cameras, lights, rig = Mesh.load_rigged(path, crease=crease)
+    parts, cameras, lights, rig = read_parts(path, crease)
     scene = Scene()
     ids = [cast(int, scene.add(mesh, transform=matrix, name=name))  # one geometry: an id
            for name, mesh, matrix in parts]

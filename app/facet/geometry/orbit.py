@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from . import transforms as T
-from .camera import Camera, depth_range
+from .camera import Camera
+from .framing import default_direction, depth_range
 
 ZOOM_STEP = 0.9  # distance factor per scroll notch (towards the cursor)
 MIN_DISTANCE = 1e-4
@@ -89,7 +90,6 @@ class OrbitControl:
         self.orthographic = False
         self.aperture, self.focus_distance = 0.0, None  # a thin lens, from set_camera
         self.bounds = np.asarray(bounds, dtype=np.float64).reshape(2, 3)
-        from .camera import default_direction
 
         if direction is None:  # the default view for this up axis (Camera.frame's)
             direction = default_direction(up)

@@ -11,44 +11,24 @@ renderer can cache their upload by object identity.
 from __future__ import annotations
 
 import warnings
-from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import FacetWarning, InputError
 from ..geometry import transforms as T
-from .normals import DEFAULT_CREASE, MAX_COORDINATE  # beyond it float32 squares overflow
+from .normals import (
+    MAX_COORDINATE,  # beyond it float32 squares overflow
+    closed_surface,
+    smooth_normals,
+    weld_key,
+)
 from .readers import reader  # facet.formats reads the files
-
-if TYPE_CHECKING:
-    from .points import Lines, Points
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
     a = np.ascontiguousarray(a)
     a.setflags(write=False)
     return a
-
-
-def smooth_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Area-weighted vertex normals, (N, 3) float32.
-
-    Each face adds its unnormalised cross product (|cross| = 2 x area) to its three vertices,
-    summed with ``np.bincount`` (no Python loop over vertices; the sums run in float64).
-    Vertices used by no face, or whose normals cancel, get +z.
-    """
-    p = np.asarray(positions, dtype=np.float32)
-    a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
-    face_n = np.cross(b - a, c - a)
-    n = np.zeros((len(p), 3))
-    for corner in range(3):
-        for k in range(3):
-            n[:, k] += np.bincount(faces[:, corner], face_n[:, k], minlength=len(p))
-    length = np.linalg.norm(n, axis=1)
-    ok = length > 0
-    n[ok] /= length[ok, None]
-    n[~ok] = (0.0, 0.0, 1.0)
-    return n.astype(np.float32)
 
 
 class Mesh:
@@ -204,7 +184,7 @@ class Mesh:
         facet.MeshError
             When the file cannot be read (the message names it).
         """
-        parts, _, _, rig = cls.load_rigged(path, crease=crease)
+        parts, _, _, rig = reader("mesh file")(path, crease)
         if rig is not None:  # skins and default morph weights applied, nothing playing
             placed, _ = rig.posed_meshes([m for _, m, _ in parts], 0.0, rig.NO_CLIPS)
             parts = [(n, m if isinstance(m, Mesh) or m.kind != "mesh" else Mesh(
@@ -309,95 +289,7 @@ class Mesh:
         list of (str, Mesh | Points | Lines, (4, 4) float64 ndarray)
             Each part's name, geometry (with its own material) and part -> file transform.
         """
-        return cls.load_file(path, crease=crease)[0]
-
-    @classmethod
-    def load_file(cls, path, *, crease: float | None = None) -> tuple[list, dict]:
-        """The parts of a mesh file and its cameras.
-
-        Parameters
-        ----------
-        path : str or Path
-            The file.
-        crease : float, optional
-            Where a file has no normals, split them at edges sharper than this many degrees
-            (default facet.scene.normals.DEFAULT_CREASE).
-
-        Returns
-        -------
-        tuple of (list, dict)
-            ``load_parts(path)`` and ``{name: Camera}``.
-        """
-        return cls.load_contents(path, crease=crease)[:2]
-
-    @classmethod
-    def load_rigged(cls, path, *, crease: float | None = None) -> tuple[list, dict, list,
-                                                                         Any]:
-        """The parts, cameras and lights of a mesh file, and its rig.
-
-        Parameters
-        ----------
-        path : str or Path
-            The file.
-        crease : float, optional
-            Where a file has no normals, split them at edges sharper than this many degrees
-            (default facet.scene.normals.DEFAULT_CREASE).
-
-        Returns
-        -------
-        tuple of (list, dict, list, Rig or None)
-            ``load_contents(path)`` and the Rig of the file's animations, skins and morph targets
-            (facet.scene.animation; None when nothing in it moves), whose part ``i`` is
-            ``parts[i]`` at rest.
-        """
-        raw, cameras, lights, rig = reader("mesh file")(
-            path, DEFAULT_CREASE if crease is None else crease)
-        made: dict[int, Mesh | Points | Lines] = {}
-        parts = []
-        for name, data, matrix in raw:
-            if id(data) not in made:
-                made[id(data)] = cls._from_file(data)
-            parts.append((name, made[id(data)], matrix))
-        return parts, cameras, lights, rig
-
-    @classmethod
-    def load_contents(cls, path, *, crease: float | None = None) -> tuple[list, dict, list]:
-        """The parts, cameras and lights (glTF's KHR_lights_punctual) of a mesh file, at
-        rest (``load_rigged`` adds the animations; ``facet.load`` poses them).
-
-        Parameters
-        ----------
-        path : str or Path
-            The file.
-        crease : float, optional
-            Where a file has no normals, split them at edges sharper than this many degrees
-            (default facet.scene.normals.DEFAULT_CREASE).
-
-        Returns
-        -------
-        tuple of (list, dict, list)
-            ``load_parts(path)``, ``{name: Camera}`` and the lights.
-        """
-        return cls.load_rigged(path, crease=crease)[:3]
-
-    @classmethod
-    def _from_file(cls, data: dict) -> Mesh | Points | Lines:
-        """A Mesh (or Points, Lines) from facet.formats.loading's arguments; a bad array names
-        the file."""
-        from ..errors import MeshError
-
-        args = dict(data)
-        path = args.pop("path")
-        args.pop("deform", None)  # the rig's (facet.scene.animation)
-        kind = args.pop("kind", "mesh")
-        try:
-            if kind != "mesh":  # a point cloud or lines (facet.scene.points)
-                from .points import Lines, Points
-
-                return (Points if kind == "points" else Lines)(**args)
-            return cls(**args)
-        except InputError as exc:
-            raise MeshError(f"{path}: {exc}") from None
+        return reader("mesh file")(path, crease)[0]
 
     @property
     def vertex_count(self) -> int:
@@ -426,9 +318,9 @@ class Mesh:
         Computed once."""
         if getattr(self, "_closed", None) is None:
             faces = self.faces.astype(np.int64)
-            closed = _closed(faces, len(self.positions))
+            closed = closed_surface(faces, len(self.positions))
             if not closed:  # perhaps only split at seams: weld positions and retry
-                closed = _closed(_weld_key(self.positions)[faces], len(self.positions))
+                closed = closed_surface(weld_key(self.positions)[faces], len(self.positions))
             self._closed = closed
         return bool(self._closed)
 
@@ -456,39 +348,6 @@ class Mesh:
 
     def __repr__(self) -> str:
         return f"Mesh({self.name!r}, vertices={self.vertex_count}, faces={self.face_count})"
-
-
-def _weld_key(positions: np.ndarray) -> np.ndarray:
-    """(N,) one index per position, positions within ~1e-6 of the extent counting as one
-    (a seam's copies may differ in the last bits: cos(2 pi) is not cos(0))."""
-    p = positions.astype(np.float64)
-    lo, extent = p.min(axis=0), max(float(np.ptp(p, axis=0).max()), 1e-30)
-    # 20 bits per axis; the cells start off-centre, so a symmetric shape's zeros (which
-    # land on a cell's middle, not its edge) stay together however they round.
-    q = np.floor((p - lo) / extent * ((1 << 20) - 2) + 0.37).astype(np.int64)
-    _, first, inverse = np.unique((q[:, 0] << 42) | (q[:, 1] << 21) | q[:, 2],
-                                  return_index=True, return_inverse=True)
-    return first[inverse.reshape(-1)]
-
-
-def _closed(faces: np.ndarray, n: int) -> bool:
-    """Every directed edge occurs once and its reverse occurs too (see Mesh.closed)."""
-    keep = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & \
-        (faces[:, 0] != faces[:, 2])
-    f = faces[keep]
-    if len(f) == 0:
-        return False
-    a = f.reshape(-1)
-    b = np.roll(f, -1, axis=1).reshape(-1)
-    # Each undirected edge must come exactly twice, once each way: sorted by the edge,
-    # pairs of equal keys whose directions are opposite.
-    key = np.sort(np.minimum(a, b) * n + np.maximum(a, b) << 1 | (a < b))
-    if len(key) % 2:
-        return False
-    edge, forward = key[0::2] >> 1, key[0::2] & 1
-    edge2, forward2 = key[1::2] >> 1, key[1::2] & 1
-    return bool(np.array_equal(edge, edge2) and not np.any(forward == forward2) and
-                not np.any(edge[1:] == edge[:-1]))
 
 
 def merge_parts(parts, label: str):

@@ -211,3 +211,57 @@ def tangents(positions, normals, uvs, faces) -> np.ndarray:
     ts /= np.maximum(np.linalg.norm(ts, axis=1, keepdims=True), 1e-300)
     hand = np.where((np.cross(n, ts) * bs).sum(1) < 0.0, -1.0, 1.0)
     return np.hstack([ts, hand[:, None]]).astype(np.float32)
+
+
+def smooth_normals(positions: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Area-weighted vertex normals, (N, 3) float32.
+
+    Each face adds its unnormalised cross product (|cross| = 2 x area) to its three vertices,
+    summed with ``np.bincount`` (no Python loop over vertices; the sums run in float64).
+    Vertices used by no face, or whose normals cancel, get +z.
+    """
+    p = np.asarray(positions, dtype=np.float32)
+    a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
+    face_n = np.cross(b - a, c - a)
+    n = np.zeros((len(p), 3))
+    for corner in range(3):
+        for k in range(3):
+            n[:, k] += np.bincount(faces[:, corner], face_n[:, k], minlength=len(p))
+    length = np.linalg.norm(n, axis=1)
+    ok = length > 0
+    n[ok] /= length[ok, None]
+    n[~ok] = (0.0, 0.0, 1.0)
+    return n.astype(np.float32)
+
+
+def weld_key(positions: np.ndarray) -> np.ndarray:
+    """(N,) one index per position, positions within ~1e-6 of the extent counting as one
+    (a seam's copies may differ in the last bits: cos(2 pi) is not cos(0))."""
+    p = positions.astype(np.float64)
+    lo, extent = p.min(axis=0), max(float(np.ptp(p, axis=0).max()), 1e-30)
+    # 20 bits per axis; the cells start off-centre, so a symmetric shape's zeros (which
+    # land on a cell's middle, not its edge) stay together however they round.
+    q = np.floor((p - lo) / extent * ((1 << 20) - 2) + 0.37).astype(np.int64)
+    _, first, inverse = np.unique((q[:, 0] << 42) | (q[:, 1] << 21) | q[:, 2],
+                                  return_index=True, return_inverse=True)
+    return first[inverse.reshape(-1)]
+
+
+def closed_surface(faces: np.ndarray, n: int) -> bool:
+    """Every directed edge occurs once and its reverse occurs too (see Mesh.closed)."""
+    keep = (faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & \
+        (faces[:, 0] != faces[:, 2])
+    f = faces[keep]
+    if len(f) == 0:
+        return False
+    a = f.reshape(-1)
+    b = np.roll(f, -1, axis=1).reshape(-1)
+    # Each undirected edge must come exactly twice, once each way: sorted by the edge,
+    # pairs of equal keys whose directions are opposite.
+    key = np.sort(np.minimum(a, b) * n + np.maximum(a, b) << 1 | (a < b))
+    if len(key) % 2:
+        return False
+    edge, forward = key[0::2] >> 1, key[0::2] & 1
+    edge2, forward2 = key[1::2] >> 1, key[1::2] & 1
+    return bool(np.array_equal(edge, edge2) and not np.any(forward == forward2) and
+                not np.any(edge[1:] == edge[:-1]))

@@ -6,7 +6,7 @@ in the layers: a data class may not import them. facet.formats registers one rea
 ``import facet`` imports facet.formats, so every ``Mesh.load`` or ``Texture.load`` finds its
 reader through ``reader`` without the scene model depending on it.
 
-Kinds: ``mesh file`` (facet.formats.loading.load_file), ``texture`` (an image file),
+Kinds: ``mesh file`` (facet.formats.loading.read_parts), ``texture`` (an image file),
 ``environment`` (an equirectangular image or a cube-map folder), ``cube faces`` (six images),
 ``trimesh`` (trimesh objects' parts).
 """

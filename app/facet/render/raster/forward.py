@@ -17,7 +17,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ...geometry import transforms as T
+from ...geometry.planes import reflection
 from ...gl.bindings import BLOCKS
 from ...gl.fullscreen import FullScreenPass
 from ...gl.glsl_source import glsl_root
@@ -235,7 +235,7 @@ class ForwardPass:
             fbo.clear(*(float(c) for c in rgb), float(bg[3]), depth=1.0)
             rest = scene.view(objects=[o for o in scene.objects if o is not obj])
             self.draw(rest, state.with_(camera=camera.with_view(
-                camera.view @ T.reflection(plane)), clip_plane=tuple(plane)))
+                camera.view @ reflection(plane)), clip_plane=tuple(plane)))
             out[id(obj)] = tex
         bound.use()
         return out

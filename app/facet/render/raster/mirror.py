@@ -3,7 +3,7 @@ in its plane (the rasterizer's planar reflection).
 
 Per mirror and per colour pass, the scene without that mirror is drawn once more into a
 texture the size of the target, through the camera reflected in the mirror's plane
-(``view @ M`` with M = ``facet.geometry.transforms.reflection``), with world-space fragments
+(``view @ M`` with M = ``facet.geometry.planes.reflection``), with world-space fragments
 behind the plane discarded (else what is under a mirrored floor would appear above it) and
 front faces swapped (M swaps handedness). The mirror's own fragments then fetch that texture
 at their own pixel (same size, flip and sub-pixel jitter) and mix it in by the material's
@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import InputError
-from ...geometry.transforms import fit_plane
+from ...geometry.planes import fit_plane
 
 
 def mirror_plane(obj, eye) -> np.ndarray:
