@@ -65,7 +65,7 @@ def test_the_every_key_file_covers_every_key():
     from facet.formats import scenefile_materials as sm
 
     tables = data["materials"].values()
-    assert set().union(*(m for m in tables if not sm.is_pbr(m))) == set(sf.MATERIAL)
+    assert set().union(*(m for m in tables if not sm.is_pbr(m))) == set(sm.MATERIAL)
     assert set().union(*(m for m in tables if sm.is_pbr(m))) == set(sm.PBR + sm.SHARED)
     slots = [v for m in tables for k, v in m.items() if k.endswith("_texture")
              and isinstance(v, dict)]

@@ -19,6 +19,7 @@ register("environment", "facet.formats.environment_files", "environment_from_ima
 register("cube faces", "facet.formats.environment_files", "environment_from_faces")
 register("trimesh", "facet.formats.adapters", "trimesh_parts")
 register("is trimesh", "facet.formats.adapters", "is_trimesh")
+register("render options", "facet.options.render", "parse_layer")
 
 _EXPORTS = {"load_scene": "scenefile", "open_scene": "source", "load": "source",
             "load_environment": "environment_files"}

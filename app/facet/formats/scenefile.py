@@ -27,7 +27,7 @@ from ..scene.scene import Scene
 from ..scene.shapes import SHAPES
 from .loading import read_parts
 from .scenefile_lights import read_camera, read_lights
-from .scenefile_materials import PBR, is_pbr, read_pbr
+from .scenefile_materials import MaterialTables
 from .validate import AnyKey as _Any
 from .validate import Reader as _Reader
 from .validate import show as _show
@@ -35,8 +35,6 @@ from .validate import show as _show
 TOP = ("render", "materials", "objects", "lights", "cameras", "uniforms", "environment")
 # The [render] table: any render option (facet.options.render parses each).
 RENDER = tuple(PARSERS)
-MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
-            "gloss", "mirror", "texture", "shader", "vertex_shader", "uniforms")
 OBJECT = ("name", "mesh", "primitive", "material", "transform", "transform_end", "matrix",
           "parent", "flat", "crease", "point_size", "point_radius", "line_width",
           *sorted({p for params in PRIMITIVE_PARAMS.values() for p in params}))
@@ -74,7 +72,7 @@ def load_scene(path, *, crease: float | None = None) -> Scene:
     return _SceneBuilder(_Reader(path), path.parent, crease).build(data)
 
 
-class _SceneBuilder:
+class _SceneBuilder(MaterialTables):
     def __init__(self, r: _Reader, base: Path, crease: float | None = None):
         self.r, self.base, self.crease = r, base, crease
         self.parts_cache: dict[tuple[Path, float | None], tuple[list, Any]] = {}
@@ -127,78 +125,6 @@ class _SceneBuilder:
             return parse_option(key, value, self.base)
         except FacetError as exc:
             self.r.fail(f"render.{key}", _strip_key(str(exc), key))
-
-    def material(self, t, where: str) -> Material | PbrMaterial:
-        r = self.r
-        if isinstance(t, dict) and is_pbr(t):
-            return read_pbr(r, t, where, MATERIAL, self.texture)
-        r.table(t, where, MATERIAL + PBR)  # (PBR: for "did you mean" only)
-        kw: dict[str, Any] = {"color": r.color(t["color"], f"{where}.color")} \
-            if "color" in t else {}
-        for key in ("ka", "kd", "ks", "shininess"):
-            if key in t:
-                kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
-        for key, hi in (("reflectivity", 1.0), ("ior", 5.0), ("gloss", 1.0)):
-            if key in t:
-                kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
-                if kw[key] > hi:
-                    r.fail(f"{where}.{key}", f"expected a number in [0, {hi:g}], got {t[key]}")
-        if "opacity" in t:
-            kw["opacity"] = r.number(t["opacity"], f"{where}.opacity", minimum=0)
-            if kw["opacity"] > 1:
-                r.fail(f"{where}.opacity", f"expected a number in [0, 1], got {t['opacity']}")
-        if "mirror" in t:
-            if not isinstance(t["mirror"], bool):
-                r.fail(f"{where}.mirror", f"expected true or false, got {_show(t['mirror'])}")
-            if t["mirror"] and not kw.get("reflectivity"):
-                r.fail(f"{where}.mirror", "a mirror needs reflectivity > 0 (1: a perfect "
-                       "mirror)")
-            kw["mirror"] = t["mirror"]
-        if "texture" in t:
-            kw["texture"] = self.texture(t["texture"], f"{where}.texture")
-        if "shader" in t:
-            kw["shader"] = self.shader(t, where)
-        elif "vertex_shader" in t or "uniforms" in t:
-            r.fail(where, "vertex_shader and uniforms belong to a material with a 'shader'")
-        return Material(**kw, name=where.rsplit(".", 1)[-1])
-
-    def shader(self, t: dict, where: str):
-        """A material's own GLSL: shader (fragment), vertex_shader, and uniforms (the
-        file-wide [uniforms] table first, the material's own on top)."""
-        from ..scene.shader import UserShader
-
-        r = self.r
-        uniforms = dict(self.uniforms)
-        own = r.table(t.get("uniforms", {}), f"{where}.uniforms", _Any())
-        for name, value in own.items():
-            uniforms[name] = self.uniform_value(value, f"{where}.uniforms.{name}")
-        frag = self.base / r.string(t["shader"], f"{where}.shader")
-        vert = self.base / r.string(t["vertex_shader"], f"{where}.vertex_shader") \
-            if "vertex_shader" in t else None
-        try:
-            return UserShader(frag, vert, uniforms)
-        except FacetError as exc:
-            r.fail(f"{where}.shader", str(exc))
-
-    def uniform_value(self, value, where: str) -> list[float]:
-        if isinstance(value, list):
-            return [self.r.number(v, f"{where}[{i}]") for i, v in enumerate(value)]
-        return [self.r.number(value, where)]
-
-    def texture(self, value, where: str):
-        """A texture: an image path (relative to the scene file) or "checker"."""
-        from ..scene.texture import Texture
-
-        name = self.r.string(value, where)
-        if name == "checker":
-            return Texture.checker()
-        path = self.base / name
-        if path not in self.texture_cache:
-            try:
-                self.texture_cache[path] = Texture.load(path)
-            except FacetError as exc:
-                self.r.fail(where, str(exc))
-        return self.texture_cache[path]
 
     def objects(self, scene: Scene, items, materials: dict) -> None:
         r = self.r

@@ -34,12 +34,15 @@ which key belongs to which). Colours here are linear, as glTF's factors are:
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from ..errors import FacetError
+from ..scene.material import Material
 from ..scene.pbr import ALPHA_MODES, FILTERS, SLOTS, WRAP_MODES, PbrMaterial, TextureSlot
 from ..scene.pbr import texture_transform as _uv_transform
-from .validate import show
+from .validate import AnyKey, show
 
 PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emissive",
        "emissive_strength", "alpha_mode", "alpha_cutoff", "double_sided", "normal_scale",
@@ -138,3 +141,84 @@ def _slot(r, value, where: str, texture) -> TextureSlot:
         else 0.0
     kw["transform"] = _uv_transform(offset, np.radians(rotation), scale)
     return TextureSlot(texture(value["image"], f"{where}.image"), **kw)
+
+
+MATERIAL = ("color", "ka", "kd", "ks", "shininess", "opacity", "reflectivity", "ior",
+            "gloss", "mirror", "texture", "shader", "vertex_shader", "uniforms")
+
+
+class MaterialTables:
+    """The scene file reader's material tables, shaders and textures (its ``r``, ``base``,
+    ``uniforms`` and ``texture_cache``: facet.formats.scenefile)."""
+
+    def material(self, t, where: str) -> Material | PbrMaterial:
+        r = self.r
+        if isinstance(t, dict) and is_pbr(t):
+            return read_pbr(r, t, where, MATERIAL, self.texture)
+        r.table(t, where, MATERIAL + PBR)  # (PBR: for "did you mean" only)
+        kw: dict[str, Any] = {"color": r.color(t["color"], f"{where}.color")} \
+            if "color" in t else {}
+        for key in ("ka", "kd", "ks", "shininess"):
+            if key in t:
+                kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+        for key, hi in (("reflectivity", 1.0), ("ior", 5.0), ("gloss", 1.0)):
+            if key in t:
+                kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+                if kw[key] > hi:
+                    r.fail(f"{where}.{key}", f"expected a number in [0, {hi:g}], got {t[key]}")
+        if "opacity" in t:
+            kw["opacity"] = r.number(t["opacity"], f"{where}.opacity", minimum=0)
+            if kw["opacity"] > 1:
+                r.fail(f"{where}.opacity", f"expected a number in [0, 1], got {t['opacity']}")
+        if "mirror" in t:
+            if not isinstance(t["mirror"], bool):
+                r.fail(f"{where}.mirror", f"expected true or false, got {show(t['mirror'])}")
+            if t["mirror"] and not kw.get("reflectivity"):
+                r.fail(f"{where}.mirror", "a mirror needs reflectivity > 0 (1: a perfect "
+                       "mirror)")
+            kw["mirror"] = t["mirror"]
+        if "texture" in t:
+            kw["texture"] = self.texture(t["texture"], f"{where}.texture")
+        if "shader" in t:
+            kw["shader"] = self.shader(t, where)
+        elif "vertex_shader" in t or "uniforms" in t:
+            r.fail(where, "vertex_shader and uniforms belong to a material with a 'shader'")
+        return Material(**kw, name=where.rsplit(".", 1)[-1])
+
+    def shader(self, t: dict, where: str):
+        """A material's own GLSL: shader (fragment), vertex_shader, and uniforms (the
+        file-wide [uniforms] table first, the material's own on top)."""
+        from ..scene.shader import UserShader
+
+        r = self.r
+        uniforms = dict(self.uniforms)
+        own = r.table(t.get("uniforms", {}), f"{where}.uniforms", AnyKey())
+        for name, value in own.items():
+            uniforms[name] = self.uniform_value(value, f"{where}.uniforms.{name}")
+        frag = self.base / r.string(t["shader"], f"{where}.shader")
+        vert = self.base / r.string(t["vertex_shader"], f"{where}.vertex_shader") \
+            if "vertex_shader" in t else None
+        try:
+            return UserShader(frag, vert, uniforms)
+        except FacetError as exc:
+            r.fail(f"{where}.shader", str(exc))
+
+    def uniform_value(self, value, where: str) -> list[float]:
+        if isinstance(value, list):
+            return [self.r.number(v, f"{where}[{i}]") for i, v in enumerate(value)]
+        return [self.r.number(value, where)]
+
+    def texture(self, value, where: str):
+        """A texture: an image path (relative to the scene file) or "checker"."""
+        from ..scene.texture import Texture
+
+        name = self.r.string(value, where)
+        if name == "checker":
+            return Texture.checker()
+        path = self.base / name
+        if path not in self.texture_cache:
+            try:
+                self.texture_cache[path] = Texture.load(path)
+            except FacetError as exc:
+                self.r.fail(where, str(exc))
+        return self.texture_cache[path]

@@ -8,7 +8,8 @@ reader through ``reader`` without the scene model depending on it.
 
 Kinds: ``mesh file`` (facet.formats.loading.read_parts), ``texture`` (an image file),
 ``environment`` (an equirectangular image or a cube-map folder), ``cube faces`` (six images),
-``trimesh`` (trimesh objects' parts).
+``trimesh`` (trimesh objects' parts); and ``render options``, the parser of a scene's own
+options (facet.options.render.parse_layer), which sits above the model as the readers do.
 """
 
 from __future__ import annotations

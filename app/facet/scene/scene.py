@@ -16,7 +16,7 @@ from ..geometry.camera import Camera
 from .light import AreaLight, DirectionalLight, Light, PointLight, SpotLight
 from .material import Material, as_color
 from .mesh import Mesh
-from .readers import reader  # facet.formats: trimesh objects' parts
+from .readers import reader  # facet.formats (trimesh objects), facet.options (options)
 
 if TYPE_CHECKING:
     from .pbr import PbrMaterial
@@ -64,9 +64,9 @@ class Scene:
     background : (3,) or (4,) floats in [0, 1]; alpha 0 gives a transparent background
     options : render options this scene asks for (a scene file's [render] table), e.g.
         ``{"shadows": True, "lights": "scene"}``; explicit arguments override them
-        (facet.options.render, which parses them when a render resolves its options).
-        Without lights the scene is lit by the default key + fill rig following the camera
-        unless ``lights`` is "scene".
+        (facet.options.render parses them: a bad value is one error here). Without lights
+        the scene is lit by the default key + fill rig following the camera unless
+        ``lights`` is "scene".
     """
 
     def __init__(self, ambient=0.1, background=(0.0, 0.0, 0.0, 1.0), options=None):
@@ -76,9 +76,8 @@ class Scene:
         self.objects: list[SceneObject] = []
         self.lights: list[Light] = []
         self.cameras: dict[str, Camera] = {}
-        # Raw values (a scene file's parsed [render] table: facet.options.render parses what
-        # is not parsed yet when a render resolves its options).
-        self.options = options if isinstance(options, dict) else dict(options or {})
+        # parsed once, here (by facet.options.render's parser): {option: typed value}
+        self.options = reader("render options")(options)
         # A facet.scene.environment.Environment: background and reflection source.
         self.environment = None
         # True for a model file's scene: its cameras (glTF's) are there to be chosen by
