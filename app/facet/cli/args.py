@@ -110,9 +110,7 @@ def add_render_options(p, size_default: str) -> None:
     """The render options of ``facet render`` and ``facet view``. Each one left out takes
     the scene file's [render] value, else facet's default."""
     from ..options.render import (
-        CULL,
         ENGINES,
-        LIGHTS,
         MSAA_CHOICES,
         PCF_CHOICES,
         SHADING,
@@ -165,6 +163,13 @@ def add_render_options(p, size_default: str) -> None:
     g.add_argument("--background", metavar="R,G,B[,A]",
                    help="background colour; A=0 for transparent (default: the scene's, "
                    "else 0,0,0)")
+    _add_view_options(g)
+
+
+def _add_view_options(g) -> None:
+    """The render options about the view, the scene's lights and time (add_render_options)."""
+    from ..options.render import CULL, LIGHTS
+
     g.add_argument("--camera", metavar="NAME", help="which of the scene file's cameras to use")
     g.add_argument("--lights", metavar="MODE",
                    help=f"{', '.join(LIGHTS)}. auto: the scene's lights, or a key + fill rig "

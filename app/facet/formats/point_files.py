@@ -192,6 +192,12 @@ def read_pcd(p: Path) -> dict:
                         "(binary) or 0 (ascii)")
     if not all(k in columns for k in "xyz"):
         raise MeshError(f"{p}: a PCD without x y z fields (fields: {' '.join(fields)})")
+    return _pcd_points(p, columns)
+
+
+def _pcd_points(p: Path, columns: dict) -> dict:
+    """Points arguments of a PCD file's columns: positions, packed or scalar colours and
+    normals, NaN holes dropped."""
     positions = np.stack([columns[k] for k in "xyz"], axis=1).astype(np.float64)
     colors = normals = None
     packed = columns.get("rgb", columns.get("rgba"))

@@ -91,109 +91,119 @@ def expand(path, defines: dict[str, object] | None = None,
     a JSON export). A missing include's error lists the paths it looked for in
     ``missing``, so a reload can watch for the file to appear.
     """
-    texts = {Path(k).resolve(): v for k, v in (texts or {}).items()}
     stage = Path(path)
     if text is None and not stage.exists():
         raise ShaderError(f"{display_path(stage)}: no such shader file")
-    roots = tuple(Path(p) for p in search) + (glsl_root(),)
-    stage_text = text
-    out_lines: list[str] = []
-    origin: list[tuple[str, int]] = []
-    files: list[Path] = []
-    done: set[Path] = set()
+    return _Expansion(stage, defines or {}, search, text, texts).run()
 
-    def emit(text: str, where: tuple[str, int]) -> None:
-        out_lines.append(text)
-        origin.append(where)
 
-    size_limit, depth_limit = budget("shader_bytes"), budget("depth")
-    total = [0]
+class _Expansion:
+    """One expansion (``expand``): the files in include order, the lines out and where
+    each came from."""
 
-    def read(file: Path, is_stage: bool) -> list[str]:
+    def __init__(self, stage: Path, defines: dict, search, text, texts):
+        self.stage, self.defines, self.stage_text = stage, defines, text
+        self.texts = {Path(k).resolve(): v for k, v in (texts or {}).items()}
+        self.roots = tuple(Path(p) for p in search) + (glsl_root(),)
+        self.own = glsl_root().resolve()  # facet's library: always readable, never confined
+        self.out_lines: list[str] = []
+        self.origin: list[tuple[str, int]] = []
+        self.files: list[Path] = []
+        self.done: set[Path] = set()
+        self.size_limit, self.depth_limit = budget("shader_bytes"), budget("depth")
+        self.total = 0
+
+    def emit(self, text: str, where: tuple[str, int]) -> None:
+        self.out_lines.append(text)
+        self.origin.append(where)
+
+    def read(self, file: Path, is_stage: bool) -> list[str]:
         """The lines of ``file`` (given text first), read through facet.guard."""
         name = display_path(file)
-        if is_stage and stage_text is not None:
-            body = stage_text
-        elif file in texts:
-            body = texts[file]
+        if is_stage and self.stage_text is not None:
+            body = self.stage_text
+        elif file in self.texts:
+            body = self.texts[file]
         else:
             from ..guard import regular_file
 
-            own = glsl_root().resolve() in file.parents  # facet's own library: always readable
             try:
                 body = regular_file(file, "shader file", ShaderError,
-                                    confine=not own).read_text(encoding="utf-8")
+                                    confine=self.own not in file.parents
+                                    ).read_text(encoding="utf-8")
             except UnicodeDecodeError:
                 raise ShaderError(f"{name}: error: not a text file (GLSL must be UTF-8)") \
                     from None
-        total[0] += len(body)
-        if total[0] > size_limit:
+        self.total += len(body)
+        if self.total > self.size_limit:
             raise ShaderError(f"{name}: error: the shader and its includes pass "
-                              f"{size_limit:,} bytes, facet's budget (a GL compiler fed that "
-                              "much can crash; raise it with --budget shader_bytes=N)")
+                              f"{self.size_limit:,} bytes, facet's budget (a GL compiler fed "
+                              "that much can crash; raise it with --budget shader_bytes=N)")
         return body.splitlines()
 
-    def enter(file: Path, chain: list[Path], is_stage: bool):
+    def enter(self, file: Path, chain: list[Path], is_stage: bool):
         """A frame for ``file`` (None when it was included already)."""
         file = file.resolve()
         if file in chain:
             names = " -> ".join(display_path(p) for p in [*chain, file])
             raise ShaderError(f"{display_path(chain[-1])}: error: #include cycle: {names}")
-        if file in done:
+        if file in self.done:
             return None
-        if len(chain) >= depth_limit:
+        if len(chain) >= self.depth_limit:
             raise ShaderError(f"{display_path(chain[-1])}: error: #include nested more than "
-                              f"{depth_limit:,} deep, facet's budget (--budget depth=N)")
-        done.add(file)
-        files.append(file)
-        return [file, read(file, is_stage), 0, chain, is_stage, display_path(file)]
+                              f"{self.depth_limit:,} deep, facet's budget (--budget depth=N)")
+        self.done.add(file)
+        self.files.append(file)
+        return [file, self.read(file, is_stage), 0, chain, is_stage, display_path(file)]
 
-    stack = [enter(stage, [], True)]
-    own = glsl_root().resolve()  # facet's library: never confined
-    while stack:
-        frame = stack[-1]
-        file, lines, index, chain, is_stage, name = frame
-        if index >= len(lines):
-            stack.pop()
-            continue
-        line, number = lines[index], index + 1
-        frame[2] += 1
-        if _VERSION.match(line):
-            if not (is_stage and number == 1):
-                raise ShaderError(f"{name}:{number}:1: error: #version belongs on line 1 "
-                                  "of a stage file only (.vert/.frag/.comp)")
-            emit(line, (name, number))
-            for key, value in (defines or {}).items():
-                emit(f"#define {key} {'' if value is None else value}".rstrip(),
-                     ("<defines>", len(origin)))
-            continue
-        m = _INCLUDE.match(line)
-        if not m:
-            emit(line, (name, number))
-            continue
-        target = m.group(1) or m.group(2)
-        for base in (file.parent, *roots):
+    def include(self, target: str, file: Path, chain: list, is_stage: bool, where) -> list:
+        """The frame of ``#include target`` in ``file`` (empty: included already); the
+        error names the paths searched."""
+        for base in (file.parent, *self.roots):
             candidate = base / target
-            if own not in (base.resolve(), *base.resolve().parents):  # facet's own library
-                from ..guard import check_confined  # is readable; elsewhere, outside is
+            if self.own not in (base.resolve(), *base.resolve().parents):  # outside facet's
+                from ..guard import check_confined  # library, what is outside is refused
 
-                check_confined(candidate, "include file", ShaderError)  # refused first
-            if candidate.exists() or candidate.resolve() in texts:
-                inner = enter(candidate, [*chain, file], is_stage=False)
-                if inner is not None:
-                    stack.append(inner)
-                break
-        else:
-            searched = ", ".join(display_path(b) for b in (file.parent, *roots))
+                check_confined(candidate, "include file", ShaderError)
+            if candidate.exists() or candidate.resolve() in self.texts:
+                inner = self.enter(candidate, [*chain, file], is_stage=False)
+                return [] if inner is None else [inner]
+        name, number, col = where
+        searched = ", ".join(display_path(b) for b in (file.parent, *self.roots))
+        error = ShaderError(f'{name}:{number}:{col}: error: cannot find include '
+                            f'"{target}" (searched {searched})')
+        error.missing = [file.parent / target]  # where a new file would be found
+        raise error
+
+    def run(self) -> ExpandedSource:
+        stack = [self.enter(self.stage, [], True)]
+        while stack:
+            frame = stack[-1]
+            file, lines, index, chain, is_stage, name = frame
+            if index >= len(lines):
+                stack.pop()
+                continue
+            line, number = lines[index], index + 1
+            frame[2] += 1
+            if _VERSION.match(line):
+                if not (is_stage and number == 1):
+                    raise ShaderError(f"{name}:{number}:1: error: #version belongs on line 1 "
+                                      "of a stage file only (.vert/.frag/.comp)")
+                self.emit(line, (name, number))
+                for key, value in self.defines.items():
+                    self.emit(f"#define {key} {'' if value is None else value}".rstrip(),
+                              ("<defines>", len(self.origin)))
+                continue
+            m = _INCLUDE.match(line)
+            if not m:
+                self.emit(line, (name, number))
+                continue
+            target = m.group(1) or m.group(2)
             col = line.index(target) + 1 if target in line else 1
-            error = ShaderError(f'{name}:{number}:{col}: error: cannot find include '
-                                f'"{target}" (searched {searched})')
-            error.missing = [file.parent / target]  # where a new file would be found
-            raise error
-
-    if stage_text is not None:
-        files.remove(stage.resolve())  # nothing on disk to watch or quote
-    if not out_lines or not _VERSION.match(out_lines[0]):
-        raise ShaderError(f"{display_path(stage)}:1:1: error: a stage file must start with "
-                          "#version (for example '#version 330 core')")
-    return ExpandedSource("\n".join(out_lines) + "\n", origin, files)
+            stack += self.include(target, file, chain, is_stage, (name, number, col))
+        if self.stage_text is not None:
+            self.files.remove(self.stage.resolve())  # nothing on disk to watch or quote
+        if not self.out_lines or not _VERSION.match(self.out_lines[0]):
+            raise ShaderError(f"{display_path(self.stage)}:1:1: error: a stage file must "
+                              "start with #version (for example '#version 330 core')")
+        return ExpandedSource("\n".join(self.out_lines) + "\n", self.origin, self.files)

@@ -26,21 +26,15 @@ format, programs per variant, meshes per Mesh; options are never stored.
 
 from __future__ import annotations
 
-import threading
-import warnings
 import weakref
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
-import numpy as np
-
-from ..errors import FacetWarning, InputError
+from ..errors import InputError
 from ..geometry.camera import Camera
 from ..geometry.lens import with_lens
-from ..geometry.sampling import pattern
 from ..gl import context as glcontext
 from ..gl.resources import ResourceCache
-from ..gl.targets import writing
 from ..options.render import (
     ParsedLayer,
     RenderOptions,
@@ -50,20 +44,20 @@ from ..options.render import (
 )
 from ..scene.scene import Scene
 from ..scene.staging import staged
-from .antialias import distributed_sample, gloss_jitter, jitter_matrix, point_lights_for
+from .antialias import point_lights_for
 from .denoise import denoise_lines
 from .destination import Destination, Surfaces
 from .engine import engine_for
-from .finish import Finisher, finish_for
+from .finish import Finisher
 from .frame import Frame
-from .prepare import frozen, prepare_frame
-from .state import FrameState
+from .prepare import prepare_frame
+from .sequence import PassSequence
 
 if TYPE_CHECKING:
     from .raster.user_shaders import UserPrograms
 
 
-class Renderer:
+class Renderer(PassSequence):
     """Renders scenes headlessly (``render``) or into a window (``present``).
 
     The options given here are this renderer's, for every call: above a scene's own and below
@@ -307,166 +301,6 @@ class Renderer:
         if frame.unread:
             self._unread = weakref.ref(frame)
         return frame
-
-    def _warn(self, lines) -> None:
-        """What an engine cannot honour: each line once per renderer (facet.render.engine)."""
-        for line in lines:
-            if line not in self._warned:
-                self._warned.add(line)
-                warnings.warn(line, FacetWarning, stacklevel=4)
-
-    def _reader(self, surf, name: str, draw=None):
-        """Read channel ``name`` when the frame's user first asks for it (facet.render.frame:
-        a caller that only wants colour moves nothing else), with this renderer's context
-        current; ``draw``: the deferred pass that fills it (``_exact``), run first."""
-        owner = threading.get_ident()
-
-        def read():
-            if threading.get_ident() != owner:  # a GL context belongs to one thread
-                raise InputError(f"a frame's {name} is read back from the GPU in the thread "
-                                 "that rendered it: call frame.settle() there before "
-                                 "handing the frame to another thread or process")
-            if self._inside:  # never enter a current context again (facet.gl.context)
-                return self._read_aux(surf, name, draw)
-            with self.ctx:
-                return self._read_aux(surf, name, draw)
-        return read
-
-    @staticmethod
-    def _read_aux(surf, name: str, draw):
-        if draw is not None:
-            draw()
-        return surf.targets.read_aux(name)
-
-    def _settle(self) -> None:
-        """Read what the last frame has not read yet, if someone still holds it, before
-        its targets are drawn over."""
-        frame = self._unread() if self._unread is not None else None
-        self._unread = None
-        if frame is not None:
-            frame.settle()
-
-    def _colour(self, engine, scene, state, opts, aa, dest, surf, together):
-        """Steps 4 and 5: (colour read back or None, samples shown)."""
-        alpha = float(scene.background[3])
-        bg = np.array([*state.to_linear(scene.background[:3]).tolist(), alpha])
-        clear = (*(bg[:3] * alpha).tolist(), alpha)  # premultiplied (finishing undoes it)
-        if aa is None:
-            # (float colour is linear light: encoded for 8-bit output and windows only)
-            finish = finish_for(bg, opts.srgb and (not opts.float_color or
-                                                  dest.window is not None))
-            dtype = "f4" if finish.needed or opts.float_color else "f1"
-            fbo = engine.draw_picture(scene, state, opts, surf, clear, dtype, together,
-                                      None if finish.needed else dest.window)
-            source = surf.targets.color_texture(dtype)
-            return self._finish(source, fbo, finish, opts, dest, surf), 1
-        samples = dest.samples(aa.samples)
-        source = self._accumulate(engine, scene, state, opts, aa, samples, bg, surf,
-                                  dest.preview)
-        if opts.denoise and engine.radiance and dest.window is None:
-            self._denoise(engine, scene, state, surf, source, samples.stop)
-        # An engine whose colour is linear radiance (the path tracer) is encoded for 8-bit
-        # output (a window is 8-bit) and left linear in float colour, whatever srgb says.
-        eight_bit = not opts.float_color or dest.window is not None
-        # Float colour is linear light in every engine: encoding is for 8-bit output only.
-        encode = eight_bit if engine.radiance else opts.srgb and eight_bit
-        # Radiance into float output is kept as it is: unclamped (and untonemapped).
-        finish = finish_for(bg, encode, samples.stop, clamp=eight_bit or not engine.radiance)
-        return self._finish(source, None, finish, opts, dest, surf), samples.stop
-
-    def _exact(self, engine, scene, state: FrameState, aux, surf) -> dict:
-        """The exact channels at pixel centres (step 3), in a single-sample pass of their
-        own; read back when used (``_reader``).
-
-        An engine with ``deferred_exact`` (the rasterizer) draws this pass when a channel
-        is first read, not now: most callers of the default outputs look at colour only,
-        and under MSAA this pass costs a second trip through every triangle. It draws a
-        snapshot of the objects taken now (their transforms and materials copied), so a
-        scene changed after ``render`` returns changes nothing; the renderer draws it before
-        its targets are used again (``_settle``). Otherwise (the ray tracer, whose geometry
-        is this frame's) the pass is drawn now."""
-        scene = engine.exact_scene(scene)
-        if not engine.deferred_exact:
-            self._draw_exact(engine, scene, state, aux, surf)
-            return {name: self._reader(surf, name) for name in aux}
-        snapshot = frozen(scene)
-        drawn: list = []
-
-        def draw():
-            if not drawn:
-                drawn.append(True)
-                self._draw_exact(engine, snapshot, state, aux, surf)
-        return {name: self._reader(surf, name, draw) for name in aux}
-
-    def _draw_exact(self, engine, scene, state: FrameState, aux, surf) -> None:
-        fbo = surf.targets.aux(aux)
-        fbo.use()
-        with writing(fbo, colour=False):  # no colour written (nor cleared) per fragment
-            fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)  # the exact channels: "nothing"
-            self.ctx.enable_only(self.ctx.DEPTH_TEST)
-            engine.draw_exact(scene, state, aux)
-
-    def _accumulate(self, engine, scene, state, opts, aa, samples: range, bg, surf,
-                    plain=False):
-        """Add supersamples ``samples`` of ``aa`` (step 4): each with its pixel offset, lens
-        point, shutter time, area-light points and gloss tilt (``plain``: the centre of
-        each); returns the sum's texture."""
-        acc = surf.accumulator
-        clear = (*(bg[:3] * bg[3]), bg[3])
-        if samples.start == 0:
-            acc.clear()
-        for k in samples:
-            if plain:
-                sample, scene_k = state, point_lights_for(scene)
-            else:
-                cam_k, scene_k = distributed_sample(state.camera, scene, k, aa)
-                dx, dy = pattern(aa.pattern, aa.samples, opts.seed)[k]
-                sample = state.with_(camera=cam_k, lights=tuple(scene_k.lights),
-                                     jitter=jitter_matrix(dx, dy, opts.width, opts.height),
-                                     gloss_jitter=gloss_jitter(k, aa.samples))
-            sample = engine.sample_state(scene, scene_k, sample, opts, k, plain)
-            acc.begin_sample(clear)
-            self.ctx.enable_only(self.ctx.DEPTH_TEST)
-            engine.draw_sample(scene_k, sample, opts, surf, bg)
-            acc.add_sample()
-        return acc.accum_tex
-
-    def _denoise(self, engine, scene, state, surf, source, samples: int) -> None:
-        """The sum of ``samples`` pictures in ``source`` replaced by its denoised mean times
-        ``samples`` (facet.render.denoise), guided by the engine's albedo and normals
-        (drawn into the colour and normals attachments; the exact channels drawn there are
-        the same normals, and depth and ids are left alone)."""
-        from .denoise import denoise
-
-        w, h = source.size
-        total = np.frombuffer(source.read(), np.float32).reshape(h, w, 4).copy()
-        fbo = surf.targets.aux(("normals",), "f4")
-        fbo.use()
-        with writing(fbo):
-            fbo.clear(0.0, 0.0, 0.0, 0.0)
-            engine.draw_exact(engine.exact_scene(scene), state, ("normals",), albedo=True)
-        albedo = surf.targets.read_color(fbo, "f4")[..., :3]
-        normal = surf.targets.read_aux("normals")
-        total[..., :3] = denoise(total[..., :3] / samples, albedo, normal) * samples
-        source.write(total.tobytes())
-
-    def _finish(self, source, source_fbo, finish, opts, dest, surf):
-        """Step 5: finished colour read back (offscreen) or shown (window); a sum of
-        samples (no ``source_fbo``) is always finished."""
-        t = surf.targets
-        out = "f4" if opts.float_color else "f1"
-        needed = finish.needed or source_fbo is None
-        if dest.window is not None:
-            dest.window.viewport = (0, 0, *opts.size)
-            if needed:
-                self.finisher.draw(source, dest.window, finish)
-            elif source_fbo is not dest.window:
-                self.ctx.copy_framebuffer(dest.window, source_fbo)
-            return None
-        if not needed:
-            return t.read_color(source_fbo, out)
-        self.finisher.draw(source, t.output(out), finish)
-        return t.read_color(t.output(out), out)
 
     # -- resources -----------------------------------------------------------------------
     def _engine(self, name: str):
