@@ -9,15 +9,24 @@ vec4 record_texel(int rec, int k) {
     return fetch(u_instances, rec * INSTANCE_TEXELS + MATERIAL_ROW + k);
 }
 
+float g_footprint = 0.0;  // the surface being read's (point_of): its textures' mip level
+
 vec4 slot_image(int rec, int k, vec2 uv) {
     int at = SLOT_ROW + SLOT_TEXELS * k;  // (lib/material.glsl's slot_texel, not yet there)
-    vec4 r0 = record_texel(rec, at), r2 = record_texel(rec, at + 2);
-    int wraps = int(record_texel(rec, at + 1).w) >> 1;
-    if (r2.z > 0.5) uv = (floor(uv * r2.xy) + 0.5) / r2.xy;  // nearest: that texel's centre
-    float half_texel = 0.5 / float(textureSize(u_textures, 0).x);
+    vec4 r0 = record_texel(rec, at), r1 = record_texel(rec, at + 1);
+    vec4 r2 = record_texel(rec, at + 2);
+    int wraps = int(r1.w) >> 1;
+    float side = float(textureSize(u_textures, 0).x);
+    // The cone's footprint in this slot's coordinates (its transform scales them).
+    float lod = texture_lod(g_footprint * sqrt(abs(r0.x * r1.y - r0.y * r1.x)), side);
+    if (r2.z > 0.5) {  // nearest: that texel's centre, of the image's own resolution
+        uv = (floor(uv * r2.xy) + 0.5) / r2.xy;
+        lod = 0.0;
+    }
+    float half_texel = 0.5 * exp2(max(lod, 0.0)) / side;  // of the level read
     bvec2 held = bvec2(wraps % 3 != 0, wraps / 3 != 0);  // clamped or mirrored (folded)
     uv = mix(uv, clamp(uv, half_texel, 1.0 - half_texel), vec2(held));
-    return textureLod(u_textures, vec3(uv, r0.w), 0.0);
+    return textureLod(u_textures, vec3(uv, r0.w), lod);
 }
 
 #include "lib/material.glsl"
@@ -29,6 +38,7 @@ const float SMOOTH_GLASS = 0.03;
 
 // The record's view of surface s (trace/shade.glsl).
 MaterialPoint point_of(Surface s) {
+    g_footprint = s.footprint;
     return MaterialPoint(s.uv, s.uv1, vec4(s.albedo, s.alpha), s.n, s.tangent,
                          s.front ? 1.0 : -1.0);
 }

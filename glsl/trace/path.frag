@@ -281,8 +281,11 @@ void main() {
     bool sample_environment = light_nee && any(greaterThan(u_ambient.rgb, vec3(0.0)));
 #endif
     int bounce = 0;
+    float travelled = 0.0;  // along the path so far: its ray cone's width (surface.glsl)
     for (int step = 0; step < u_max_depth + 2 + MAX_PASSES; ++step) {
         Hit h = trace_scene(o, d, t_max, false);
+        g_travelled = travelled;
+        travelled += h.t;
         if (sigma != vec3(0.0)) throughput *= exp(-sigma * min(h.t, 1e6));  // Beer-Lambert
         if (h.inst < 0) {
             if (bounce == 0) {

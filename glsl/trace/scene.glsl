@@ -29,6 +29,16 @@ float instance_opacity(int i) {
     return fetch(u_instances, i * INSTANCE_TEXELS + MATERIAL_ROW + REC_PHONG).w;
 }
 
+// Whether instance i is opaque for the exact channels: not a transparent Phong material nor
+// a glTF BLEND one (transparent whatever its factor's alpha: its texture's varies), as the
+// rasterizer's transparent pass takes them (every engine's channels see the nearest opaque
+// surface).
+bool opaque_instance(int i) {
+    int record = i * INSTANCE_TEXELS + MATERIAL_ROW;
+    return instance_opacity(i) >= 1.0 &&
+           int(fetch(u_instances, record + REC_ALPHA).y) != ALPHA_MODE_BLEND;
+}
+
 // Instance i against the ray, in its object space (t keeps its world meaning).
 bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
     int base = i * INSTANCE_TEXELS;
@@ -105,7 +115,7 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
 // (the exact channels describe the nearest opaque surface, as the rasterizer's do).
 Hit trace_scene(vec3 o, vec3 d, float t_max, bool opaque_only) {
     Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
-    WALK(h.t, if (!opaque_only || instance_opacity(i) >= 1.0) hit_instance(i, o, d, h, false);)
+    WALK(h.t, if (!opaque_only || opaque_instance(i)) hit_instance(i, o, d, h, false);)
     return h;
 }
 

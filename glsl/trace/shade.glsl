@@ -130,7 +130,7 @@ vec3 local_colour(Surface s, vec3 V) {
 // that share as a pixel is clamped, not the local colour before it is shared: a highlight
 // brighter than 1 still shows through (1 - reflectivity), as the notes' equation has it.
 vec3 shade_surface(Surface s, vec3 V, float keep) {
-#ifdef PBR_SLOTS
+#ifdef PBR_SHADING
     if (own_pbr(s)) return keep * shade_pbr(s, V);
 #endif
     return clamp(keep * local_colour(s, V), 0.0, 1.0);

@@ -5,6 +5,13 @@
 #include "lib/color.glsl"
 
 uniform sampler2DArray u_textures;  // materials' images, one layer each (resized alike)
+// A pixel's ray cone (Akenine-Moller et al. 2019, "Texture level of detail strategies for
+// real-time ray tracing"): its width at distance t along the ray is u_cone.x + u_cone.y t
+// (a parallel projection's pixel, a perspective one's angle). Textures are read at the
+// level whose texels are as wide as the cone where it meets the surface: a minified
+// texture is filtered as the rasterizer's mipmaps filter it, not aliased.
+uniform vec2 u_cone;
+float g_travelled = 0.0;  // how far the ray came before the segment being traced
 
 struct Surface {
     vec3 p;       // world position
@@ -14,15 +21,29 @@ struct Surface {
     vec2 uv;      // texture coordinates
     vec2 uv1;     // the second set (0 without)
     vec4 tangent; // world tangent (0 without: shapes, meshes without frames), handedness
-    vec3 albedo;  // texture x vertex colour (1 for plain materials); PBR_SLOTS: the vertex
-                  // colour only (the path tracer samples the material's slots itself)
+    vec3 albedo;  // texture x vertex colour (1 for plain materials); PBR_SHADING: the vertex
+                  // colour only (the metallic-roughness model samples its slots itself)
     float alpha;  // the vertex colour's alpha (1 without)
     vec3 color;   // the material colour C (linear)
     vec4 k;       // k_a, k_d, k_s, shininess
     vec4 fx;      // opacity, reflectivity, ior, gloss
     int id;       // object id
     int inst;     // the instance hit
+    float footprint;  // texture coordinates the pixel's cone covers here (0: texel size)
 };
+
+// Texture coordinates per unit of world length on a triangle (its uv area over its world
+// area, both of its edges e1, e2 carried by the object -> world rows at base).
+float uv_density(int base, vec3 e1, vec3 e2, vec2 duv1, vec2 duv2) {
+    vec3 w1 = apply_rows(base + 3, e1, 0.0), w2 = apply_rows(base + 3, e2, 0.0);
+    float area = length(cross(w1, w2));
+    return area > 0.0 ? sqrt(abs(duv1.x * duv2.y - duv1.y * duv2.x) / area) : 0.0;
+}
+
+// The mip level of a texture ``texels`` wide for ``footprint`` (its uv units per cone).
+float texture_lod(float footprint, float texels) {
+    return footprint > 0.0 ? log2(max(footprint * texels, 1e-8)) : 0.0;
+}
 
 // The surface at hit h of the ray o + t d (d unit). The position is rebuilt from the
 // object-space hit (barycentrics on the triangle, the shape's own point) and carried to
@@ -38,7 +59,7 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     vec2 uv, uv1 = vec2(0.0);
     vec4 tangent = vec4(0.0);
     vec3 albedo = vec3(1.0);
-    float alpha = 1.0;
+    float alpha = 1.0, density = 0.0;
     if (h.tri >= 0) {
         vec3 w = vec3(1.0 - h.bary.x - h.bary.y, h.bary);
         vec4 t0 = fetch(u_tris, 3 * h.tri);
@@ -58,16 +79,25 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
         vec4 a2 = fetch(u_vertices, at.z), b2 = fetch(u_vertices, at.z + 1);
         n_obj = t0.w == PRIM_TRIANGLE ? a0.xyz * w.x + a1.xyz * w.y + a2.xyz * w.z : ng_obj;
         uv = vec2(a0.w, b0.x) * w.x + vec2(a1.w, b1.x) * w.y + vec2(a2.w, b2.x) * w.z;
+        if (t0.w == PRIM_TRIANGLE)
+            density = uv_density(base, e1, e2, vec2(a1.w, b1.x) - vec2(a0.w, b0.x),
+                                 vec2(a2.w, b2.x) - vec2(a0.w, b0.x));
         if ((int(info.w) & FLAG_COLORS) != 0) {
-            vec3 c = b0.yzw * w.x + b1.yzw * w.y + b2.yzw * w.z;
             // Vertex colours are stored sRGB-encoded: decoded in the sRGB mode, and
-            // always for the metallic-roughness model (linear).
+            // always for the metallic-roughness model (linear), each vertex's before they
+            // are interpolated, as the rasterizer's vertex stage decodes them (glTF's
+            // COLOR_0 is linear: blended in linear light).
 #if defined(COLOR_SRGB) || defined(PATH_TRACER)
-            c = srgb_to_linear(c);
-#elif defined(PBR_SLOTS)
-            if (own_pbr) c = srgb_to_linear(c);
+            bool decode = true;
+#elif defined(PBR_SHADING)
+            bool decode = own_pbr;
+#else
+            bool decode = false;
 #endif
-            albedo = c;
+            mat3 c = mat3(b0.yzw, b1.yzw, b2.yzw);
+            if (decode) c = mat3(srgb_to_linear(c[0]), srgb_to_linear(c[1]),
+                                 srgb_to_linear(c[2]));
+            albedo = c * w;
         }
 #ifdef PBR_SLOTS
         vec3 extra = mat3(fetch(u_vertices, at.x + 3).xyz, fetch(u_vertices, at.y + 3).xyz,
@@ -95,6 +125,9 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     s.ng = normalize(to_world_n * ng_obj);
     s.front = dot(s.ng, d) < 0.0;
     if (!s.front) { s.n = -s.n; s.ng = -s.ng; }
+    s.footprint = density * (u_cone.x + u_cone.y * (g_travelled + h.t))
+                / max(abs(dot(s.ng, d)), 0.05);
+    float lod = texture_lod(s.footprint, float(textureSize(u_textures, 0).x));
 #ifdef PBR_SLOTS
     // Tangents are directions on the surface: carried by M (the object -> world rows).
     vec3 t_world = apply_rows(base + 3, tangent.xyz, 0.0);
@@ -104,11 +137,14 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     float hand = (tangent.w < 0.0 ? -1.0 : 1.0) * (determinant(m_rows) < 0.0 ? -1.0 : 1.0);
     s.tangent = dot(tangent.xyz, tangent.xyz) > 0.0 ? vec4(normalize(t_world), hand)
                                                     : vec4(0.0);
-    // A Phong material's image (the metallic-roughness model reads its own slots).
-    if (m2.w >= 0.0 && !own_pbr) albedo *= textureLod(u_textures, vec3(uv, m2.w), 0.0).rgb;
 #else
     s.tangent = vec4(0.0);
-    if (m2.w >= 0.0) albedo *= textureLod(u_textures, vec3(uv, m2.w), 0.0).rgb;
+#endif
+#ifdef PBR_SHADING
+    // A Phong material's image (the metallic-roughness model reads its own slots).
+    if (m2.w >= 0.0 && !own_pbr) albedo *= textureLod(u_textures, vec3(uv, m2.w), lod).rgb;
+#else
+    if (m2.w >= 0.0) albedo *= textureLod(u_textures, vec3(uv, m2.w), lod).rgb;
 #endif
     s.albedo = albedo;
     s.alpha = alpha;

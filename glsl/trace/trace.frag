@@ -48,10 +48,11 @@ vec3 tilt(vec3 r, float gloss) {  // the rasterizer's glossy tilt
 vec4 ray_o[RAY_STACK], ray_d[RAY_STACK], ray_w[RAY_STACK];
 float ray_end[RAY_STACK];
 int sp = 0;
+float g_hit_t = 0.0;  // the segment being shaded's length (its rays start that much further)
 
 void push(vec3 o, vec3 d, float kind, vec3 w, int depth, float end) {
     if (sp >= RAY_STACK || max(w.r, max(w.g, w.b)) <= MIN_WEIGHT) return;
-    ray_o[sp] = vec4(o, 0.0);
+    ray_o[sp] = vec4(o, g_travelled + g_hit_t);  // w: how far the ray came (its cone)
     ray_d[sp] = vec4(d, kind);
     ray_w[sp] = vec4(w, float(depth));
     ray_end[sp++] = end;
@@ -134,7 +135,9 @@ void main() {
         bool eye = kind == 1.0;    // of the scene in a glTF material, 0: the rest
         int depth = int(ray_w[sp].w);
         float end = ray_end[sp];
+        g_travelled = ray_o[sp].w;
         Hit h = trace_scene(o, d, end, false);
+        g_hit_t = h.t;
         if (h.inst < 0) {
             if (eye) {
 #ifdef HAS_ENVIRONMENT
@@ -161,7 +164,7 @@ void main() {
         }
 #endif
         float opacity = s.fx.x, reflectivity = s.fx.y, ior = s.fx.z, gloss = s.fx.w;
-#ifdef PBR_SLOTS
+#ifdef PBR_SHADING
         g_traced_specular = g_traced_coat = 0.0;
         if (own_pbr(s)) {
             Material mat = material_of(s);

@@ -30,6 +30,15 @@ from .layers import texture_array
 from .sprites import sprite_radii
 
 
+def pixel_cone(state: FrameState) -> tuple[float, float]:
+    """A pixel's ray cone (glsl/trace/surface.glsl's u_cone): its width at distance t is
+    a + b t; (pixel width, 0) for a parallel projection, (0, pixel angle) for a perspective
+    or intrinsics one (from the projection's vertical scale)."""
+    p = state.camera.projection(state.width, state.height)
+    size = 2.0 / (float(p[1, 1]) * state.height)
+    return (size, 0.0) if p[3, 3] == 1.0 else (0.0, size)
+
+
 class RayScene:
     """One engine's ray scene (module docstring). ``programs``: compiled passes by stage
     and defines."""
@@ -172,6 +181,7 @@ class RayScene:
         prog.set("u_has_tlas", has_tlas, strict=False)
         prog.set("u_single", single, strict=False)
         prog.set("u_inv_view_projection", np.linalg.inv(state.view_projection()))
+        prog.set("u_cone", pixel_cone(state), strict=False)
         prog.set("u_viewport", (float(state.width), float(state.height)))
 
     def draw_colour(self, scene, state: FrameState, program: FullScreenPass, textures=None,

@@ -95,29 +95,34 @@ def _layer_requests(scene, pbr_shading: bool) -> list:
     """(texture, mode) for each image the tracer samples (modes: facet.render.rays.pack):
     a Phong material's image as given, a metallic-roughness material's slots (colour
     decoded to linear, data as stored) when it is shaded by that model (``pbr_shading``),
-    else its base colour image as its Phong stand-in's."""
+    else its base colour image as its Phong stand-in's, and as its slot too where its
+    coverage cuts or blends it."""
     out = []
     for obj in scene.objects:
         m = obj.material
         if isinstance(m, PbrMaterial) and pbr_shading:
             out += [(slot.texture, pack.slot_mode(name, slot)) for name, slot in m.slots.items()]
-        elif m.texture is not None:
+            continue
+        if m.texture is not None:
             out.append((m.texture, pack.AS_GIVEN))
+        slot = getattr(m, "base_color_texture", None)
+        if slot is not None and m.alpha_mode != "OPAQUE":  # its coverage: cut-outs
+            out.append((slot.texture, pack.slot_mode("base_color", slot)))
     return out
 
 
 def _material_defines(scene, state) -> tuple:
-    """Defines of how materials are read: PBR_SLOTS when some are metallic-roughness and
-    shaded by that model (glsl/trace/shade.glsl's shade_pbr; shading "auto" or "pbr"; by
-    their Phong stand-ins otherwise)."""
-    pbr = _pbr_shading(state) and any(isinstance(o.material, PbrMaterial)
-                                      for o in scene.objects)
-    if not pbr:
+    """Defines of how materials are read: PBR_SLOTS when some are metallic-roughness (their
+    records' slots: cut-outs and coverage in every shading model, as the rasterizer cuts
+    them), PBR_SHADING when they are shaded by that model (glsl/trace/shade.glsl's
+    shade_pbr; shading "auto" or "pbr"; by their Phong stand-ins otherwise)."""
+    if not any(isinstance(o.material, PbrMaterial) for o in scene.objects):
         return ()
     # shadow rays through BLEND coverage, MASK cut-outs and glass, texel by texel
     alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" or as_pbr(o.material).transmission > 0
                 for o in scene.objects)
-    return ("PBR_SLOTS",) + (("ALPHA_SHADOWS",) if alpha else ())
+    return ("PBR_SLOTS",) + (("PBR_SHADING",) if _pbr_shading(state) else ()) + \
+        (("ALPHA_SHADOWS",) if alpha else ())
 
 
 def _pbr_shading(state) -> bool:
