@@ -14,65 +14,51 @@ Public API (imported lazily, so ``import facet.geometry`` never loads GL)::
 Errors a user can cause raise ``facet.FacetError`` subclasses.
 """
 
-from importlib import import_module
-
 from . import formats as _formats  # noqa: F401 - registers the readers (facet.scene.readers)
+from .lazy import lazy_exports
 
 __version__ = "0.1.0"
 
 _EXPORTS = {
-    "Camera": "facet.geometry.camera",
-    "Intrinsics": "facet.geometry.intrinsics",
-    "transforms": "facet.geometry",
-    "Mesh": "facet.scene.mesh",
-    "Points": "facet.scene.points",
-    "Lines": "facet.scene.points",
-    "Material": "facet.scene.material",
-    "DirectionalLight": "facet.scene.light",
-    "PointLight": "facet.scene.light",
-    "SpotLight": "facet.scene.light",
-    "AreaLight": "facet.scene.light",
-    "Scene": "facet.scene.scene",
-    "RenderOptions": "facet.options.render",
-    "load_scene": "facet.formats",
-    "open_scene": "facet.formats",
-    "load": "facet.formats",
-    "PbrMaterial": "facet.scene.pbr",
-    "TextureSlot": "facet.scene.pbr",
-    "primitives": "facet.scene",
-    "shapes": "facet.scene",
-    "Texture": "facet.scene.texture",
-    "Environment": "facet.scene.environment",
-    "Renderer": "facet.render.renderer",
-    "Frame": "facet.render.renderer",
-    "SHADING_MODELS": "facet.render.shading",
-    "view": "facet.window.viewer",
-    "show": "facet.notebook.show",
-    "ShaderToy": "facet.lab.shadertoy",
-    "batch": "facet",
-    "UserShader": "facet.scene.shader",
-    "Viewer": "facet.window.viewer",
-    "FacetError": "facet.errors",
-    "FacetWarning": "facet.errors",
-    "InputError": "facet.errors",
-    "MeshError": "facet.errors",
-    "ShaderError": "facet.errors",
-    "ContextError": "facet.errors",
-    "SceneError": "facet.errors",
+    "Camera": "geometry.camera",
+    "Intrinsics": "geometry.intrinsics",
+    "transforms": "geometry",
+    "Mesh": "scene.mesh",
+    "Points": "scene.points",
+    "Lines": "scene.points",
+    "Material": "scene.material",
+    "DirectionalLight": "scene.light",
+    "PointLight": "scene.light",
+    "SpotLight": "scene.light",
+    "AreaLight": "scene.light",
+    "Scene": "scene.scene",
+    "RenderOptions": "options.render",
+    "load_scene": "formats",
+    "open_scene": "formats",
+    "load": "formats",
+    "PbrMaterial": "scene.pbr",
+    "TextureSlot": "scene.pbr",
+    "primitives": "scene",
+    "shapes": "scene",
+    "Texture": "scene.texture",
+    "Environment": "scene.environment",
+    "Renderer": "render.renderer",
+    "Frame": "render.renderer",
+    "SHADING_MODELS": "render.shading",
+    "view": "window.viewer",
+    "show": "notebook.show",
+    "ShaderToy": "lab.shadertoy",
+    "batch": "batch",
+    "UserShader": "scene.shader",
+    "Viewer": "window.viewer",
+    "FacetError": "errors",
+    "FacetWarning": "errors",
+    "InputError": "errors",
+    "MeshError": "errors",
+    "ShaderError": "errors",
+    "ContextError": "errors",
+    "SceneError": "errors",
 }
 
 __all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    if name in _EXPORTS:
-        module = _EXPORTS[name]
-        value = import_module(f"{module}.{name}") if module == "facet" else \
-            getattr(import_module(module), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'facet' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -9,8 +9,7 @@ Importing this package registers the readers that the scene model's classes call
 it imports nothing heavy itself.
 """
 
-from importlib import import_module
-
+from ..lazy import lazy_exports
 from ..scene.readers import register
 
 register("mesh file", "facet.formats.loading", "read_parts")
@@ -24,15 +23,4 @@ register("render options", "facet.options.render", "parse_layer")
 _EXPORTS = {"load_scene": "scenefile", "open_scene": "source", "load": "source",
             "load_environment": "environment_files"}
 __all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    if name in _EXPORTS:
-        value = getattr(import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -70,21 +70,12 @@ def load(path, *, crease: float | None = None, confine=None) -> Scene:
 
     Parameters
     ----------
-    path : str or Path
-        A scene file (.toml) or a mesh file (OBJ, STL, PLY, OFF, glTF/GLB, point clouds).
-    crease : float, optional
-        Where a file has no normals, split them at edges sharper than this many degrees.
-    confine : str or Path, optional
-        A folder outside which no file is read (facet.guard.confined).
+    path, crease, confine
+        As ``open_scene``'s.
 
     Returns
     -------
     Scene
-        The scene.
-
-    Raises
-    ------
-    facet.SceneError, facet.MeshError
-        When a file cannot be read (one line naming it, the key or the element).
+        ``open_scene(path, crease=crease, confine=confine)``.
     """
     return open_scene(path, crease=crease, confine=confine)

@@ -25,8 +25,7 @@ from ..engine import Engine, grid_or_jittered
 from ..material_record import TEXELS
 from ..materials import as_pbr
 from ..rays import pack
-from ..rays.scene import RayScene
-from ..rays.sprites import sprite_lines
+from ..rays.scene import RayScene, ray_scene_lines
 from .area_lights import AreaEmitters, strip_area_points
 from .emitters import pack_emitters
 from .sky import SkyLight
@@ -130,8 +129,7 @@ class PathEngine(Engine):
         rows[:, pack.MATERIAL_ROW + TEXELS["flags"], 0] = self._emitter_pdf
 
     def more_lines(self, opts, scene) -> list[str]:
-        lines = sprite_lines(scene, "the path tracer") + pack.open_volume_lines(
-            scene, "the path tracer")
+        lines = ray_scene_lines(scene, "the path tracer")
         volumes = any(as_pbr(o.material).transmission > 0 and as_pbr(o.material).thickness > 0
                       and not pack.open_volume(o) for o in scene.objects)
         if volumes and any(not isinstance(x, AreaLight) for x in scene.lights):

@@ -27,7 +27,13 @@ from ..shading import SHADING_MODELS
 from ..state import FrameState, pack_lights
 from . import pack
 from .layers import texture_array
-from .sprites import sprite_radii
+from .sprites import sprite_lines, sprite_radii
+
+
+def ray_scene_lines(scene, noun: str) -> list[str]:
+    """What the ray scene draws otherwise than the rasterizer, said by the tracer ``noun``:
+    points and lines as spheres and capsules, glass volumes on open surfaces as thin."""
+    return sprite_lines(scene, noun) + pack.open_volume_lines(scene, noun)
 
 
 def pixel_cone(state: FrameState) -> tuple[float, float]:

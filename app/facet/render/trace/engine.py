@@ -14,8 +14,7 @@ from ..antialias import accumulation
 from ..engine import Engine, grid_or_jittered
 from ..materials import as_pbr
 from ..rays import pack
-from ..rays.scene import RayScene
-from ..rays.sprites import sprite_lines
+from ..rays.scene import RayScene, ray_scene_lines
 from ..state import FrameState
 
 # Below this roughness a glTF material reflects the scene (glsl/trace/shade.glsl's).
@@ -68,8 +67,7 @@ class TraceEngine(Engine):
         self.rays.draw_exact(scene, state, aux, _material_defines(scene, state))
 
     def more_lines(self, opts, scene) -> list[str]:
-        lines = sprite_lines(scene, "the ray tracer") + pack.open_volume_lines(
-            scene, "the ray tracer")
+        lines = ray_scene_lines(scene, "the ray tracer")
         if opts.environment is not None and opts.shading in ("auto", "pbr") and any(
                 isinstance(o.material, PbrMaterial) for o in scene.objects):
             lines.append("the ray tracer lights metallic-roughness materials by the ambient "
