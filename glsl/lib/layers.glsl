@@ -6,6 +6,26 @@
 // KHR_materials_clearcoat over all.
 #include "lib/pbr.glsl"
 
+// What a light of intensity 1 from direction L behind the surface adds through it, towards
+// V: glTF's transmission lobe for a thin wall (KHR_materials_transmission), GGX about the
+// mirrored direction at the roughness the ior scales (as the Khronos Sample Viewer's
+// applyIorToRoughness), what the dielectric's Fresnel, the coat and the sheen leave, times
+// ``c_trans`` (layered_surface's); pi f |cos|, as pbr_light (lib/pbr.glsl) is for light in
+// front. 0 for a light in front.
+vec3 pbr_light_through(PbrSurface s, vec3 c_trans, vec3 N, vec3 V, vec3 L, float roughness,
+                       float ior) {
+    if (dot(N, L) >= 0.0 || c_trans == vec3(0.0)) return vec3(0.0);
+    float rough = roughness * clamp(2.0 * ior - 2.0, 0.0, 1.0);
+    float alpha = max(rough * rough, MIN_ALPHA);
+    vec3 L_m = normalize(L - 2.0 * N * dot(N, L));  // mirrored to the viewer's side
+    float n_dot_l = max(dot(N, L_m), 0.0);
+    vec3 H = normalize(L_m + V);
+    vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * schlick_weight(s.n_dot_v);
+    vec3 kept = (1.0 - F_d) * (1.0 - s.cc * s.cc_fresnel) * (1.0 - s.sheen_dim);
+    return kept * c_trans * PI * n_dot_l * ggx_d(max(dot(N, H), 0.0), alpha)
+         * smith_vis(n_dot_l, s.n_dot_v, alpha);
+}
+
 // Material m (lib/material.glsl) seen from V with shading normal N and coat normal N_coat
 // (unit, facing V); ``c_trans``: what transmission passes where the diffuse part was.
 PbrSurface layered_surface(Material m, vec3 N, vec3 N_coat, vec3 V, out vec3 c_trans) {

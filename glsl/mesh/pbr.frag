@@ -79,21 +79,16 @@ vec3 transmitted(PbrSurface s, Material m, vec3 c_trans, vec3 N, vec3 V) {
     behind = srgb_to_linear(max(behind, 0.0));  // the picture holds display values then
 #endif
     vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * schlick_weight(s.n_dot_v);
-    vec3 through = behind;
-    // Lights behind the surface, seen through it: GGX about the mirrored direction.
-    float alpha = max(rough * rough, MIN_ALPHA);
+    vec3 kept = (1.0 - F_d) * (1.0 - s.cc * s.cc_fresnel) * (1.0 - s.sheen_dim);
+    vec3 rgb = kept * c_trans * behind;
+    // Lights behind the surface, seen through it (lib/layers.glsl: every engine's).
     for (int i = 0; i < LIGHTS_IN_USE; ++i) {
         vec3 L;
         float falloff = incident_light(i, v_pos_world + ray, L);
-        vec3 L_m = normalize(L - 2.0 * N * dot(N, L));  // on the viewer's side
-        float n_dot_l = max(dot(N, L_m), 0.0);
-        vec3 H = normalize(L_m + V);
-        through += falloff * u_lights[i].color.rgb * PI * n_dot_l
-                 * ggx_d(max(dot(N, H), 0.0), alpha) * smith_vis(n_dot_l, s.n_dot_v, alpha)
-                 * step(dot(N, L), 0.0);
+        rgb += falloff * u_lights[i].color.rgb
+             * pbr_light_through(s, c_trans, N, V, L, m.roughness, ior);
     }
-    vec3 kept = (1.0 - F_d) * (1.0 - s.cc * s.cc_fresnel) * (1.0 - s.sheen_dim);
-    return kept * c_trans * exp(-m.absorption * length(ray)) * through;
+    return exp(-m.absorption * length(ray)) * rgb;
 }
 #endif
 

@@ -335,11 +335,19 @@ void main() {
         for (int i = 0; i < u_light_count.x; ++i) {
             vec3 L;
             float falloff = incident_light(i, s.p, L);
-            if (falloff <= 0.0 || dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0) continue;
             float dist = LIGHT_KIND(i) == LIGHT_DIRECTIONAL
                        ? INF : length(u_lights[i].position.xyz - s.p);
-            radiance += throughput * visibility(from, L, dist) * falloff
-                      * u_lights[i].color.rgb * (PI * bsdf_eval(b, N, V, L));
+            if (falloff <= 0.0) continue;
+            if (dot(N, L) > 0.0 && dot(s.ng, L) > 0.0) {
+                radiance += throughput * visibility(from, L, dist) * falloff
+                          * u_lights[i].color.rgb * (PI * bsdf_eval(b, N, V, L));
+            } else if (b.thin && !b.polished && dot(s.ng, L) < 0.0) {
+                // A thin rough wall passes a light behind it through its transmission lobe
+                // (a delta light: no path from the eye finds it otherwise).
+                radiance += throughput * visibility(offset_ray(s.p, -s.ng), L, dist) * falloff
+                          * u_lights[i].color.rgb * pbr_light_through(
+                              b.m, b.c_trans, N, V, L, mat.roughness, max(mat.ior, 1.0));
+            }
         }
         // One point on the emitting triangles.
         if (light_nee && u_emitter_count > 0) {

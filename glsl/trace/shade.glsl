@@ -84,8 +84,10 @@ vec3 shade_pbr(Surface s, vec3 V) {
         for (int i = 0; i < u_light_count.x; ++i) {
             vec3 L;
             float falloff = incident_light(i, s.p, L);
-            falloff *= light_visibility(i, s.p, N, L, falloff);
-            rgb += falloff * u_lights[i].color.rgb * pbr_light(m, N, V, L);
+            vec3 through = pbr_light_through(m, c_trans, N, V, L, mat.roughness,
+                                             max(mat.ior, 1.0));  // a light behind glass
+            float seen = light_visibility(i, s.p, through == vec3(0.0) ? N : -N, L, falloff);
+            rgb += falloff * seen * u_lights[i].color.rgb * (pbr_light(m, N, V, L) + through);
         }
         float fc = schlick_weight(m.n_dot_v);
         vec3 F = m.f0 + (m.f90 - m.f0) * fc, F_d = m.f0_d + (m.f90_d - m.f0_d) * fc;
