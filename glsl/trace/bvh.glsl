@@ -5,7 +5,7 @@
 
 const int STACK_SIZE = 48;  // deeper than any hierarchy facet builds (about 30 levels)
 
-// A mesh's primitives are triangles, or (points and lines: facet.render.trace.sprites)
+// A mesh's primitives are triangles, or (points and lines: facet.render.rays.sprites)
 // spheres and capsules, the kind in the first texel's w.
 const float PRIM_TRIANGLE = 0.0, PRIM_SPHERE = 1.0, PRIM_CAPSULE = 2.0;
 

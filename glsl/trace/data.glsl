@@ -1,11 +1,11 @@
-// The ray tracer's scene in textures (packed by facet.render.trace.pack): rows of TEX_WIDTH
+// The ray tracer's scene in textures (packed by facet.render.rays.pack): rows of TEX_WIDTH
 // texels, element i at (i mod TEX_WIDTH, i / TEX_WIDTH). Object space for meshes and shapes,
 // world space for instances and the top level. GL 3.3: no buffers bound by index, so
 // everything is a texelFetch. The layout's constants (TEX_SHIFT, NODE_TEXELS, VERTEX_TEXELS,
-// INSTANCE_TEXELS, MATERIAL_ROW, SLOT_ROW, SLOT_TEXELS, the KIND_* and FLAG_* values) are facet.render.trace.pack's, defined by
+// INSTANCE_TEXELS, MATERIAL_ROW, SLOT_ROW, SLOT_TEXELS, the KIND_* and FLAG_* values) are facet.render.rays.pack's, defined by
 // facet when it compiles these files (pack.layout_defines).
 #ifndef NODE_TEXELS
-#error the tracer's layout is defined by facet.render.trace.pack (layout_defines)
+#error the tracer's layout is defined by facet.render.rays.pack (layout_defines)
 #endif
 const int TEX_MASK = (1 << TEX_SHIFT) - 1;
 

@@ -1,6 +1,6 @@
 #version 330 core
 // The ray tracer (notes §2.6-2.11): one supersample of one pixel per fragment, added to the
-// accumulation (facet.render.trace). The eye ray goes through this sample's point of the
+// accumulation (facet.render.trace.engine). The eye ray goes through this sample's point of the
 // pixel (and lens, and shutter time: the camera and instances of this sample); at each hit
 // the surface is shaded by the rasterizer's equation with shadow rays, and spawns up to
 // three rays: reflection (reflectivity; with ior > 0 split with refraction by Schlick's

@@ -19,6 +19,7 @@ from .mesh import Mesh
 from .readers import reader  # facet.formats (trimesh objects), facet.options (options)
 
 if TYPE_CHECKING:
+    from .environment import Environment
     from .pbr import PbrMaterial
     from .points import Lines, Points
     from .shapes import Shape
@@ -69,7 +70,7 @@ class Scene:
         ``lights`` is "scene".
     """
 
-    def __init__(self, ambient=0.1, background=(0.0, 0.0, 0.0, 1.0), options=None):
+    def __init__(self, ambient=0.1, background=(0.0, 0.0, 0.0, 1.0), options=None) -> None:
         self.ambient = as_color(ambient, "ambient")
         bg = as_color(background, "background", channels=(3, 4))
         self.background = np.append(bg, 1.0) if bg.size == 3 else bg
@@ -79,7 +80,7 @@ class Scene:
         # parsed once, here (by facet.options.render's parser): {option: typed value}
         self.options = reader("render options")(options)
         # A facet.scene.environment.Environment: background and reflection source.
-        self.environment = None
+        self.environment: Environment | None = None
         # True for a model file's scene: its cameras (glTF's) are there to be chosen by
         # name, the default view frames the model.
         self.frame_by_default = False

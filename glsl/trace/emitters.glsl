@@ -1,0 +1,101 @@
+// The emitters of the path tracer: a point on the emitting triangles and shapes, one
+// chosen by power (facet.render.path.emitters), then a point uniformly on it by area.
+#include "trace/shade.glsl"
+#include "trace/random.glsl"
+
+uniform sampler2D u_emitters;  // per emitting triangle: (instance, triangle, cumulative
+uniform int u_emitter_count;   // share of the emitted power, -), facet.render.path.emitters
+
+// A point uniformly by area on an analytic shape (facet.scene.shapes, object space; y up,
+// centred): a sphere, a disk, a finite plane, a box's faces, a cylinder's or a cone's side
+// and caps, each part chosen by its share of the area.
+vec3 shape_point(int kind, vec4 q) {
+    vec2 r = random2();
+    float phi = 2.0 * PI * r.y, pick = random01();
+    vec2 ring = vec2(cos(phi), sin(phi));
+    if (kind == KIND_SPHERE) {
+        float y = 1.0 - 2.0 * r.x, s = sqrt(max(1.0 - y * y, 0.0));
+        return q.x * vec3(s * ring.x, y, s * ring.y);
+    }
+    if (kind == KIND_DISK) return vec3(q.x * sqrt(r.x) * ring.x, 0.0, q.x * sqrt(r.x) * ring.y);
+    if (kind == KIND_PLANE) return vec3((r.x - 0.5) * q.x, 0.0, (r.y - 0.5) * q.y);
+    float side = random01() < 0.5 ? -0.5 : 0.5;  // which of two opposite faces or caps
+    if (kind == KIND_BOX) {
+        vec3 a = vec3(q.y * q.z, q.x * q.z, q.x * q.y);  // the faces facing x, y, z
+        pick *= a.x + a.y + a.z;
+        if (pick < a.x) return vec3(side * q.x, (r.x - 0.5) * q.y, (r.y - 0.5) * q.z);
+        if (pick < a.x + a.y) return vec3((r.x - 0.5) * q.x, side * q.y, (r.y - 0.5) * q.z);
+        return vec3((r.x - 0.5) * q.x, (r.y - 0.5) * q.y, side * q.z);
+    }
+    float radius = q.x, h = q.y;
+    if (kind == KIND_CYLINDER) {  // side 2 pi r h, caps 2 pi r^2
+        if (pick * (h + radius) < h) return vec3(radius * ring.x, (r.x - 0.5) * h, radius * ring.y);
+        return vec3(radius * sqrt(r.x) * ring.x, side * h, radius * sqrt(r.x) * ring.y);
+    }
+    // the cone: side pi r l (density along it grows with the distance from the apex), base
+    float l = length(vec2(radius, h));
+    if (pick * (l + radius) < l) {
+        float t = sqrt(r.x);
+        return vec3(radius * t * ring.x, 0.5 * h - h * t, radius * t * ring.y);
+    }
+    return vec3(radius * sqrt(r.x) * ring.x, -0.5 * h, radius * sqrt(r.x) * ring.y);
+}
+
+// The point p_obj of the emitting shape of instance inst as seen from p: the hit where the
+// ray from p towards it meets the shape, when that is the point itself (else the shape
+// hides it from p: false).
+bool shape_hit_at(int inst, vec3 p_obj, vec3 p, out Hit h, out vec3 L, out float dist) {
+    int base = inst * INSTANCE_TEXELS;
+    vec3 to = apply_rows(base + 3, p_obj, 1.0) - p;
+    dist = length(to);
+    L = to / max(dist, 1e-20);
+    vec3 oo = apply_rows(base, p, 1.0), od = apply_rows(base, L, 0.0);
+    float t = dist * 1.001 + 1e-4;
+    vec3 n;
+    vec2 uv;
+    if (!hit_shape(int(fetch(u_instances, base + 6).x), fetch(u_instances, base + 7), oo, od,
+                   t, n, uv) || t < dist * 0.999 - 1e-4) return false;
+    h = Hit(t, inst, -1, vec2(0.0), n, uv);
+    dist = t;
+    return true;
+}
+
+// A point on the emitters for the surface point p: an emitting triangle or shape chosen by
+// power (binary search in the cumulative shares), then a point uniformly on it by area.
+// Returns the radiance it sends towards p (0 from the back of a one-sided emitter, or
+// where the shape hides the point), the direction L and distance to it, and the density
+// of L in solid angle.
+vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
+    float u = random01();
+    int lo = 0, hi = u_emitter_count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (fetch(u_emitters, mid).z > u) hi = mid; else lo = mid + 1;
+    }
+    vec4 e = fetch(u_emitters, lo);
+    int inst = int(e.x), tri = int(e.y);
+    Hit h;
+    pdf = 0.0;
+    if (tri < 0) {  // an analytic shape
+        int base = inst * INSTANCE_TEXELS;
+        vec3 p_obj = shape_point(int(fetch(u_instances, base + 6).x),
+                                 fetch(u_instances, base + 7));
+        if (!shape_hit_at(inst, p_obj, p, h, L, dist)) return vec3(0.0);
+    } else {
+        vec2 b = random2();
+        if (b.x + b.y > 1.0) b = 1.0 - b;
+        vec3 p_obj = fetch(u_tris, 3 * tri).xyz + b.x * fetch(u_tris, 3 * tri + 1).xyz
+                   + b.y * fetch(u_tris, 3 * tri + 2).xyz;
+        vec3 to = apply_rows(inst * INSTANCE_TEXELS + 3, p_obj, 1.0) - p;
+        dist = length(to);
+        L = to / max(dist, 1e-20);
+        h = Hit(dist, inst, tri, b, vec3(0.0), vec2(0.0));
+    }
+    Surface s = surface_at(h, p, L);
+    Material m = material_of(s);
+    float cos_l = abs(dot(s.ng, L));
+    pdf = cos_l > 0.0 ? m.emit_pdf * dist * dist / cos_l : 0.0;
+    bool one_sided = (int(fetch(u_instances, inst * INSTANCE_TEXELS + 6).w)
+                      & FLAG_ONE_SIDED) != 0;
+    return s.front || !one_sided ? m.emission : vec3(0.0);
+}

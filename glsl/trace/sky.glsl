@@ -1,0 +1,94 @@
+// The sky of the path tracer: the radiance of escaped rays (the environment, or the
+// scene's ambient light as a constant sky) and light sampling of it (by the environment
+// image's luminance, facet.render.path.env_sampling, or uniform on the sphere).
+#include "lib/lights.glsl"
+#include "lib/sampling.glsl"
+#include "trace/random.glsl"
+
+#ifdef HAS_ENVIRONMENT
+uniform samplerCube u_environment;
+#endif
+#ifdef SKY_DISTRIBUTION
+// The environment's luminance distribution (facet.render.path.env_sampling): cumulative
+// shares per row (and of the rows, in column W), densities over the unit square.
+uniform sampler2D u_sky_cdf;
+uniform sampler2D u_sky_pdf;
+uniform sampler2D u_sky_radiance;  // the grid the distribution was made from (RGB)
+uniform ivec2 u_sky_size;  // W, H
+#endif
+
+const float UNIFORM_SPHERE_PDF = 1.0 / (4.0 * PI);
+
+// The radiance of the sky in direction d: the environment, or without one the scene's
+// ambient light as a constant sky (the rasterizer's pbr model lights by it the same way).
+vec3 escaped(vec3 d) {
+#ifdef HAS_ENVIRONMENT
+    // The finest level: neighbouring pixels' random directions are no footprint (texture()
+    // would pick a blurred level from their differences, dimming a small bright sun).
+    return textureLod(u_environment, d, 0.0).rgb;
+#else
+    return u_ambient.rgb;
+#endif
+}
+
+#ifdef SKY_DISTRIBUTION
+// The texel of the sky's latitude-longitude grid that direction d falls in.
+ivec2 sky_texel(vec3 d) {
+    float u = 0.5 + atan(d.x, -d.z) / TWO_PI, v = acos(clamp(d.y, -1.0, 1.0)) / PI;
+    return clamp(ivec2(vec2(u, v) * vec2(u_sky_size)), ivec2(0), u_sky_size - 1);
+}
+#endif
+
+// The sky's radiance lighting a surface from direction d: with a distribution, the
+// grid's texel it was made from (the ratio of radiance to density stays bounded: the
+// cube map's filtering spread a small sun where the density is low, each sample there a
+// firefly); the camera sees the cube map (escaped).
+vec3 sky_light(vec3 d) {
+#ifdef SKY_DISTRIBUTION
+    return texelFetch(u_sky_radiance, sky_texel(d), 0).rgb;
+#else
+    return escaped(d);
+#endif
+}
+
+// The sky's density of direction d for light sampling (solid angle).
+float sky_pdf(vec3 d) {
+#ifdef SKY_DISTRIBUTION
+    float sin_t = sqrt(max(1.0 - d.y * d.y, 0.0));
+    return sin_t > 0.0 ? texelFetch(u_sky_pdf, sky_texel(d), 0).r / (2.0 * PI * PI * sin_t)
+                       : 0.0;
+#else
+    return UNIFORM_SPHERE_PDF;
+#endif
+}
+
+// A sky direction for light sampling, and its density: by luminance (a texel by two
+// binary searches, then a point in it), or uniform on the sphere.
+vec3 sample_sky(out float pdf) {
+#ifdef SKY_DISTRIBUTION
+    int w = u_sky_size.x;
+    float r = random01(), c = random01();
+    int lo = 0, hi = u_sky_size.y - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (texelFetch(u_sky_cdf, ivec2(w, mid), 0).r > r) hi = mid; else lo = mid + 1;
+    }
+    int y = lo;
+    lo = 0;
+    hi = w - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (texelFetch(u_sky_cdf, ivec2(mid, y), 0).r > c) hi = mid; else lo = mid + 1;
+    }
+    vec2 uv = (vec2(lo, y) + random2()) / vec2(u_sky_size);
+    float phi = (uv.x - 0.5) * TWO_PI, theta = uv.y * PI;
+    vec3 d = vec3(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
+    pdf = sky_pdf(d);
+    return d;
+#else
+    vec2 xi = random2();
+    float z = 1.0 - 2.0 * xi.x, r = sqrt(max(1.0 - z * z, 0.0));
+    pdf = UNIFORM_SPHERE_PDF;
+    return vec3(r * cos(TWO_PI * xi.y), r * sin(TWO_PI * xi.y), z);
+#endif
+}
