@@ -95,3 +95,31 @@ def test_a_minified_texture_is_filtered_not_aliased(renderer, engine):
     raster = r.render(scene, cam, **opts).color[far, :, 0]
     traced = r.render(scene, cam, engine=engine, **opts).color[far, :, 0]
     assert traced.std() <= raster.std() + 0.05, (traced.std(), raster.std())
+
+
+def test_texture_layers_are_converted_once_and_read_back_as_uploaded(renderer):
+    """The tracers' texture array keeps each converted layer while it is requested: a
+    request set that loses one image converts none again (the feature harness strips one
+    texture at a time), and the array read back from GL is the same either way (colour
+    layers decoded to linear float16, data layers as bytes / 255, rows flipped)."""
+    from facet.image.colorspace import srgb_to_linear
+    from facet.render.rays import layers, pack
+    from facet.scene.texture import Texture
+
+    rng = np.random.default_rng(3)
+    a, b = (Texture(rng.integers(0, 256, (16, 16, 4), dtype=np.uint8)) for _ in range(2))
+    ctx = renderer(8, 8).ctx
+    cache: dict = {}
+    with ctx:
+        first = layers.texture_array(ctx, [(a, pack.LINEAR), (b, pack.DATA)], False, cache)
+        kept = {k: v[1] for k, v in cache.items()}
+        second = layers.texture_array(ctx, [(b, pack.DATA)], False, cache)
+        assert [v[1] for v in cache.values()] == [kept[k] for k in cache]  # the same arrays
+        got = np.frombuffer(first.read(), np.float16).reshape(2, 16, 16, 4)[:, ::-1]
+        assert np.allclose(got[0, ..., :3], srgb_to_linear(a.pixels[..., :3] / 255.0),
+                           atol=1e-3)
+        assert np.allclose(got[1], b.pixels / 255.0, atol=1e-3)
+        assert np.array_equal(np.frombuffer(second.read(), np.uint8).reshape(16, 16, 4),
+                              b.pixels[::-1])
+        first.release()
+        second.release()

@@ -240,6 +240,9 @@ class ResourceCache:
         self._entries: dict[int, tuple[weakref.ref, MeshBuffers]] = {}
         self._textures: dict[tuple, tuple[weakref.ref, moderngl.Texture]] = {}
         self.uploads = 0  # meshes uploaded so far (tests check caching with it)
+        # The tracers' texture layers (facet.render.rays.layers): CPU copies both ray
+        # engines of one renderer share, kept while requested.
+        self.ray_layers: dict = {}
 
     def texture(self, texture: Texture, srgb: bool, mipmaps: bool = True) -> moderngl.Texture:
         """The GL texture of ``texture`` (uploaded once per colour mode; with mip levels
@@ -307,3 +310,4 @@ class ResourceCache:
         for _, tex in self._textures.values():
             tex.release()
         self._textures.clear()
+        self.ray_layers.clear()

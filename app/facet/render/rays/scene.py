@@ -128,7 +128,8 @@ class RayScene:
         old = self.textures.pop("textures", None)
         if old is not None:
             old.release()
-        self.textures["textures"] = texture_array(self.ctx, requests, srgb)
+        self.textures["textures"] = texture_array(self.ctx, requests, srgb,
+                                                  self.cache.ray_layers)
         self.layers = {(id(t), c): i for i, (t, c) in enumerate(requests)}
         self._layers_key = key
 
