@@ -5,7 +5,9 @@ path, a directory, a FIFO, a device or a socket each get one clear error instead
 (a FIFO blocks an open) or a misleading message, and so does a Git LFS pointer (what a
 clone without Git LFS leaves in place of a model or an image) or a file beyond the size
 budget (facet.budgets). Under ``confined(folder)`` a file outside the folder gets the same
-sentence whether it exists or not (a confined input cannot probe which files exist).
+sentence whether it exists or not (a confined input cannot probe which files exist). The
+confinement holds in every thread: facet's own threads carry it (``carried``), and a
+thread that carries none is held to every confinement active in the process.
 
 Writing: ``check_output(path)`` before any file is written: an existing FIFO, device or
 socket is refused (never opened, never replaced), and within ``writing_into(folder)`` (a
@@ -22,7 +24,8 @@ from __future__ import annotations
 import contextlib
 import os
 import stat
-from contextvars import ContextVar
+import threading
+from contextvars import ContextVar, copy_context
 from pathlib import Path
 
 from .budgets import budget
@@ -33,6 +36,11 @@ LFS_POINTER = b"version https://git-lfs.github.com/spec/"  # how a pointer file 
 
 # The folder every file read on a user's behalf must lie in (``confined``), or None.
 _CONFINE: ContextVar[Path | None] = ContextVar("facet_confine", default=None)
+# Every confinement active in this process, whichever thread set it: a thread that does not
+# carry one (a pool's worker, started without the context) is held to all of them (fail
+# closed), so no thread can read past a confinement by not knowing of it.
+_ACTIVE: dict[int, Path] = {}
+_ACTIVE_LOCK = threading.Lock()
 # The folder every file written must lie in (``writing_into``), or None.
 _OUTPUT: ContextVar[Path | None] = ContextVar("facet_output", default=None)
 
@@ -46,10 +54,35 @@ def confined(folder):
         raise InputError(f"{folder}: the confinement folder does not exist or is not a "
                          "folder")
     token = _CONFINE.set(root)
+    with _ACTIVE_LOCK:
+        _ACTIVE[id(token)] = root
     try:
         yield root
     finally:
+        with _ACTIVE_LOCK:
+            _ACTIVE.pop(id(token), None)
         _CONFINE.reset(token)
+
+
+def carried(fn):
+    """``fn`` to run in another thread with this thread's confinement (and every other
+    context variable): each call runs in a fresh copy of the context it was made in."""
+    context = copy_context()
+
+    def run(*args, **kwargs):
+        return context.copy().run(fn, *args, **kwargs)
+
+    return run
+
+
+def confinement_roots() -> list[Path]:
+    """The folders a file read in this thread must lie in: the thread's own confinement,
+    or, when it carries none, every confinement active in the process (empty: none)."""
+    root = _CONFINE.get()
+    if root is not None:
+        return [root]
+    with _ACTIVE_LOCK:
+        return list(dict.fromkeys(_ACTIVE.values()))
 
 
 @contextlib.contextmanager
@@ -92,16 +125,18 @@ def check_confined(path, what: str = "file", error=InputError) -> None:
     """``error`` when ``path`` resolves outside the confinement folder (if one is set)."""
     if "\0" in str(path):
         raise error(f"{str(path)!r}: a path with a NUL byte names no file")
-    root = _CONFINE.get()
-    if root is None:
+    roots = confinement_roots()
+    if not roots:
         return
     try:
         resolved = Path(path).resolve()
     except (OSError, RuntimeError):  # a loop of links leads nowhere inside
         resolved = None
-    if resolved is None or (resolved != root and root not in resolved.parents):
-        raise error(f"{path}: not readable here: outside the confinement folder {root} "
-                    f"(--confine; a {what} there is never read, whether it exists or not)")
+    for root in roots:
+        if resolved is None or (resolved != root and root not in resolved.parents):
+            raise error(f"{path}: not readable here: outside the confinement folder {root} "
+                        f"(--confine; a {what} there is never read, whether it exists or "
+                        "not)")
 
 
 def regular_file(path, what: str = "file", error=InputError, missing: str | None = None,

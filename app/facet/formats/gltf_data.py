@@ -69,9 +69,10 @@ class GltfData:
         return self._buffers[index]
 
     def _file(self, uri: str, what: str) -> bytes:
-        from ..guard import regular_file
+        from ..guard import check_confined, regular_file
 
         p = self.path.parent / unquote(uri)
+        check_confined(p, what, MeshError)  # first: outside reads the same, there or not
         if not p.exists():
             self.fail(f"needs the {what} '{unquote(uri)}', which is not in {p.parent}")
         regular_file(p, what, MeshError)  # not a FIFO or a device: they would hang or flood
@@ -140,10 +141,21 @@ class GltfData:
         when its file is missing or unreadable: the material is drawn without it."""
         import warnings
 
+        from ..errors import FacetWarning
+
+        texture, why = self.read_image(index)
+        if why is not None:
+            warnings.warn(why, FacetWarning, stacklevel=2)
+        return texture
+
+    def read_image(self, index: int):
+        """(Texture, None), or (None, the warning line) when image ``index``'s file is
+        missing, outside the confinement folder (said alike: a confined file cannot probe
+        which files exist) or unreadable. Warns nothing itself: it runs in the decoding
+        threads (facet.formats.gltf_textures), where catching warnings is not safe."""
         from PIL import UnidentifiedImageError
 
-        from ..errors import FacetWarning
-        from ..guard import open_image, regular_file
+        from ..guard import check_confined, open_image, regular_file
         from ..scene.texture import Texture
 
         img = self.gltf.images[index]
@@ -157,19 +169,17 @@ class GltfData:
             elif (img.uri or "").startswith("data:"):
                 raw = _data_uri(img.uri, name)
             else:
-                p = self.path.parent / unquote(img.uri or "")
+                uri = unquote(img.uri or "")
+                p = self.path.parent / uri
+                check_confined(p, f"texture {uri}", MeshError)  # before asking if it exists
                 if not p.exists():
-                    warnings.warn(f"{self.path.name}: texture file '{unquote(img.uri or '')}'"
-                                  f" not found in {p.parent}; drawn without it",
-                                  FacetWarning, stacklevel=2)
-                    return None
+                    return None, (f"{self.path.name}: texture file '{uri}' not found in "
+                                  f"{p.parent}; drawn without it")
                 raw = regular_file(p, f"texture {name}", MeshError).read_bytes()
             with open_image(io.BytesIO(raw), f"texture {name}") as pil:
-                return Texture.from_pil(pil, str(name))
+                return Texture.from_pil(pil, str(name)), None
         except (UnidentifiedImageError, OSError, ValueError, MeshError) as exc:
-            warnings.warn(f"{self.path.name}: {exc}; drawn without it", FacetWarning,
-                          stacklevel=2)
-            return None
+            return None, f"{self.path.name}: {exc}; drawn without it"
 
     # -- Draco -------------------------------------------------------------------------
     def draco(self, ext: dict) -> dict[str, np.ndarray]:

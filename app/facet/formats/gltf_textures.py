@@ -9,6 +9,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from ..errors import FacetWarning
+from ..guard import carried
 from ..scene.pbr import PbrMaterial, TextureSlot, texture_transform
 from .gltf_materials import extension_fields
 
@@ -46,18 +48,15 @@ class MaterialReading:
         if len(sources) < 2:
             return
 
-        def decode(index):
-            with w.catch_warnings(record=True) as said:
-                w.simplefilter("always")
-                image = self.data.image(index)
-            return image, said
-
         workers = min(len(sources), os.cpu_count() or 1, 8)
         with ThreadPoolExecutor(workers, thread_name_prefix="facet-image") as pool:
-            for index, (image, said) in zip(sources, pool.map(decode, sources), strict=True):
+            # Each decode runs with this thread's confinement (facet.guard.carried); its
+            # warning is said here, in file order (warnings are not caught per thread).
+            read = pool.map(carried(self.data.read_image), sources)
+            for index, (image, why) in zip(sources, read, strict=True):
                 self.textures[index] = image
-                for warning in said:
-                    w.warn(warning.message, warning.category, stacklevel=4)
+                if why is not None:
+                    w.warn(why, FacetWarning, stacklevel=4)
 
     def _material(self, index: int | None) -> PbrMaterial:
         if index is None:  # glTF's default material: white, metallic 1, roughness 1
