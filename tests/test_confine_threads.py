@@ -19,10 +19,10 @@ from PIL import Image
 from facet.errors import InputError
 from facet.guard import carried, check_confined, confined
 
-# Runs the CLI with every open of a path containing "hidden_image" said on stderr.
+# Runs the CLI with every open of a path containing "hidden_" said on stderr.
 AUDITED = ("import sys\n"
            "def hook(event, args):\n"
-           "    if event == 'open' and 'hidden_image' in str(args[0]):\n"
+           "    if event == 'open' and 'hidden_' in str(args[0]):\n"
            "        print('OPENED', args[0], file=sys.stderr)\n"
            "sys.addaudithook(hook)\n"
            "from facet.cli import main\n"
@@ -158,3 +158,34 @@ def test_an_outside_buffer_or_image_reads_the_same_whether_it_exists_or_not(fold
                      .replace("buf_gone", "B")))
     assert said[0] == said[1] and said[0][0] == 2, said
     assert "outside the confinement folder" in said[0][1]
+
+
+def test_a_projects_common_file_outside_is_refused_before_it_is_opened(tmp_path):
+    """A shader project naming a common file outside the folder: refused, never opened
+    (the hot-reload watcher hashed it before the check)."""
+    inside = tmp_path / "in"
+    inside.mkdir()
+    (tmp_path / "hidden_common.glsl").write_text("float f() { return 1.0; }\n")
+    (inside / "image.glsl").write_text("void mainImage(out vec4 c, in vec2 p) "
+                                       "{ c = vec4(1.0); }\n")
+    (inside / "project.toml").write_text('common = "../hidden_common.glsl"\n'
+                                         '[image]\nshader = "image.glsl"\n')
+    done = _run(["shader", str(inside / "project.toml"), "--confine", str(inside), "-o",
+                 str(inside / "x.png")])
+    assert done.returncode == 2 and "OPENED" not in done.stderr, done.stderr
+    assert "outside the confinement folder" in done.stderr
+
+
+def test_a_batch_jobs_default_cameras_file_outside_is_refused_before_it_is_read(
+        folders, tmp_path):
+    """A manifest's default views file outside its folder: refused before it is opened
+    (it was parsed at manifest time, "no image size...", and refused only later)."""
+    inside, models = folders
+    (tmp_path / "hidden_cameras.json").write_text('{"frames": []}')
+    manifest = inside / "dataset.toml"
+    manifest.write_text('[defaults]\nsize = [16, 16]\nviews = { file = '
+                        '"../hidden_cameras.json" }\n[[jobs]]\nmodel = "relative.gltf"\n')
+    done = _run(["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"])
+    assert done.returncode == 2 and "OPENED" not in done.stderr, done.stderr
+    assert "outside the confinement folder" in done.stderr and "image size" not in \
+        done.stderr, done.stderr

@@ -46,13 +46,15 @@ def render_dataset(manifest, out, *, defaults=None, workers=None, gpus=None, qui
         from ..errors import InputError
 
         raise InputError(f"--workers must be at least 1, got {workers}")
-    jobs = manifest if isinstance(manifest, list) else load_manifest(manifest, defaults)
     if confine == "manifest":
         path = Path(str(manifest)) if not isinstance(manifest, list) else None
         confine = ((path.resolve().parent, True) if path is not None and path.is_file()
                    else None)
     elif confine is not None:
         confine = (Path(confine).resolve(), False)
+    # Confinement first: a job's cameras file is checked against it before it is read.
+    jobs = manifest if isinstance(manifest, list) else load_manifest(manifest, defaults,
+                                                                     confine)
     if ray:
         from .ray_runner import render_dataset_ray
 

@@ -29,6 +29,7 @@ before anything renders; an error names the line (JSON Lines) or job and the key
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
@@ -39,7 +40,7 @@ from pathlib import Path
 
 from ..budgets import budget
 from ..errors import InputError
-from ..guard import json_depth, parse_json, regular_file
+from ..guard import confined, json_depth, parse_json, regular_file
 from ..options.render import (
     MAX_FRAMES,
     PARSERS,
@@ -85,10 +86,12 @@ class Job:
         return hashlib.sha1(text.encode()).hexdigest()
 
 
-def load_manifest(source, defaults: dict | None = None) -> list[Job]:
+def load_manifest(source, defaults: dict | None = None, confine=None) -> list[Job]:
     """Jobs of a manifest file (.toml, .jsonl / .json) or a glob of model files;
     ``defaults`` (the command line's --size, --outputs, --views ...) override the
-    manifest's defaults; a job's own values override both."""
+    manifest's defaults; a job's own values override both. ``confine``: None or (folder,
+    widen) (``job_root``): a job's cameras file is checked against its folder before it
+    is opened."""
     text = str(source)
     path = Path(text)
     base_defaults = dict(defaults or {})
@@ -129,7 +132,7 @@ def load_manifest(source, defaults: dict | None = None) -> list[Job]:
         base = Path(".")
     if not entries:
         raise InputError(f"{text}: the manifest lists no jobs")
-    jobs = [_job(where, merge_raw(d, j), base) for where, d, j in entries]
+    jobs = [_job(where, merge_raw(d, j), base, confine) for where, d, j in entries]
     names: dict[str, str] = {}
     unique = []
     for (where, _, _), job in zip(entries, jobs, strict=True):
@@ -190,7 +193,7 @@ def _table(value, where: str) -> dict:
     return value
 
 
-def _job(where: str, t: dict, base: Path) -> Job:
+def _job(where: str, t: dict, base: Path, confine=None) -> Job:
     for key in t:
         if key not in JOB_KEYS and key not in PARSERS:
             import difflib
@@ -227,14 +230,29 @@ def _job(where: str, t: dict, base: Path) -> Job:
     if views.file is not None:  # relative to the manifest, checked now
         file = Path(views.file) if Path(views.file).is_absolute() else base / views.file
         try:  # read now: a file that is no transforms.json is found before any rendering
-            regular_file(file, "cameras file", missing="file")
-            count = _camera_count(str(file.resolve()))
+            root = job_root(confine, model)
+            with contextlib.nullcontext() if root is None else confined(root):
+                regular_file(file, "cameras file", missing="file")  # confined: checked first
+                count = _camera_count(str(file.resolve()))
         except InputError as exc:
             raise InputError(f"{where}.views.file: {exc}") from None
         views = ViewPlan(views.kind, count, views.elevation, views.elevations,
                          views.seed, str(file))
     return Job(name, model, views, options, given, _float_files(t, where),
                _flag(t, "colmap", where))
+
+
+def job_root(confine, model) -> Path | None:
+    """The folder outside which a job reads no file: ``confine = (folder, widen)``; with
+    ``widen`` (the default, a manifest's own folder) a model the manifest lists outside
+    that folder gets its own folder instead: the manifest named it, so it is read, and
+    what it refers to (textures, material libraries, a scene's meshes) must lie beside
+    or under it."""
+    if confine is None:
+        return None
+    root, widen = Path(confine[0]), confine[1]
+    model = Path(model).resolve()
+    return model.parent if widen and root not in model.parents else root
 
 
 def _float_files(t: dict, where: str) -> tuple[str, ...]:

@@ -22,7 +22,7 @@ from ..errors import FacetError, gl_out_of_memory
 from ..guard import writing_into
 from .colmap import surface_points, write_colmap
 from .layout import finished, write_transforms, write_view
-from .manifest import FRONT
+from .manifest import FRONT, job_root
 
 CHUNK = 8  # jobs handed to a worker at once (render_jobs loads one ahead within them)
 
@@ -116,19 +116,6 @@ def render_jobs(jobs, out: Path, renderer, confine=None, on_view=None):
                 yield render_job(job, out, renderer,
                                  None if current is None else current.result, on_view)
             del current  # its scene goes once rendered
-
-
-def job_root(confine, model) -> Path | None:
-    """The folder outside which a job reads no file: ``confine = (folder, widen)``; with
-    ``widen`` (the default, a manifest's own folder) a model the manifest lists outside
-    that folder gets its own folder instead: the manifest named it, so it is read, and
-    what it refers to (textures, material libraries, a scene's meshes) must lie beside
-    or under it."""
-    if confine is None:
-        return None
-    root, widen = Path(confine[0]), confine[1]
-    model = Path(model).resolve()
-    return model.parent if widen and root not in model.parents else root
 
 
 def _confined(root):

@@ -42,13 +42,18 @@ def glsl_root() -> Path:
 def file_digest(path: Path) -> str | None:
     """SHA-1 of a file's content (None if it is missing, not a regular file, or larger than
     the file budget): reloads compare content, not timestamps, so touching a file or saving
-    it unchanged reloads nothing. A watched FIFO or device is never opened."""
+    it unchanged reloads nothing. A watched FIFO or device is never opened, nor a file
+    outside the confinement folder (facet.guard.confined; facet's own GLSL aside)."""
+    from ..guard import check_confined
+
     try:
+        if glsl_root().resolve() not in Path(path).resolve().parents:
+            check_confined(path)
         info = os.stat(path)
         if not stat.S_ISREG(info.st_mode) or info.st_size > budget("file_bytes"):
             return None
         return hashlib.sha1(Path(path).read_bytes()).hexdigest()
-    except OSError:
+    except (OSError, FacetError):
         return None
 
 
