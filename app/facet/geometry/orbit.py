@@ -18,6 +18,7 @@ from .camera import Camera
 from .framing import default_direction, depth_range
 
 ZOOM_STEP = 0.9  # distance factor per scroll notch (towards the cursor)
+MAX_NOTCHES = 50.0  # the most notches one scroll event zooms
 MIN_DISTANCE = 1e-4
 
 
@@ -149,8 +150,9 @@ class OrbitControl:
 
     def zoom(self, notches: float, x: float, y: float, width: int, height: int) -> None:
         """Scroll ``notches`` (positive = in) towards the point under cursor (x, y): the point
-        of the target plane under the cursor stays under the cursor."""
-        factor = ZOOM_STEP ** notches
+        of the target plane under the cursor stays under the cursor. One call zooms at
+        most ``MAX_NOTCHES`` notches either way (a wheel event of a million pixels)."""
+        factor = ZOOM_STEP ** float(np.clip(notches, -MAX_NOTCHES, MAX_NOTCHES))
         per_pixel = self._view_height() / height
         b = self.basis
         offset = b[:, 0] * (x - width / 2.0) * per_pixel - b[:, 1] * (y - height / 2.0) * \

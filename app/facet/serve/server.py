@@ -6,7 +6,12 @@ wheel, key and resize events in jupyter_rfb's vocabulary and shows each picture 
 Every open tab sees the one session: the same camera and keys, the picture drawn at the
 size of the tab that was resized last. The server binds to 127.0.0.1 unless told otherwise
 and asks for a token in the URL (printed at start, with the ``ssh -L`` line that reaches it
-from another machine); a request without it gets 403.
+from another machine); a request without it gets 403, and so does one whose Host header
+names no address of this server (DNS rebinding) or a WebSocket whose Origin is another
+site's (cross-site WebSocket hijacking). Messages are checked where they arrive
+(facet.viewing.events): a malformed one is dropped with one line and its connection
+closed; the render thread outlives anything a page sends. SIGINT / SIGTERM stop it as they
+stop any facet command (exit status 130 / 143).
 """
 
 from __future__ import annotations
@@ -20,6 +25,8 @@ from pathlib import Path
 from urllib.parse import parse_qs, urlsplit
 
 from ..errors import InputError
+from ..guard import parse_json
+from ..viewing.events import checked
 from .encode import QUALITY
 
 HERE = Path(__file__).resolve().parent
@@ -54,13 +61,51 @@ class Server:
         self.last: tuple[str, bytes] | None = None  # the last picture (meta, data)
 
     # -- HTTP: the page, its script, and the token check -----------------------------------
+    def _names_us(self, netloc: str | None) -> bool:
+        """Whether ``netloc`` (a Host header, an Origin's host[:port]) names this server:
+        its port, and a host that is an IP address, localhost, this machine's name, or the
+        host it was told to bind. A domain that resolves here by a rebinding does not."""
+        import ipaddress
+        import socket
+
+        try:
+            parsed = urlsplit(f"//{netloc}")
+            host, port = parsed.hostname, parsed.port
+        except ValueError:
+            return False
+        if not host or port != self.port:
+            return False
+        try:
+            ipaddress.ip_address(host)
+            return True
+        except ValueError:
+            pass
+        names = {"localhost", self.host.lower(), socket.gethostname().lower(),
+                 socket.getfqdn().lower()}
+        return host.lower() in names
+
     def _process_request(self, connection, request):
+        try:
+            return self._respond(connection, request)
+        except Exception as exc:  # a request line facet cannot follow: 400, one line
+            self._say(f"refused a request it cannot read ({type(exc).__name__})")
+            return connection.respond(400, "facet: bad request\n")
+
+    def _respond(self, connection, request):
         from websockets.datastructures import Headers
         from websockets.http11 import Response
 
+        if not self._names_us(request.headers.get("Host")):
+            return connection.respond(403, "facet: the Host header does not name this "
+                                      "server; open the URL 'facet view --serve' printed\n")
         url = urlsplit(request.path)
         token = parse_qs(url.query).get("token", [""])[0]
         if url.path == "/ws":
+            origin = request.headers.get("Origin")
+            if origin is not None and (urlsplit(origin).scheme not in ("http", "https") or
+                                       not self._names_us(urlsplit(origin).netloc)):
+                return connection.respond(403, "facet: a page of another site may not "
+                                          "connect to this viewer\n")
             if not secrets.compare_digest(token, self.token):
                 return connection.respond(403, "facet: wrong or missing token: open the URL "
                                           "'facet view --serve' printed\n")
@@ -82,18 +127,22 @@ class Server:
         self.worker.post({"type": "hello"})
         try:
             async for message in websocket:
-                if isinstance(message, str):
-                    try:
-                        event = json.loads(message)
-                    except ValueError:
-                        continue
-                    if isinstance(event, dict):
-                        self.worker.post(event)
+                try:
+                    event = checked(parse_json(message, "a message"))
+                except InputError as exc:  # dropped with one line, the connection closed
+                    self._say(f"dropped a page's message and closed its connection: {exc}")
+                    await websocket.close(1008, "malformed message")
+                    break
+                self.worker.post(event)
         except Exception:  # a tab that went away mid-message: the others go on
             pass
         finally:
             self.clients.discard(websocket)
             self.worker.post({"type": "bye"})
+
+    @staticmethod
+    def _say(line: str) -> None:
+        print(f"facet view: {line}", file=sys.stderr, flush=True)
 
     def _send(self, meta: dict, data: bytes) -> None:
         """From the worker thread: broadcast a picture to every tab."""
@@ -119,7 +168,7 @@ class Server:
         shown = f"[{host}]" if ":" in host else host
         return f"http://{shown}:{self.port}/?token={self.token}"
 
-    async def _main(self, ready) -> None:
+    async def _main(self, ready) -> int:
         try:
             from websockets.asyncio.server import serve
         except ImportError:
@@ -134,14 +183,15 @@ class Server:
             raise self.worker.failure
         stop = self.loop.create_future()
         for sig in (signal.SIGINT, signal.SIGTERM):
-            self.loop.add_signal_handler(sig, lambda: stop.done() or stop.set_result(None))
+            self.loop.add_signal_handler(
+                sig, lambda s=sig: stop.done() or stop.set_result(s))
         try:
             async with serve(self._handler, self.host, self.port,
                              process_request=self._process_request, max_size=2 ** 16,
-                             compression=None) as server:
+                             compression=None, logger=_quiet_logger()) as server:
                 self.port = next(iter(server.sockets)).getsockname()[1]
                 ready(self)
-                await stop
+                return await stop
         except OSError as exc:
             raise InputError(f"--serve: cannot listen on {self.host}:{self.port} "
                              f"({exc.strerror or exc}); pick another port (0: any free one)") \
@@ -151,8 +201,25 @@ class Server:
             await asyncio.to_thread(self.worker.join, 10)
 
     def run(self, ready=None) -> None:
-        """Serve until SIGINT / SIGTERM; ``ready(server)`` is called once it listens."""
-        asyncio.run(self._main(ready or announce))
+        """Serve until SIGINT / SIGTERM; ``ready(server)`` is called once it listens. The
+        signal that stopped it is raised again once all is shut down, to the handlers
+        that were there before (the command line's: exit status 128 + the signal)."""
+        before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+        stopped_by = asyncio.run(self._main(ready or announce))
+        for sig, handler in before.items():
+            signal.signal(sig, handler)
+        signal.raise_signal(stopped_by)
+
+
+def _quiet_logger():
+    """The WebSocket library's logger, quiet: a connection that fails (a bad handshake, a
+    ping flood, a page gone) is the page's business, not a traceback on the server."""
+    import logging
+
+    logger = logging.getLogger("facet.serve.websockets")
+    logger.propagate = False
+    logger.setLevel(logging.CRITICAL + 1)
+    return logger
 
 
 def announce(server: Server) -> None:

@@ -11,6 +11,7 @@ import sys
 import threading
 import time
 
+from ..guard import carried
 from ..viewing.debounce import POLL
 from .encode import jpeg, png
 
@@ -32,6 +33,7 @@ class Worker(threading.Thread):
         self.shown = 0  # the last picture a page said it showed
         self.pages = 0  # pages connected: none, nothing is drawn
         self.said_quit = False  # the line about q in a page was printed
+        self._carried = carried(self._serve)  # facet.guard: --confine holds here too
 
     def post(self, event: dict) -> None:
         self.events.put(event)
@@ -40,6 +42,9 @@ class Worker(threading.Thread):
         self.events.put(None)
 
     def run(self) -> None:
+        self._carried()  # with the confinement of the thread that made this one
+
+    def _serve(self) -> None:
         try:
             session = self.make_session()
         except BaseException as exc:  # reported by the server, in the main thread
@@ -64,17 +69,7 @@ class Worker(threading.Thread):
             if events is None:
                 return
             for event in events:
-                kind = event.get("type")
-                if kind == "frame_feedback":
-                    self.shown = max(self.shown, int(event.get("index", 0)))
-                elif kind == "hello":  # a new page: it needs the picture now
-                    self.pages += 1
-                    self.shown = self.index  # what went before went to no one waiting
-                    session.request_frame()
-                elif kind == "bye":
-                    self.pages = max(self.pages - 1, 0)
-                else:
-                    session.handle(event)
+                self._event(session, event)
             if session.quitting:  # q / Esc in a page: the server stays for the other tabs
                 session.quitting = False
                 if not self.said_quit:
@@ -85,7 +80,10 @@ class Worker(threading.Thread):
             if self.pages == 0 or self.index - self.shown >= IN_FLIGHT:
                 lossless_due = None if self.pages == 0 else lossless_due
                 continue
-            picture = session.frame()
+            try:
+                picture = session.frame()
+            except Exception as exc:  # a shader or file that fails: shown, never fatal
+                picture = self._failed(session, exc)
             if picture is not None:
                 still = not (session.refining or session.animated)
                 self._send(session, picture, lossless=False)
@@ -93,6 +91,46 @@ class Worker(threading.Thread):
             elif lossless_due is not None and time.monotonic() >= lossless_due:
                 self._send(session, session.last, lossless=True)
                 lossless_due = None
+
+    def _event(self, session, event: dict) -> None:
+        """Apply one page event (checked by the server already; a session's refusal, or
+        anything else it raises, is one line and the thread goes on)."""
+        kind = event.get("type")
+        try:
+            if kind == "frame_feedback":
+                self.shown = max(self.shown, int(event.get("index", 0)))
+            elif kind == "hello":  # a new page: it needs the picture now
+                self.pages += 1
+                self.shown = self.index  # what went before went to no one waiting
+                session.request_frame()
+            elif kind == "bye":
+                self.pages = max(self.pages - 1, 0)
+            else:
+                session.handle(event)
+        except Exception as exc:
+            self._say(f"dropped a {kind} event ({exc})")
+
+    def _failed(self, session, exc: BaseException):
+        """A draw that failed: its error in the status line (and one line here), the last
+        picture (or a blank one) sent with it, no new attempt until something changes."""
+        from ..errors import FacetError
+
+        text = str(exc) if isinstance(exc, FacetError) else \
+            f"internal error: {type(exc).__name__}: {exc}"
+        session.fail_frame(text)
+        self._say(text.splitlines()[0] if text else type(exc).__name__)
+        if session.last is not None:
+            return session.last
+        import numpy as np
+
+        width, height = session.surface_size
+        return np.full((height, width, 3), 32, np.uint8)
+
+    def _say(self, line: str) -> None:
+        """One line on stderr, not repeated while it stays the same."""
+        if line != getattr(self, "_said", None):
+            self._said = line
+            print(f"facet view: {line}", file=sys.stderr, flush=True)
 
     def _take(self, wait: float):
         """The events waiting (at least one if any comes within ``wait`` seconds); None

@@ -287,6 +287,12 @@ class ViewerCore(ViewerActions):
         self._file_digest = file_digest(self.path)
         self.error = ""
 
+    def fail_frame(self, message: str) -> None:
+        """A frame could not be drawn (a front caught why): ``message`` goes to the status
+        line, and nothing is drawn again until something changes."""
+        self.error = message.splitlines()[0] if message else "the frame failed"
+        self._dirty = False
+
     def _report(self, message: str) -> None:
         self.error = message.splitlines()[0]
         print(f"{self.status_name}: error: {message}", file=sys.stderr)
@@ -316,9 +322,9 @@ class ViewerCore(ViewerActions):
         if self.path is None:
             return
 
-        def changed():
-            digest = file_digest(self.path)
-            return digest if digest not in (None, self._file_digest) else None
+        def changed():  # a file gone, or no longer readable here, is a change too
+            token = file_digest(self.path) or "unreadable"
+            return token if token != (self._file_digest or "unreadable") else None
 
         if not self._file_watch.due(changed):
             return

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import InputError
 from .core import ViewerCore
 
 if TYPE_CHECKING:
@@ -84,9 +85,33 @@ class Session(ViewerCore):
             self._size = pixels
             self.request_frame()
 
+    def show_status(self, text: str) -> None:
+        """The status line travels with each picture (a page's, a widget's): a new one
+        (a reload that failed, say) is drawn with the next picture, so one is asked for."""
+        self.request_frame()
+
     def handle(self, event: dict) -> None:
         """Apply one event (the module docstring's vocabulary); unknown kinds are ignored
-        (a page may send more than the viewer uses)."""
+        (a page may send more than the viewer uses). InputError naming the field when the
+        event is malformed (facet.viewing.events), or when it would leave the camera
+        somewhere not finite (the view is kept as it was)."""
+        from .events import checked
+
+        event = checked(event)
+        before = {k: v.copy() if isinstance(v, np.ndarray) else v
+                  for k, v in vars(self.control).items()}
+        try:
+            with np.errstate(all="ignore"):  # a result out of range is caught just below
+                self._apply(event)
+            finite = _finite_camera(self.camera())
+        except (InputError, ArithmeticError, ValueError):  # a camera out of range
+            finite = False
+        if not finite:
+            vars(self.control).update(before)
+            kind = event.get("type") or event.get("event_type")
+            raise InputError(f"{kind}: would move the camera somewhere not finite; ignored")
+
+    def _apply(self, event: dict) -> None:
         kind = event.get("type") or event.get("event_type")
         x, y = float(event.get("x", 0.0)), float(event.get("y", 0.0))
         if kind == "pointer_down":
@@ -162,3 +187,9 @@ class Session(ViewerCore):
 
     def __exit__(self, *exc):
         self.close()
+
+
+def _finite_camera(camera) -> bool:
+    """Whether a camera's view and projection hold finite numbers only."""
+    return bool(np.isfinite(camera.view).all() and
+                np.isfinite(camera.projection(16, 16)).all())
