@@ -44,8 +44,9 @@ def test_pattern_arguments():
     for bad in ("ssaa:jittered:0", "ssaa:jittered:-3", "msaa:3", "fxaa", "jittered:x"):
         with pytest.raises(InputError):
             parse_aa(bad)
-    with pytest.warns(UserWarning, match="capped"):
-        assert parse_aa("random:100000").samples == sampling.MAX_SAMPLES
+    assert parse_aa(f"random:{sampling.MAX_SAMPLES}").samples == sampling.MAX_SAMPLES
+    with pytest.raises(InputError, match="at most 4,096"):  # refused, never substituted
+        parse_aa("random:100000")
     assert str(parse_aa("jittered:16")) == "ssaa:jittered:16"
     assert parse_aa("msaa:4").kind == "msaa" and parse_aa("none").kind == "none"
 

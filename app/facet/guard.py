@@ -156,22 +156,27 @@ def regular_file(path, what: str = "file", error=InputError, missing: str | None
     except PermissionError:
         raise error(f"{p}: permission denied") from None
     except OSError as exc:  # a name too long, a loop of links...
-        raise error(f"{p}: cannot be read as a {what} ({exc.strerror or exc})") from None
+        raise error(f"{p}: cannot be read as {_a(what)} ({exc.strerror or exc})") from None
     if stat.S_ISDIR(mode):
-        raise error(f"{p}: is a directory, expected a {what}")
+        raise error(f"{p}: is a directory, expected {_a(what)}")
     if not stat.S_ISREG(mode):
         kind = ("a named pipe (FIFO)" if stat.S_ISFIFO(mode) else
                 "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
                 "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
-        raise error(f"{p}: is {kind}, expected a {what} (facet reads regular files only)")
+        raise error(f"{p}: is {kind}, expected {_a(what)} (facet reads regular files only)")
     size_limit = budget("file_bytes")
     if os.stat(p).st_size > size_limit:
         raise error(f"{p}: {os.stat(p).st_size / 2**30:.1f} GiB, more than facet's budget of "
-                    f"{size_limit / 2**30:.1f} GiB for a {what} (--budget file_bytes=N)")
+                    f"{size_limit / 2**30:.1f} GiB for {_a(what)} (--budget file_bytes=N)")
     if lfs_pointer(p):
         raise error(f"{p}: is a Git LFS pointer, not the {what} itself (its repository was "
                     "cloned without Git LFS: run `git lfs pull` there)")
     return p
+
+
+def _a(noun: str) -> str:
+    """``noun`` with its indefinite article."""
+    return f"{'an' if noun[:1].lower() in 'aeiou' else 'a'} {noun}"
 
 
 def lfs_pointer(path) -> bool:

@@ -281,7 +281,7 @@ def run(args) -> list[Path]:
         from ..image.sequence import prestart_writer  # while the scene loads
 
         prestart_writer()
-    from ..image.writers import FLOAT_FORMATS
+    from ..image.writers import FLOAT_FORMATS, check_image_path
 
     if args.colorbar and args.scalars is None:
         raise InputError("--colorbar shows the colormap of --scalars; give --scalars")
@@ -293,6 +293,8 @@ def run(args) -> list[Path]:
     floats = Path(str(target).format(0) if "{" in str(target) else str(target)).suffix.lower() \
         in FLOAT_FORMATS and not args.out_dir
     scene, opts, camera = resolve(args, color_options.needs_float or floats)
+    if not args.out_dir and end is None and not args.turntable:
+        check_image_path(target, opts.size)  # a format too small for the size: said now
     span = None if end is None else (opts.time, end)
     if span is not None and not args.turntable and args.eye is None and \
             args.target is None and not args.ortho and scene.camera(opts.camera) is not None:

@@ -17,6 +17,10 @@ import numpy as np
 from ..errors import InputError
 
 HDR_SUFFIXES = (".hdr", ".pic", ".exr")
+# The brightest radiance an environment may hold: beyond any sun (about 1e9 in absolute
+# units, 1e5-1e6 in HDR maps), and far enough below float32's 3.4e38 that lighting sums
+# of it stay finite in a float picture.
+MAX_RADIANCE = 1e18
 
 
 def is_hdr(path) -> bool:
@@ -26,20 +30,35 @@ def is_hdr(path) -> bool:
 def read_hdr_image(path) -> np.ndarray:
     """(H, W, 3) float32 linear radiance of a .hdr/.pic or .exr file; InputError (one
     line, naming the file) when it cannot be read."""
-    p = Path(path)
-    if p.suffix.lower() == ".exr":
-        return _read_exr(p)
+    from ..guard import regular_file
+
+    # Through the guard: a FIFO, a device, a file outside --confine or beyond the file
+    # budget is refused before it is opened.
+    p = regular_file(path, "environment file")
+    rgb = _read_exr(p) if p.suffix.lower() == ".exr" else _read_rgbe(p)
+    peak = float(rgb.max()) if rgb.size else 0.0
+    if not np.isfinite(rgb).all() or peak > MAX_RADIANCE:
+        raise InputError(f"{p}: holds radiance that is not finite or beyond {MAX_RADIANCE:g} "
+                         f"(up to {peak:.3g}); facet's float pictures would overflow to inf")
+    return rgb
+
+
+def _read_rgbe(p: Path) -> np.ndarray:
     try:
         data = p.read_bytes()
     except OSError as exc:
         raise InputError(f"{p}: cannot read ({exc.strerror})") from None
     try:
-        return _decode_rgbe(data)
+        return _decode_rgbe(data, p.name)
+    except InputError:  # beyond a budget: its own line
+        raise
     except (ValueError, IndexError) as exc:
         raise InputError(f"{p}: not a readable Radiance HDR file ({exc})") from None
 
 
-def _decode_rgbe(data: bytes) -> np.ndarray:
+def _decode_rgbe(data: bytes, name: str = "HDR image") -> np.ndarray:
+    from ..budgets import check_pixels
+
     if not (data.startswith(b"#?RADIANCE") or data.startswith(b"#?RGBE")):
         raise ValueError("no #?RADIANCE header")
     end = data.find(b"\n\n")
@@ -52,10 +71,17 @@ def _decode_rgbe(data: bytes) -> np.ndarray:
     size = data[end + 2:line_end].decode("ascii", "replace").split()
     if len(size) != 4 or size[0] != "-Y" or size[2] != "+X":
         raise ValueError(f"unsupported orientation {' '.join(size)!r} (expected -Y H +X W)")
+    if not (size[1].isdigit() and size[3].isdigit()):
+        raise ValueError(f"image size {size[3]!r} x {size[1]!r}")
     height, width = int(size[1]), int(size[3])
     if not (0 < width <= 1 << 15 and 0 < height <= 1 << 15):
         raise ValueError(f"image size {width}x{height}")
+    check_pixels(width, height, name)  # before anything is allocated
     body = np.frombuffer(data, np.uint8, offset=line_end + 1)
+    least = height * (4 if width >= 8 else 4 * width)  # a scanline's start, or a flat one
+    if len(body) < least:
+        raise ValueError(f"{len(body)} bytes of pixel data for {width}x{height} pixels; "
+                         "is it truncated?")
     out = np.empty((height, width, 4), np.uint8)
     pos = 0
     for y in range(height):  # per scanline, and per run within one: never per pixel
@@ -79,9 +105,10 @@ def _decode_rgbe(data: bytes) -> np.ndarray:
                     x, pos = x + n, pos + 1 + n
             if x != width:
                 raise ValueError(f"scanline {y} overruns its width")
-    e = out[..., 3].astype(np.int32)
-    scale = np.where(e > 0, np.ldexp(1.0, e - 136), 0.0)
-    return (out[..., :3] * scale[..., None]).astype(np.float32)
+    # RGBE -> RGB in float32 by a table of the 256 exponents (no float64 image).
+    table = np.where(np.arange(256) > 0, np.ldexp(1.0, np.arange(256) - 136), 0.0).astype(
+        np.float32)
+    return out[..., :3] * table[out[..., 3]][..., None]
 
 
 def _read_exr(p: Path) -> np.ndarray:
@@ -90,6 +117,16 @@ def _read_exr(p: Path) -> np.ndarray:
     except ImportError:
         raise InputError(f"{p}: reading OpenEXR needs the OpenEXR package (pip install "
                          "'facet[exr]')") from None
+    try:
+        with OpenEXR.File(str(p), header_only=True) as f:  # the size, before any pixel
+            (x0, y0), (x1, y1) = (np.asarray(c).tolist() for c in
+                                  f.header()["dataWindow"])
+    except Exception as exc:  # OpenEXR raises plain exceptions on bad files
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise InputError(f"{p}: not a readable OpenEXR file ({first})") from None
+    from ..budgets import check_pixels
+
+    check_pixels(x1 - x0 + 1, y1 - y0 + 1, p.name)
     try:
         with OpenEXR.File(str(p)) as f:
             channels = f.channels()
@@ -104,7 +141,7 @@ def _read_exr(p: Path) -> np.ndarray:
         raise InputError(f"{p}: not a readable OpenEXR file with R, G, B channels "
                          f"({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})"
                          ) from None
-    return np.ascontiguousarray(rgb[..., :3])
+    return np.ascontiguousarray(rgb[..., :3], dtype=np.float32)
 
 
 def write_hdr(path, rgb: np.ndarray) -> None:

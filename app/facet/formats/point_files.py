@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..budgets import budget
 from ..errors import MeshError
 
 SCALAR_FIELDS = ("intensity", "scalar_intensity", "scalar", "reflectance", "confidence")
@@ -147,17 +148,7 @@ def read_pcd(p: Path) -> dict:
     missing = [k for k in need if k not in header]
     if missing:
         raise MeshError(f"{p}: not a PCD file (its header lacks {', '.join(missing)})")
-    fields = header["FIELDS"]
-    count = [int(c) for c in header.get("COUNT", ["1"] * len(fields))]
-    try:
-        n = int(header.get("POINTS", [0])[0]) or int(header["WIDTH"][0]) * int(
-            header["HEIGHT"][0])
-        types = [PCD_TYPES[(t, int(s))] for t, s in zip(header["TYPE"], header["SIZE"],
-                                                         strict=True)]
-    except (KeyError, ValueError, IndexError):
-        raise MeshError(f"{p}: a PCD header with sizes and types facet does not know "
-                        f"(SIZE {' '.join(header['SIZE'])}, TYPE {' '.join(header['TYPE'])})"
-                        ) from None
+    fields, count, types, n = _pcd_layout(p, header)
     mode = header["DATA"][0].lower()
     columns: dict[str, np.ndarray] = {}
     if mode == "ascii":
@@ -166,7 +157,11 @@ def read_pcd(p: Path) -> dict:
         if len(text) < n * width:
             raise MeshError(f"{p}: {n:,} points promised, the data holds {len(text) // width:,}"
                             "; is it truncated?")
-        values = np.array(text[:n * width], dtype=np.float64).reshape(n, width)
+        try:
+            values = np.array(text[:n * width], dtype=np.float64).reshape(n, width)
+        except ValueError:
+            raise MeshError(f"{p}: its ascii data holds something that is not a number "
+                            f"(a PCD's ascii rows are {width} numbers each)") from None
         k = 0
         for name, c, t in zip(fields, count, types, strict=True):
             col = values[:, k:k + c]
@@ -193,6 +188,52 @@ def read_pcd(p: Path) -> dict:
     if not all(k in columns for k in "xyz"):
         raise MeshError(f"{p}: a PCD without x y z fields (fields: {' '.join(fields)})")
     return _pcd_points(p, columns)
+
+
+def _whole(p: Path, key: str, text: str) -> int:
+    """A PCD header's count: a whole number >= 0, else one line naming the key."""
+    if not text.isdigit():
+        raise MeshError(f"{p}: PCD header {key}: expected a whole number >= 0, got "
+                        f"{text[:20]!r}")
+    return int(text)
+
+
+def _pcd_layout(p: Path, header: dict) -> tuple[list, list, list, int]:
+    """(fields, counts, numpy types, points) of a PCD header, every count checked before
+    numpy sees the data: one count and type per field, no field twice, x y z single
+    numbers, a number of points within the elements budget."""
+    fields = header["FIELDS"]
+    count = [_whole(p, "COUNT", c) for c in header.get("COUNT", ["1"] * len(fields))]
+    if len(set(fields)) != len(fields):
+        raise MeshError(f"{p}: PCD header FIELDS names a field twice ({' '.join(fields)})")
+    for key, values in (("COUNT", count), ("SIZE", header["SIZE"]),
+                        ("TYPE", header["TYPE"])):
+        if len(values) != len(fields):
+            raise MeshError(f"{p}: PCD header {key} has {len(values)} entries for "
+                            f"{len(fields)} FIELDS")
+    if any(c < 1 for c in count) or any(c != 1 for f, c in zip(fields, count, strict=True)
+                                        if f in ("x", "y", "z")):
+        raise MeshError(f"{p}: PCD header COUNT {' '.join(map(str, count))}: each field "
+                        "holds at least one number, and x, y and z one each")
+    try:
+        types = [PCD_TYPES[(t, int(s))] for t, s in zip(header["TYPE"], header["SIZE"],
+                                                         strict=True)]
+    except (KeyError, ValueError):
+        raise MeshError(f"{p}: a PCD header with sizes and types facet does not know "
+                        f"(SIZE {' '.join(header['SIZE'])}, TYPE {' '.join(header['TYPE'])})"
+                        ) from None
+    if "POINTS" in header:
+        n = _whole(p, "POINTS", (header["POINTS"] or [""])[0])
+    else:
+        n = _whole(p, "WIDTH", (header.get("WIDTH") or [""])[0]) * \
+            _whole(p, "HEIGHT", (header.get("HEIGHT") or [""])[0])
+    if n * sum(count) > budget("elements"):
+        raise MeshError(f"{p}: {n:,} points of {sum(count)} numbers each are more than "
+                        f"facet's budget of {budget('elements'):,} numbers (--budget "
+                        "elements=N)")
+    if n == 0:
+        raise MeshError(f"{p}: the PCD holds no points (POINTS 0)")
+    return fields, count, types, n
 
 
 def _pcd_points(p: Path, columns: dict) -> dict:
@@ -240,7 +281,7 @@ def obj_lines(p: Path) -> dict | None:
     for line in polylines:
         try:
             idx = np.array([int(tok.split(b"/")[0]) for tok in line.split()], dtype=np.int64)
-        except ValueError:
+        except (ValueError, OverflowError):  # not a number, or beyond any vertex count
             raise MeshError(f"{p}: an 'l' line holds something other than vertex "
                             "indices") from None
         idx = np.where(idx < 0, n + idx, idx - 1)

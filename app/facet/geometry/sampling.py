@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 
 PATTERNS = ("grid", "random", "poisson", "jittered")
-MAX_SAMPLES = 4096  # larger counts are capped (with a warning by the caller)
+MAX_SAMPLES = 4096  # larger counts are refused (facet.options.values.parse_aa)
 POISSON_FRACTION = 0.7
 POISSON_ATTEMPTS = 200  # darts per accepted point before giving up on eps and shrinking it
 

@@ -104,11 +104,21 @@ def _umask() -> int:
     return mask
 
 
-def check_image_path(path) -> Path:
+# The largest side each format can hold (WebP's own limit; Pillow refuses beyond it).
+MAX_SIDE = {"WEBP": 16383, "JPEG": 65535, "GIF": 65535}
+
+
+def check_image_path(path, size: tuple[int, int] | None = None) -> Path:
+    """``path`` when facet writes its format; with ``size`` (width, height), also when the
+    format can hold a picture that size: said before anything is rendered."""
     p = Path(path)
     if p.suffix.lower() not in IMAGE_FORMATS:
         raise InputError(f"{p}: unsupported image format '{p.suffix or '(none)'}'; "
                          f"use {', '.join(IMAGE_FORMATS)}")
+    kind = IMAGE_FORMATS[p.suffix.lower()]
+    if size is not None and max(size) > MAX_SIDE.get(kind, 1 << 31):
+        raise InputError(f"{p}: {size[0]}x{size[1]} is larger than {kind} can hold (at most "
+                         f"{MAX_SIDE[kind]:,} pixels a side); render smaller, or write PNG")
     return p
 
 
@@ -126,7 +136,8 @@ def save_image(path, rgba: np.ndarray, quality: int | None = None) -> Path:
     RGBA image is stored as RGB."""
     from .png import encode_png
 
-    p = check_image_path(path)
+    a = np.asarray(rgba)
+    p = check_image_path(path, a.shape[1::-1] if a.ndim >= 2 else None)
     kind = IMAGE_FORMATS[p.suffix.lower()]
     if kind in ("EXR", "HDR"):
         raise InputError(f"{p}: {kind} holds linear float colour; render with "
@@ -172,6 +183,17 @@ def save_float_color(path, color: np.ndarray) -> Path:
     a = np.asarray(color, dtype=np.float32)
     if a.ndim != 3 or a.shape[2] not in (3, 4):
         raise InputError(f"{p}: colour must be (H, W, 3|4) floats, got {a.shape}")
+    bad = ~np.isfinite(a)
+    if bad.any():  # a float picture stays finite: said, and clamped
+        import warnings
+
+        from ..errors import FacetWarning
+
+        warnings.warn(f"{p}: {int(bad.any(axis=2).sum()):,} pixels were not finite (inf or "
+                      "NaN); written as the largest float (inf) and 0 (NaN)", FacetWarning,
+                      stacklevel=2)
+        a = np.nan_to_num(a, nan=0.0, posinf=np.finfo(np.float32).max,
+                          neginf=-np.finfo(np.float32).max)
     if p.suffix.lower() == ".exr":
         return _save_exr_rgba(p, a)
     try:

@@ -84,10 +84,10 @@ def parse_aa(text) -> AntiAliasing:
             n = int(parts[1])
             if n < 1:
                 raise InputError(f"aa {text!r}: the sample count must be >= 1")
-            if n > MAX_SAMPLES:
-                warnings.warn(f"aa {text!r}: {n} samples capped to {MAX_SAMPLES}",
-                              FacetWarning, stacklevel=2)
-                n = MAX_SAMPLES
+            if n > MAX_SAMPLES:  # an error, not a silent substitution
+                raise InputError(f"aa {text!r}: {n:,} samples per pixel; facet draws at "
+                                 f"most {MAX_SAMPLES:,} (for more, average renders of "
+                                 "different --seed values)")
             pattern(parts[0], n)  # validates (a grid needs a square number)
             return AntiAliasing("ssaa", n, parts[0])
     except InputError:

@@ -1,0 +1,130 @@
+"""The readers added since the validating layer, behind it: hostile PCD headers and data,
+OBJ line indices beyond any count, pictures too large for their format, sample counts
+beyond facet's limit, HDR / EXR environments that lie about their size, are not regular
+files, exceed the file budget or hold radiance that would overflow a float picture. Each is
+one line and exit 2 (never a traceback, never a silent substitution), through the command
+line in this process."""
+
+from __future__ import annotations
+
+import os
+import struct
+
+import numpy as np
+import pytest
+
+from facet.cli import main
+
+from conftest import ROOT
+
+MODEL = str(ROOT / "models" / "default.obj")
+PCD_HEAD = "VERSION .7\nFIELDS {fields}\nSIZE 4 4 4\nTYPE F F F\nCOUNT {count}\nWIDTH 2\n" \
+           "HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {points}\nDATA {mode}\n"
+PCD = {  # name: (fields, count, points, data)
+    "count of letters": ("x y z", "a b c", "2", "0 0 0\n1 1 1\n"),
+    "negative count": ("x y z", "-1 1 1", "2", "0 0 0\n1 1 1\n"),
+    "fewer counts than fields": ("x y z", "1 1", "2", "0 0 0\n1 1 1\n"),
+    "count 2 for x": ("x y z", "2 1 1", "2", "0 0 0 0\n1 1 1 1\n"),
+    "a field twice": ("x x z", "1 1 1", "2", "0 0 0\n1 1 1\n"),
+    "negative points": ("x y z", "1 1 1", "-2", "0 0 0\n1 1 1\n"),
+    "letters in the data": ("x y z", "1 1 1", "2", "0 a 0\n1 1 1\n"),
+}
+
+
+def _one_line_error(capsys, args, *needles) -> str:
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    for needle in needles:
+        assert needle in err, err
+    return err
+
+
+@pytest.mark.parametrize("case", sorted(PCD))
+def test_hostile_pcd_headers_and_data_are_one_line(tmp_path, capsys, case):
+    fields, count, points, data = PCD[case]
+    path = tmp_path / "cloud.pcd"
+    path.write_text(PCD_HEAD.format(fields=fields, count=count, points=points,
+                                    mode="ascii") + data)
+    _one_line_error(capsys, ["render", str(path), "-o", str(tmp_path / "o.png"), "--size",
+                             "16x16"], "cloud.pcd")
+
+
+def test_a_binary_pcd_with_count_2_for_x_is_one_line(tmp_path, capsys):
+    path = tmp_path / "cloud.pcd"
+    head = PCD_HEAD.format(fields="x y z", count="2 1 1", points="2", mode="binary")
+    path.write_bytes(head.encode() + struct.pack("8f", *range(8)))
+    _one_line_error(capsys, ["render", str(path), "-o", str(tmp_path / "o.png")], "COUNT")
+
+
+def test_an_obj_line_index_beyond_any_count_is_one_line(tmp_path, capsys):
+    path = tmp_path / "lines.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nl 1 100000000000000000000000\n")
+    _one_line_error(capsys, ["render", str(path), "-o", str(tmp_path / "o.png")],
+                    "'l' line")
+
+
+def test_a_picture_too_wide_for_webp_is_refused_before_rendering(tmp_path, capsys):
+    out = tmp_path / "wide.webp"
+    _one_line_error(capsys, ["render", MODEL, "-o", str(out), "--size", "16384x8"],
+                    "16,383")
+    assert not out.exists()
+
+
+def test_samples_beyond_the_limit_are_an_error_not_a_cap(tmp_path, capsys):
+    out = tmp_path / "o.png"
+    _one_line_error(capsys, ["render", MODEL, "-o", str(out), "--size", "8x8", "--spp",
+                             "2147483648"], "at most 4,096")
+    assert not out.exists()
+
+
+def _hdr(path, width, height, body=b""):
+    path.write_bytes(f"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n"
+                     .encode() + body)
+    return path
+
+
+def test_hostile_hdr_environments_are_one_line_before_any_allocation(tmp_path, capsys):
+    out = str(tmp_path / "o.png")
+    env = {"a header of 32768 x 32768": _hdr(tmp_path / "huge.hdr", 32768, 32768,
+                                             b"\x02\x02\x80\x00"),
+           "no pixel data": _hdr(tmp_path / "empty.hdr", 8, 4)}
+    (tmp_path / "zero.hdr").symlink_to("/dev/zero")
+    env["a link to /dev/zero"] = tmp_path / "zero.hdr"
+    os.mkfifo(tmp_path / "fifo.hdr")
+    env["a FIFO"] = tmp_path / "fifo.hdr"
+    os.mkfifo(tmp_path / "fifo.exr")
+    env["a FIFO as .exr"] = tmp_path / "fifo.exr"
+    sparse = _hdr(tmp_path / "sparse.hdr", 8, 4)
+    with open(sparse, "r+b") as f:
+        f.truncate(3 << 30)  # 3 GiB, sparse: beyond the 2 GiB file budget
+    env["a 3 GiB file"] = sparse
+    for what, path in env.items():
+        err = _one_line_error(capsys, ["render", MODEL, "--env", str(path), "-o", out,
+                                       "--size", "8x8"], path.name)
+        assert any(word in err for word in ("budget", "pixel data", "device", "FIFO")), \
+            (what, err)
+    scene = tmp_path / "scene.toml"
+    scene.write_text('environment = "fifo.hdr"\n[[objects]]\nmesh = "' + MODEL + '"\n')
+    _one_line_error(capsys, ["render", str(scene), "-o", out, "--size", "8x8"], "FIFO")
+
+
+def test_an_environment_that_would_overflow_a_float_picture_is_refused(tmp_path, capsys):
+    _hdr(tmp_path / "bright.hdr", 8, 4, b"\xff" * 4 * 32)  # 255 x 2^119: about 1.7e38
+    _one_line_error(capsys, ["render", MODEL, "--env", str(tmp_path / "bright.hdr"), "-o",
+                             str(tmp_path / "o.exr"), "--size", "8x8"], "not finite or beyond")
+
+
+def test_a_float_output_stays_finite_and_says_so(tmp_path):
+    pytest.importorskip("OpenEXR", reason="the exr extra (OpenEXR) is not installed")
+    from facet.errors import FacetWarning
+    from facet.image.writers import save_float_color
+
+    color = np.ones((2, 2, 3), np.float32)
+    color[0, 0] = np.inf
+    color[1, 1, 2] = np.nan
+    with pytest.warns(FacetWarning, match="2 pixels were not finite"):
+        save_float_color(tmp_path / "o.exr", color)
+    from facet.formats.hdr_image import _read_exr
+
+    assert np.isfinite(_read_exr(tmp_path / "o.exr")).all()
