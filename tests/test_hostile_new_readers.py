@@ -7,6 +7,7 @@ line in this process."""
 
 from __future__ import annotations
 
+import json
 import os
 import struct
 
@@ -128,3 +129,55 @@ def test_a_float_output_stays_finite_and_says_so(tmp_path):
     from facet.formats.hdr_image import _read_exr
 
     assert np.isfinite(_read_exr(tmp_path / "o.exr")).all()
+
+
+def _quad_gltf(tmp_path, name, edit):
+    from gltf_files import GltfBuilder, quad
+
+    b = GltfBuilder()
+    m = quad(b, b.material(name="m"))
+    b.node(mesh=m)
+    edit(b, m)
+    return b.write_gltf(tmp_path / f"{name}.gltf")
+
+
+def _variants(ext=None, mappings=None):
+    def edit(b, m):
+        b.doc["extensionsUsed"] = ["KHR_materials_variants"]
+        b.doc["extensions"] = {"KHR_materials_variants": ext or {"variants": [{"name": "v"}]}}
+        if mappings is not None:
+            b.doc["meshes"][m]["primitives"][0]["extensions"] = {
+                "KHR_materials_variants": {"mappings": mappings}}
+    return edit
+
+
+def _camera_scale_0(b, m):
+    b.doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}]
+    b.node(camera=0, scale=[0, 0, 0], translation=[0, 0, 3])
+
+
+GLTF = {
+    "variants a list of strings": _variants({"variants": ["a", "b"]},
+                                            [{"material": 0, "variants": [0]}]),
+    "variants an int": _variants({"variants": 5}, [{"material": 0, "variants": [0]}]),
+    "a variant's name a list": _variants({"variants": [{"name": ["x"]}]},
+                                         [{"material": 0, "variants": [0]}]),
+    "mappings an int": _variants(mappings=5),
+    "a mapping's variants an int": _variants(mappings=[{"material": 0, "variants": 3}]),
+    "a camera node of scale 0": _camera_scale_0,
+}
+
+
+@pytest.mark.parametrize("case", sorted(GLTF))
+def test_hostile_gltf_extensions_are_one_line_in_render_and_info(tmp_path, capsys, case):
+    path = _quad_gltf(tmp_path, "model", GLTF[case])
+    _one_line_error(capsys, ["render", str(path), "-o", str(tmp_path / "o.png"), "--size",
+                             "8x8"], "model.gltf")
+    _one_line_error(capsys, ["info", str(path)], "model.gltf")
+
+
+def test_a_batch_job_name_with_a_nul_byte_is_one_line(tmp_path, capsys):
+    manifest = tmp_path / "jobs.jsonl"
+    manifest.write_text(json.dumps({"model": MODEL, "name": "a\0b"}) + "\n")
+    _one_line_error(capsys, ["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"],
+                    "cannot be a folder name")

@@ -212,7 +212,8 @@ def _job(where: str, t: dict, base: Path, confine=None) -> Job:
     except InputError as exc:
         raise InputError(f"{where}.model: {exc}") from None
     name = str(t.get("name") or model.stem)
-    if not name or "/" in name or name.startswith("."):
+    if not name or "/" in name or name.startswith(".") or "\0" in name or \
+            any(ord(c) < 32 for c in name) or len(name.encode("utf-8", "replace")) > 200:
         raise InputError(f"{where}.name: {name!r} cannot be a folder name")
     given = {k: v for k, v in t.items() if k in PARSERS and v is not None}
     for key in PATH_KEYS:  # file names from the manifest's folder (and so in the digest)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
 from ..geometry.camera import Camera
 from ..scene.animation import camera_view
 
@@ -13,7 +14,10 @@ def gltf_camera(gltf, index: int, world: np.ndarray, parts, fail) -> Camera:
     """glTF camera ``index`` on a node of world matrix ``world``, its far plane (when the file
     gives none) past every part's box (``parts``: the reader's)."""
     cam = gltf.cameras[index]
-    view = camera_view(world)  # glTF cameras look down their -z, y up
+    try:
+        view = camera_view(world)  # glTF cameras look down their -z, y up
+    except InputError as exc:
+        fail(f"camera {index} ({cam.name or 'unnamed'}): {exc}")
     corners = []
     for _, args, m in parts:  # every part's box corners, in the file's frame
         b = np.stack([args["positions"].min(axis=0), args["positions"].max(axis=0)])

@@ -381,5 +381,16 @@ def camera_view(frame: np.ndarray) -> np.ndarray:
     """The view matrix of a camera on a node whose matrix is ``frame`` (4x4 node ->
     world): the frame without its scale, inverted (glTF cameras look down their -z)."""
     f = np.array(frame, dtype=np.float64)
-    f[:3, :3] /= np.maximum(np.linalg.norm(f[:3, :3], axis=0, keepdims=True), 1e-300)
+    scale = np.linalg.norm(f[:3, :3], axis=0, keepdims=True)
+    if not np.isfinite(f).all() or scale.min() < 1e-12:
+        from ..errors import InputError
+
+        raise InputError("a camera's node has a zero (or not finite) scale: the camera has "
+                         "no direction; give its node a non-zero scale")
+    f[:3, :3] /= scale
+    if abs(np.linalg.det(f[:3, :3])) < 1e-9:  # its axes fold onto each other
+        from ..errors import InputError
+
+        raise InputError("a camera's node has a degenerate matrix (its axes are not "
+                         "independent): the camera has no direction")
     return np.linalg.inv(f)
