@@ -111,3 +111,33 @@ def test_no_context_error_says_what_to_install(tmp_path):
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
     assert res.stdout.strip() == "ContextError"
     assert issubclass(ContextError, FacetError)
+
+
+def test_bad_arguments_from_python_are_facets_errors_naming_them(renderer):
+    """Frame.save(quality=101), colored_by with text, a Session event with a non-number:
+    facet's own errors with the argument's name, as the command line gives (quality 101
+    was written silently; text values were numpy's ValueError)."""
+    import numpy as np
+    import pytest
+
+    import facet
+    from facet.errors import InputError
+
+    frame = renderer(8, 8).render(facet.load(facet.paths.default_model()))
+    for quality in (101, 0, "x", True, 50.5):
+        with pytest.raises(InputError, match="quality"):
+            frame.save("/tmp/never-written.jpg", quality=quality)
+    mesh = facet.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    with pytest.raises(InputError, match="colored_by values"):
+        mesh.colored_by(["a", "b", "c"])
+    points = facet.Points(np.zeros((2, 3)))
+    with pytest.raises(InputError, match="colored_by values"):
+        points.colored_by([{"x": 1}, None])
+    from facet.viewing.session import Session
+
+    with Session(facet.load(facet.paths.default_model()), size=(16, 16),
+                 renderer=renderer(16, 16)) as session:
+        for event in ({"type": "pointer_move", "x": "a", "y": 0},
+                      {"type": "wheel", "dy": float("nan")}, {"type": "resize", "width": [1]}):
+            with pytest.raises(InputError, match=r"\.(x|dy|width):"):
+                session.handle(event)

@@ -136,6 +136,9 @@ def save_image(path, rgba: np.ndarray, quality: int | None = None) -> Path:
     RGBA image is stored as RGB."""
     from .png import encode_png
 
+    if quality is not None and (isinstance(quality, bool) or not isinstance(quality, int)
+                                or not 1 <= quality <= 100):
+        raise InputError(f"quality: expected a whole number from 1 to 100, got {quality!r}")
     a = np.asarray(rgba)
     p = check_image_path(path, a.shape[1::-1] if a.ndim >= 2 else None)
     kind = IMAGE_FORMATS[p.suffix.lower()]

@@ -69,6 +69,26 @@ def scalar_range(values, limits=None) -> tuple[float, float]:
     return lo, hi
 
 
+def scalars(values, what: str = "values") -> np.ndarray:
+    """(N,) float64 of ``values`` (numbers, one per vertex or point); InputError naming
+    ``what`` when they are not numbers (text, objects, nested lists)."""
+    try:
+        v = np.asarray(values, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"{what}: expected numbers (one per vertex or point), got "
+                         f"{type(values).__name__} of {_kind(values)}") from None
+    return v
+
+
+def _kind(values) -> str:
+    """What ``values`` hold, for a message."""
+    try:
+        first = next(iter(values))
+    except (TypeError, StopIteration):
+        return "nothing"
+    return type(first).__name__
+
+
 def colors_for(values, name: str = DEFAULT, limits=None) -> np.ndarray:
     """(N, 3) float32 display colours of scalars ``values`` (N,) through colormap ``name``
     over ``limits`` (low, high; default the values' own range; NaN shows grey)."""

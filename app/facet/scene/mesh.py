@@ -228,11 +228,11 @@ class Mesh:
         """
         from dataclasses import replace
 
-        from .colormap import colors_for
+        from .colormap import colors_for, scalars
         from .material import Material
         from .pbr import PbrMaterial
 
-        v = np.asarray(values, dtype=np.float64).reshape(-1)
+        v = scalars(values, f"{self.name}: colored_by values")
         if len(v) != self.vertex_count:
             raise InputError(f"{self.name}: {len(v)} scalars for {self.vertex_count} vertices")
         return Mesh(self.positions, self.faces, self.normals, self.uvs, name=self.name,

@@ -152,9 +152,9 @@ class Points:
         Points
             The coloured cloud (positions shared).
         """
-        from .colormap import colors_for
+        from .colormap import colors_for, scalars
 
-        v = np.asarray(values, dtype=np.float64).reshape(-1)
+        v = scalars(values, f"{self.name}: colored_by values")
         if len(v) != len(self.positions):
             raise InputError(f"{self.name}: {len(v)} scalars for {len(self.positions)} "
                              "points")
