@@ -181,3 +181,28 @@ def test_a_batch_job_name_with_a_nul_byte_is_one_line(tmp_path, capsys):
     manifest.write_text(json.dumps({"model": MODEL, "name": "a\0b"}) + "\n")
     _one_line_error(capsys, ["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"],
                     "cannot be a folder name")
+
+
+@pytest.mark.parametrize("engine", ["raster", "trace", "path"])
+def test_an_animation_that_scales_a_part_to_zero_hides_it(tmp_path, renderer, engine):
+    """How files hide parts: a node animated to scale 0 draws nothing there, in every
+    engine (the tracers refused it: "Singular matrix"); the other part is drawn."""
+    import facet
+    from facet.geometry.camera import Camera
+
+    def edit(b, m):
+        b.node(mesh=m, translation=[-1.5, 0, 0])
+        t = b.accessor(np.array([0.0, 1.0]), minmax=True)
+        v = b.accessor(np.array([[1, 1, 1], [0, 0, 0]], float))
+        b.doc["animations"] = [{"samplers": [{"input": t, "output": v}],
+                                "channels": [{"sampler": 0,
+                                              "target": {"node": 0, "path": "scale"}}]}]
+
+    scene = facet.load(_quad_gltf(tmp_path, "hide", edit))
+    cam = Camera.look_at((-0.25, 0.5, 5), (-0.25, 0.5, 0), fov_y=40)
+    seen = {}
+    for time in (0.0, 1.0):
+        frame = renderer(48, 32).render(scene, cam, engine=engine, time=time,
+                                        outputs=("color", "ids"), aa="none")
+        seen[time] = int((frame.object_ids >= 0).sum())  # pixels covered
+    assert seen[0.0] > 100 and 0.35 < seen[1.0] / seen[0.0] < 0.65, seen

@@ -8,6 +8,8 @@ from __future__ import annotations
 import warnings
 from dataclasses import replace
 
+import numpy as np
+
 from ..errors import FacetWarning, InputError
 from .animation import pose_scene
 
@@ -17,17 +19,33 @@ def staged(scene, opts):
     what does not change; ``scene`` itself when nothing does. With a ``shutter`` open for
     some seconds the view remembers how to pose itself later in it (``moving``: motion
     blur that follows the animation, facet.render.antialias)."""
-    posed = pose_scene(scene, opts.time, opts.animation)
+    posed = without_collapsed(pose_scene(scene, opts.time, opts.animation))
     if opts.shutter > 0 and posed is not scene and getattr(scene, "animated", None):
         posed.moving = (scene, opts.time, opts.shutter, opts.animation)
     return dressed(posed, opts.variant)
+
+
+def collapsed(obj) -> bool:
+    """Whether an object's transform squashes it to nothing (a scale of 0 on some axis:
+    how glTF files hide a part, often by an animation): it has no surface to draw."""
+    m = np.asarray(obj.transform, dtype=np.float64)[:3, :3]
+    size = float(np.abs(m).max())
+    return not np.isfinite(m).all() or size == 0.0 or \
+        abs(float(np.linalg.det(m))) <= 1e-12 * size ** 3
+
+
+def without_collapsed(scene):
+    """``scene`` without its collapsed objects (a view; ``scene`` itself when none is): a
+    zero scale hides a part in every engine, as glTF means it."""
+    kept = [o for o in scene.objects if not collapsed(o)]
+    return scene if len(kept) == len(scene.objects) else scene.view(objects=kept)
 
 
 def at_shutter(scene, fraction: float):
     """The objects of ``scene`` (a staged view with ``moving``) at ``fraction`` of its
     shutter, its other settings (lights, background) kept: a view."""
     source, time, shutter, which = scene.moving
-    posed = pose_scene(source, time + fraction * shutter, which)
+    posed = without_collapsed(pose_scene(source, time + fraction * shutter, which))
     view = scene.view(objects=posed.objects)
     return view
 
