@@ -206,3 +206,21 @@ def test_an_animation_that_scales_a_part_to_zero_hides_it(tmp_path, renderer, en
                                         outputs=("color", "ids"), aa="none")
         seen[time] = int((frame.object_ids >= 0).sum())  # pixels covered
     assert seen[0.0] > 100 and 0.35 < seen[1.0] / seen[0.0] < 0.65, seen
+
+
+@pytest.mark.parametrize("count", [2_000_000, 80_000_000])
+def test_instances_count_against_the_objects_budget_before_allocation(tmp_path, capsys,
+                                                                       count):
+    """EXT_mesh_gpu_instancing with millions of instances in a 1 KB file (an accessor with
+    no bufferView is zeros): one line naming the budget, before anything is decoded (80
+    million: MemoryError; 2 million: a hang past 150 s)."""
+    def edit(b, m):
+        b.doc["accessors"].append({"componentType": 5126, "count": count, "type": "VEC3"})
+        b.doc["nodes"][0]["extensions"] = {"EXT_mesh_gpu_instancing": {
+            "attributes": {"TRANSLATION": len(b.doc["accessors"]) - 1}}}
+        b.doc["extensionsUsed"] = ["EXT_mesh_gpu_instancing"]
+
+    path = _quad_gltf(tmp_path, "many", edit)
+    assert path.stat().st_size < 2000
+    _one_line_error(capsys, ["render", str(path), "-o", str(tmp_path / "o.png")],
+                    "budget of 50,000 objects")

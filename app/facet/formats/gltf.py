@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..budgets import budget
 from ..errors import FacetWarning, MeshError
 from ..scene.pbr import PbrMaterial
 from ..srgb import linear_to_srgb
@@ -96,7 +97,6 @@ def _document(path: Path) -> dict:
                             "is it truncated or in another format?")
         else:
             text = head + f.read()
-    from ..budgets import budget
     from ..guard import json_depth
 
     limit = budget("depth")
@@ -202,6 +202,18 @@ class _Reader(MaterialReading):
 
         attrs = ext.get("attributes") or {}
         where = f"nodes[{index}].extensions.EXT_mesh_gpu_instancing.attributes"
+        # Each instance is an object: the count, from the accessors' own, against the
+        # objects budget (every instanced node together) before anything is decoded.
+        accessors = self.document.get("accessors") or []
+        count = max((int(accessors[a].get("count", 0)) for a in attrs.values()
+                     if isinstance(a, int) and 0 <= a < len(accessors)), default=0)
+        self.instance_total = getattr(self, "instance_total", 0) + count * max(
+            len(self.document["meshes"][self.document["nodes"][index]["mesh"]]
+                .get("primitives") or []), 1)
+        if self.instance_total > budget("objects"):
+            self.data.fail(f"{where}: {self.instance_total:,} instances (with those of the "
+                           f"nodes before), more than facet's budget of "
+                           f"{budget('objects'):,} objects (--budget objects=N)")
         values = {}
         for key, width in (("TRANSLATION", 3), ("ROTATION", 4), ("SCALE", 3)):
             if key in attrs:
