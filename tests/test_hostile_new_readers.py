@@ -224,3 +224,20 @@ def test_instances_count_against_the_objects_budget_before_allocation(tmp_path, 
     assert path.stat().st_size < 2000
     _one_line_error(capsys, ["render", str(path), "-o", str(tmp_path / "o.png")],
                     "budget of 50,000 objects")
+
+
+def test_equal_primitives_of_a_scene_file_share_one_geometry(tmp_path):
+    """A scene of thousands of equal flat spheres tessellated, checked and uploaded each
+    one (30,000: past 60 s); objects of one primitive and size now share one mesh, and a
+    flat-shaded mesh file is flattened once."""
+    import facet
+
+    scene_file = tmp_path / "many.toml"
+    scene_file.write_text("".join(
+        f'[[objects]]\nprimitive = "sphere"\nradius = {r}\nflat = true\n'
+        f'transform = [{{ translate = [{i}, 0, 0] }}]\n'
+        for i, r in enumerate([0.1, 0.1, 0.1, 0.2])) + "".join(
+        f'[[objects]]\nmesh = "{MODEL}"\nflat = true\n' for _ in range(2)))
+    meshes = [o.mesh for o in facet.load(scene_file).objects]
+    assert meshes[0] is meshes[1] is meshes[2] and meshes[3] is not meshes[0]
+    assert meshes[4] is meshes[5]

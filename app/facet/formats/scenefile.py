@@ -75,7 +75,8 @@ def load_scene(path, *, crease: float | None = None) -> Scene:
 class _SceneBuilder(MaterialTables):
     def __init__(self, r: _Reader, base: Path, crease: float | None = None):
         self.r, self.base, self.crease = r, base, crease
-        self.parts_cache: dict[tuple[Path, float | None], tuple[list, Any]] = {}
+        self.parts_cache: dict[tuple, tuple[list, Any]] = {}  # (path, crease[, "flat"])
+        self.primitive_cache: dict[tuple, Any] = {}  # (kind, flat, sizes) -> its geometry
         self.texture_cache: dict[Path, object] = {}
 
     def build(self, data: dict) -> Scene:
@@ -296,8 +297,11 @@ class _SceneBuilder(MaterialTables):
             if t.get("flat"):
                 if rig is not None:  # one vertex per face corner: the skin data follows
                     rig = rig.with_corners([m.faces.reshape(-1) for _, m, _ in parts])
-                parts = [(n, m.flat_shaded() if m.kind == "mesh" else m, x)
-                         for n, m, x in parts]
+                if (path, crease, "flat") not in self.parts_cache:  # made once per file
+                    self.parts_cache[path, crease, "flat"] = [
+                        (n, m.flat_shaded() if m.kind == "mesh" else m, x)
+                        for n, m, x in parts], None
+                parts = self.parts_cache[path, crease, "flat"][0]
             sizes = {k: r.number(t[k], f"{where}.{k}", above=0) if k in t else None
                      for k in ("point_size", "point_radius", "line_width")}
             if any(v is not None for v in sizes.values()):
@@ -322,19 +326,28 @@ class _SceneBuilder(MaterialTables):
                 continue
             kwargs[p] = r.vector(v, f"{where}.{p}", len(v)) if isinstance(v, list) else \
                 r.number(v, f"{where}.{p}", above=0)
-        try:
-            # Primitives are exact shapes for the ray tracer (a torus, or flat = true, a
-            # mesh); the rasterizer draws their tessellation.
-            if kind in SHAPES and not t.get("flat"):
-                return [(None, SHAPES[kind](**kwargs), np.eye(4))], None
-            if kwargs.get("size", 0) is None:
-                r.fail(f"{where}.size", "an infinite plane cannot be flat-shaded")
-            mesh = PRIMITIVES[kind](**kwargs)
-        except SceneError:
-            raise
-        except FacetError as exc:
-            r.fail(where, str(exc))
-        return [(None, mesh.flat_shaded() if t.get("flat") else mesh, np.eye(4))], None
+        # Objects of one primitive and size share its geometry (a scene of 30,000 equal
+        # spheres tessellates, checks and uploads one).
+        key = (kind, bool(t.get("flat")),
+               tuple((k, None if v is None else tuple(np.ravel(v).tolist()))
+                     for k, v in sorted(kwargs.items())))
+        if key not in self.primitive_cache:
+            try:
+                # Primitives are exact shapes for the ray tracer (a torus, or flat = true,
+                # a mesh); the rasterizer draws their tessellation.
+                if kind in SHAPES and not t.get("flat"):
+                    made = SHAPES[kind](**kwargs)
+                else:
+                    if kwargs.get("size", 0) is None:
+                        r.fail(f"{where}.size", "an infinite plane cannot be flat-shaded")
+                    mesh = PRIMITIVES[kind](**kwargs)
+                    made = mesh.flat_shaded() if t.get("flat") else mesh
+            except SceneError:
+                raise
+            except FacetError as exc:
+                r.fail(where, str(exc))
+            self.primitive_cache[key] = made
+        return [(None, self.primitive_cache[key], np.eye(4))], None
 
 
 def _strip_key(message: str, key: str | None) -> str:

@@ -25,20 +25,26 @@ def staged(scene, opts):
     return dressed(posed, opts.variant)
 
 
-def collapsed(obj) -> bool:
-    """Whether an object's transform squashes it to nothing (a scale of 0 on some axis:
-    how glTF files hide a part, often by an animation): it has no surface to draw."""
-    m = np.asarray(obj.transform, dtype=np.float64)[:3, :3]
-    size = float(np.abs(m).max())
-    return not np.isfinite(m).all() or size == 0.0 or \
-        abs(float(np.linalg.det(m))) <= 1e-12 * size ** 3
+def collapsed(objects) -> np.ndarray:
+    """(N,) bool: which ``objects``' transforms squash them to nothing (a scale of 0 on
+    some axis: how glTF files hide a part, often by an animation); no surface to draw."""
+    if not objects:
+        return np.zeros(0, bool)
+    m = np.array([o.transform for o in objects], dtype=np.float64)[:, :3, :3]
+    with np.errstate(all="ignore"):
+        size = np.abs(m).max(axis=(1, 2))
+        det = np.abs(np.linalg.det(np.nan_to_num(m)))
+    return ~np.isfinite(m).all(axis=(1, 2)) | (size == 0.0) | (det <= 1e-12 * size ** 3)
 
 
 def without_collapsed(scene):
     """``scene`` without its collapsed objects (a view; ``scene`` itself when none is): a
     zero scale hides a part in every engine, as glTF means it."""
-    kept = [o for o in scene.objects if not collapsed(o)]
-    return scene if len(kept) == len(scene.objects) else scene.view(objects=kept)
+    hidden = collapsed(scene.objects)
+    if not hidden.any():
+        return scene
+    return scene.view(objects=[o for o, h in zip(scene.objects, hidden, strict=True)
+                               if not h])
 
 
 def at_shutter(scene, fraction: float):
