@@ -1,11 +1,14 @@
 """Fuzzers for the documents facet reads without GL (run as a child process by
 test_hostile_fuzz.py, under a memory limit): a valid Shadertoy JSON export, TOML shader
 project, and batch manifest (with its cameras file) are mutated by hypothesis, any value
-anywhere replaced by a value of another type or removed, and read by facet's own reader.
-Every mutation must read cleanly or raise facet's one-line error (FacetError without a
-line break); anything else (a TypeError, a RecursionError, a hang) is a failure.
+anywhere replaced by a value of another type or removed, and read by facet's own reader;
+so are a glTF's KHR_materials_variants and EXT_mesh_gpu_instancing objects, and PCD point
+files' and Radiance HDR environments' headers (their tokens drawn from valid and hostile
+ones, with random bodies). Every mutation must read cleanly or raise facet's one-line
+error (FacetError without a line break); anything else (a TypeError, a RecursionError, a
+hang, an allocation past the memory limit) is a failure.
 
-Usage: python fuzz_documents.py shadertoy|project|manifest EXAMPLES
+Usage: python fuzz_documents.py shadertoy|project|manifest|gltf|pcd|hdr EXAMPLES
 """
 
 from __future__ import annotations
@@ -197,6 +200,91 @@ def _plan_every_view(jobs) -> None:
         np.random.default_rng(job.views.seed)  # the worker's, for COLMAP's points
 
 
+GLTF_EXTENSIONS = {  # the new readers' parts of a glTF, mutated and spliced in
+    "variants": {"variants": [{"name": "red"}, {"name": "blue"}]},
+    "mappings": {"mappings": [{"material": 0, "variants": [0]},
+                              {"material": 1, "variants": [1]}]},
+    "instancing": {"attributes": {"TRANSLATION": 3, "SCALE": 4}}}
+
+
+def _gltf_document() -> dict:
+    """A quad with two materials in variants, placed twice by EXT_mesh_gpu_instancing."""
+    import numpy as np
+
+    from gltf_files import GltfBuilder, quad
+
+    b = GltfBuilder()
+    m = quad(b, b.material(name="red"))
+    b.material(name="blue")
+    b.accessor(np.array([[0, 0, 0], [2, 0, 0]], float))  # 3: TRANSLATION
+    b.accessor(np.array([[1, 1, 1], [0.5, 0.5, 0.5]], float))  # 4: SCALE
+    b.node(mesh=m)
+    return b
+
+
+def gltf(examples: int) -> None:
+    import facet
+
+    builder = _gltf_document()
+
+    @settings(max_examples=examples, **SETTINGS)
+    @given(mutated(GLTF_EXTENSIONS))
+    def check(parts):
+        doc = builder.doc
+        doc["extensionsUsed"] = ["KHR_materials_variants", "EXT_mesh_gpu_instancing"]
+        doc["extensions"] = {"KHR_materials_variants": parts.get("variants")}
+        doc["meshes"][0]["primitives"][0]["extensions"] = {
+            "KHR_materials_variants": parts.get("mappings")}
+        doc["nodes"][0]["extensions"] = {"EXT_mesh_gpu_instancing": parts.get("instancing")}
+        builder.write_gltf(FOLDER / "f.gltf")
+        _clean_or_one_line(lambda: facet.load(FOLDER / "f.gltf"))
+    check()
+
+
+TOKENS = st.sampled_from(["x", "y", "z", "rgb", "intensity", "normal_x", "1", "2", "3",
+                          "4", "8", "F", "U", "I", "0", "-1", "-2", "a", "1e23",
+                          "99999999999999999999", "ascii", "binary", "binary_compressed",
+                          "nan", ""])
+
+
+def pcd(examples: int) -> None:
+    import facet
+
+    keys = ["VERSION", "FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT",
+            "POINTS", "DATA"]
+    valid = {"VERSION": ".7", "FIELDS": "x y z", "SIZE": "4 4 4", "TYPE": "F F F",
+             "COUNT": "1 1 1", "WIDTH": "2", "HEIGHT": "1", "VIEWPOINT": "0 0 0 1 0 0 0",
+             "POINTS": "2", "DATA": "ascii"}
+
+    @settings(max_examples=examples, **SETTINGS)
+    @given(st.dictionaries(st.sampled_from(keys), st.lists(TOKENS, max_size=5)
+                           .map(" ".join), max_size=4),
+           st.sets(st.sampled_from(keys), max_size=2), st.binary(max_size=64))
+    def check(changed, dropped, body):
+        head = "".join(f"{k} {changed.get(k, valid[k])}\n" for k in keys
+                       if k not in dropped)
+        (FOLDER / "f.pcd").write_bytes(head.encode() + (body or b"0 0 0\n1 1 1\n"))
+        _clean_or_one_line(lambda: facet.load(FOLDER / "f.pcd"))
+    check()
+
+
+def hdr(examples: int) -> None:
+    from facet.formats.hdr_image import read_hdr_image
+
+    sizes = st.sampled_from(["-Y", "+Y", "+X", "-X", "4", "8", "0", "-3", "32768",
+                             "99999999999999999999", "1e3", "a", ""])
+
+    @settings(max_examples=examples, **SETTINGS)
+    @given(st.sampled_from(["#?RADIANCE", "#?RGBE", "#?XYZ"]),
+           st.sampled_from(["FORMAT=32-bit_rle_rgbe", "FORMAT=32-bit_rle_xyze", ""]),
+           st.lists(sizes, min_size=0, max_size=5), st.binary(max_size=256))
+    def check(magic, fmt, size, body):
+        text = f"{magic}\n{fmt}\n\n{' '.join(size)}\n".encode()
+        (FOLDER / "f.hdr").write_bytes(text + body)
+        _clean_or_one_line(lambda: read_hdr_image(FOLDER / "f.hdr"))
+    check()
+
+
 if __name__ == "__main__":
-    {"shadertoy": shadertoy, "project": project, "manifest": manifest}[sys.argv[1]](
-        int(sys.argv[2]))
+    {"shadertoy": shadertoy, "project": project, "manifest": manifest, "gltf": gltf,
+     "pcd": pcd, "hdr": hdr}[sys.argv[1]](int(sys.argv[2]))

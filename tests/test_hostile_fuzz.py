@@ -1,7 +1,8 @@
-"""Shadertoy JSON exports, TOML shader projects and batch manifests with wrong types
-anywhere: the named cases through the command line (one line naming the key's path, exit
-2), and hypothesis fuzzers (fuzz_documents.py) mutating valid documents, each run in a
-child process under a memory limit and a timeout, with a fixed example budget."""
+"""Shadertoy JSON exports, TOML shader projects and batch manifests (and, fuzzed, glTF
+variants and instancing, PCD and HDR headers) with wrong types anywhere: the named cases
+through the command line (one line naming the key's path, exit 2), and hypothesis fuzzers
+(fuzz_documents.py) mutating valid documents, each run in a child process under a memory
+limit and a timeout, with a fixed example budget."""
 
 import json
 import os
@@ -17,7 +18,7 @@ HERE = Path(__file__).resolve().parent
 EXAMPLES = 300  # per fuzzer: a few seconds each on a 2-core machine
 
 
-@pytest.mark.parametrize("kind", ["shadertoy", "project", "manifest"])
+@pytest.mark.parametrize("kind", ["shadertoy", "project", "manifest", "gltf", "pcd", "hdr"])
 def test_fuzzed_documents_read_cleanly_or_fail_in_one_line(kind):
     env = {**os.environ, "PYTHONPATH": f"{ROOT / 'app'}{os.pathsep}{HERE}"}
     run = subprocess.run([sys.executable, str(HERE / "fuzz_documents.py"), kind,

@@ -203,6 +203,9 @@ def _pcd_layout(p: Path, header: dict) -> tuple[list, list, list, int]:
     numpy sees the data: one count and type per field, no field twice, x y z single
     numbers, a number of points within the elements budget."""
     fields = header["FIELDS"]
+    if not fields or not header["DATA"]:
+        raise MeshError(f"{p}: a PCD header with no FIELDS or no DATA kind (ascii or "
+                        "binary)")
     count = [_whole(p, "COUNT", c) for c in header.get("COUNT", ["1"] * len(fields))]
     if len(set(fields)) != len(fields):
         raise MeshError(f"{p}: PCD header FIELDS names a field twice ({' '.join(fields)})")
