@@ -189,3 +189,42 @@ def test_a_batch_jobs_default_cameras_file_outside_is_refused_before_it_is_read(
     assert done.returncode == 2 and "OPENED" not in done.stderr, done.stderr
     assert "outside the confinement folder" in done.stderr and "image size" not in \
         done.stderr, done.stderr
+
+
+def test_the_guarded_opener_checks_the_file_it_opened(tmp_path, monkeypatch):
+    """facet.guard.read_bytes: a file swapped for a FIFO between the check and the open is
+    refused without waiting (opened non-blocking, checked again on the open file), and a
+    link swapped in to lead out is not followed (the resolved path is opened)."""
+    import os
+
+    from facet import guard
+
+    inside = tmp_path / "in"
+    inside.mkdir()
+    path = inside / "model.obj"
+    path.write_text("v 0 0 0\n")
+    assert guard.read_bytes(path) == b"v 0 0 0\n"
+    checked = guard.regular_file
+
+    def then_swapped(p, *args, **kwargs):  # the check passes, then the file changes
+        out = checked(p, *args, **kwargs)
+        os.unlink(p)
+        os.mkfifo(p)
+        return out
+
+    monkeypatch.setattr(guard, "regular_file", then_swapped)
+    with pytest.raises(InputError, match="changed while it was read"):
+        guard.read_bytes(path)
+    (tmp_path / "hidden.obj").write_text("secret\n")
+    os.unlink(path)
+    path.write_text("v 0 0 0\n")
+
+    def then_linked(p, *args, **kwargs):
+        out = checked(p, *args, **kwargs)
+        os.unlink(p)
+        os.symlink(tmp_path / "hidden.obj", p)
+        return out
+
+    monkeypatch.setattr(guard, "regular_file", then_linked)
+    with confined(inside), pytest.raises(InputError, match="outside the confinement"):
+        guard.read_bytes(path)

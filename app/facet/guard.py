@@ -174,6 +174,43 @@ def regular_file(path, what: str = "file", error=InputError, missing: str | None
     return p
 
 
+def read_bytes(path, what: str = "file", error=InputError, missing: str | None = None,
+               confine: bool = True) -> bytes:
+    """The content of ``path``, read through the one guarded opener: checked first
+    (``regular_file``: confinement, a regular file, the size budget, no LFS pointer), then
+    opened without waiting (O_NONBLOCK: a file swapped for a FIFO in between does not hang)
+    at its resolved path, confined again, without following a link there (a link swapped
+    in between does not lead out), and checked again on the open file before a byte is
+    read."""
+    p = regular_file(path, what, error, missing, confine)
+    try:
+        target = p.resolve()
+    except (OSError, RuntimeError):
+        raise error(f"{p}: cannot be read as {_a(what)} (a loop of links)") from None
+    if confine:
+        check_confined(target, what, error)  # the file about to be opened, links resolved
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | \
+        getattr(os, "O_NOFOLLOW", 0)
+    try:
+        fd = os.open(target, flags)
+    except OSError as exc:
+        raise error(f"{p}: cannot be read as {_a(what)} ({exc.strerror or exc})") from None
+    with os.fdopen(fd, "rb") as f:
+        info = os.fstat(f.fileno())
+        if not stat.S_ISREG(info.st_mode) or info.st_size > budget("file_bytes"):
+            raise error(f"{p}: changed while it was read (no longer a regular file within "
+                        "the budget); facet reads regular files only")
+        return f.read(budget("file_bytes") + 1)[:budget("file_bytes")]
+
+
+def read_text(path, what: str = "file", error=InputError, missing: str | None = None,
+              confine: bool = True) -> str:
+    """``read_bytes`` as UTF-8 text, newlines made ``\\n`` (as ``open`` in text mode);
+    UnicodeDecodeError when it is not UTF-8 (the caller names what it expected)."""
+    text = read_bytes(path, what, error, missing, confine).decode("utf-8")
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
 def _a(noun: str) -> str:
     """``noun`` with its indefinite article."""
     return f"{'an' if noun[:1].lower() in 'aeiou' else 'a'} {noun}"

@@ -40,7 +40,7 @@ from pathlib import Path
 
 from ..budgets import budget
 from ..errors import InputError
-from ..guard import confined, json_depth, parse_json, regular_file
+from ..guard import confined, json_depth, parse_json, read_text, regular_file
 from ..options.render import (
     MAX_FRAMES,
     PARSERS,
@@ -98,13 +98,12 @@ def load_manifest(source, defaults: dict | None = None, confine=None) -> list[Jo
     if path.suffix.lower() == ".toml" and path.is_file():
         from ..guard import parse_toml
 
-        data = parse_toml(regular_file(path, "manifest").read_text(encoding="utf-8"),
-                          path.name)
+        data = parse_toml(read_text(path, "manifest"), path.name)
         entries = _document_entries(data, path.name, base_defaults, "[defaults] and [[jobs]]")
         base = path.parent
     elif path.suffix.lower() in (".jsonl", ".json") and path.is_file():
         entries, merged = [], base_defaults
-        text_ = regular_file(path, "manifest").read_text(encoding="utf-8")
+        text_ = read_text(path, "manifest")
         document = _json_document(text_, path.name) if path.suffix.lower() == ".json" else None
         if document is not None:  # one JSON value: [jobs] or {"defaults", "jobs"}
             if isinstance(document, list):

@@ -100,10 +100,10 @@ def image_size(path: Path, data: dict, frame: dict | None = None) -> tuple[int, 
 
 
 def _document(path: Path) -> dict:
-    from ..guard import parse_json, regular_file
+    from ..guard import parse_json, read_bytes
 
     try:
-        data = parse_json(regular_file(path, "cameras file").read_bytes(), str(path))
+        data = parse_json(read_bytes(path, "cameras file"), str(path))
     except InputError as exc:
         raise InputError(f"{exc}; is it a transforms.json?") from None
     if not isinstance(data, dict):

@@ -218,10 +218,10 @@ def is_mesh_stage(path) -> bool:
     (mainImage) nor glslViewer code (gl_FragColor, u_resolution)."""
     import re
 
-    from ..guard import regular_file
+    from ..guard import read_text
 
     try:  # through the guard: a FIFO or a file outside --confine is refused, not opened
-        text = regular_file(path, "shader file").read_text(encoding="utf-8")
+        text = read_text(path, "shader file")
     except (OSError, UnicodeDecodeError):
         return False
     lines = [ln.strip() for ln in text.splitlines()]

@@ -69,14 +69,13 @@ class GltfData:
         return self._buffers[index]
 
     def _file(self, uri: str, what: str) -> bytes:
-        from ..guard import check_confined, regular_file
+        from ..guard import check_confined, read_bytes
 
         p = self.path.parent / unquote(uri)
         check_confined(p, what, MeshError)  # first: outside reads the same, there or not
         if not p.exists():
             self.fail(f"needs the {what} '{unquote(uri)}', which is not in {p.parent}")
-        regular_file(p, what, MeshError)  # not a FIFO or a device: they would hang or flood
-        return p.read_bytes()
+        return read_bytes(p, what, MeshError)  # not a FIFO or a device: no hang, no flood
 
     def view(self, index: int) -> tuple[bytes, int, int, int | None]:
         """(buffer bytes, offset, length, stride) of bufferView ``index``."""
@@ -155,7 +154,7 @@ class GltfData:
         threads (facet.formats.gltf_textures), where catching warnings is not safe."""
         from PIL import UnidentifiedImageError
 
-        from ..guard import check_confined, open_image, regular_file
+        from ..guard import check_confined, open_image, read_bytes
         from ..scene.texture import Texture
 
         img = self.gltf.images[index]
@@ -175,7 +174,7 @@ class GltfData:
                 if not p.exists():
                     return None, (f"{self.path.name}: texture file '{uri}' not found in "
                                   f"{p.parent}; drawn without it")
-                raw = regular_file(p, f"texture {name}", MeshError).read_bytes()
+                raw = read_bytes(p, f"texture {name}", MeshError)
             with open_image(io.BytesIO(raw), f"texture {name}") as pil:
                 return Texture.from_pil(pil, str(name)), None
         except (UnidentifiedImageError, OSError, ValueError, MeshError) as exc:

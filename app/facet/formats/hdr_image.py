@@ -30,12 +30,13 @@ def is_hdr(path) -> bool:
 def read_hdr_image(path) -> np.ndarray:
     """(H, W, 3) float32 linear radiance of a .hdr/.pic or .exr file; InputError (one
     line, naming the file) when it cannot be read."""
-    from ..guard import regular_file
+    from ..guard import read_bytes, regular_file
 
     # Through the guard: a FIFO, a device, a file outside --confine or beyond the file
     # budget is refused before it is opened.
     p = regular_file(path, "environment file")
-    rgb = _read_exr(p) if p.suffix.lower() == ".exr" else _read_rgbe(p)
+    rgb = _read_exr(p) if p.suffix.lower() == ".exr" else \
+        _read_rgbe(p, read_bytes(p, "environment file"))
     peak = float(rgb.max()) if rgb.size else 0.0
     if not np.isfinite(rgb).all() or peak > MAX_RADIANCE:
         raise InputError(f"{p}: holds radiance that is not finite or beyond {MAX_RADIANCE:g} "
@@ -43,11 +44,7 @@ def read_hdr_image(path) -> np.ndarray:
     return rgb
 
 
-def _read_rgbe(p: Path) -> np.ndarray:
-    try:
-        data = p.read_bytes()
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read ({exc.strerror})") from None
+def _read_rgbe(p: Path, data: bytes) -> np.ndarray:
     try:
         return _decode_rgbe(data, p.name)
     except InputError:  # beyond a budget: its own line

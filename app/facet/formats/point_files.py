@@ -22,6 +22,7 @@ import numpy as np
 
 from ..budgets import budget
 from ..errors import MeshError
+from ..guard import read_bytes
 
 SCALAR_FIELDS = ("intensity", "scalar_intensity", "scalar", "reflectance", "confidence")
 # PLY vertex properties that are not scalars of their own (position, normal, colour, uv).
@@ -82,7 +83,7 @@ def ply_points(tm, p: Path) -> dict:
 def read_text_points(p: Path) -> dict:
     """Points arguments of an XYZ or PTS file (module docstring)."""
     try:
-        text = p.read_bytes().decode("utf-8", errors="strict")
+        text = read_bytes(p, "point file", MeshError).decode("utf-8", errors="strict")
     except UnicodeDecodeError:
         raise MeshError(f"{p}: not a text point cloud (XYZ / PTS files are text: x y z per "
                         "line)") from None
@@ -130,7 +131,7 @@ PCD_TYPES = {("F", 4): "<f4", ("F", 8): "<f8", ("U", 1): "u1", ("U", 2): "<u2",
 
 def read_pcd(p: Path) -> dict:
     """Points arguments of a PCD file (module docstring)."""
-    raw = p.read_bytes()
+    raw = read_bytes(p, "point file", MeshError)
     header, offset = {}, 0
     for _ in range(64):
         end = raw.find(b"\n", offset)
@@ -268,7 +269,7 @@ _OBJ_VERTEX = re.compile(rb"^[ \t]*v[ \t]+([^\n#]*)", re.M)
 def obj_lines(p: Path) -> dict | None:
     """Lines arguments of an OBJ's ``l`` polylines (indices from 1, or back from -1; a
     ``v/vt`` pair keeps its vertex), or None when it has none."""
-    data = p.read_bytes()
+    data = read_bytes(p, "mesh file", MeshError)
     polylines = _OBJ_LINE.findall(data)
     if not polylines:
         return None

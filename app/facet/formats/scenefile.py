@@ -61,11 +61,11 @@ def load_scene(path, *, crease: float | None = None) -> Scene:
     facet.SceneError
         One line naming the file and the key at fault.
     """
-    from ..guard import parse_toml, regular_file
+    from ..guard import parse_toml, read_text, regular_file
 
     path = regular_file(path, "scene file", SceneError)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_text(path, "scene file", SceneError)
     except UnicodeDecodeError:
         raise SceneError(f"{path.name}: not a text file (TOML must be UTF-8)") from None
     data = parse_toml(text, path.name, SceneError)
@@ -335,6 +335,7 @@ class _SceneBuilder(MaterialTables):
             try:
                 # Primitives are exact shapes for the ray tracer (a torus, or flat = true,
                 # a mesh); the rasterizer draws their tessellation.
+                made: Any
                 if kind in SHAPES and not t.get("flat"):
                     made = SHAPES[kind](**kwargs)
                 else:

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import FacetError, FacetWarning, MeshError
+from ..guard import read_bytes
 from ..scene.material import Material
 from ..scene.texture import Texture
 
@@ -28,7 +29,7 @@ def _guarded_resolver(p: Path):
     MeshError kept in ``fatal`` (raised once trimesh returns)."""
     import trimesh
 
-    from ..guard import regular_file
+    from ..guard import read_bytes
 
     class Guarded(trimesh.resolvers.FilePathResolver):
         refused: list = []
@@ -45,7 +46,7 @@ def _guarded_resolver(p: Path):
                 self.refused.append((shown, f"not found in {path.parent}"))
                 raise FileNotFoundError(name)
             try:
-                return regular_file(path, f"file {p.name} names", MeshError).read_bytes()
+                return read_bytes(path, f"file {p.name} names", MeshError)
             except MeshError as exc:
                 self.fatal.append(exc)
                 raise FileNotFoundError(name) from None
@@ -65,7 +66,7 @@ _OBJ_ZERO_INDEX = re.compile(rb"^[ \t]*f[ \t][^\n]*?(?<![\w.+-])0+(?=[/ \t\r\n]|
 def _check_obj_indices(p: Path) -> None:
     """An OBJ face index 0 is invalid (indices count from 1); trimesh would read it as the
     last vertex. One pass of a regular expression over the file's bytes."""
-    data = p.read_bytes()
+    data = read_bytes(p, "mesh file", MeshError)
     m = _OBJ_ZERO_INDEX.search(data)
     if m is not None:
         line = data.count(b"\n", 0, m.start()) + 1

@@ -25,10 +25,10 @@ def with_glslviewer_buffers(project: P.Project) -> P.Project:
     if image.code is not None:
         text = image.code
     else:
-        from ..guard import regular_file
+        from ..guard import read_text
 
         try:
-            text = regular_file(image.path, "shader file").read_text(encoding="utf-8")
+            text = read_text(image.path, "shader file")
         except UnicodeDecodeError:
             return project  # _compile says so
     try:

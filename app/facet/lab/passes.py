@@ -32,9 +32,9 @@ def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, st
     if common is not None and prepared.kind != GLSLVIEWER:
         code = project.common_code
         if code is None:
-            from ..guard import regular_file
+            from ..guard import read_text
 
-            code = regular_file(common, "common file").read_text(encoding="utf-8")
+            code = read_text(common, "common file")
         texts[common] = prepare(code, display_path(common), common=True).text
         includes.append(f'#include "{common.resolve()}"')
     includes.append(f'#include "{p.path.resolve()}"')
@@ -60,9 +60,9 @@ def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, st
 def source(project: P.Project, p: P.Pass) -> str:
     """The pass's current text (from its file, or from the export read again)."""
     if p.code is None:
-        from ..guard import regular_file
+        from ..guard import read_text
 
-        return regular_file(p.path, "shader file").read_text(encoding="utf-8")
+        return read_text(p.path, "shader file")
     origin = project.origin
     if origin is not None and origin.suffix.lower() == ".json" and origin.is_file():
         fresh = load_shadertoy_json(origin, project.media).passes.get(p.key)

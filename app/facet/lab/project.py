@@ -186,11 +186,11 @@ def load_project(path) -> Project:
         shader = "image.glsl"
         channels = { 0 = "buffer-a", 1 = { source = "wood.png", filter = "nearest" } }
     """
-    from ..guard import parse_toml, regular_file
+    from ..guard import parse_toml, read_text, regular_file
 
     path = regular_file(path, "project file")
     try:
-        data = parse_toml(path.read_text(encoding="utf-8"), path.name)
+        data = parse_toml(read_text(path, "project file"), path.name)
     except UnicodeDecodeError:
         raise InputError(f"{path.name}: not a text file (TOML must be UTF-8)") from None
     base = path.parent

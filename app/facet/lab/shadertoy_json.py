@@ -25,11 +25,11 @@ def load_shadertoy_json(path, media: Path | None = None) -> Project:
     outputs. Textures are looked up by file name in ``media`` (default: beside the
     export); a missing one is an error naming it; audio and video inputs are black, with
     one warning line."""
-    from ..guard import parse_json, regular_file
+    from ..guard import parse_json, read_bytes, regular_file
 
     path = regular_file(path, "Shadertoy export")
     try:
-        data = parse_json(path.read_bytes(), path.name)
+        data = parse_json(read_bytes(path, "Shadertoy export"), path.name)
     except InputError as exc:
         raise InputError(f"{exc}; is it a Shadertoy JSON export?") from None
     name = path.name
