@@ -38,7 +38,7 @@ class VariantReading:
                 self.data.fail(f"{at}.variants: expected a list of variant indices, got "
                                f"{listed!r}")
             for v in listed:
-                if not isinstance(v, int) or not 0 <= v < len(names):
+                if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v < len(names):
                     self.data.fail(f"{at}.variants: {v!r} is not one of the file's "
                                    f"{len(names)} variants")
                 out[names[v]] = self._material(material)
