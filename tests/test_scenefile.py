@@ -264,3 +264,25 @@ def test_cli_intrinsics_camera_sets_the_image_size(tmp_path, capsys):
     assert img.shape == (48, 64, 3) and img[24, 32].max() > 50  # the sphere, centred
     code = main(["render", str(path), "--camera", "nope", "-o", str(tmp_path / "x.png")])
     assert code == 2 and "no camera named 'nope'" in capsys.readouterr().err
+
+
+def test_a_top_level_constant_environment_is_the_render_tables(tmp_path, renderer):
+    """``environment = {color = [r, g, b]}`` at the top of a scene file reads as it does
+    under [render] (one parser: the top level refused it, "expected a non-empty string"),
+    and both draw the same picture; a wrong key is one line naming it."""
+    import facet
+    from facet.errors import FacetError
+
+    body = '[[objects]]\nprimitive = "sphere"\n'
+    top = tmp_path / "top.toml"
+    top.write_text("environment = {color = [0.2, 0.3, 0.4]}\n" + body)
+    table = tmp_path / "table.toml"
+    table.write_text(body + "[render]\nenvironment = {color = [0.2, 0.3, 0.4]}\n")
+    r = renderer(32, 24)
+    a, b = (r.render(facet.load(p), engine="path", spp=4, seed=1).color
+            for p in (top, table))
+    assert np.array_equal(a, b)
+    bad = tmp_path / "bad.toml"
+    bad.write_text("environment = {colour = [1, 1, 1]}\n" + body)
+    with pytest.raises(FacetError, match="environment: a constant environment is"):
+        facet.load(bad)

@@ -91,14 +91,12 @@ class _SceneBuilder(MaterialTables):
                                             _Any()).items()}
         self.objects(scene, data.get("objects", []), materials)
         read_lights(self.r, scene, data.get("lights", []))
-        if "environment" in data:
-            from .environment_files import load_environment
-
-            spec = r.string(data["environment"], "environment")
+        if "environment" in data:  # one parser for here and [render] environment
             try:
-                scene.environment = load_environment(spec, self.base)
+                scene.environment = parse_option("environment", data["environment"],
+                                                 self.base)
             except FacetError as exc:
-                r.fail("environment", str(exc))
+                r.fail("environment", str(exc).removeprefix("environment: "))
         cameras = r.table(data.get("cameras", {}), "cameras", _Any())
         for name, cam in cameras.items():
             scene.add_camera(name, read_camera(self.r, cam, f"cameras.{name}", scene))
