@@ -91,3 +91,36 @@ def test_shape_areas_and_what_is_left_to_bsdf_sampling():
     # not uniform by area in the world: BSDF sampling alone finds them
     assert area(facet.shapes.Sphere(1.0), facet.transforms.scale((1, 2, 1))) == 0.0
     assert area(facet.shapes.Plane()) == 0.0
+
+
+@pytest.mark.parametrize("shape", ["plane", "disk"])
+def test_a_flat_light_under_an_uneven_scale_is_sampled_as_one_of_its_size(shape):
+    """A plane light written as a 2 x 2 plane scaled 0.23 x 0.19 (how a Cornell box's is
+    usually written), and a disk scaled unevenly (an ellipse), are light-sampled as the
+    same lights written by their size: uniform area sampling of a flat shape stays uniform
+    under any affine map (the old code left them to BSDF sampling: 0.156 block error
+    against 0.008 at 64 spp). With light sampling only, the two pictures are the same
+    samples at the same points."""
+    from facet.render.path.emitters import shape_area
+
+    flip = facet.transforms.rotate_x(180.0)
+    if shape == "plane":
+        sized = (facet.shapes.Plane((0.46, 0.38)), flip)
+        scaled = (facet.shapes.Plane((2.0, 2.0)), flip @ facet.transforms.scale((0.23, 1, 0.19)))
+    else:
+        sized = None
+        scaled = (facet.shapes.Disk(0.5), flip @ facet.transforms.scale((0.6, 1, 0.3)))
+    scene = _scene(*scaled)
+    assert shape_area(scene.objects[1]) == pytest.approx(
+        0.46 * 0.38 if shape == "plane" else np.pi * 0.25 * 0.18)
+    light = _render(scene, "light", 16, camera=SIDE)
+    floor = light.mean(axis=-1) < 0.9 * RADIANCE
+    assert light[floor].mean() > 0.01  # light sampling finds it
+    reference = _render(scene, "mis", 512, camera=SIDE)
+    error = np.sqrt(((light - reference)[floor] ** 2).mean())
+    bsdf_error = np.sqrt(((_render(scene, "bsdf", 16, camera=SIDE) - reference)[floor] ** 2)
+                         .mean())
+    assert error < 0.7 * bsdf_error, (error, bsdf_error)
+    if sized is not None:
+        same = _render(_scene(*sized), "light", 16, camera=SIDE)
+        np.testing.assert_allclose(same, light, atol=1e-3)

@@ -28,20 +28,22 @@ def emitted_luminance(material) -> float:
 
 def shape_area(obj) -> float:
     """The world area of ``obj``'s analytic shape; 0 for one that cannot be sampled
-    uniformly by area in its object space (an infinite plane, an uneven scale)."""
+    uniformly by area in its object space (an infinite plane; a curved shape or a box under
+    an uneven scale). A flat shape (a finite plane, a disk) stays uniform under any affine
+    map: its area scales by one factor, |M x_axis x M z_axis| (the plane is y = 0), so a
+    plane light written as a 2 x 2 plane scaled 0.23 x 0.19 is sampled as one of that size."""
     m = np.asarray(obj.transform, dtype=np.float64)[:3, :3]
+    kind, q = obj.shape.kind, [float(v) for v in obj.shape.params]
+    if not np.all(np.isfinite(q)) or not np.isfinite(m).all():
+        return 0.0
+    if kind in ("plane", "disk"):
+        stretch = float(np.linalg.norm(np.cross(m[:, 0], m[:, 2])))
+        return float((q[0] * q[1] if kind == "plane" else np.pi * q[0] ** 2) * stretch)
     scale = np.linalg.svd(m, compute_uv=False)
     if scale[0] <= 0 or scale[0] - scale[-1] > 1e-6 * scale[0]:
         return 0.0
-    kind, q = obj.shape.kind, [float(v) for v in obj.shape.params]
-    if not np.all(np.isfinite(q)):
-        return 0.0
     if kind == "sphere":
         area = 4 * np.pi * q[0] ** 2
-    elif kind == "disk":
-        area = np.pi * q[0] ** 2
-    elif kind == "plane":
-        area = q[0] * q[1]
     elif kind == "box":
         area = 2 * (q[0] * q[1] + q[1] * q[2] + q[0] * q[2])
     elif kind == "cylinder":
