@@ -192,3 +192,40 @@ def test_transparent_casters_let_light_through(renderer, opacity):
     lit = grey[outside].mean()
     assert lit > 150
     assert abs(grey[inside].mean() / lit - (1.0 - opacity)) <= 0.06
+
+
+@pytest.mark.parametrize("engine", ["raster", "trace", "path"])
+def test_a_one_sided_plate_shadows_from_either_side(renderer, engine):
+    """glTF's doubleSided = false culls what the camera sees; for light a surface is
+    opaque from both sides (Mitsuba, Cycles). A one-sided plate between a point light and
+    the floor shadows the floor whichever way it faces (facing up, the floor's shadow rays
+    meet its back: the tracers let the light through, 1.4x Mitsuba's floor under four
+    glossy plates); the camera above sees its front, and through its back to the floor
+    (its id), as the rasterizer culls it."""
+    from facet.scene.pbr import PbrMaterial
+
+    for turn, seen in ((np.eye(4), "plate"), (T.rotate_x(180.0), "floor")):
+        scene = Scene(ambient=0.0)
+        grey = dict(base_color=(0.8, 0.8, 0.8, 1), metallic=0.0)
+        floor = scene.add(primitives.plane(6.0), material=PbrMaterial(**grey))
+        plate = scene.add(primitives.plane(1.0),
+                          material=PbrMaterial(**grey, double_sided=False),
+                          transform=T.translate((0, 1, 0)) @ turn)
+        scene.add_light(PointLight(position=(0, 3, 0), color=(1, 1, 1), intensity=20.0))
+        camera = Camera.look_at((0.3, 5, 0.001), (0.3, 0, 0), fov_y=40)
+        opts = dict(engine=engine, lights="scene", shadows=True, aa="none",
+                    outputs=("color", "ids"), float_color=True)
+        if engine != "raster":
+            opts["max_depth"] = 0
+        frame = renderer(32, 32).render(scene, camera, **opts)
+        ids = frame.object_ids
+        assert ids[16, 13] == (plate if seen == "plate" else floor), (turn, ids[16, 13])
+        # Straight under the light, past the plate's edge as the camera sees it: the
+        # floor beside the plate's shadow is lit, the floor in it is dark.
+        camera_under = Camera.look_at((0, 0.5, 0.001), (0, 0, 0), fov_y=30)
+        under = renderer(8, 8).render(scene.view(objects=[scene.objects[0]]), camera_under,
+                                      **{**opts, "outputs": ("color",)}).color
+        shadowed = renderer(8, 8).render(scene, camera_under,
+                                         **{**opts, "outputs": ("color",)}).color
+        assert shadowed[..., :3].mean() < 0.02 * under[..., :3].mean(), \
+            (turn, shadowed[..., :3].mean(), under[..., :3].mean())

@@ -64,7 +64,9 @@ void main() {
     int bounce = 0;
     float travelled = 0.0;  // along the path so far: its ray cone's width (surface.glsl)
     for (int step = 0; step < u_max_depth + 2 + MAX_PASSES; ++step) {
+        g_camera_ray = bounce == 0;
         Hit h = trace_scene(o, d, t_max, false);
+        g_camera_ray = false;
         g_travelled = travelled;
         travelled += h.t;
         if (sigma != vec3(0.0)) throughput *= exp(-sigma * min(h.t, 1e6));  // Beer-Lambert
@@ -95,7 +97,8 @@ void main() {
         // What it emits towards the eye, or towards the last surface that sampled its BSDF.
         bool one_sided = (int(fetch(u_instances, h.inst * INSTANCE_TEXELS + 6).w)
                           & FLAG_ONE_SIDED) != 0;
-        if ((s.front || !one_sided) && mat.emission != vec3(0.0)) {
+        if (!s.front && one_sided) break;  // a one-sided surface's back: opaque and black
+        if (mat.emission != vec3(0.0)) {
             float w = 1.0;
             if (prev_pdf > 0.0 && mat.emit_pdf > 0.0 && u_emitter_count > 0) {
                 float pdf_light = mat.emit_pdf * h.t * h.t / max(abs(dot(s.ng, d)), 1e-12);

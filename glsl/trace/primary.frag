@@ -41,6 +41,7 @@ void main() {
     float t_max = length(span);
     Hit h;
     for (int k = 0; k < 64; ++k) {  // one call site: each inlines a whole traversal
+        g_camera_ray = true;  // (nothing else is traced here)
         h = trace_scene(o, d, t_max, true);
 #ifdef PBR_SLOTS
         // The path tracer's materials: cut-outs (alpha MASK) are not there, as rasterized.

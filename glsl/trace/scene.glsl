@@ -7,8 +7,11 @@
 #include "trace/bvh.glsl"
 #include "trace/shapes.glsl"
 
-// FLAG_COLORS: the mesh has vertex colours; FLAG_ONE_SIDED: a single-sided material (its
-// back faces are not there).
+// FLAG_COLORS: the mesh has vertex colours; FLAG_ONE_SIDED: a single-sided material: a
+// camera ray does not see its back faces (as the rasterizer culls them), every other ray
+// does (for light a surface is opaque from both sides: shadow rays and bounces stop there;
+// its back emits and reflects nothing). g_camera_ray says which kind is traced now.
+bool g_camera_ray = false;
 
 struct Hit {
     float t;     // along the world ray
@@ -48,7 +51,7 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
     vec3 od = vec3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
     vec4 info = fetch(u_instances, base + 6);
     int kind = int(info.x);
-    bool one_sided = (int(info.w) & FLAG_ONE_SIDED) != 0;
+    bool one_sided = g_camera_ray && (int(info.w) & FLAG_ONE_SIDED) != 0;
     if (kind == KIND_MESH) {
         if (!trace_mesh(int(info.y), oo, od, h.t, h.tri, h.bary, any_hit, one_sided))
             return false;
@@ -58,7 +61,7 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
         vec2 uv;
         float t = h.t;
         if (!hit_shape(kind, fetch(u_instances, base + 7), oo, od, t, n, uv)) return false;
-        if (one_sided && dot(n, od) > 0.0) return false;  // its back: not there
+        if (one_sided && dot(n, od) > 0.0) return false;  // its back, to the camera
         h.t = t;
         h.tri = -1;
         h.n_obj = n;

@@ -114,7 +114,9 @@ void main() {
     // No material reflects or lets light through (facet compiles this variant for such
     // scenes): the eye ray alone, without the stack.
     vec3 d0 = normalize(span);
+    g_camera_ray = true;
     Hit h0 = trace_scene(o0, d0, length(span), false);
+    g_camera_ray = false;
     if (h0.inst < 0) {
 #ifdef HAS_ENVIRONMENT
         f_color = vec4(escaped(d0), 1.0);
@@ -136,7 +138,9 @@ void main() {
         int depth = int(ray_w[sp].w);
         float end = ray_end[sp];
         g_travelled = ray_o[sp].w;
+        g_camera_ray = eye;
         Hit h = trace_scene(o, d, end, false);
+        g_camera_ray = false;
         g_hit_t = h.t;
         if (h.inst < 0) {
             if (eye) {
@@ -157,6 +161,8 @@ void main() {
             continue;
         }
         Surface s = surface_at(h, o, d);
+        if (!s.front && (int(fetch(u_instances, h.inst * INSTANCE_TEXELS + 6).w)
+                         & FLAG_ONE_SIDED) != 0) continue;  // a one-sided back: black
 #ifdef PBR_SLOTS
         if (cut_out(s)) {  // a cut-out (alpha MASK): on through, unchanged
             push(offset_ray(s.p, -s.ng), d, kind, w, depth, eye ? end - h.t : INF);
