@@ -13,17 +13,7 @@ const int MAX_PASSES = 64;     // surfaces a ray may pass by (cut-outs, BLEND) i
 // let it by, BLEND surfaces 1 - alpha of it (as the rasterizer's shadow maps count them).
 float visibility(vec3 o, vec3 d, float t_max) {
 #ifdef HAS_ALPHA
-    float through = 1.0;
-    for (int k = 0; k < MAX_PASSES; ++k) {
-        Hit h = trace_scene(o, d, t_max, false);
-        if (h.inst < 0) return through;
-        Surface s = surface_at(h, o, d);
-        through *= lets_through(s, d, false);
-        if (through <= 0.0) return 0.0;
-        o = offset_ray(s.p, -s.ng);
-        t_max -= h.t;
-    }
-    return 0.0;
+    return through_surfaces(o, d, t_max, MAX_PASSES, false);
 #else
     return trace_shadow(o, d, t_max);
 #endif

@@ -10,9 +10,7 @@ vec3 g_ambient_term, g_kd_c, g_ks;
 float g_shininess;
 vec3 g_ng;  // its geometric normal, for the shadow rays' offset
 float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff);
-#ifdef ALPHA_SHADOWS
-float alpha_shadow(vec3 o, vec3 d, float t_max);
-#endif
+float through_surfaces(vec3 o, vec3 d, float t_max, int passes, bool refracting);
 #define AMBIENT_TERM g_ambient_term
 #define LIGHT_DIFFUSE(i) (u_lights[i].color.rgb * g_kd_c)
 #define LIGHT_SPECULAR(i) (u_lights[i].color.rgb * g_ks)
@@ -30,7 +28,7 @@ float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff) {
                                                     : length(u_lights[i].position.xyz - p);
     vec3 side = dot(g_ng, L) >= 0.0 ? g_ng : -g_ng;
 #ifdef ALPHA_SHADOWS
-    return alpha_shadow(offset_ray(p, side), L, dist);
+    return through_surfaces(offset_ray(p, side), L, dist, 8, true);
 #else
     return trace_shadow(offset_ray(p, side), L, dist);
 #endif
@@ -50,23 +48,23 @@ const float TRACED_ROUGHNESS = 0.6;
 float g_traced_specular = 0.0;
 float g_traced_coat = 0.0;
 
-#ifdef ALPHA_SHADOWS
-// A shadow ray through what is not opaque, nearest first (lets_through: BLEND coverage,
-// MASK cut-outs), the path tracer's visibility without its random choices.
-float alpha_shadow(vec3 o, vec3 d, float t_max) {
+// The light that gets from o along d within t_max through what is not opaque, nearest
+// first, over at most ``passes`` surfaces (lets_through: BLEND coverage, MASK cut-outs,
+// thin glass; ``refracting`` as lets_through takes it): the Whitted tracer's shadow rays
+// (ALPHA_SHADOWS) and the path tracer's visibility (trace/light_sampling.glsl).
+float through_surfaces(vec3 o, vec3 d, float t_max, int passes, bool refracting) {
     float through = 1.0;
-    for (int k = 0; k < 8; ++k) {
+    for (int k = 0; k < passes; ++k) {
         Hit h = trace_scene(o, d, t_max, false);
         if (h.inst < 0) return through;
         Surface s = surface_at(h, o, d);
-        through *= lets_through(s, d, true);
+        through *= lets_through(s, d, refracting);
         if (through <= 0.0) return 0.0;
         o = offset_ray(s.p, -s.ng);
         t_max -= h.t;
     }
     return 0.0;
 }
-#endif
 
 // A metallic-roughness surface: each light with its shadow ray, the ambient light as a
 // uniform sky (its split sum by the lobes' albedos), dimmed by the occlusion texture as the
