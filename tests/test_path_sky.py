@@ -63,8 +63,9 @@ def test_radiance_above_one_is_kept(tmp_path):
     assert img[..., :3].min() > 2.5  # every pixel, the sky behind too: nothing clipped
 
 
-def _floor(tmp_path, strategy, spp):
-    _sun_sky(tmp_path / "sun.hdr")
+def _floor(tmp_path, strategy, spp, sky="sun.hdr"):
+    if sky == "sun.hdr":
+        _sun_sky(tmp_path / "sun.hdr")
     scene = facet.Scene(ambient=0.0)
     scene.add(facet.primitives.plane(4), PbrMaterial(base_color=(ALBEDO,) * 3, metallic=0.0,
                                                      specular=0.0))
@@ -74,23 +75,44 @@ def _floor(tmp_path, strategy, spp):
         with facet.Renderer(32, 32) as r:
             return r.render(scene, camera, engine="path", spp=spp, max_depth=0,
                             float_color=True, lights="scene",
-                            environment=str(tmp_path / "sun.hdr")).color[..., :3]
+                            environment=str(tmp_path / sky)).color[..., :3]
     finally:
         PathEngine.strategy = "mis"
 
 
-def test_a_sun_in_the_sky_lights_a_floor_as_the_integral_says(tmp_path):
-    """A Lambertian floor under the sky image: albedo / pi x sum over the image's texels of
-    radiance x cos x solid angle (the upper half), within 3%."""
-    img = _sun_sky(tmp_path / "ref.hdr")
+def _floor_radiance(img):
+    """albedo / pi x sum over the image's texels of radiance x cos x solid angle."""
     h, w = img.shape[:2]
     d = equirect_directions(w, h)
     theta = (np.arange(h) + 0.5) / h * np.pi
     solid = (2 * np.pi / w) * (np.pi / h) * np.sin(theta)[:, None]
     irradiance = (img * (np.clip(d[..., 1], 0, None) * solid)[..., None]).sum(axis=(0, 1))
-    expected = ALBEDO / np.pi * irradiance
+    return ALBEDO / np.pi * irradiance
+
+
+def test_a_sun_in_the_sky_lights_a_floor_as_the_integral_says(tmp_path):
+    """A Lambertian floor under the sky image: the integral over the upper half, within
+    3%."""
+    img = _sun_sky(tmp_path / "ref.hdr")
     got = _floor(tmp_path, "mis", 256).reshape(-1, 3).mean(axis=0)
-    np.testing.assert_allclose(got, expected, rtol=0.03)
+    np.testing.assert_allclose(got, _floor_radiance(img), rtol=0.03)
+
+
+@pytest.mark.parametrize("width", [2048, 5000])
+@pytest.mark.parametrize("corner", [(300, 1001), (301, 1002), (302, 1003)])
+def test_a_small_sun_in_a_wide_sky_keeps_its_power(tmp_path, corner, width):
+    """A 2K sky (and one wider than the path tracer's grid, reduced by area) with a sun of
+    3 x 3 texels, wherever it falls: the floor is lit as the full-resolution integral says,
+    within 3% (a 2K sky was thinned to every 4th texel: the sun lit nothing or counted 16
+    texels, 0.4x or 1.4x the reference)."""
+    h = width // 2
+    img = np.full((h, width, 3), 0.05, np.float32)
+    y, x = corner[0] * h // 1024, corner[1] * width // 2048
+    img[y:y + 3, x:x + 3] = 4000.0 * (2048 / width) ** 2  # the same sun's power in each
+    write_hdr(tmp_path / "wide.hdr", img)
+    img = read_hdr_image(tmp_path / "wide.hdr")  # (as RGBE keeps it)
+    got = _floor(tmp_path, "mis", 64, sky="wide.hdr").reshape(-1, 3).mean(axis=0)
+    np.testing.assert_allclose(got, _floor_radiance(img), rtol=0.03)
 
 
 def test_importance_sampling_the_sun_beats_bsdf_sampling(tmp_path):
@@ -129,3 +151,37 @@ def test_the_path_tracer_shows_the_sky_the_rasterizer_shows(tmp_path, kind, srgb
     diff = np.abs(raster.astype(int) - path.astype(int)).max(axis=-1)
     # (the path tracer's samples are spread over each pixel: the horizon's row differs)
     assert np.percentile(diff, 90) <= 2, np.percentile(diff, 90)
+
+
+def _floor_and_mirror(scene):
+    lambert = PbrMaterial(base_color=(ALBEDO,) * 3, metallic=0.0, specular=0.0)
+    scene.add(facet.primitives.plane(6), lambert)
+    scene.add(facet.primitives.sphere(0.5), PbrMaterial(base_color=(1, 1, 1), metallic=1.0,
+                                                        roughness=0.0),
+              facet.transforms.translate((0, 0.5, 0)))
+    return scene, Camera.look_at((0, 1.5, 3), (0, 0.4, 0), fov_y=40, near=0.5, far=20)
+
+
+def test_no_light_but_what_the_scene_declares(tmp_path):
+    """No ambient line and no lights (lights = "scene"): the path tracer's picture is black,
+    as Mitsuba's is with no emitter (the default ambient term lit it as a grey sky the
+    background did not show: a floor of 0.08, a mirror ball reflecting grey). An ambient
+    light the file gives is a constant sky: a white-lit floor of albedo a under sky L shows
+    a L, and the warning says eye rays see the background, not that sky."""
+    scene, camera = _floor_and_mirror(facet.Scene())
+    with facet.Renderer(32, 32) as r:
+        img = r.render(scene, camera, engine="path", spp=4, float_color=True,
+                       lights="scene").color[..., :3]
+    assert img.max() == 0.0
+    (tmp_path / "lit.toml").write_text(
+        '[render]\nlights = "scene"\n[[lights]]\ntype = "ambient"\nintensity = 0.5\n')
+    scene, camera = _floor_and_mirror(facet.load(tmp_path / "lit.toml"))
+    with facet.Renderer(32, 32) as r, \
+            pytest.warns(facet.FacetWarning, match="eye rays that escape show the background"):
+        img = r.render(scene, camera, engine="path", spp=64, float_color=True).color
+    assert img[28:, :, :3].mean() == pytest.approx(0.5 * ALBEDO, rel=0.05)
+    # The rasterizer keeps the notes' ambient term (I_a = 0.1) when none is given.
+    scene, camera = _floor_and_mirror(facet.Scene())
+    with facet.Renderer(32, 32) as r:
+        img = r.render(scene, camera, lights="scene", float_color=True).color[..., :3]
+    assert img[28:].mean() > 0.05

@@ -1,7 +1,10 @@
 // The emitters of the path tracer: a point on the emitting triangles and shapes, one
-// chosen by power (facet.render.path.emitters), then a point uniformly on it by area.
+// chosen by power (facet.render.path.emitters), then a point uniformly on it by area; a
+// sphere seen from outside by a direction uniformly in the cone it subtends (its visible
+// cap: no sample is spent on its hidden half).
 #include "trace/shade.glsl"
 #include "trace/random.glsl"
+#include "lib/sampling.glsl"
 
 uniform sampler2D u_emitters;  // per emitting triangle: (instance, triangle, cumulative
 uniform int u_emitter_count;   // share of the emitted power, -), facet.render.path.emitters
@@ -60,6 +63,34 @@ bool shape_hit_at(int inst, vec3 p_obj, vec3 p, out Hit h, out vec3 L, out float
     return true;
 }
 
+// A sphere emitter (a shape of instance inst, under a similarity: its emit_pdf > 0) seen
+// from p outside it: its world radius r, the axis w from p to its centre, and 1 - cos of
+// the half angle of the cone it subtends (false: not a sphere, or p on or inside it,
+// where it is sampled by area).
+bool sphere_cone(int inst, vec3 p, out float r, out vec3 w, out float one_minus_cos) {
+    int base = inst * INSTANCE_TEXELS;
+    if (int(fetch(u_instances, base + 6).x) != KIND_SPHERE) return false;
+    r = fetch(u_instances, base + 7).x
+      * length(apply_rows(base + 3, vec3(1.0, 0.0, 0.0), 0.0));
+    vec3 to = apply_rows(base + 3, vec3(0.0), 1.0) - p;
+    float d2 = dot(to, to), s2 = r * r / d2;  // sin^2 of the half angle
+    if (!(s2 < 0.99)) return false;
+    w = to * inversesqrt(d2);
+    one_minus_cos = s2 / (1.0 + sqrt(1.0 - s2));  // (exact for a far, small sphere)
+    return true;
+}
+
+// The density in solid angle of sample_emitter's drawing direction d from p to the point
+// of emitter instance inst at distance t with geometric normal ng (its area density
+// emit_pdf): the emitter's share of the power over its cone for a sphere seen from
+// outside (share = emit_pdf x area), else emit_pdf t^2 / |cos|.
+float emitter_pdf(int inst, float emit_pdf, vec3 p, vec3 d, float t, vec3 ng) {
+    float r, omc;
+    vec3 w;
+    if (sphere_cone(inst, p, r, w, omc)) return emit_pdf * 2.0 * r * r / omc;  // 4pi r^2 / 2pi
+    return emit_pdf * t * t / max(abs(dot(ng, d)), 1e-12);
+}
+
 // A point on the emitters for the surface point p: an emitting triangle or shape chosen by
 // power (binary search in the cumulative shares), then a point uniformly on it by area.
 // Returns the radiance it sends towards p (0 from the back of a one-sided emitter, or
@@ -78,8 +109,19 @@ vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
     pdf = 0.0;
     if (tri < 0) {  // an analytic shape
         int base = inst * INSTANCE_TEXELS;
-        vec3 p_obj = shape_point(int(fetch(u_instances, base + 6).x),
-                                 fetch(u_instances, base + 7));
+        float r, omc;
+        vec3 w, p_obj;
+        if (sphere_cone(inst, p, r, w, omc)) {  // a direction in its cone, where it meets it
+            vec2 xi = random2();
+            float one_minus = xi.x * omc, sin_t = sqrt(max(one_minus * (2.0 - one_minus), 0.0));
+            vec3 dir = around(vec3(sin_t * cos(TWO_PI * xi.y), sin_t * sin(TWO_PI * xi.y),
+                                   1.0 - one_minus), w);
+            vec3 to = apply_rows(base + 3, vec3(0.0), 1.0) - p;
+            float b = dot(dir, to), t = b - sqrt(max(b * b - dot(to, to) + r * r, 0.0));
+            p_obj = apply_rows(base, p + t * dir, 1.0);
+        } else {
+            p_obj = shape_point(int(fetch(u_instances, base + 6).x), fetch(u_instances, base + 7));
+        }
         if (!shape_hit_at(inst, p_obj, p, h, L, dist)) return vec3(0.0);
     } else {
         vec2 b = random2();
@@ -93,8 +135,7 @@ vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
     }
     Surface s = surface_at(h, p, L);
     Material m = material_of(s);
-    float cos_l = abs(dot(s.ng, L));
-    pdf = cos_l > 0.0 ? m.emit_pdf * dist * dist / cos_l : 0.0;
+    pdf = abs(dot(s.ng, L)) > 0.0 ? emitter_pdf(inst, m.emit_pdf, p, L, dist, s.ng) : 0.0;
     bool one_sided = (int(fetch(u_instances, inst * INSTANCE_TEXELS + 6).w)
                       & FLAG_ONE_SIDED) != 0;
     return s.front || !one_sided ? m.emission : vec3(0.0);

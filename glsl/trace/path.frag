@@ -31,12 +31,18 @@ uniform int u_sample;       // this supersample's index: with the pixel, the ran
 uniform int u_seed;
 uniform bool u_flip_y;      // offscreen targets are drawn upside down (facet.gl.targets)
 uniform int u_strategy;     // STRATEGY_*
+#ifdef ADAPTIVE
+uniform sampler2D u_active;  // 0 where the pixel has stopped (facet.render.budget)
+#endif
 out vec4 f_color;  // premultiplied colour and coverage of this sample
 
 const int STRATEGY_MIS = 0, STRATEGY_LIGHT = 1, STRATEGY_BSDF = 2;
 const int ROULETTE_AFTER = 5;  // bounces before Russian roulette may end a path (Mitsuba's)
 
 void main() {
+#ifdef ADAPTIVE
+    if (texelFetch(u_active, ivec2(gl_FragCoord.xy), 0).r == 0.0) discard;  // (adds 0)
+#endif
     // The stream of this pixel of the picture (its row counted from the top whichever way
     // the target is drawn: a window refines to the offscreen picture), sample and seed.
     float row = u_flip_y ? gl_FragCoord.y : u_viewport.y - gl_FragCoord.y;
@@ -101,7 +107,7 @@ void main() {
         if (mat.emission != vec3(0.0)) {
             float w = 1.0;
             if (prev_pdf > 0.0 && mat.emit_pdf > 0.0 && u_emitter_count > 0) {
-                float pdf_light = mat.emit_pdf * h.t * h.t / max(abs(dot(s.ng, d)), 1e-12);
+                float pdf_light = emitter_pdf(h.inst, mat.emit_pdf, o, d, h.t, s.ng);
                 w = !light_nee ? 1.0 : bsdf_hits ? power_weight(prev_pdf, pdf_light) : 0.0;
             }
             radiance += throughput * mat.emission * w;

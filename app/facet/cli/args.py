@@ -149,7 +149,15 @@ def add_render_options(p, size_default: str) -> None:
                    "(fed albedo and normals; pip install 'facet[denoise]'); the exact "
                    "channels stay as traced (default: off)")
     g.add_argument("--spp", metavar="N",
-                   help="samples per pixel, jittered (the same as --aa jittered:N)")
+                   help="samples per pixel, jittered (the same as --aa jittered:N); with "
+                   "--noise or --time-limit the most a pixel takes")
+    g.add_argument("--noise", metavar="T",
+                   help="adaptive sampling (path tracer): a pixel stops once the estimated "
+                   "relative error of its mean is below T (e.g. 0.01), after 16 paths; at "
+                   "most --spp (default 4096)")
+    g.add_argument("--time-limit", metavar="S",
+                   help="the picture reached in S seconds of sampling (at most --spp; the "
+                   "path tracer takes up to 4096 paths per pixel when --spp is not given)")
     g.add_argument("--shadows", action=argparse.BooleanOptionalAction,
                    help="shadows from every light: shadow maps when rasterizing (default "
                    "off), shadow rays when tracing (default on)")
@@ -271,7 +279,8 @@ def render_layer(args) -> dict:
             "shutter": args.shutter,
             "size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
             "spp": args.spp, "engine": args.engine, "max_depth": args.max_depth,
-            "seed": args.seed, "denoise": args.denoise,
+            "seed": args.seed, "denoise": args.denoise, "noise": args.noise,
+            "time_limit": args.time_limit,
             "shadows": args.shadows, "pcf": args.pcf, "srgb": args.srgb,
             "background": args.background, "camera": args.camera, "lights": args.lights,
             "wireframe": args.wireframe, "aperture": args.aperture, "focus": args.focus,

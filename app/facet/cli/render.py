@@ -82,7 +82,8 @@ def add_parser(sub) -> None:
     out = r.add_argument_group("dataset outputs and colour quantisation")
     out.add_argument("--outputs", metavar="LIST",
                      help="channels to write into --out-dir: any of color,depth,ids,normals,"
-                     "position,uv (default: the scene file's, else color,depth,ids)")
+                     "position,uv,spp (spp: the samples each pixel's colour is the mean "
+                     "of, spp.npy) (default: the scene file's, else color,depth,ids)")
     out.add_argument("--out-dir", type=A.output_path, metavar="DIR",
                      help="write each channel as files in DIR "
                      "(PNG, exact .npy, previews, camera.json) instead of -o")
@@ -114,7 +115,11 @@ def add_parser(sub) -> None:
                      help="draw the colormap's bar, its ends labelled, at the picture's right")
     out.add_argument("--quality", type=int, metavar="Q",
                      help="JPEG and WebP quality, 1-100 (default 95)")
-    r.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    r.add_argument("-q", "--quiet", action="store_true",
+                   help="print nothing on success, and no progress line")
+    r.add_argument("--keep-partial", action="store_true",
+                   help="when SIGINT or SIGTERM stops a sum of samples, write the picture "
+                   "reached so far (default: write nothing)")
     A.add_shader_options(r)
 
 
@@ -308,9 +313,18 @@ def run(args) -> list[Path]:
 
             return render_turntable(renderer, scene, camera, opts, args, target,
                                     color_options, span)
-        frame = renderer.render(scene, camera, opts)
-    return _write_single(frame, args, opts.outputs, target, depth_path, ids_path,
-                         color_options)
+        from .progress import SampleProgress
+
+        with SampleProgress(args.quiet, args.keep_partial, opts.time_limit) as watch:
+            renderer.progress = watch
+            frame = renderer.render(scene, camera, opts)
+            frame.settle()
+    if watch.nothing_to_keep():
+        raise KeyboardInterrupt
+    written = _write_single(frame, args, opts.outputs, target, depth_path, ids_path,
+                            color_options)
+    watch.after_writing(written)
+    return written
 
 
 def resolve(args, float_color: bool = False):

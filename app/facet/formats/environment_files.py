@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..scene.environment import FACE_NAMES, Environment, face_directions
+from ..scene.environment import FACE_NAMES, Environment, face_directions, sky_grid
 from ..scene.texture import Texture
 from .hdr_image import is_hdr, read_hdr_image
 
@@ -42,8 +42,7 @@ def environment_from_image(path, size: int = 256) -> Environment:
     h, w = img.shape[:2]
     x = np.clip((u * w).astype(int), 0, w - 1)
     y = np.clip((v * h).astype(int), 0, h - 1)
-    step = max(1, w // 512)  # the sampling distribution needs no more than this
-    grid = img[::step, ::step, :3].astype(np.float32) * scale
+    grid = sky_grid(img) * np.float32(scale)  # lights at full resolution (or area mean)
     env = Environment(img[y, x, :3].astype(np.float32) * scale, Path(path).name, grid)
     env.linear = is_hdr(path)
     return env

@@ -30,7 +30,8 @@ SLOT_SAMPLERS = {slot: f"u_tex_{_SHORT.get(slot, slot)}" for slot in SLOTS}
 _POST = ("u_source", "u_sample", "u_accum", "u_reveal", "u_edl_depth")
 # The ray scene (glsl/trace): geometry, instances, texture layers, emitters, the sky.
 _RAYS = ("u_tris", "u_tri_index", "u_vertices", "u_nodes", "u_instances", "u_tlas",
-         "u_textures", "u_emitters", "u_sky_cdf", "u_sky_pdf", "u_sky_radiance")
+         "u_textures", "u_emitters", "u_sky_cdf", "u_sky_pdf", "u_sky_radiance",
+         "u_active")
 
 SAMPLERS: dict[str, int] = {name: unit for unit, name in enumerate(
     (*_SCENE, *SLOT_SAMPLERS.values(), *_POST, *_RAYS))}

@@ -51,7 +51,7 @@ AUX_ATTACHMENTS = {
 # Auxiliary channel -> the attachment it is read from.
 AUX_CHANNELS = {"depth": "depth_ids", "ids": "depth_ids", "normals": "normals",
                 "position": "position", "uv": "uv"}
-assert set(AUX_CHANNELS) == set(OUTPUTS) - {"color"}
+assert set(AUX_CHANNELS) == set(OUTPUTS) - {"color", "spp"}
 
 # Colour target formats and their readback dtypes.
 COLOR_DTYPES = {"f1": np.uint8, "f4": np.float32}

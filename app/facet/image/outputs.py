@@ -127,6 +127,8 @@ def write_outputs(frame, out_dir, channels, options: ColorOptions | None = None,
         uv8 = np.zeros(frame.uv.shape[:2] + (3,), np.uint8)
         uv8[..., :2] = np.rint(np.clip(frame.uv, 0, 1) * 255)
         written.append(save_image(name("uv.png"), uv8))
+    if "spp" in channels:
+        written.append(save_array(name("spp.npy"), frame.spp))
     written.append(write_camera_json(name("camera.json"), frame.camera_info()))
     return written
 

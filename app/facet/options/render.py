@@ -122,6 +122,13 @@ class RenderOptions:
         Back-face culling: ``auto`` (where it cannot change the picture), ``on``, ``off``.
     denoise : bool
         The path tracer's picture through Intel Open Image Denoise (the ``denoise`` extra).
+    noise : float, optional
+        Adaptive sampling (the path tracer): a pixel stops taking paths once the estimated
+        relative error of its mean is below this (0.01: 1%), after 16 paths at least;
+        ``spp`` bounds it (4096 when not given). facet.render.budget.
+    time_limit : float, optional
+        Seconds a sum of samples may take: the picture reached by then (``spp`` bounds it,
+        4096 paths in the path tracer when not given).
     """
 
     size: tuple[int, int] = (800, 600)
@@ -149,6 +156,8 @@ class RenderOptions:
     up: tuple[float, float, float] = (0.0, 1.0, 0.0)
     cull: str = "auto"
     denoise: bool = False
+    noise: float | None = None
+    time_limit: float | None = None
 
     @classmethod
     def build(cls, *layers, **options) -> RenderOptions:

@@ -22,7 +22,7 @@ from ..scene.constants import DEFAULT_CREASE  # noqa: F401 - the crease option's
 # line builds its --help from the vocabularies below without loading either.
 
 # The channels a render can return (Frame attributes: color, depth, object_ids, ...).
-OUTPUTS = ("color", "depth", "ids", "normals", "position", "uv")
+OUTPUTS = ("color", "depth", "ids", "normals", "position", "uv", "spp")
 DEFAULT_OUTPUTS = ("color", "depth", "ids")
 # Shading models (facet.render.shading maps each to its GLSL program).
 # "auto": glTF's metallic-roughness materials (PbrMaterial) by "pbr", the others by "phong".
@@ -354,6 +354,8 @@ PARSERS = {
     "up": _up,
     "cull": _choice(CULL, "culling mode"),
     "denoise": _bool,
+    "noise": _number(above=0),
+    "time_limit": _number(above=0),
 }
 
 

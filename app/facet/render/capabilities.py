@@ -5,7 +5,9 @@ it leaves out or draws otherwise.
 Options keep "not given" (None) until the engine decides (``decided``): the rasterizer draws
 shadow maps only when asked, the tracers cast shadow rays unless told not to; ``max_depth``
 is the Whitted tracer's recursion depth (5) and the path tracer's bounces (8) when not given,
-and the rasterizer takes none. An engine's ``unsupported`` lines (facet.render.engine) are
+and the rasterizer takes none. The path tracer lights only by what a scene declares: the
+ambient term a scene leaves at its default lights the rasterizer and the Whitted tracer
+(the notes' I_a = 0.1), not the path tracer (``implied_ambient``). An engine's ``unsupported`` lines (facet.render.engine) are
 made from its row here, so a feature the table says an engine leaves out is always named in
 a warning line, and the differential tests read the same table.
 
@@ -33,6 +35,9 @@ class Capabilities:
     noun: str  # how warnings name it: "the rasterizer"
     shadows: bool  # shadows when the options do not say
     max_depth: int | None  # recursion depth or bounces when not given; None: takes none
+    # lights by the notes' ambient term (0.1) when the scene declares none; False: by what
+    # the scene declares only (a physically based engine: no light no one wrote)
+    implied_ambient: bool = True
     options: tuple[OptionLimit, ...] = ()
     # material feature -> what the engine draws instead (absent: honoured)
     leaves_out: dict[str, str] = field(default_factory=dict)
@@ -97,23 +102,27 @@ def _given(key: str):
 _EXACT_SHADOWS = OptionLimit(_given("pcf"), "pcf filters shadow maps; {noun}'s shadow rays are "
                              "exact")
 _NO_WIREFRAME = OptionLimit(lambda o: o.wireframe, "{noun} draws no wireframe overlay")
+_NO_NOISE = OptionLimit(_given("noise"), "noise is the path tracer's adaptive sampling; "
+                        "{noun} takes every sample in every pixel")
 _NO_CULL = OptionLimit(lambda o: o.cull == "on", "{noun} culls no back faces for cull = on "
                        "(only single-sided glTF materials lose theirs)")
 
 
-def _row(noun: str, shadows: bool, max_depth, options=(), leaves_out=None) -> Capabilities:
+def _row(noun: str, shadows: bool, max_depth, options=(), leaves_out=None,
+         implied_ambient: bool = True) -> Capabilities:
     limits = tuple(OptionLimit(o.given, o.line.format(noun=noun)) for o in options)
-    return Capabilities(noun, shadows, max_depth, limits, dict(leaves_out or {}))
+    return Capabilities(noun, shadows, max_depth, implied_ambient, limits,
+                        dict(leaves_out or {}))
 
 
 CAPABILITIES: dict[str, Capabilities] = {
     "raster": _row("the rasterizer", False, None, (
         OptionLimit(_given("max_depth"), "max_depth sets the tracers' recursion and bounces; "
-                    "the rasterizer ignores it"),), {
+                    "the rasterizer ignores it"), _NO_NOISE), {
         "KHR_materials_transmission in BLEND materials":
             "the transparent pass draws its diffuse part"}),
     "trace": _row("the ray tracer", True, 5, (
-        _NO_WIREFRAME, _NO_CULL, _EXACT_SHADOWS,
+        _NO_WIREFRAME, _NO_CULL, _EXACT_SHADOWS, _NO_NOISE,
         OptionLimit(lambda o: o.shading == "gouraud",
                     "the ray tracer shades gouraud as phong (per pixel)")), {
         "users' mesh shaders": "the material's Phong terms are traced"}),
@@ -129,7 +138,7 @@ CAPABILITIES: dict[str, Capabilities] = {
         "Phong reflectivity": "mirrors are traced as the metallic-roughness mapping of the "
                               "Phong terms",
         "Phong ior": "refraction is traced as a transparent surface that does not bend "
-                     "light"}),
+                     "light"}, implied_ambient=False),
 }
 
 

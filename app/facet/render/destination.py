@@ -62,9 +62,10 @@ class Destination:
         return self.window is not None and self.sample is None
 
     def channels(self, opts: RenderOptions) -> tuple[str, ...]:
-        """The exact channels to read back (a window shows colour only)."""
+        """The exact channels to read back (a window shows colour only; the paths per
+        pixel are counted, not drawn)."""
         return () if self.window is not None else \
-            tuple(o for o in opts.outputs if o != "color")
+            tuple(o for o in opts.outputs if o not in ("color", "spp"))
 
     def wants_colour(self, opts: RenderOptions) -> bool:
         return self.window is not None or "color" in opts.outputs

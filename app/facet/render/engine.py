@@ -56,6 +56,8 @@ class Engine:
     name = ""
     deferred_exact = False  # the exact channels may be drawn after the call returns
     radiance = False  # colour is linear radiance: sRGB-encoded only for 8-bit output
+    adaptive = False  # skips the pixels ``active`` marks stopped (facet.render.budget)
+    active = None  # the mask texture of the sum being drawn (R8, 0: stopped), or None
 
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache

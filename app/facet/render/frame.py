@@ -6,6 +6,7 @@
     frame.normals     # (H, W, 3) float32 world-space unit normals, 0 = no hit
     frame.position    # (H, W, 3) float32 world-space positions, 0 = no hit
     frame.uv          # (H, W, 2) float32 texture coordinates, 0 = no hit or no uvs
+    frame.spp         # (H, W) int32 paths (samples) each pixel's colour is the mean of
 
 Only colour is anti-aliased: every other channel comes from pixel centres whatever the
 anti-aliasing, so values are exact and labels never blend. Outputs not asked for are None.
@@ -58,11 +59,15 @@ class Frame:
         Texture coordinates; 0 where nothing was hit or there are none.
     size : (int, int)
         (width, height).
+    spp : (H, W) int32, optional
+        The samples (paths) each pixel's colour is the mean of: fewer where adaptive
+        sampling stopped a pixel early (``noise``), the count a time limit reached.
     """
 
     def __init__(self, color, depth, object_ids, camera: Camera, normals=None,
-                 position=None, uv=None, size: tuple[int, int] = (0, 0)):
+                 position=None, uv=None, size: tuple[int, int] = (0, 0), spp=None):
         self.color = color
+        self.spp = spp
         self.camera = camera
         self.size = size
         # channel -> an array, None (not asked for), or a callable that reads it

@@ -13,6 +13,7 @@ import numpy as np
 from ..geometry.lens import with_lens
 from ..scene.light import active_lights
 from .antialias import point_lights_for
+from .capabilities import CAPABILITIES
 from .state import FrameState
 
 LIGHT_ORDER = ("DirectionalLight", "PointLight", "SpotLight", "AreaLight")
@@ -37,8 +38,11 @@ def prepare_frame(scene, camera, opts, window: bool):
     view.background = background
     if opts.environment is not None:
         view.environment = opts.environment
+    # The ambient light no one declared lights only engines with the notes' ambient term.
+    ambient = view.ambient if view.ambient_declared or \
+        CAPABILITIES[opts.engine].implied_ambient else np.zeros(3)
     state = FrameState(camera, opts.width, opts.height, not window, opts.shading, opts.srgb,
-                       tuple(point_lights_for(view).lights), view.ambient, view.environment,
+                       tuple(point_lights_for(view).lights), ambient, view.environment,
                        time=opts.time, cull=opts.cull,
                        linear_out=bool(opts.float_color) and not window)
     return view, state

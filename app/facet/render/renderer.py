@@ -30,6 +30,8 @@ import weakref
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from ..errors import InputError
 from ..geometry.camera import Camera
 from ..geometry.lens import with_lens
@@ -295,9 +297,13 @@ class Renderer(PassSequence):
         self.cache.sweep()
         if dest.window is not None:
             return shown
+        spp = None
+        if "spp" in opts.outputs:
+            spp = self._spp.astype(np.int32) if self._spp is not None else \
+                np.full((opts.height, opts.width), shown, np.int32)
         frame = Frame(color, channels.get("depth"), channels.get("ids"), state.camera,
                       channels.get("normals"), channels.get("position"), channels.get("uv"),
-                      opts.size)
+                      opts.size, spp=spp)
         if frame.unread:
             self._unread = weakref.ref(frame)
         return frame

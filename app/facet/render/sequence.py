@@ -7,6 +7,7 @@ reads back to numpy. ``PassSequence`` is the Renderer's base: it holds no state 
 from __future__ import annotations
 
 import threading
+import time
 import warnings
 import weakref
 
@@ -15,6 +16,7 @@ import numpy as np
 from ..errors import FacetWarning, InputError
 from ..geometry.sampling import pattern
 from ..gl.targets import writing
+from .budget import SampleBudget
 from .antialias import distributed_sample, gloss_jitter, jitter_matrix, point_lights_for
 from .finish import finish_for
 from .prepare import frozen
@@ -27,6 +29,8 @@ class PassSequence:
     _unread: weakref.ref | None  # the last Frame with channels still on the GPU
     _warned: set[str]  # what the engines cannot honour, said once
     _inside: bool  # the context is current
+    progress = None  # progress(done, total, seconds) -> False to stop: after each sample
+    _spp = None  # the last sum's paths per pixel (facet.render.budget)
 
     def _warn(self, lines) -> None:
         """What an engine cannot honour: each line once per renderer (facet.render.engine)."""
@@ -67,7 +71,9 @@ class PassSequence:
             frame.settle()
 
     def _colour(self, engine, scene, state, opts, aa, dest, surf, together):
-        """Steps 4 and 5: (colour read back or None, samples shown)."""
+        """Steps 4 and 5: (colour read back or None, samples shown); the paths per pixel
+        in ``_spp`` (None: the same everywhere)."""
+        self._spp = None
         alpha = float(scene.background[3])
         bg = np.array([*state.to_linear(scene.background[:3]).tolist(), alpha])
         clear = (*(bg[:3] * alpha).tolist(), alpha)  # premultiplied (finishing undoes it)
@@ -81,18 +87,32 @@ class PassSequence:
             source = surf.targets.color_texture(dtype)
             return self._finish(source, fbo, finish, opts, dest, surf), 1
         samples = dest.samples(aa.samples)
-        source = self._accumulate(engine, scene, state, opts, aa, samples, bg, surf,
-                                  dest.preview)
+        if dest.window is not None and (opts.noise is not None or opts.time_limit is not None):
+            self._warn(["a window refines its picture a sample per frame: noise and "
+                        "time_limit stop the sums of pictures rendered offscreen"])
+        budget = SampleBudget(self.ctx, opts.size, opts.noise if engine.adaptive else None,
+                              opts.time_limit, self.progress) if dest.window is None else None
+        try:
+            source, done = self._accumulate(engine, scene, state, opts, aa, samples, bg, surf,
+                                            dest.preview, budget)
+            if budget is not None:
+                budget.even_out(source)
+                self._spp = budget.counts()
+        finally:
+            engine.active = None
+            if budget is not None:
+                budget.release()
         if opts.denoise and engine.radiance and dest.window is None:
-            self._denoise(engine, scene, state, surf, source, samples.stop)
+            self._denoise(engine, scene, state, surf, source, done)
         # An engine whose colour is linear radiance (the path tracer) is encoded for 8-bit
         # output (a window is 8-bit) and left linear in float colour, whatever srgb says.
         eight_bit = not opts.float_color or dest.window is not None
         # Float colour is linear light in every engine: encoding is for 8-bit output only.
         encode = eight_bit if engine.radiance else opts.srgb and eight_bit
         # Radiance into float output is kept as it is: unclamped (and untonemapped).
-        finish = finish_for(bg, encode, samples.stop, clamp=eight_bit or not engine.radiance)
-        return self._finish(source, None, finish, opts, dest, surf), samples.stop
+        finish = finish_for(bg, encode, max(done, 1),
+                            clamp=eight_bit or not engine.radiance)
+        return self._finish(source, None, finish, opts, dest, surf), done
 
     def _exact(self, engine, scene, state: FrameState, aux, surf) -> dict:
         """The exact channels at pixel centres (step 3), in a single-sample pass of their
@@ -127,29 +147,67 @@ class PassSequence:
             engine.draw_exact(scene, state, aux)
 
     def _accumulate(self, engine, scene, state, opts, aa, samples: range, bg, surf,
-                    plain=False):
+                    plain=False, budget: SampleBudget | None = None):
         """Add supersamples ``samples`` of ``aa`` (step 4): each with its pixel offset, lens
         point, shutter time, area-light points and gloss tilt (``plain``: the centre of
-        each); returns the sum's texture."""
+        each), until ``budget`` says stop (facet.render.budget; a sample it stops halfway
+        is dropped); returns (the sum's texture, the samples in it)."""
         acc = surf.accumulator
         clear = (*(bg[:3] * bg[3]), bg[3])
         if samples.start == 0:
             acc.clear()
+        offsets = pattern(aa.pattern, aa.samples, opts.seed) if not plain else None
+        if budget is not None and budget.synced and offsets is not None:
+            # any first part of a pattern stopped early covers the whole pixel
+            offsets = offsets[np.random.default_rng(opts.seed).permutation(len(offsets))]
+        if budget is not None:
+            budget.begin()
+            engine.active = budget.mask
+        done = samples.start
         for k in samples:
             if plain:
                 sample, scene_k = state, point_lights_for(scene)
             else:
                 cam_k, scene_k = distributed_sample(state.camera, scene, k, aa)
-                dx, dy = pattern(aa.pattern, aa.samples, opts.seed)[k]
+                dx, dy = offsets[k]
                 sample = state.with_(camera=cam_k, lights=tuple(scene_k.lights),
                                      jitter=jitter_matrix(dx, dy, opts.width, opts.height),
                                      gloss_jitter=gloss_jitter(k, aa.samples))
             sample = engine.sample_state(scene, scene_k, sample, opts, k, plain)
-            acc.begin_sample(clear)
-            self.ctx.enable_only(self.ctx.DEPTH_TEST)
-            engine.draw_sample(scene_k, sample, opts, surf, bg)
+            began = time.monotonic()
+            acc.begin_sample((0.0,) * 4 if engine.active is not None else clear)
+            if not self._draw_strips(engine, scene_k, sample, opts, surf, bg, budget,
+                                     len(samples)):
+                break
             acc.add_sample()
-        return acc.accum_tex
+            done = k + 1
+            if budget is not None:
+                if budget.synced:
+                    self.ctx.finish()
+                if not budget.added(len(samples), time.monotonic() - began, acc.accum_tex):
+                    break
+        return acc.accum_tex, done
+
+    def _draw_strips(self, engine, scene_k, sample, opts, surf, bg, budget, total) -> bool:
+        """One sample, in strips when one takes long (a stop is heard between them);
+        False when the budget stopped it halfway."""
+        n = budget.strips() if budget is not None else 1
+        height = opts.height
+        try:
+            for i in range(n):
+                if n > 1:
+                    y0, y1 = i * height // n, (i + 1) * height // n
+                    self.ctx.scissor = (0, y0, opts.width, y1 - y0)
+                self.ctx.enable_only(self.ctx.DEPTH_TEST)
+                engine.draw_sample(scene_k, sample, opts, surf, bg)
+                if n > 1:
+                    self.ctx.finish()
+                    if i < n - 1 and not budget.go_on(total):
+                        return False
+        finally:
+            if n > 1:
+                self.ctx.scissor = None
+        return True
 
     def _denoise(self, engine, scene, state, surf, source, samples: int) -> None:
         """The sum of ``samples`` pictures in ``source`` replaced by its denoised mean times

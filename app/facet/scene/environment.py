@@ -38,6 +38,45 @@ def equirect_directions(width: int, height: int) -> np.ndarray:
     return np.stack([np.sin(t) * np.sin(p), np.cos(t), -np.sin(t) * np.cos(p)], -1)
 
 
+MAX_GRID_WIDTH = 4096  # the path tracer's sky grid: wider images are reduced (area_mean)
+
+
+def area_mean(img: np.ndarray, width: int, height: int) -> np.ndarray:
+    """``img`` (H, W, C) reduced to (height, width, C) by box filtering: each output texel
+    the mean of the input area it covers, fractional texels by their share, so every
+    stretch of the image keeps its integral (a 3 x 3-texel sun keeps its power wherever
+    it falls; taking every k-th texel dropped it or counted it k^2 times)."""
+    def along(a: np.ndarray, n: int, axis: int) -> np.ndarray:
+        m = a.shape[axis]
+        if n == m:
+            return a
+        edges = np.linspace(0.0, m, n + 1)
+        i = np.minimum(edges.astype(np.int64), m - 1)
+        f = (edges - i)[:, None, None] if axis == 0 else (edges - i)[None, :, None]
+        out = []
+        chunk = max(1, (1 << 24) // max(1, a.shape[1 - axis] * a.shape[2]))
+        for s in range(0, a.shape[1 - axis], chunk):  # bounded memory for a 16K image
+            part = a[:, s:s + chunk] if axis == 0 else a[s:s + chunk]
+            c = np.cumsum(part, axis=axis, dtype=np.float64)
+            c = np.concatenate([np.zeros_like(np.take(c, [0], axis=axis)), c], axis=axis)
+            lo, hi = np.take(c, i, axis=axis), np.take(c, i + 1, axis=axis)
+            at = lo + f * (hi - lo)  # the integral from 0 to each edge
+            out.append(np.diff(at, axis=axis) * (n / m))
+        return np.concatenate(out, axis=1 - axis).astype(np.float32)
+
+    return along(along(np.asarray(img, np.float32), width, 1), height, 0)
+
+
+def sky_grid(img: np.ndarray) -> np.ndarray:
+    """The path tracer's latitude-longitude grid of an image (H, W, 3): the image itself,
+    or its area mean at MAX_GRID_WIDTH when it is wider (facet.render.path.sky samples
+    it texel for texel)."""
+    h, w = img.shape[:2]
+    if w <= MAX_GRID_WIDTH:
+        return np.ascontiguousarray(img[..., :3], np.float32)
+    return area_mean(img[..., :3], MAX_GRID_WIDTH, max(1, round(h * MAX_GRID_WIDTH / w)))
+
+
 def sky_color(directions, zenith, horizon, ground) -> np.ndarray:
     """The generated sky: horizon -> zenith above, a darker ground below (smooth in y)."""
     d = np.asarray(directions, dtype=np.float64)

@@ -56,12 +56,19 @@ class SceneObject:
         return np.stack([w.min(axis=0), w.max(axis=0)])
 
 
+DEFAULT_AMBIENT = 0.1  # the notes' ambient term when a scene gives none
+
+
 class Scene:
     """Objects, lights, ambient light ``I_a``, background colour, and named cameras.
 
     Parameters
     ----------
-    ambient : grey level or (3,) floats in [0, 1], the ambient intensity I_a
+    ambient : grey level or (3,) floats in [0, 1], optional
+        The ambient intensity I_a. Not given: 0.1 for the rasterizer's and the Whitted
+        tracer's ambient term, and no light at all for the path tracer, which lights only
+        by what a scene declares (``ambient_declared`` says whether it was given, here or
+        by setting ``ambient``).
     background : (3,) or (4,) floats in [0, 1]; alpha 0 gives a transparent background
     options : render options this scene asks for (a scene file's [render] table), e.g.
         ``{"shadows": True, "lights": "scene"}``; explicit arguments override them
@@ -70,8 +77,9 @@ class Scene:
         ``lights`` is "scene".
     """
 
-    def __init__(self, ambient=0.1, background=(0.0, 0.0, 0.0, 1.0), options=None) -> None:
-        self.ambient = as_color(ambient, "ambient")
+    def __init__(self, ambient=None, background=(0.0, 0.0, 0.0, 1.0), options=None) -> None:
+        self._ambient = as_color(DEFAULT_AMBIENT if ambient is None else ambient, "ambient")
+        self.ambient_declared = ambient is not None
         bg = as_color(background, "background", channels=(3, 4))
         self.background = np.append(bg, 1.0) if bg.size == 3 else bg
         self.objects: list[SceneObject] = []
@@ -87,6 +95,16 @@ class Scene:
         # facet.scene.animation.Animated: rigs (animations, skins, morph targets) that
         # pose some of the objects and cameras at a time (``at``).
         self.animated: list = []
+
+    @property
+    def ambient(self) -> np.ndarray:
+        """(3,) float: the ambient intensity I_a (0.1 when no one gave one)."""
+        return self._ambient
+
+    @ambient.setter
+    def ambient(self, value) -> None:
+        self._ambient = as_color(value, "ambient")
+        self.ambient_declared = True
 
     def add(self, mesh, material: Material | PbrMaterial | None = None, transform=None, *,
             name: str = "", transform_end=None) -> int | list[int]:

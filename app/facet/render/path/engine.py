@@ -20,6 +20,7 @@ import numpy as np
 
 from ...scene.light import AreaLight
 from ...srgb import srgb_to_linear
+from ...geometry.sampling import MAX_SAMPLES
 from ..antialias import accumulation
 from ..engine import Engine, grid_or_jittered
 from ..material_record import TEXELS
@@ -40,6 +41,7 @@ class PathEngine(Engine):
 
     name = "path"
     radiance = True
+    adaptive = True
     strategy = "mis"
 
     def __init__(self, ctx, cache):
@@ -58,7 +60,11 @@ class PathEngine(Engine):
         if preview:
             return grid_or_jittered(1)
         aa = accumulation(opts.aa, scene, camera, opts.shadows)
-        return aa if aa is not None else grid_or_jittered(opts.aa.msaa or 1)
+        aa = aa if aa is not None else grid_or_jittered(opts.aa.msaa or 1)
+        if (opts.noise is not None or opts.time_limit is not None) and \
+                opts.aa.kind != "ssaa":  # no spp given: as many paths as they allow
+            aa = replace(aa, samples=MAX_SAMPLES, pattern="jittered")
+        return aa
 
     def prepare(self, scene, state, opts=None, aa=None):
         """The ray scene's upload, with the area lights' rectangles."""
@@ -93,8 +99,11 @@ class PathEngine(Engine):
                 state = replace(state, environment=state.environment.decoded())
         sky = self.sky.textures(state.environment)
         program = self.rays.program("path", state, False, extra=_material_defines(scene) + (
-            ("SKY_DISTRIBUTION",) if sky is not None else ()))
+            ("SKY_DISTRIBUTION",) if sky is not None else ()) + (
+            ("ADAPTIVE",) if self.active is not None else ()))
         textures = {"u_emitters": "emitters"}  # a scene texture (RayScene.draw_colour)
+        if self.active is not None:
+            textures["u_active"] = self.active
         if sky is not None:
             textures.update(u_sky_cdf=sky[0], u_sky_pdf=sky[1], u_sky_radiance=sky[2])
         self.rays.draw_colour(
@@ -137,6 +146,10 @@ class PathEngine(Engine):
                          "surfaces and the sky only: point, spot and directional light "
                          "refracted through glass (caustics) is not found by paths from the "
                          "eye")
+        if scene.ambient_declared and scene.ambient.any() and scene.environment is None and \
+                not np.allclose(scene.background[:3], scene.ambient):
+            lines.append("the path tracer lights by the ambient light as a constant sky; eye "
+                         "rays that escape show the background colour, not that sky")
         areas = [x for x in scene.lights if isinstance(x, AreaLight)]
         if any(not np.array_equal(x.attenuation, (0.0, 0.0, 1.0)) for x in areas):
             lines.append("the path tracer's area lights are emitting rectangles: they fall "
