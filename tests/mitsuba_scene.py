@@ -14,7 +14,8 @@ translated and any other is refused:
 - an area light: the emitting rectangle facet's path tracer makes of it
   (facet.render.path.area_lights), an ``area`` emitter on a black rectangle;
 - a constant environment: a ``constant`` emitter; an HDR image: an ``envmap`` (Y up, row
-  0 at the zenith, as facet reads them).
+  0 at the zenith, as facet reads them; turned half a turn about y, where Mitsuba puts
+  the image's left edge).
 
 With ``approximate=True`` (benchmarks, which measure each renderer against its own
 converged picture) any other opaque metallic-roughness material goes over as Mitsuba's
@@ -75,7 +76,9 @@ def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
                 "integrator": {"type": "path", "max_depth": max_depth + 2},
                 "sensor": _sensor(camera, width, height, spp, seed)}
         if isinstance(environment, (str, Path)):
-            desc["sky"] = {"type": "envmap", "filename": str(environment)}
+            # Mitsuba's u = atan2(x, -z) / 2 pi, facet's 0.5 + that: half a turn about y.
+            desc["sky"] = {"type": "envmap", "filename": str(environment),
+                           "to_world": mi.ScalarTransform4f().rotate([0, 1, 0], 180)}
         elif environment is not None:
             desc["sky"] = {"type": "constant", "radiance": {
                 "type": "rgb", "value": [float(c) for c in environment]}}
@@ -151,6 +154,52 @@ def glass_scene():
     return scene, camera
 
 
+AS_WRITTEN = DATA / "cornell-as-written.toml"
+AS_WRITTEN_REFERENCE = DATA / "cornell-as-written-mitsuba.npy"
+SUN_SKY_REFERENCE = DATA / "sun-sky-mitsuba.npy"
+DEFAULTS_SIZE, DEFAULTS_SPP = 64, 4096
+
+
+def write_sun_sky(path: Path) -> Path:
+    """A 2048 x 1024 Radiance sky as users download them: a blue gradient over a brown
+    ground and a sun of 3 x 3 texels behind the camera of ``sun_sky_scene`` (radiance
+    3000, at a row and column that are no multiples of 4: a thinned grid missed it; behind
+    the camera, the shadows fall behind the objects, in view)."""
+    from facet.formats.hdr_image import write_hdr
+    from facet.scene.environment import equirect_directions
+
+    d = equirect_directions(2048, 1024)
+    up = np.clip(d[..., 1:2], 0, 1)
+    img = np.where(d[..., 1:2] > 0, (0.3 + 0.7 * up) * np.array([0.35, 0.5, 0.9]),
+                   np.array([0.12, 0.1, 0.08])).astype(np.float32)
+    img[301:304, 2001:2004] = (3000.0, 2800.0, 2500.0)
+    write_hdr(path, img)
+    return path
+
+
+def sun_sky_scene():
+    """What users put under such a sky, with every default left (no ambient line, one-sided
+    materials): a Lambertian floor, box and two balls: (scene, camera). (No glass or
+    mirror: the sun seen through or in them is a few pixels' fireflies in both
+    renderers, which would swamp the comparison; tests/test_path_mitsuba.py has glass.)"""
+    import facet
+    from facet.geometry.camera import Camera
+
+    scene = facet.Scene()
+    lambert = dict(metallic=0.0, specular=0.0)
+    scene.add(facet.primitives.plane(8.0), PbrMaterial(base_color=(0.6, 0.6, 0.6), **lambert))
+    scene.add(facet.primitives.cube(0.6), PbrMaterial(base_color=(0.7, 0.2, 0.15), **lambert),
+              facet.transforms.rotate_y(25.0) @ facet.transforms.translate((0.0, 0.3, 0.0)))
+    scene.add(facet.primitives.sphere(0.35, segments=64, rings=32),
+              PbrMaterial(base_color=(0.8, 0.8, 0.8), **lambert),
+              facet.transforms.translate((0.9, 0.35, 0.3)))
+    scene.add(facet.primitives.sphere(0.4, segments=64, rings=32),
+              PbrMaterial(base_color=(0.2, 0.4, 0.7), **lambert),
+              facet.transforms.translate((-0.9, 0.4, 0.4)))
+    camera = Camera.look_at((0, 1.6, 3.4), (0, 0.35, 0), fov_y=40, near=0.5, far=20)
+    return scene, camera
+
+
 def cornell_reference() -> np.ndarray:
     """(48, 48, 3) Mitsuba's picture of models/cornell.toml at 4096 paths per pixel
     (cached in tests/data; ``python tests/mitsuba_scene.py`` renders it again)."""
@@ -171,3 +220,15 @@ if __name__ == "__main__":
                    environment=GLASS_SKY)
     np.save(GLASS_REFERENCE, image.astype(np.float32))
     print(GLASS_REFERENCE, image.mean(axis=(0, 1)))
+    as_written = facet.load(AS_WRITTEN)
+    image = render(as_written, as_written.cameras["front"], DEFAULTS_SIZE, DEFAULTS_SIZE,
+                   DEFAULTS_SPP)
+    np.save(AS_WRITTEN_REFERENCE, image.astype(np.float32))
+    print(AS_WRITTEN_REFERENCE, image.mean(axis=(0, 1)))
+    with tempfile.TemporaryDirectory() as tmp:
+        sky, camera = write_sun_sky(Path(tmp) / "sky.hdr"), None
+        scene, camera = sun_sky_scene()
+        image = render(scene, camera, DEFAULTS_SIZE, DEFAULTS_SIZE, DEFAULTS_SPP,
+                       environment=sky)
+    np.save(SUN_SKY_REFERENCE, image.astype(np.float32))
+    print(SUN_SKY_REFERENCE, image.mean(axis=(0, 1)))

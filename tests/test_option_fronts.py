@@ -49,6 +49,8 @@ SAMPLES = {
     "up": ("-z", "-z", "w", "w"),
     "cull": ("off", "off", "maybe", "maybe"),
     "denoise": (True, True, "yes", None),
+    "noise": (0.05, "0.05", 0, "0"),
+    "time_limit": (2.5, "2.5", -1, "-1"),
 }
 FLAGS = {"max_depth": "--max-depth", "environment": "--env"}  # else --KEY
 BOOLEAN_FLAGS = ("shadows", "srgb", "wireframe", "denoise")  # --KEY / --no-KEY
