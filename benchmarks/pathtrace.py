@@ -5,12 +5,15 @@ cores in the same run, and facet's sample rate against the size of the scene.
     python benchmarks/pathtrace.py [--quick]
 
 Efficiency: on scenes both renderers draw alike (tests/mitsuba_scene.py translates them:
-models/cornell.toml, the glass scene of glass and mirror balls under a constant sky, and
-the glTF model MetalRoughSpheresNoTextures from ../shared/gltf under an HDR sky of a
-bright patch and a gradient), each renders at a few sample counts; the error is the RMSE of linear
-radiance against Mitsuba at many samples (the glTF scene, whose materials go over as
-Mitsuba's principled BSDF, alike but not equal: against each renderer's own picture at
-many samples). For an unbiased estimator error^2 x time is about constant, so
+models/cornell.toml; the Cornell box as users write it, a scaled plane lamp and one-sided
+plates; one-sided glossy metal plates under a small lamp; Lambertian objects under a
+2048 x 1024 sky with a 3 x 3-texel sun; the glass scene of glass and mirror balls under a
+constant sky; a glowing torus (an emissive mesh); and the glTF model
+MetalRoughSpheresNoTextures from ../shared/gltf under an HDR sky of a bright patch and a
+gradient), each renders at a few sample counts; the error is the RMSE of linear
+radiance against Mitsuba at many samples (the glTF and glossy scenes, whose materials go
+over as Mitsuba's principled BSDF, alike but not equal: against each renderer's own
+picture at many samples). For an unbiased estimator error^2 x time is about constant, so
 "efficiency" is 1 / (RMSE^2 x seconds), and the ratio facet / Mitsuba says who reaches a
 given error sooner (>= 1: facet). The table also gives the error each reaches in the same
 wall time (interpolated in log-log). Sample rate: paths per second (256 x 256, 4 paths per
@@ -52,6 +55,55 @@ def _hdr_sky(path: Path) -> Path:
     return path
 
 
+def _glossy_plates():
+    """Four one-sided glossy metal plates (roughness 0.2-0.5, glTF's default one-sided
+    material) tilted over a Lambertian floor, lit by a small emitting quad: Mitsuba's
+    principled BSDF stands in for facet's (alike, not equal: each against its own)."""
+    import facet
+    from facet.geometry.camera import Camera
+    from facet.scene.pbr import PbrMaterial
+
+    scene = facet.Scene()
+    scene.add(facet.primitives.plane(6.0), PbrMaterial(base_color=(0.6,) * 3, metallic=0.0,
+                                                       specular=0.0))
+    for i, rough in enumerate((0.2, 0.3, 0.4, 0.5)):
+        x = -1.2 + 0.8 * i
+        scene.add(facet.primitives.plane(0.6),
+                  PbrMaterial(base_color=(0.9, 0.7, 0.4), metallic=1.0, roughness=rough),
+                  facet.transforms.rotate_x(35.0 - 20 * i) @
+                  facet.transforms.translate((x, 0.5, 0.0)))
+    scene.add(facet.primitives.plane(0.5), PbrMaterial(
+        base_color=(0, 0, 0), metallic=0.0, specular=0.0, emissive=(1, 1, 1),
+        emissive_strength=40.0), facet.transforms.translate((0, 2.5, 0.3)) @
+        facet.transforms.rotate_x(180.0))
+    return scene, Camera.look_at((0, 1.6, 3.2), (0, 0.3, 0), fov_y=45, near=0.5, far=20)
+
+
+def _emissive_mesh():
+    """A glowing torus knot (an emissive triangle mesh of 2k triangles) over a Lambertian
+    floor by a wall, with a box: light only from the mesh."""
+    import trimesh
+
+    import facet
+    from facet.geometry.camera import Camera
+    from facet.scene.pbr import PbrMaterial
+
+    lambert = dict(metallic=0.0, specular=0.0)
+    scene = facet.Scene()
+    scene.add(facet.primitives.plane(6.0), PbrMaterial(base_color=(0.7,) * 3, **lambert))
+    scene.add(facet.primitives.plane(6.0), PbrMaterial(base_color=(0.5, 0.6, 0.7), **lambert),
+              facet.transforms.translate((0, 0, -1.5)) @ facet.transforms.rotate_x(90.0))
+    scene.add(facet.primitives.cube(0.5), PbrMaterial(base_color=(0.7, 0.3, 0.2), **lambert),
+              facet.transforms.translate((0.8, 0.25, 0.2)))
+    knot = trimesh.creation.torus(major_radius=0.35, minor_radius=0.07, major_sections=64,
+                                  minor_sections=16)
+    scene.add(facet.Mesh(np.asarray(knot.vertices), np.asarray(knot.faces)),
+              PbrMaterial(base_color=(0, 0, 0), emissive=(1.0, 0.8, 0.5), emissive_strength=8.0,
+                          **lambert),
+              facet.transforms.translate((-0.3, 0.8, 0.0)) @ facet.transforms.rotate_x(60.0))
+    return scene, Camera.look_at((0, 1.4, 3.2), (0, 0.5, 0), fov_y=45, near=0.5, far=20)
+
+
 def _scenes(tmp: Path):
     """(name, scene, camera, sky, own references): sky None, a constant radiance (3,), or
     an HDR file's path."""
@@ -59,9 +111,18 @@ def _scenes(tmp: Path):
     import mitsuba_scene
 
     cornell = facet.load(ROOT / "models" / "cornell.toml")
+    as_written = facet.load(mitsuba_scene.AS_WRITTEN)
     glass, camera = mitsuba_scene.glass_scene()
+    sunny, sunny_camera = mitsuba_scene.sun_sky_scene()
+    plates, plates_camera = _glossy_plates()
+    lamp, lamp_camera = _emissive_mesh()
     out = [("Cornell box", cornell, cornell.cameras["front"], None, False),
-           ("glass + mirror, sky", glass, camera, mitsuba_scene.GLASS_SKY, False)]
+           ("Cornell as written", as_written, as_written.cameras["front"], None, False),
+           ("one-sided glossy", plates, plates_camera, None, True),
+           ("2K sky with a sun", sunny, sunny_camera,
+            mitsuba_scene.write_sun_sky(tmp / "sun.hdr"), False),
+           ("glass + mirror, sky", glass, camera, mitsuba_scene.GLASS_SKY, False),
+           ("emissive mesh", lamp, lamp_camera, None, False)]
     if SPHERES.exists():
         spheres = facet.load(SPHERES)
         with facet.Renderer(64, 64) as r:
@@ -118,10 +179,14 @@ def efficiency_table(quick: bool) -> None:
           f"{'1/(RMSE^2 s)':>13}")
     import tempfile
 
+    ratios = {}
     with tempfile.TemporaryDirectory() as tmp:
         for name, scene, camera, sky, own in _scenes(Path(tmp)):
-            _efficiency_rows(name, scene, camera, sky, own, size, ref_spp, facet_spp,
-                             mitsuba_spp)
+            ratios[name] = _efficiency_rows(name, scene, camera, sky, own, size, ref_spp,
+                                            facet_spp, mitsuba_spp)
+    values = np.array(list(ratios.values()))
+    print(f"{'all scenes':>22} | efficiency facet / Mitsuba: lowest {values.min():.3f} "
+          f"({min(ratios, key=ratios.get)}), median {np.median(values):.3f}")
 
 
 def _efficiency_rows(name, scene, camera, sky, own, size, ref_spp, facet_spp, mitsuba_spp):
@@ -146,6 +211,7 @@ def _efficiency_rows(name, scene, camera, sky, own, size, ref_spp, facet_spp, mi
     print(f"{name:>22} | efficiency facet / Mitsuba: {eff['facet'] / eff['Mitsuba']:.3f}; "
           f"in {budget:.2f} s facet reaches RMSE {at['facet']:.4f}, Mitsuba "
           f"{at['Mitsuba']:.4f}")
+    return eff["facet"] / eff["Mitsuba"]
 
 
 def rate_table(quick: bool) -> None:

@@ -51,7 +51,11 @@ vec4 slot_texel(int rec, int k, int t) {
 }
 
 bool has_slot(int rec, int k) {
+#ifdef NO_SLOT_IMAGES
+    return false;  // no material of the scene has an image in any slot (a fetch saved)
+#else
     return slot_texel(rec, k, 0).w >= 0.0;
+#endif
 }
 
 // Slot k's texture coordinates at p: its coordinate set through its KHR_texture_transform
@@ -90,6 +94,13 @@ vec3 mapped_normal(int rec, int k, float scale, MaterialPoint p) {
     vec3 t = slot(rec, k, p).xyz * 2.0 - 1.0;
     vec3 n = mat3(T, B, N) * vec3(t.xy * scale, t.z);
     return dot(n, n) > 0.0 ? normalize(n) : N;
+}
+
+// What record rec's material emits at p (its emissive factor times its texture), and its
+// emit_pdf: all light sampling needs of a point on an emitter (material_at reads the rest).
+vec3 emission_at(int rec, MaterialPoint p, out float emit_pdf) {
+    emit_pdf = record_texel(rec, REC_FLAGS).x;
+    return record_texel(rec, REC_EMISSION).rgb * slot(rec, SLOT_EMISSIVE, p).rgb;
 }
 
 // Record rec's material at p: each factor times its texture (glTF's channels: green

@@ -29,6 +29,22 @@ vec4 fetch(sampler2D s, int i) {
     return texelFetch(s, ivec2(i & TEX_MASK, i >> TEX_SHIFT), 0);
 }
 
+// A small scene's instance rows and top level in uniform blocks (facet.render.rays.scene:
+// on llvmpipe far cheaper than texel fetches), else in their textures.
+#ifdef INSTANCE_BLOCK
+layout(std140) uniform Instances { vec4 u_instance_rows[INSTANCE_BLOCK]; };
+vec4 instance_texel(int i) { return u_instance_rows[i]; }
+#else
+vec4 instance_texel(int i) { return fetch(u_instances, i); }
+#endif
+
+#ifdef TLAS_BLOCK
+layout(std140) uniform Tlas { vec4 u_tlas_rows[TLAS_BLOCK]; };
+vec4 tlas_texel(int i) { return u_tlas_rows[i]; }
+#else
+vec4 tlas_texel(int i) { return fetch(u_tlas, i); }
+#endif
+
 ivec4 fetch_int(isampler2D s, int i) {
     return texelFetch(s, ivec2(i & TEX_MASK, i >> TEX_SHIFT), 0);
 }

@@ -56,7 +56,7 @@ bool shape_hit_at(int inst, vec3 p_obj, vec3 p, out Hit h, out vec3 L, out float
     float t = dist * 1.001 + 1e-4;
     vec3 n;
     vec2 uv;
-    if (!hit_shape(int(fetch(u_instances, base + 6).x), fetch(u_instances, base + 7), oo, od,
+    if (!hit_shape(int(instance_texel(base + 6).x), instance_texel(base + 7), oo, od,
                    t, n, uv) || t < dist * 0.999 - 1e-4) return false;
     h = Hit(t, inst, -1, vec2(0.0), n, uv);
     dist = t;
@@ -69,8 +69,8 @@ bool shape_hit_at(int inst, vec3 p_obj, vec3 p, out Hit h, out vec3 L, out float
 // where it is sampled by area).
 bool sphere_cone(int inst, vec3 p, out float r, out vec3 w, out float one_minus_cos) {
     int base = inst * INSTANCE_TEXELS;
-    if (int(fetch(u_instances, base + 6).x) != KIND_SPHERE) return false;
-    r = fetch(u_instances, base + 7).x
+    if (int(instance_texel(base + 6).x) != KIND_SPHERE) return false;
+    r = instance_texel(base + 7).x
       * length(apply_rows(base + 3, vec3(1.0, 0.0, 0.0), 0.0));
     vec3 to = apply_rows(base + 3, vec3(0.0), 1.0) - p;
     float d2 = dot(to, to), s2 = r * r / d2;  // sin^2 of the half angle
@@ -120,7 +120,7 @@ vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
             float b = dot(dir, to), t = b - sqrt(max(b * b - dot(to, to) + r * r, 0.0));
             p_obj = apply_rows(base, p + t * dir, 1.0);
         } else {
-            p_obj = shape_point(int(fetch(u_instances, base + 6).x), fetch(u_instances, base + 7));
+            p_obj = shape_point(int(instance_texel(base + 6).x), instance_texel(base + 7));
         }
         if (!shape_hit_at(inst, p_obj, p, h, L, dist)) return vec3(0.0);
     } else {
@@ -134,9 +134,10 @@ vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
         h = Hit(dist, inst, tri, b, vec3(0.0), vec2(0.0));
     }
     Surface s = surface_at(h, p, L);
-    Material m = material_of(s);
-    pdf = abs(dot(s.ng, L)) > 0.0 ? emitter_pdf(inst, m.emit_pdf, p, L, dist, s.ng) : 0.0;
-    bool one_sided = (int(fetch(u_instances, inst * INSTANCE_TEXELS + 6).w)
+    float emit_pdf;
+    vec3 emission = emission_at(s.inst, point_of(s), emit_pdf);
+    pdf = abs(dot(s.ng, L)) > 0.0 ? emitter_pdf(inst, emit_pdf, p, L, dist, s.ng) : 0.0;
+    bool one_sided = (int(instance_texel(inst * INSTANCE_TEXELS + 6).w)
                       & FLAG_ONE_SIDED) != 0;
-    return s.front || !one_sided ? m.emission : vec3(0.0);
+    return s.front || !one_sided ? emission : vec3(0.0);
 }

@@ -6,7 +6,7 @@
 // (resized to the array's side) at the centre of the image's own texel.
 
 vec4 record_texel(int rec, int k) {
-    return fetch(u_instances, rec * INSTANCE_TEXELS + MATERIAL_ROW + k);
+    return instance_texel(rec * INSTANCE_TEXELS + MATERIAL_ROW + k);
 }
 
 float g_footprint = 0.0;  // the surface being read's (point_of): its textures' mip level
@@ -47,7 +47,7 @@ MaterialPoint point_of(Surface s) {
 // facet.render.rays.pack.open_volume) is thin-walled here, absorbing over its thickness.
 Material material_of(Surface s) {
     Material m = material_at(s.inst, point_of(s));
-    int flags = int(fetch(u_instances, s.inst * INSTANCE_TEXELS + 6).w);
+    int flags = int(instance_texel(s.inst * INSTANCE_TEXELS + 6).w);
     if ((flags & FLAG_OPEN_VOLUME) != 0) m.thin = true;
     return m;
 }

@@ -101,7 +101,7 @@ void main() {
 #endif
         Material mat = material_of(s);
         // What it emits towards the eye, or towards the last surface that sampled its BSDF.
-        bool one_sided = (int(fetch(u_instances, h.inst * INSTANCE_TEXELS + 6).w)
+        bool one_sided = (int(instance_texel(h.inst * INSTANCE_TEXELS + 6).w)
                           & FLAG_ONE_SIDED) != 0;
         if (!s.front && one_sided) break;  // a one-sided surface's back: opaque and black
         if (mat.emission != vec3(0.0)) {

@@ -69,7 +69,7 @@ void main() {
     // Linear depth along the camera axis: (p - eye) . forward; a parallel projection's
     // "eye" is any point on its axis plane, the same formula holds.
     f_depth_ids = uvec2(floatBitsToUint(dot(s.p - u_eye_world, u_forward)),
-                        uint(int(fetch(u_instances, h.inst * INSTANCE_TEXELS + 6).z) + 1));
+                        uint(int(instance_texel(h.inst * INSTANCE_TEXELS + 6).z) + 1));
 #endif
 #ifdef OUT_NORMALS
     f_normal = vec4(s.n, 0.0);

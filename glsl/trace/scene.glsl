@@ -23,13 +23,13 @@ struct Hit {
 };
 
 vec3 apply_rows(int base, vec3 p, float w) {  // rows base..base+2 times (p, w)
-    return vec3(dot(fetch(u_instances, base), vec4(p, w)),
-                dot(fetch(u_instances, base + 1), vec4(p, w)),
-                dot(fetch(u_instances, base + 2), vec4(p, w)));
+    return vec3(dot(instance_texel(base), vec4(p, w)),
+                dot(instance_texel(base + 1), vec4(p, w)),
+                dot(instance_texel(base + 2), vec4(p, w)));
 }
 
 float instance_opacity(int i) {
-    return fetch(u_instances, i * INSTANCE_TEXELS + MATERIAL_ROW + REC_PHONG).w;
+    return instance_texel(i * INSTANCE_TEXELS + MATERIAL_ROW + REC_PHONG).w;
 }
 
 // Whether instance i is opaque for the exact channels: not a transparent Phong material nor
@@ -39,17 +39,17 @@ float instance_opacity(int i) {
 bool opaque_instance(int i) {
     int record = i * INSTANCE_TEXELS + MATERIAL_ROW;
     return instance_opacity(i) >= 1.0 &&
-           int(fetch(u_instances, record + REC_ALPHA).y) != ALPHA_MODE_BLEND;
+           int(instance_texel(record + REC_ALPHA).y) != ALPHA_MODE_BLEND;
 }
 
 // Instance i against the ray, in its object space (t keeps its world meaning).
 bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
     int base = i * INSTANCE_TEXELS;
-    vec4 r0 = fetch(u_instances, base), r1 = fetch(u_instances, base + 1);
-    vec4 r2 = fetch(u_instances, base + 2);
+    vec4 r0 = instance_texel(base), r1 = instance_texel(base + 1);
+    vec4 r2 = instance_texel(base + 2);
     vec3 oo = vec3(dot(r0, vec4(o, 1.0)), dot(r1, vec4(o, 1.0)), dot(r2, vec4(o, 1.0)));
     vec3 od = vec3(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
-    vec4 info = fetch(u_instances, base + 6);
+    vec4 info = instance_texel(base + 6);
     int kind = int(info.x);
     bool one_sided = g_camera_ray && (int(info.w) & FLAG_ONE_SIDED) != 0;
     if (kind == KIND_MESH) {
@@ -60,7 +60,7 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
         vec3 n;
         vec2 uv;
         float t = h.t;
-        if (!hit_shape(kind, fetch(u_instances, base + 7), oo, od, t, n, uv)) return false;
+        if (!hit_shape(kind, instance_texel(base + 7), oo, od, t, n, uv)) return false;
         if (one_sided && dot(n, od) > 0.0) return false;  // its back, to the camera
         h.t = t;
         h.tri = -1;
@@ -91,8 +91,8 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
         }                                                                              \
         if (node_ >= 0) {                                                              \
             int b_ = node_ * NODE_TEXELS;                                              \
-            vec4 lo0 = fetch(u_tlas, b_), hi0 = fetch(u_tlas, b_ + 1);                 \
-            vec4 lo1 = fetch(u_tlas, b_ + 2), hi1 = fetch(u_tlas, b_ + 3);             \
+            vec4 lo0 = tlas_texel(b_), hi0 = tlas_texel(b_ + 1);                 \
+            vec4 lo1 = tlas_texel(b_ + 2), hi1 = tlas_texel(b_ + 3);             \
             float e0 = box_entry(lo0.xyz, hi0.xyz, o, inv_, T_MAX);                    \
             float e1 = box_entry(lo1.xyz, hi1.xyz, o, inv_, T_MAX);                    \
             bool near0 = e0 <= e1;                                                     \

@@ -50,11 +50,11 @@ float texture_lod(float footprint, float texels) {
 // world space, so its error is a few ulps of its own size: what offset_ray allows for.
 Surface surface_at(Hit h, vec3 o, vec3 d) {
     int base = h.inst * INSTANCE_TEXELS;
-    vec4 info = fetch(u_instances, base + 6);
+    vec4 info = instance_texel(base + 6);
     int record = base + MATERIAL_ROW;
-    vec4 m0 = fetch(u_instances, record + REC_COLOR), m1 = fetch(u_instances, record + REC_PHONG);
-    vec4 m2 = fetch(u_instances, record + REC_EFFECTS);
-    bool own_pbr = fetch(u_instances, record + REC_FLAGS).z > 0.5;  // metallic-roughness
+    vec4 m0 = instance_texel(record + REC_COLOR), m1 = instance_texel(record + REC_PHONG);
+    vec4 m2 = instance_texel(record + REC_EFFECTS);
+    bool own_pbr = instance_texel(record + REC_FLAGS).z > 0.5;  // metallic-roughness
     vec3 n_obj, ng_obj, p_obj;
     vec2 uv, uv1 = vec2(0.0);
     vec4 tangent = vec4(0.0);
@@ -110,7 +110,7 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     } else {
         n_obj = ng_obj = h.n_obj;
         uv = h.uv;
-        p_obj = onto_shape(int(info.x), fetch(u_instances, base + 7),
+        p_obj = onto_shape(int(info.x), instance_texel(base + 7),
                            apply_rows(base, o + h.t * d, 1.0), h.n_obj);
 #ifdef PBR_SLOTS
         tangent = shape_tangent(int(info.x), p_obj, h.n_obj);
@@ -119,8 +119,8 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     Surface s;
     s.p = apply_rows(base + 3, p_obj, 1.0);
     // Normals go by (M^-1)^T: the world -> object rows, as columns.
-    mat3 to_world_n = mat3(fetch(u_instances, base).xyz, fetch(u_instances, base + 1).xyz,
-                           fetch(u_instances, base + 2).xyz);
+    mat3 to_world_n = mat3(instance_texel(base).xyz, instance_texel(base + 1).xyz,
+                           instance_texel(base + 2).xyz);
     s.n = normalize(to_world_n * n_obj);
     s.ng = normalize(to_world_n * ng_obj);
     s.front = dot(s.ng, d) < 0.0;
@@ -132,8 +132,8 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     // Tangents are directions on the surface: carried by M (the object -> world rows).
     vec3 t_world = apply_rows(base + 3, tangent.xyz, 0.0);
     // A mirroring placement (det M < 0) turns the frame's handedness round.
-    mat3 m_rows = mat3(fetch(u_instances, base + 3).xyz, fetch(u_instances, base + 4).xyz,
-                       fetch(u_instances, base + 5).xyz);
+    mat3 m_rows = mat3(instance_texel(base + 3).xyz, instance_texel(base + 4).xyz,
+                       instance_texel(base + 5).xyz);
     float hand = (tangent.w < 0.0 ? -1.0 : 1.0) * (determinant(m_rows) < 0.0 ? -1.0 : 1.0);
     s.tangent = dot(tangent.xyz, tangent.xyz) > 0.0 ? vec4(normalize(t_world), hand)
                                                     : vec4(0.0);
@@ -161,7 +161,7 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
 // Whether the surface's own material is metallic-roughness (shaded by that model; a
 // Phong material by its Phong terms, but in the path tracer).
 bool own_pbr(Surface s) {
-    return fetch(u_instances, s.inst * INSTANCE_TEXELS + MATERIAL_ROW + REC_FLAGS).z > 0.5;
+    return instance_texel(s.inst * INSTANCE_TEXELS + MATERIAL_ROW + REC_FLAGS).z > 0.5;
 }
 
 // Wächter and Binder (Ray Tracing Gems, ch. 6): p moved off its surface along n by

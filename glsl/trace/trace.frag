@@ -161,7 +161,7 @@ void main() {
             continue;
         }
         Surface s = surface_at(h, o, d);
-        if (!s.front && (int(fetch(u_instances, h.inst * INSTANCE_TEXELS + 6).w)
+        if (!s.front && (int(instance_texel(h.inst * INSTANCE_TEXELS + 6).w)
                          & FLAG_ONE_SIDED) != 0) continue;  // a one-sided back: black
 #ifdef PBR_SLOTS
         if (cut_out(s)) {  // a cut-out (alpha MASK): on through, unchanged

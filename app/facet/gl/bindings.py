@@ -35,7 +35,7 @@ _RAYS = ("u_tris", "u_tri_index", "u_vertices", "u_nodes", "u_instances", "u_tla
 
 SAMPLERS: dict[str, int] = {name: unit for unit, name in enumerate(
     (*_SCENE, *SLOT_SAMPLERS.values(), *_POST, *_RAYS))}
-BLOCKS: dict[str, int] = {"Lights": 0}  # glsl/lib/lights.glsl
+BLOCKS: dict[str, int] = {"Lights": 0, "Instances": 1, "Tlas": 2}  # glsl/lib/lights.glsl
 
 # GL type enums of sampler uniforms (2D, cube, 2D array, 2D shadow, their int forms).
 SAMPLER_TYPES = frozenset({0x8B5E, 0x8B60, 0x8DC1, 0x8B62, 0x8DCA, 0x8DCC, 0x8DCF, 0x8DD2,

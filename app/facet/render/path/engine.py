@@ -179,4 +179,6 @@ def _material_defines(scene) -> tuple:
     alpha = any(as_pbr(o.material).alpha_mode != "OPAQUE" or (
         as_pbr(o.material).transmission > 0 and as_pbr(o.material).thickness == 0) or
         pack.open_volume(o) for o in scene.objects)
-    return ("PBR_SLOTS", "PBR_SHADING", "PATH_TRACER") + (("HAS_ALPHA",) if alpha else ())
+    images = () if _layer_requests(scene) else ("NO_SLOT_IMAGES",)
+    return ("PBR_SLOTS", "PBR_SHADING", "PATH_TRACER") + (("HAS_ALPHA",) if alpha else ()) + \
+        images

@@ -49,6 +49,8 @@ class RayScene:
     """One engine's ray scene (module docstring). ``programs``: compiled passes by stage
     and defines."""
 
+    use_blocks = True  # a small scene's rows from uniform blocks (False: textures only)
+
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache
         self.programs: dict[tuple, FullScreenPass] = {}
@@ -64,6 +66,14 @@ class RayScene:
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights((), np.zeros(3))))
         limit = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
         self.max_texels = pack.TEX_WIDTH * limit
+        # Small scenes' instance rows and top level are read from uniform blocks: on
+        # llvmpipe a uniform is much cheaper than a texel fetch (the Cornell box: 610 ->
+        # 414 ms a sample at 256 x 256); larger ones stay in their textures. (Storage
+        # buffers, GL 4.3, were measured slower than both there: 906 ms.)
+        self.block_texels = min(int(ctx.info["GL_MAX_UNIFORM_BLOCK_SIZE"]) // 16, 4096)
+        self.blocks = {name: ctx.buffer(reserve=self.block_texels * 16)
+                       for name in ("Instances", "Tlas")}
+        self._in_blocks = False  # the prepared scene's rows fit them (``prepare``)
 
     # -- uploads ---------------------------------------------------------------------------
     def upload(self, name: str, rows: np.ndarray, dtype: str = "f4") -> None:
@@ -82,6 +92,9 @@ class RayScene:
         facet.render.rays.layers), each uploaded only when it changed."""
         self._geometry(scene, state)
         self._texture_layers(requests, state.srgb)
+        n = len(scene.objects)  # (a top level has fewer than 2 n nodes)
+        self._in_blocks = RayScene.use_blocks and max(
+            n * pack.INSTANCE_TEXELS, (2 * n + 1) * pack.NODE_TEXELS) <= self.block_texels
 
     def _geometry(self, scene, state) -> None:
         """Every mesh's triangles and hierarchy, uploaded when the set of meshes changed (or,
@@ -143,9 +156,15 @@ class RayScene:
             scene.objects, self.roots, lambda m: phong_color(m, state), self.layers, boxes)
         if more_rows is not None:
             more_rows(rows, ordered)
+        tlas_rows = tlas.reshape(-1, 4) if tlas is not None else np.zeros((4, 4), np.float32)
         self.upload("instances", rows.reshape(-1, 4))
-        self.upload("tlas", tlas.reshape(-1, 4) if tlas is not None else
-                    np.zeros((4, 4), np.float32))
+        self.upload("tlas", tlas_rows)
+        if self._in_blocks:
+            for name, data in (("Instances", rows.reshape(-1, 4)), ("Tlas", tlas_rows)):
+                if len(data) > self.block_texels:  # (prepare saw the same objects)
+                    raise RuntimeError(f"{name} outgrew its uniform block")
+                self.blocks[name].write(np.ascontiguousarray(data, np.float32).tobytes())
+                self.blocks[name].bind_to_uniform_block(BLOCKS[name])
         single = unbounded if tlas is None and len(rows) > unbounded else -1
         return unbounded, tlas is not None, single
 
@@ -159,6 +178,8 @@ class RayScene:
         model = "phong" if state.shading in ("auto", "pbr") else state.shading
         defines = {SHADING_MODELS[model].define: None, "MAX_LIGHTS": MAX_LIGHTS,
                    **pack.layout_defines()}
+        if self._in_blocks:
+            defines.update(INSTANCE_BLOCK=self.block_texels, TLAS_BLOCK=self.block_texels)
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
                  "LINEAR_OUT": state.linear_out,
                  "SECONDARY": secondary and stage == "trace",
@@ -232,3 +253,5 @@ class RayScene:
             tex.release()
         self.textures.clear()
         self.lights_ubo.release()
+        for block in self.blocks.values():
+            block.release()
