@@ -7,9 +7,10 @@ shadow maps only when asked, the tracers cast shadow rays unless told not to; ``
 is the Whitted tracer's recursion depth (5) and the path tracer's bounces (8) when not given,
 and the rasterizer takes none. The path tracer lights only by what a scene declares: the
 ambient term a scene leaves at its default lights the rasterizer and the Whitted tracer
-(the notes' I_a = 0.1), not the path tracer (``implied_ambient``). An engine's ``unsupported`` lines (facet.render.engine) are
-made from its row here, so a feature the table says an engine leaves out is always named in
-a warning line, and the differential tests read the same table.
+(the notes' I_a = 0.1), not the path tracer (``implied_ambient``). An engine's
+``unsupported`` lines (facet.render.engine) are made from its row here, so a feature the
+table says an engine leaves out is always named in a warning line, and the differential
+tests read the same table.
 
 Material features have the names glTF and facet's docs give them (``material_features``).
 """

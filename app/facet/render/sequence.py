@@ -16,8 +16,8 @@ import numpy as np
 from ..errors import FacetWarning, InputError
 from ..geometry.sampling import pattern
 from ..gl.targets import writing
-from .budget import SampleBudget
 from .antialias import distributed_sample, gloss_jitter, jitter_matrix, point_lights_for
+from .budget import SampleBudget
 from .finish import finish_for
 from .prepare import frozen
 from .state import FrameState

@@ -18,9 +18,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from ...geometry.sampling import MAX_SAMPLES
 from ...scene.light import AreaLight
 from ...srgb import srgb_to_linear
-from ...geometry.sampling import MAX_SAMPLES
 from ..antialias import accumulation
 from ..engine import Engine, grid_or_jittered
 from ..material_record import TEXELS
