@@ -24,6 +24,11 @@
 #include "trace/light_sampling.glsl"
 
 uniform mat4 u_inv_view_projection;  // window NDC -> world, this sample's camera and shift
+#ifdef MOSAIC
+// Up to MOSAIC samples drawn at once, one above the other (a small picture fills more of
+// the rasterizer's tiles: facet.render.sequence), each with its camera and shift.
+uniform mat4 u_inv_view_projections[MOSAIC];
+#endif
 uniform vec2 u_viewport;
 uniform vec4 u_background;  // straight RGB (linear) and alpha, for eye rays that escape
 uniform int u_max_depth;    // bounces after the eye ray
@@ -40,17 +45,26 @@ const int STRATEGY_MIS = 0, STRATEGY_LIGHT = 1, STRATEGY_BSDF = 2;
 const int ROULETTE_AFTER = 5;  // bounces before Russian roulette may end a path (Mitsuba's)
 
 void main() {
+    vec2 frag = gl_FragCoord.xy;  // in the picture
+    int sample_index = u_sample;
+    mat4 inv_view_projection = u_inv_view_projection;
+#ifdef MOSAIC
+    int part = int(frag.y / u_viewport.y);
+    frag.y -= float(part) * u_viewport.y;
+    sample_index += part;
+    inv_view_projection = u_inv_view_projections[part];
+#endif
 #ifdef ADAPTIVE
-    if (texelFetch(u_active, ivec2(gl_FragCoord.xy), 0).r == 0.0) discard;  // (adds 0)
+    if (texelFetch(u_active, ivec2(frag), 0).r == 0.0) discard;  // (adds 0)
 #endif
     // The stream of this pixel of the picture (its row counted from the top whichever way
     // the target is drawn: a window refines to the offscreen picture), sample and seed.
-    float row = u_flip_y ? gl_FragCoord.y : u_viewport.y - gl_FragCoord.y;
-    g_rng = pcg_hash(uint(gl_FragCoord.x) + pcg_hash(uint(row) +
-                     pcg_hash(uint(u_sample) + pcg_hash(uint(u_seed)))));
-    vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
-    vec4 near = u_inv_view_projection * vec4(ndc, -1.0, 1.0);
-    vec4 far = u_inv_view_projection * vec4(ndc, 1.0, 1.0);
+    float row = u_flip_y ? frag.y : u_viewport.y - frag.y;
+    g_rng = pcg_hash(uint(frag.x) + pcg_hash(uint(row) +
+                     pcg_hash(uint(sample_index) + pcg_hash(uint(u_seed)))));
+    vec2 ndc = frag / u_viewport * 2.0 - 1.0;
+    vec4 near = inv_view_projection * vec4(ndc, -1.0, 1.0);
+    vec4 far = inv_view_projection * vec4(ndc, 1.0, 1.0);
     vec3 o = near.xyz / near.w;
     vec3 span = far.xyz / far.w - o;
     vec3 d = normalize(span);

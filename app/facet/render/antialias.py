@@ -45,6 +45,7 @@ class Accumulator:
         self.accum_tex = ctx.texture(size, 4, dtype="f4")
         self.accum = ctx.framebuffer([self.accum_tex])
         self.add = FullScreenPass(ctx, "post/accumulate.frag")
+        self._mosaics: dict[int, tuple] = {}  # parts -> (texture, framebuffer)
 
     def clear(self) -> None:
         self.accum.clear(0.0, 0.0, 0.0, 0.0)
@@ -53,20 +54,31 @@ class Accumulator:
         self.sample.use()
         self.sample.clear(*background, depth=1.0)
 
-    def add_sample(self) -> None:
-        """accum += sample (additive blending of a full-screen pass)."""
+    def mosaic(self, parts: int):
+        """The framebuffer of ``parts`` samples stacked one above the other (made once)."""
+        if parts not in self._mosaics:
+            w, h = self.accum_tex.size
+            tex = self.ctx.texture((w, h * parts), 4, dtype="f4")
+            self._mosaics[parts] = (tex, self.ctx.framebuffer([tex]))
+        return self._mosaics[parts][1]
+
+    def add_sample(self, parts: int = 0) -> None:
+        """accum += sample, or the sum of a mosaic's ``parts`` samples (additive blending of
+        a full-screen pass)."""
         ctx = self.ctx
         self.accum.use()
         ctx.disable(ctx.DEPTH_TEST)
         ctx.enable(ctx.BLEND)
         ctx.blend_func = ctx.ONE, ctx.ONE
-        self.add.draw({"u_sample": self.sample_tex})
+        source = self._mosaics[parts][0] if parts else self.sample_tex
+        self.add.draw({"u_sample": source}, u_slices=max(parts, 1),
+                      u_slice_height=self.accum_tex.size[1])
         ctx.disable(ctx.BLEND)
         ctx.enable(ctx.DEPTH_TEST)
 
     def release(self) -> None:
         for obj in (self.accum, self.accum_tex, self.sample, self.sample_depth,
-                    self.sample_tex):
+                    self.sample_tex, *(x for pair in self._mosaics.values() for x in pair)):
             obj.release()
         self.add.release()
 

@@ -84,10 +84,11 @@ class SampleBudget:
             return False
         return True
 
-    def added(self, total: int, seconds: float, accum_tex) -> bool:
-        """One sample was added (taking ``seconds``); False: stop here."""
-        self.done += 1
-        self.sample_seconds = seconds
+    def added(self, total: int, seconds: float, accum_tex, n: int = 1) -> bool:
+        """``n`` samples were added (taking ``seconds``; more than one only where nothing
+        watches sample by sample: a mosaic, facet.render.sequence); False: stop here."""
+        self.done += n
+        self.sample_seconds = seconds / n
         if self.adaptive:
             self._count += self._active_now
             if self.done % ROUND == 0 and not self._look(accum_tex):

@@ -58,6 +58,7 @@ class Engine:
     radiance = False  # colour is linear radiance: sRGB-encoded only for 8-bit output
     adaptive = False  # skips the pixels ``active`` marks stopped (facet.render.budget)
     active = None  # the mask texture of the sum being drawn (R8, 0: stopped), or None
+    mosaic = False  # draws several samples at once, stacked (draw_mosaic)
 
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache

@@ -19,6 +19,8 @@ from dataclasses import replace
 import numpy as np
 
 from ...geometry.sampling import MAX_SAMPLES
+from ...gl.shaders import mat_bytes
+from ..sequence import MAX_MOSAIC
 from ...scene.light import AreaLight
 from ...srgb import srgb_to_linear
 from ..antialias import accumulation
@@ -42,6 +44,7 @@ class PathEngine(Engine):
     name = "path"
     radiance = True
     adaptive = True
+    mosaic = True
     strategy = "mis"
 
     def __init__(self, ctx, cache):
@@ -89,7 +92,15 @@ class PathEngine(Engine):
                 return scene.view(objects=scene.objects + rectangles)
         return scene
 
-    def draw_sample(self, scene, state, opts, surf, background) -> None:
+    def draw_mosaic(self, scene, states, first: int, opts, surf, background) -> None:
+        """Samples ``first``, ``first + 1``, ... (one state each, differing only in camera
+        and shift) at once into the bound mosaic target, one above the other."""
+        inverse = b"".join(mat_bytes(np.linalg.inv(s.view_projection())) for s in states)
+        inverse += bytes(64 * (MAX_MOSAIC - len(states)))  # (the array's unused part)
+        self._sample = first
+        self.draw_sample(scene, states[0], opts, surf, background, mosaic=(len(states), inverse))
+
+    def draw_sample(self, scene, state, opts, surf, background, mosaic=None) -> None:
         scene = self._with_rectangles(scene)
         if not state.srgb:  # a display value here; the output is encoded (Engine.radiance)
             background = (*srgb_to_linear(np.asarray(background[:3])), background[3])
@@ -100,7 +111,8 @@ class PathEngine(Engine):
         sky = self.sky.textures(state.environment)
         program = self.rays.program("path", state, False, extra=_material_defines(scene) + (
             ("SKY_DISTRIBUTION",) if sky is not None else ()) + (
-            ("ADAPTIVE",) if self.active is not None else ()))
+            ("ADAPTIVE",) if self.active is not None else ()) + (
+            (("MOSAIC", MAX_MOSAIC),) if mosaic is not None else ()))
         textures = {"u_emitters": "emitters"}  # a scene texture (RayScene.draw_colour)
         if self.active is not None:
             textures["u_active"] = self.active
@@ -111,6 +123,7 @@ class PathEngine(Engine):
             u_background=background, u_max_depth=int(opts.max_depth),
             u_sample=self._sample, u_flip_y=int(state.flip_y), u_seed=int(opts.seed),
             u_strategy=STRATEGIES[self.strategy],
+            u_inv_view_projections=mosaic[1] if mosaic is not None else None,
             u_emitter_count=lambda: self._emitter_count,  # (counted while binding)
             u_sky_size=sky[3] if sky is not None else (1, 1))
 

@@ -185,7 +185,7 @@ class RayScene:
                  "SECONDARY": secondary and stage == "trace",
                  "HAS_ENVIRONMENT": state.environment is not None and stage != "primary"}
         defines.update({k: None for k, on in flags.items() if on})
-        defines.update({k: None for k in extra})
+        defines.update(dict(k if isinstance(k, tuple) else (k, None) for k in extra))
         for name, location in aux_locations(aux).items():
             defines[f"OUT_{name.upper()}"] = location
         key = (stage, tuple(sorted(defines.items())))
@@ -223,6 +223,13 @@ class RayScene:
                     for k, v in (textures or {}).items()}
         for name, value in uniforms.items():
             value = value() if callable(value) else value
+            if value is None:
+                continue
+            if isinstance(value, bytes):  # an array, as GL lays it out
+                member = program.program.gl.get(name, None)
+                if member is not None:
+                    member.write(value)
+                continue
             if not isinstance(value, int):  # a vector: ints stay ints (ivec uniforms)
                 value = tuple(v if isinstance(v, int) else float(v) for v in value)
             program.program.set(name, value, strict=False)
