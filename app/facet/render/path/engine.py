@@ -20,7 +20,6 @@ import numpy as np
 
 from ...geometry.sampling import MAX_SAMPLES
 from ...gl.shaders import mat_bytes
-from ..sequence import MAX_MOSAIC
 from ...scene.light import AreaLight
 from ...srgb import srgb_to_linear
 from ..antialias import accumulation
@@ -29,6 +28,7 @@ from ..material_record import TEXELS
 from ..materials import as_pbr
 from ..rays import pack
 from ..rays.scene import RayScene, ray_scene_lines
+from ..sequence import MAX_MOSAIC
 from .area_lights import AreaEmitters, strip_area_points
 from .emitters import pack_emitters
 from .sky import SkyLight
