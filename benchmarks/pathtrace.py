@@ -138,6 +138,7 @@ def _facet(scene, camera, size, spp, sky, seed=0):
 
     kw = {"environment": {"color": list(sky)}} if isinstance(sky, tuple) else \
         {"environment": str(sky)} if sky is not None else {}
+    kw["outputs"] = ("color",)  # equal work: Mitsuba draws colour only
     with facet.Renderer(size, size) as r:
         r.render(scene, camera, engine="path", spp=1, float_color=True, lights="scene", **kw)
         start = time.perf_counter()
