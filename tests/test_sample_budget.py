@@ -188,3 +188,12 @@ def test_quiet_renders_show_no_progress(tmp_path):
         os.close(master)
     assert proc.returncode == 0 and "samples," not in shown, shown
     assert (tmp_path / "out.png").exists()
+
+
+def test_a_time_limit_on_a_single_pass_picture_says_so():
+    """The rasterizer without supersampling draws one pass: a time limit cannot shorten it,
+    and one line says so (it was silently ignored)."""
+    scene, camera = _half_lit()
+    with facet.Renderer(16, 16) as r, pytest.warns(facet.FacetWarning,
+                                                   match="time_limit stops sums of samples"):
+        r.render(scene, camera, time_limit=5.0, lights="scene")

@@ -29,19 +29,16 @@ vec4 fetch(sampler2D s, int i) {
     return texelFetch(s, ivec2(i & TEX_MASK, i >> TEX_SHIFT), 0);
 }
 
-// A small scene's instance rows and top level in uniform blocks (facet.render.rays.scene:
-// on llvmpipe far cheaper than texel fetches), else in their textures.
-#ifdef INSTANCE_BLOCK
-layout(std140) uniform Instances { vec4 u_instance_rows[INSTANCE_BLOCK]; };
+// A small scene's instance rows and top level in uniform blocks of SCENE_BLOCKS texels
+// (facet.render.rays.scene: on llvmpipe far cheaper than texel fetches), else in their
+// textures.
+#ifdef SCENE_BLOCKS
+layout(std140) uniform Instances { vec4 u_instance_rows[SCENE_BLOCKS]; };
+layout(std140) uniform Tlas { vec4 u_tlas_rows[SCENE_BLOCKS]; };
 vec4 instance_texel(int i) { return u_instance_rows[i]; }
-#else
-vec4 instance_texel(int i) { return fetch(u_instances, i); }
-#endif
-
-#ifdef TLAS_BLOCK
-layout(std140) uniform Tlas { vec4 u_tlas_rows[TLAS_BLOCK]; };
 vec4 tlas_texel(int i) { return u_tlas_rows[i]; }
 #else
+vec4 instance_texel(int i) { return fetch(u_instances, i); }
 vec4 tlas_texel(int i) { return fetch(u_tlas, i); }
 #endif
 

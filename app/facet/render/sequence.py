@@ -78,6 +78,9 @@ class PassSequence:
         bg = np.array([*state.to_linear(scene.background[:3]).tolist(), alpha])
         clear = (*(bg[:3] * alpha).tolist(), alpha)  # premultiplied (finishing undoes it)
         if aa is None:
+            if opts.time_limit is not None:
+                self._warn([f"time_limit stops sums of samples; {engine.capabilities.noun} "
+                            "draws this picture in one pass (give spp to sum samples)"])
             # (float colour is linear light: encoded for 8-bit output and windows only)
             finish = finish_for(bg, opts.srgb and (not opts.float_color or
                                                   dest.window is not None))

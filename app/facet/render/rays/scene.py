@@ -179,7 +179,7 @@ class RayScene:
         defines = {SHADING_MODELS[model].define: None, "MAX_LIGHTS": MAX_LIGHTS,
                    **pack.layout_defines()}
         if self._in_blocks:
-            defines.update(INSTANCE_BLOCK=self.block_texels, TLAS_BLOCK=self.block_texels)
+            defines["SCENE_BLOCKS"] = self.block_texels
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
                  "LINEAR_OUT": state.linear_out,
                  "SECONDARY": secondary and stage == "trace",
