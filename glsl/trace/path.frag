@@ -23,12 +23,13 @@
 #include "trace/sky.glsl"
 #include "trace/light_sampling.glsl"
 
-uniform mat4 u_inv_view_projection;  // window NDC -> world, this sample's camera and shift
-#ifdef MOSAIC
-// Up to MOSAIC samples drawn at once, one above the other (a small picture fills more of
-// the rasterizer's tiles: facet.render.sequence), each with its camera and shift.
-uniform mat4 u_inv_view_projections[MOSAIC];
+#ifndef MOSAIC
+#error MOSAIC: how many samples one draw may stack (facet.render.path.engine)
 #endif
+// Window NDC -> world of up to MOSAIC samples drawn at once, one above the other (a small
+// picture fills more of the rasterizer's tiles: facet.render.sequence), each with its
+// camera and shift; one sample is a mosaic of one.
+uniform mat4 u_inv_view_projections[MOSAIC];
 uniform vec2 u_viewport;
 uniform vec4 u_background;  // straight RGB (linear) and alpha, for eye rays that escape
 uniform int u_max_depth;    // bounces after the eye ray
@@ -47,13 +48,10 @@ const int ROULETTE_AFTER = 5;  // bounces before Russian roulette may end a path
 void main() {
     vec2 frag = gl_FragCoord.xy;  // in the picture
     int sample_index = u_sample;
-    mat4 inv_view_projection = u_inv_view_projection;
-#ifdef MOSAIC
     int part = int(frag.y / u_viewport.y);
     frag.y -= float(part) * u_viewport.y;
     sample_index += part;
-    inv_view_projection = u_inv_view_projections[part];
-#endif
+    mat4 inv_view_projection = u_inv_view_projections[part];
 #ifdef ADAPTIVE
     if (texelFetch(u_active, ivec2(frag), 0).r == 0.0) discard;  // (adds 0)
 #endif

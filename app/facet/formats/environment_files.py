@@ -48,8 +48,17 @@ def environment_from_image(path, size: int = 256) -> Environment:
     return env
 
 
+_LOADED: dict = {}  # (path, size, mtime) -> Environment: the last few image files read
+_KEEP = 2  # a 2K HDR sky is about 40 MB with its cube and light grid
+
+
 def load_environment(spec: str, base: Path | None = None) -> Environment:
-    """``sky``, an equirectangular image file, or a folder with px/nx/py/ny/pz/nz images."""
+    """``sky``, an equirectangular image file, or a folder with px/nx/py/ny/pz/nz images.
+
+    An image file read before and unchanged since (same size and modification time) is
+    the same Environment again: a turntable or a series of renders under one sky reads and
+    resamples it once, and the engines' textures made from it (keyed by the object) stay.
+    Its arrays are read-only."""
     if spec == "sky":
         return Environment.sky()
     from ..guard import check_confined
@@ -65,4 +74,18 @@ def load_environment(spec: str, base: Path | None = None) -> Environment:
                                  f"{', '.join(FACE_NAMES)})")
             faces.append(found[0])
         return environment_from_faces(faces)
-    return environment_from_image(path)
+    try:
+        stat = path.stat()
+    except OSError:
+        return environment_from_image(path)  # (the reader names what is wrong)
+    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
+    env = _LOADED.pop(key, None)
+    if env is None:
+        env = environment_from_image(path)
+        for array in (env.faces, env.equirect):
+            if array is not None:
+                array.flags.writeable = False
+    _LOADED[key] = env  # (the most recent last)
+    while len(_LOADED) > _KEEP:
+        del _LOADED[next(iter(_LOADED))]
+    return env

@@ -208,7 +208,7 @@ class RayScene:
         prog.set("u_unbounded", unbounded, strict=False)
         prog.set("u_has_tlas", has_tlas, strict=False)
         prog.set("u_single", single, strict=False)
-        prog.set("u_inv_view_projection", np.linalg.inv(state.view_projection()))
+        prog.set("u_inv_view_projection", np.linalg.inv(state.view_projection()), strict=False)
         prog.set("u_cone", pixel_cone(state), strict=False)
         prog.set("u_viewport", (float(state.width), float(state.height)))
 
