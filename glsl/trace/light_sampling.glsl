@@ -29,47 +29,53 @@ float power_weight(float a, float b) {
 // back along V straight from the lights: the scene's point, spot and directional lights
 // (a shadow ray each), one point on the emitters and one direction of the sky when asked,
 // each weighed against BSDF sampling's finding them when bsdf_hits.
+// One loop over these candidates with one shadow ray, one BSDF evaluation and one density
+// in its body: llvmpipe runs every line of a shader's branches whether or not a lane takes
+// them (only loops end early), so each call site of visibility() was a whole traversal
+// run on every bounce; four of them were most of a path's time.
 vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters, bool sky,
                   bool bsdf_hits) {
-    vec3 light = vec3(0.0), from = offset_ray(s.p, s.ng);
-    // Direct light from the scene's lights (delta lights: one shadow ray each).
-    for (int i = 0; i < u_light_count.x; ++i) {
-        vec3 L;
-        float falloff = incident_light(i, s.p, L);
-        float dist = LIGHT_KIND(i) == LIGHT_DIRECTIONAL
-                   ? INF : length(u_lights[i].position.xyz - s.p);
-        if (falloff <= 0.0) continue;
-        if (dot(N, L) > 0.0 && dot(s.ng, L) > 0.0) {
-            light += visibility(from, L, dist) * falloff
-                 * u_lights[i].color.rgb * (PI * bsdf_eval(b, N, V, L));
-        } else if (b.thin && !b.polished && dot(s.ng, L) < 0.0) {
-            // A thin rough wall passes a light behind it through its transmission lobe
-            // (a delta light: no path from the eye finds it otherwise).
-            light += visibility(offset_ray(s.p, -s.ng), L, dist) * falloff
-                 * u_lights[i].color.rgb * pbr_light_through(
-                          b.m, b.c_trans, N, V, L, mat.roughness, max(mat.ior, 1.0));
+    vec3 light = vec3(0.0);
+    int delta = u_light_count.x;
+    for (int j = 0; j < delta + 2; ++j) {
+        vec3 L, weight;       // the light's radiance over its density, before the BSDF
+        float dist = INF;     // to the light
+        float pdf_light = 0.0;  // > 0: weighed against BSDF sampling
+        float scale = 1.0;    // delta lights: their irradiance times PI
+        bool through = false;  // through a thin rough wall, from behind it
+        if (j < delta) {
+            // A delta light: one shadow ray each.
+            float falloff = incident_light(j, s.p, L);
+            if (falloff <= 0.0) continue;
+            if (LIGHT_KIND(j) != LIGHT_DIRECTIONAL) dist = length(u_lights[j].position.xyz - s.p);
+            weight = falloff * u_lights[j].color.rgb;
+            scale = PI;
+            // A thin rough wall passes a light behind it through its transmission lobe (a
+            // delta light: no path from the eye finds it otherwise).
+            through = b.thin && !b.polished && dot(s.ng, L) < 0.0;
+            if (!through && (dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0)) continue;
+        } else if (j == delta) {
+            // One point on the emitting triangles.
+            if (!emitters || u_emitter_count <= 0) continue;
+            vec3 Le = sample_emitter(s.p, L, dist, pdf_light);
+            if (pdf_light <= 0.0 || Le == vec3(0.0) || dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0)
+                continue;
+            weight = Le / pdf_light;
+            dist *= 1.0 - 1e-4;
+        } else {
+            // One direction of the environment.
+            if (!sky) continue;
+            L = sample_sky(pdf_light);
+            if (pdf_light <= 0.0 || dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0) continue;
+            weight = sky_light(L) / pdf_light;
         }
-    }
-    // One point on the emitting triangles.
-    if (emitters && u_emitter_count > 0) {
-        vec3 L;
-        float dist, pdf_light;
-        vec3 Le = sample_emitter(s.p, L, dist, pdf_light);
-        if (pdf_light > 0.0 && Le != vec3(0.0) && dot(N, L) > 0.0 && dot(s.ng, L) > 0.0) {
-            float w = bsdf_hits ? power_weight(pdf_light, bsdf_pdf(b, N, V, L)) : 1.0;
-            light += Le * bsdf_eval(b, N, V, L) * (w / pdf_light)
-                 * visibility(from, L, dist * (1.0 - 1e-4));
-        }
-    }
-    // One direction of the environment.
-    if (sky) {
-        float pdf_sky;
-        vec3 L = sample_sky(pdf_sky);
-        if (pdf_sky > 0.0 && dot(N, L) > 0.0 && dot(s.ng, L) > 0.0) {
-            float w = bsdf_hits ? power_weight(pdf_sky, bsdf_pdf(b, N, V, L)) : 1.0;
-            light += sky_light(L) * bsdf_eval(b, N, V, L)
-                 * (w / pdf_sky) * visibility(from, L, INF);
-        }
+        vec3 f = through ? pbr_light_through(b.m, b.c_trans, N, V, L, mat.roughness,
+                                             max(mat.ior, 1.0))
+                         : scale * bsdf_eval(b, N, V, L);
+        float w = pdf_light > 0.0 && bsdf_hits ?
+                  power_weight(pdf_light, bsdf_pdf(b, N, V, L)) : 1.0;
+        if (f == vec3(0.0) || w == 0.0) continue;
+        light += weight * f * w * visibility(offset_ray(s.p, through ? -s.ng : s.ng), L, dist);
     }
     return light;
 }
