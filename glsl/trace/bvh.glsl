@@ -64,7 +64,9 @@ bool hit_triangle(int tri, vec3 o, vec3 d, inout float t, out vec2 bary, bool fr
     vec3 v0 = t0.xyz;
     vec3 e1 = fetch(u_tris, 3 * tri + 1).xyz;
     vec3 e2 = fetch(u_tris, 3 * tri + 2).xyz;
+#ifndef NO_SPRITES
     if (t0.w != PRIM_TRIANGLE) return hit_sprite(t0, e1, e2, o, d, t, bary);
+#endif
     vec3 p = cross(d, e2);
     float det = dot(e1, p);
     bary = vec2(0.0);

@@ -68,6 +68,9 @@ bool shape_hit_at(int inst, vec3 p_obj, vec3 p, out Hit h, out vec3 L, out float
 // the half angle of the cone it subtends (false: not a sphere, or p on or inside it,
 // where it is sampled by area).
 bool sphere_cone(int inst, vec3 p, out float r, out vec3 w, out float one_minus_cos) {
+#ifdef NO_SHAPES
+    return false;
+#endif
     int base = inst * INSTANCE_TEXELS;
     if (int(instance_texel(base + 6).x) != KIND_SPHERE) return false;
     r = instance_texel(base + 7).x
@@ -107,6 +110,7 @@ vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
     int inst = int(e.x), tri = int(e.y);
     Hit h;
     pdf = 0.0;
+#ifndef NO_SHAPES
     if (tri < 0) {  // an analytic shape
         int base = inst * INSTANCE_TEXELS;
         float r, omc;
@@ -123,7 +127,9 @@ vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
             p_obj = shape_point(int(instance_texel(base + 6).x), instance_texel(base + 7));
         }
         if (!shape_hit_at(inst, p_obj, p, h, L, dist)) return vec3(0.0);
-    } else {
+    } else
+#endif
+    {
         vec2 b = random2();
         if (b.x + b.y > 1.0) b = 1.0 - b;
         vec3 p_obj = fetch(u_tris, 3 * tri).xyz + b.x * fetch(u_tris, 3 * tri + 1).xyz

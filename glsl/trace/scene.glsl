@@ -52,6 +52,10 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
     vec4 info = instance_texel(base + 6);
     int kind = int(info.x);
     bool one_sided = g_camera_ray && (int(info.w) & FLAG_ONE_SIDED) != 0;
+#ifdef NO_SHAPES
+    if (!trace_mesh(int(info.y), oo, od, h.t, h.tri, h.bary, any_hit, one_sided))
+        return false;
+#else
     if (kind == KIND_MESH) {
         if (!trace_mesh(int(info.y), oo, od, h.t, h.tri, h.bary, any_hit, one_sided))
             return false;
@@ -67,6 +71,7 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
         h.n_obj = n;
         h.uv = uv;
     }
+#endif
     h.inst = i;
     return true;
 }

@@ -60,10 +60,17 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     vec4 tangent = vec4(0.0);
     vec3 albedo = vec3(1.0);
     float alpha = 1.0, density = 0.0;
+#ifndef NO_SHAPES
     if (h.tri >= 0) {
+#else
+    {
+#endif
         vec3 w = vec3(1.0 - h.bary.x - h.bary.y, h.bary);
         vec4 t0 = fetch(u_tris, 3 * h.tri);
         vec3 e1 = fetch(u_tris, 3 * h.tri + 1).xyz, e2 = fetch(u_tris, 3 * h.tri + 2).xyz;
+#ifdef NO_SPRITES
+        t0.w = PRIM_TRIANGLE;
+#endif
         if (t0.w == PRIM_TRIANGLE) {
             p_obj = t0.xyz + h.bary.x * e1 + h.bary.y * e2;
             ng_obj = cross(e1, e2);
@@ -107,7 +114,9 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
         tangent = fetch(u_vertices, at.x + 2) * w.x + fetch(u_vertices, at.y + 2) * w.y
                 + fetch(u_vertices, at.z + 2) * w.z;
 #endif
-    } else {
+    }
+#ifndef NO_SHAPES
+    else {
         n_obj = ng_obj = h.n_obj;
         uv = h.uv;
         p_obj = onto_shape(int(info.x), instance_texel(base + 7),
@@ -116,6 +125,7 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
         tangent = shape_tangent(int(info.x), p_obj, h.n_obj);
 #endif
     }
+#endif
     Surface s;
     s.p = apply_rows(base + 3, p_obj, 1.0);
     // Normals go by (M^-1)^T: the world -> object rows, as columns.

@@ -45,6 +45,18 @@ def pixel_cone(state: FrameState) -> tuple[float, float]:
     return (size, 0.0) if p[3, 3] == 1.0 else (0.0, size)
 
 
+def scene_defines(scene) -> tuple:
+    """The kinds of object ``scene`` lacks, as defines that leave their code out of the
+    tracers' programs: NO_SPRITES (no points or lines: no sphere or capsule in a triangle
+    test), NO_SHAPES (no analytic shapes). llvmpipe runs every line of a shader's branches
+    whether or not a lane takes them (only loops end early), so code a scene cannot reach
+    still costs it time: in a traversal's inner loop, most of it."""
+    objects = scene.objects
+    return (("NO_SPRITES",) if all(o.shape is not None or o.mesh.kind == "mesh"
+                                   for o in objects) else ()) + \
+        (("NO_SHAPES",) if all(o.shape is None for o in objects) else ())
+
+
 class RayScene:
     """One engine's ray scene (module docstring). ``programs``: compiled passes by stage
     and defines."""
@@ -74,6 +86,7 @@ class RayScene:
         self.blocks = {name: ctx.buffer(reserve=self.block_texels * 16)
                        for name in ("Instances", "Tlas")}
         self._in_blocks = False  # the prepared scene's rows fit them (``prepare``)
+        self._scene_defines: tuple = ()  # the prepared scene's (scene_defines)
 
     # -- uploads ---------------------------------------------------------------------------
     def upload(self, name: str, rows: np.ndarray, dtype: str = "f4") -> None:
@@ -92,6 +105,8 @@ class RayScene:
         facet.render.rays.layers), each uploaded only when it changed."""
         self._geometry(scene, state)
         self._texture_layers(requests, state.srgb)
+        # What the scene holds decides what the programs hold (scene_defines).
+        self._scene_defines = scene_defines(scene)
         n = len(scene.objects)  # (a top level has fewer than 2 n nodes)
         self._in_blocks = RayScene.use_blocks and max(
             n * pack.INSTANCE_TEXELS, (2 * n + 1) * pack.NODE_TEXELS) <= self.block_texels
@@ -180,6 +195,7 @@ class RayScene:
                    **pack.layout_defines()}
         if self._in_blocks:
             defines["SCENE_BLOCKS"] = self.block_texels
+        defines.update(dict.fromkeys(self._scene_defines))
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
                  "LINEAR_OUT": state.linear_out,
                  "SECONDARY": secondary and stage == "trace",

@@ -1,0 +1,47 @@
+"""The tracers' programs hold the code of what the scene holds (facet.render.rays.scene
+scene_defines): a mesh-only scene's traversal tests triangles alone (llvmpipe runs every
+line of a branch whether a lane takes it or not, so unreachable sphere, capsule and shape
+tests cost time). One renderer switching between scenes must switch programs with them: a
+stale program would lose the points or the shapes of the next scene."""
+
+import pytest
+
+import facet
+from facet.scene.pbr import PbrMaterial
+
+CAM = facet.Camera.look_at((0, 0.5, 4), (0, 0.3, 0), fov_y=40, near=0.5, far=20)
+
+
+def _floor():
+    scene = facet.Scene(ambient=0.5)
+    scene.add(facet.primitives.plane(4.0), PbrMaterial(base_color=(0.5,) * 3, metallic=0.0))
+    return scene
+
+
+def _with(extra):
+    scene = _floor()
+    scene.add(extra, PbrMaterial(base_color=(0.9, 0.1, 0.1), metallic=0.0),
+              facet.transforms.translate((0, 0.4, 0)))
+    return scene
+
+
+@pytest.mark.parametrize("engine", ["path", "trace"])
+def test_programs_follow_the_scene_they_draw(engine):
+    scenes = {"mesh": _floor(),
+              "points": _with(facet.Points([[0.0, 0.0, 0.0]], radius=0.3)),
+              "shape": _with(facet.shapes.Sphere(0.3))}
+    with facet.Renderer(48, 48) as r:
+        red = {}
+        for name in ("mesh", "points", "shape", "mesh", "points"):
+            frame = r.render(scenes[name], CAM, engine=engine, spp=2, float_color=True)
+            c = frame.color[..., :3]
+            red[name] = int(((c[..., 0] > 2 * c[..., 1]) & (c[..., 0] > 0.05)).sum())
+        assert red["mesh"] == 0 and red["points"] > 30 and red["shape"] > 30
+
+
+def test_a_mesh_only_scene_leaves_sprites_and_shapes_out():
+    with facet.Renderer(16, 16) as r:
+        r.render(_floor(), CAM, engine="path", spp=1)
+        programs = r._engines["path"].rays.programs
+        assert programs and all({"NO_SPRITES", "NO_SHAPES"} <= dict(key[1]).keys()
+                                for key in programs)
