@@ -59,7 +59,10 @@ class Accumulator:
         if parts not in self._mosaics:
             w, h = self.accum_tex.size
             tex = self.ctx.texture((w, h * parts), 4, dtype="f4")
-            self._mosaics[parts] = (tex, self.ctx.framebuffer([tex]))
+            # With a depth buffer as the sample's has: llvmpipe compiles a program anew
+            # for each framebuffer layout it draws into (seconds, for the path tracer's).
+            depth = self.ctx.depth_renderbuffer((w, h * parts))
+            self._mosaics[parts] = (tex, self.ctx.framebuffer([tex], depth), depth)
         return self._mosaics[parts][1]
 
     def add_sample(self, parts: int = 0) -> None:
@@ -78,7 +81,7 @@ class Accumulator:
 
     def release(self) -> None:
         for obj in (self.accum, self.accum_tex, self.sample, self.sample_depth,
-                    self.sample_tex, *(x for pair in self._mosaics.values() for x in pair)):
+                    self.sample_tex, *(x for made in self._mosaics.values() for x in made)):
             obj.release()
         self.add.release()
 
