@@ -45,3 +45,27 @@ def test_a_mesh_only_scene_leaves_sprites_and_shapes_out():
         programs = r._engines["path"].rays.programs
         assert programs and all({"NO_SPRITES", "NO_SHAPES"} <= dict(key[1]).keys()
                                 for key in programs)
+
+
+def test_the_path_tracer_follows_the_lights_of_the_scene_it_draws():
+    """NO_DELTA_LIGHTS and NO_EMITTERS leave light sampling out where a frame has no such
+    light: the next frame, with a lamp or a glowing panel, must be lit by it."""
+    def scene(kind):
+        s = facet.Scene()
+        s.add(facet.primitives.plane(4.0), PbrMaterial(base_color=(0.6,) * 3, metallic=0.0))
+        if kind == "lamp":
+            s.lights.append(facet.PointLight((0, 1.5, 0.5), intensity=3.0))
+        if kind == "glow":
+            s.add(facet.primitives.plane(0.6), PbrMaterial(
+                base_color=(0, 0, 0), metallic=0.0, emissive=(1, 1, 1), emissive_strength=20),
+                facet.transforms.translate((0, 1.2, 0)) @ facet.transforms.rotate_x(180.0))
+        return s
+
+    with facet.Renderer(32, 32) as r:
+        means = []
+        for kind in ("dark", "lamp", "glow", "dark", "glow", "lamp"):
+            frame = r.render(scene(kind), CAM, engine="path", spp=4, float_color=True,
+                             lights="scene")
+            means.append((kind, float(frame.color[..., :3].mean())))
+    for kind, mean in means:
+        assert (mean == 0.0) if kind == "dark" else (mean > 0.05), means

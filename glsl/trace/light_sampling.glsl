@@ -36,13 +36,29 @@ float power_weight(float a, float b) {
 vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters, bool sky,
                   bool bsdf_hits) {
     vec3 light = vec3(0.0);
+    // The candidates there are: each delta light, then one emitter point, then one sky
+    // direction (a loop's turn costs its whole body, taken or not).
+#ifdef NO_DELTA_LIGHTS
+    int delta = 0;
+#else
     int delta = u_light_count.x;
-    for (int j = 0; j < delta + 2; ++j) {
+#endif
+#ifdef NO_EMITTERS
+    int emitter = -1;
+#else
+    int emitter = emitters && u_emitter_count > 0 ? delta : -1;
+#endif
+    int count = delta + (emitter >= 0 ? 1 : 0) + (sky ? 1 : 0);
+    // do-while: llvmpipe runs a for loop's body once more for its failing test at the top.
+    int j = -1;
+    if (count > 0) do {
+        ++j;
         vec3 L, weight;       // the light's radiance over its density, before the BSDF
         float dist = INF;     // to the light
         float pdf_light = 0.0;  // > 0: weighed against BSDF sampling
         float scale = 1.0;    // delta lights: their irradiance times PI
         bool through = false;  // through a thin rough wall, from behind it
+#ifndef NO_DELTA_LIGHTS
         if (j < delta) {
             // A delta light: one shadow ray each.
             float falloff = incident_light(j, s.p, L);
@@ -54,17 +70,20 @@ vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters
             // delta light: no path from the eye finds it otherwise).
             through = b.thin && !b.polished && dot(s.ng, L) < 0.0;
             if (!through && (dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0)) continue;
-        } else if (j == delta) {
+        } else
+#endif
+#ifndef NO_EMITTERS
+        if (j == emitter) {
             // One point on the emitting triangles.
-            if (!emitters || u_emitter_count <= 0) continue;
             vec3 Le = sample_emitter(s.p, L, dist, pdf_light);
             if (pdf_light <= 0.0 || Le == vec3(0.0) || dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0)
                 continue;
             weight = Le / pdf_light;
             dist *= 1.0 - 1e-4;
-        } else {
+        } else
+#endif
+        {
             // One direction of the environment.
-            if (!sky) continue;
             L = sample_sky(pdf_light);
             if (pdf_light <= 0.0 || dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0) continue;
             weight = sky_light(L) / pdf_light;
@@ -76,6 +95,6 @@ vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters
                   power_weight(pdf_light, bsdf_pdf(b, N, V, L)) : 1.0;
         if (f == vec3(0.0) || w == 0.0) continue;
         light += weight * f * w * visibility(offset_ray(s.p, through ? -s.ng : s.ng), L, dist);
-    }
+    } while (j + 1 < count);
     return light;
 }

@@ -45,6 +45,32 @@ out vec4 f_color;  // premultiplied colour and coverage of this sample
 const int STRATEGY_MIS = 0, STRATEGY_LIGHT = 1, STRATEGY_BSDF = 2;
 const int ROULETTE_AFTER = 5;  // bounces before Russian roulette may end a path (Mitsuba's)
 
+// A traced segment: its length added to the path's, the volume's absorption over it
+// (Beer-Lambert); true when it hit something.
+bool segment(Hit h, vec3 sigma, inout float travelled, inout vec3 throughput) {
+    travelled += h.t;
+    if (sigma != vec3(0.0)) throughput *= exp(-sigma * min(h.t, 1e6));
+    return h.inst >= 0;
+}
+
+// A ray that escaped along d: the background behind the eye ray, else the sky's light
+// (weighed against sampling the sky where the last bounce was weighed).
+void escape(inout vec3 radiance, inout float alpha, int bounce, vec3 d, vec3 throughput,
+            float prev_pdf, bool sample_environment, bool bsdf_hits) {
+    if (bounce == 0) {
+#ifdef HAS_ENVIRONMENT
+        radiance = escaped(d);
+#else
+        radiance = u_background.rgb * u_background.a;
+        alpha = u_background.a;
+#endif
+    } else if (!sample_environment || prev_pdf == 0.0) {
+        radiance += throughput * sky_light(d);
+    } else if (bsdf_hits) {
+        radiance += throughput * sky_light(d) * power_weight(prev_pdf, sky_pdf(d));
+    }
+}
+
 void main() {
     vec2 frag = gl_FragCoord.xy;  // in the picture
     int sample_index = u_sample;
@@ -81,87 +107,93 @@ void main() {
 #endif
     int bounce = 0;
     float travelled = 0.0;  // along the path so far: its ray cone's width (surface.glsl)
-    for (int step = 0; step < u_max_depth + 2 + MAX_PASSES; ++step) {
-        g_camera_ray = bounce == 0;
-        Hit h = trace_scene(o, d, t_max, false);
-        g_camera_ray = false;
-        g_travelled = travelled;
-        travelled += h.t;
-        if (sigma != vec3(0.0)) throughput *= exp(-sigma * min(h.t, 1e6));  // Beer-Lambert
-        if (h.inst < 0) {
-            if (bounce == 0) {
-#ifdef HAS_ENVIRONMENT
-                radiance = escaped(d);
-#else
-                radiance = u_background.rgb * u_background.a;
-                alpha = u_background.a;
-#endif
-            } else if (!sample_environment || prev_pdf == 0.0) {
-                radiance += throughput * sky_light(d);
-            } else if (bsdf_hits) {
-                radiance += throughput * sky_light(d) * power_weight(prev_pdf, sky_pdf(d));
-            }
-            break;
-        }
+    // The eye ray, then a loop whose turn shades a hit and traces the next ray, ending
+    // where a ray escapes: llvmpipe runs the rest of a loop's body (masked) after its
+    // last lane breaks, so a path that ended at the top of a turn cost a whole bounce's
+    // shading more (the second call site of trace_scene costs compile time only).
+    g_camera_ray = true;
+    Hit h = trace_scene(o, d, t_max, false);
+    g_camera_ray = false;
+    bool going = segment(h, sigma, travelled, throughput);
+    if (!going) escape(radiance, alpha, bounce, d, throughput, prev_pdf, sample_environment,
+                       bsdf_hits);
+    int step = 0;
+    if (going) do {
+        g_travelled = travelled - h.t;
         Surface s = surface_at(h, o, d);
 #ifdef HAS_ALPHA
         if (passes(s, random01())) {  // not there for this ray: on, unchanged
             o = offset_ray(s.p, -s.ng);
             t_max -= h.t;
-            continue;
-        }
+        } else
 #endif
-        Material mat = material_of(s);
-        // What it emits towards the eye, or towards the last surface that sampled its BSDF.
-        bool one_sided = (int(instance_texel(h.inst * INSTANCE_TEXELS + 6).w)
-                          & FLAG_ONE_SIDED) != 0;
-        if (!s.front && one_sided) break;  // a one-sided surface's back: opaque and black
-        if (mat.emission != vec3(0.0)) {
-            float w = 1.0;
-            if (prev_pdf > 0.0 && mat.emit_pdf > 0.0 && u_emitter_count > 0) {
-                float pdf_light = emitter_pdf(h.inst, mat.emit_pdf, o, d, h.t, s.ng);
-                w = !light_nee ? 1.0 : bsdf_hits ? power_weight(prev_pdf, pdf_light) : 0.0;
+        {
+            Material mat = material_of(s);
+            // What it emits towards the eye, or towards the last surface that sampled its
+            // BSDF.
+            bool one_sided = (int(instance_texel(h.inst * INSTANCE_TEXELS + 6).w)
+                              & FLAG_ONE_SIDED) != 0;
+            going = s.front || !one_sided;  // a one-sided surface's back: opaque and black
+            if (going && mat.emission != vec3(0.0)) {
+                float w = 1.0;
+#ifndef NO_EMITTERS
+                if (prev_pdf > 0.0 && mat.emit_pdf > 0.0 && u_emitter_count > 0) {
+                    float pdf_light = emitter_pdf(h.inst, mat.emit_pdf, o, d, h.t, s.ng);
+                    w = !light_nee ? 1.0 : bsdf_hits ? power_weight(prev_pdf, pdf_light)
+                                                     : 0.0;
+                }
+#endif
+                radiance += throughput * mat.emission * w;
             }
-            radiance += throughput * mat.emission * w;
-        }
-        if (mat.unlit) {  // KHR_materials_unlit: its colour, and nothing reflected
-            radiance += throughput * mat.base;
-            break;
-        }
-        if (bounce > u_max_depth) break;  // this bounce only gathered what it hit
-        vec3 V = -d, N = valid_normal(mat.n, s.ng, V);
-        mat.cc_n = valid_normal(mat.cc_n, s.ng, V);
-        Bsdf b = make_bsdf(mat, s.front, N, V);
-        radiance += throughput * direct_light(s, mat, b, N, V, light_nee, sample_environment,
-                                              bsdf_hits);
-        // The next direction, from the BSDF.
-        float u = random01();
-        BsdfSample next = bsdf_sample(b, N, V, u, random2());
-        // Absorbed: no direction, or one on the wrong side of the geometric surface.
-        if (!next.ok || (next.through ? dot(s.ng, next.L) >= 0.0 : dot(s.ng, next.L) <= 0.0))
-            break;
-        throughput *= next.weight;
-        prev_pdf = next.pdf;  // 0: a delta or transmission lobe, not weighed against lights
-        vec3 from = offset_ray(s.p, next.through ? -s.ng : s.ng);
-        if (next.through) {
-            if (!b.thin) sigma = s.front ? mat.absorption : vec3(0.0);  // in or out
-            else throughput *= thin_absorbed(mat);
-            eta_scale *= b.eta * b.eta;
-        }
-        ++bounce;
-        if (bounce > ROULETTE_AFTER) {
-            // Paths that carry little go on with that probability (pbrt's rule; through
-            // glass by what they carry before the 1 / eta^2 of refraction).
-            float survive = clamp(max(throughput.r, max(throughput.g, throughput.b))
-                                  * eta_scale, 0.05, 1.0);
-            if (survive < 1.0) {
-                if (random01() >= survive) break;
-                throughput /= survive;
+            if (going && mat.unlit) {  // KHR_materials_unlit: its colour, nothing reflected
+                radiance += throughput * mat.base;
+                going = false;
+            }
+            going = going && bounce <= u_max_depth;  // else it only gathered what it hit
+            vec3 V = -d, N = valid_normal(mat.n, s.ng, V);
+            mat.cc_n = valid_normal(mat.cc_n, s.ng, V);
+            Bsdf b = make_bsdf(mat, s.front, N, V);
+            if (going)
+                radiance += throughput * direct_light(s, mat, b, N, V, light_nee,
+                                                      sample_environment, bsdf_hits);
+            // The next direction, from the BSDF.
+            float u = random01();
+            BsdfSample next = bsdf_sample(b, N, V, u, random2());
+            // Absorbed: no direction, or one on the wrong side of the geometric surface.
+            going = going && next.ok && (next.through ? dot(s.ng, next.L) < 0.0
+                                                      : dot(s.ng, next.L) > 0.0);
+            if (going) {
+                throughput *= next.weight;
+                prev_pdf = next.pdf;  // 0: a delta or transmission lobe (not weighed)
+                if (next.through) {
+                    if (!b.thin) sigma = s.front ? mat.absorption : vec3(0.0);  // in or out
+                    else throughput *= thin_absorbed(mat);
+                    eta_scale *= b.eta * b.eta;
+                }
+                ++bounce;
+                if (bounce > ROULETTE_AFTER) {
+                    // Paths that carry little go on with that probability (pbrt's rule;
+                    // through glass by what they carry before the 1 / eta^2 of refraction).
+                    float survive = clamp(max(throughput.r, max(throughput.g, throughput.b))
+                                          * eta_scale, 0.05, 1.0);
+                    if (survive < 1.0) {
+                        going = random01() < survive;
+                        throughput /= survive;
+                    }
+                }
+                o = offset_ray(s.p, next.through ? -s.ng : s.ng);
+                d = next.L;
+                t_max = INF;
             }
         }
-        o = from;
-        d = next.L;
-        t_max = INF;
-    }
+        if (going) {
+            g_camera_ray = bounce == 0;  // (past cut-outs, the eye ray goes on)
+            h = trace_scene(o, d, t_max, false);
+            g_camera_ray = false;
+            going = segment(h, sigma, travelled, throughput);
+            if (!going) escape(radiance, alpha, bounce, d, throughput, prev_pdf,
+                               sample_environment, bsdf_hits);
+        }
+    } while (going && ++step < u_max_depth + 2 + MAX_PASSES);
     f_color = vec4(radiance, alpha);
 }

@@ -30,7 +30,7 @@ from ..rays import pack
 from ..rays.scene import RayScene, ray_scene_lines
 from ..sequence import MAX_MOSAIC
 from .area_lights import AreaEmitters, strip_area_points
-from .emitters import pack_emitters
+from .emitters import emitted_luminance, pack_emitters
 from .sky import SkyLight
 
 STRATEGIES = {"mis": 0, "light": 1, "bsdf": 2}  # STRATEGY_* in glsl/trace/path.frag
@@ -113,7 +113,8 @@ class PathEngine(Engine):
             if state.environment is not None:
                 state = replace(state, environment=state.environment.decoded())
         sky = self.sky.textures(state.environment)
-        program = self.rays.program("path", state, False, extra=_material_defines(scene) + (
+        program = self.rays.program("path", state, False, extra=_light_defines(scene, state) +
+                                    _material_defines(scene) + (
             ("SKY_DISTRIBUTION",) if sky is not None else ()) + (
             ("ADAPTIVE",) if self.active is not None else ()) + (("MOSAIC", MAX_MOSAIC),))
         textures = {"u_emitters": "emitters"}  # a scene texture (RayScene.draw_colour)
@@ -187,6 +188,16 @@ def _layer_requests(scene) -> list:
         out += [(slot.texture, pack.slot_mode(name, slot)) for name, slot in m.slots.items()
                 if name != "occlusion"]
     return out
+
+
+def _light_defines(scene, state) -> tuple:
+    """The kinds of light a frame lacks, as defines that leave their sampling out of the
+    program (code no lane takes still costs llvmpipe time: facet.render.rays.scene
+    scene_defines): NO_DELTA_LIGHTS (no point, spot or directional light), NO_EMITTERS
+    (nothing in the emitters' table: facet.render.path.emitters)."""
+    emits = any(emitted_luminance(as_pbr(o.material)) > 0.0 and
+                (o.shape is not None or o.mesh.kind == "mesh") for o in scene.objects)
+    return (() if state.lights else ("NO_DELTA_LIGHTS",)) + (() if emits else ("NO_EMITTERS",))
 
 
 def _material_defines(scene) -> tuple:
