@@ -4,6 +4,7 @@ line of a branch whether a lane takes it or not, so unreachable sphere, capsule 
 tests cost time). One renderer switching between scenes must switch programs with them: a
 stale program would lose the points or the shapes of the next scene."""
 
+import numpy as np
 import pytest
 
 import facet
@@ -69,3 +70,29 @@ def test_the_path_tracer_follows_the_lights_of_the_scene_it_draws():
             means.append((kind, float(frame.color[..., :3].mean())))
     for kind, mean in means:
         assert (mean == 0.0) if kind == "dark" else (mean > 0.05), means
+
+
+@pytest.mark.parametrize("feature", [dict(transmission=1.0, roughness=0.0, thickness=1.0),
+                                     dict(clearcoat=1.0, clearcoat_roughness=0.1),
+                                     dict(sheen_color=(1.0, 0.5, 0.5), sheen_roughness=0.5)])
+def test_material_lobes_follow_the_scene(feature):
+    """NO_TRANSMISSION, NO_CLEARCOAT and NO_SHEEN leave out lobes no material has; a scene
+    drawn after one without them draws them (the same picture as a fresh renderer's)."""
+    def scene(extra):
+        s = _floor()
+        s.add(facet.primitives.sphere(0.4, segments=24, rings=12),
+              PbrMaterial(base_color=(0.8, 0.8, 0.9), metallic=0.0, **extra),
+              facet.transforms.translate((0, 0.4, 0)))
+        return s
+
+    kw = dict(engine="path", spp=4, float_color=True)
+    with facet.Renderer(32, 32) as r:
+        r.render(scene({}), CAM, **kw)
+        (key,) = {k for k in r._engines["path"].rays.programs if k[0] == "path"}
+        assert {"NO_TRANSMISSION", "NO_CLEARCOAT", "NO_SHEEN"} <= dict(key[1]).keys()
+        after = r.render(scene(feature), CAM, **kw).color
+    with facet.Renderer(32, 32) as r:
+        fresh = r.render(scene(feature), CAM, **kw).color
+        plain = r.render(scene({}), CAM, **kw).color
+    np.testing.assert_array_equal(after, fresh)
+    assert np.abs(fresh - plain).mean() > 1e-3  # (the lobe shows)

@@ -33,7 +33,11 @@ PbrSurface layered_surface(Material m, vec3 N, vec3 N_coat, vec3 V, out vec3 c_t
                                     m.f0_d, m.f90_d);
     c_trans = s.c_diff * m.transmission;
     s.c_diff *= 1.0 - m.transmission;
+#ifndef NO_SHEEN
     pbr_sheen(s, m.sheen, m.sheen_roughness);
+#endif
+#ifndef NO_CLEARCOAT
     pbr_coat(s, m.clearcoat, m.clearcoat_roughness, N_coat, V);
+#endif
     return s;
 }

@@ -152,6 +152,7 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
     vec3 F = s.f0 + (s.f90 - s.f0) * fc;
     vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * fc;
     vec3 f = n_dot_l * (PI * spec * F * s.ms + (1.0 - F_d) * s.c_diff);
+#ifndef NO_SHEEN
     if (s.sheen != vec3(0.0) && n_dot_l > 0.0) {
         float alpha = s.sheen_roughness * s.sheen_roughness;
         float n_dot_h = max(dot(N, H), 0.0);
@@ -164,6 +165,8 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
         float dim = min(1.0 - s.sheen_dim, 1.0 - c * sheen_albedo(n_dot_l, s.sheen_roughness));
         f = f * dim + n_dot_l * PI * s.sheen * d * vis;
     }
+#endif
+#ifndef NO_CLEARCOAT
     if (s.cc > 0.0) {
         float n_dot_l_c = max(dot(s.cc_n, L), 0.0);
         float coat = ggx_d(max(dot(s.cc_n, H), 0.0), s.cc_alpha)
@@ -171,6 +174,7 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
                    * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0) * fc);
         f = f * (1.0 - s.cc * s.cc_fresnel) + n_dot_l_c * PI * s.cc * coat;
     }
+#endif
     return f;
 }
 

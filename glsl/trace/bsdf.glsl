@@ -58,8 +58,12 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
     b.thin = mat.thin;
     float ior = max(mat.ior, 1.0);
     b.eta = mat.thin ? 1.0 : (front ? ior : 1.0 / ior);
+#ifdef NO_TRANSMISSION
+    b.polished = false;  // (delta lobes are glass's)
+#else
     b.polished = mat.transmission > 0.0 && mat.metallic <= 0.0 &&
                mat.roughness < SMOOTH_ROUGHNESS;
+#endif
     float fc = schlick_weight(b.m.n_dot_v);
     vec3 kept = 1.0 - b.m.f0_d - (b.m.f90_d - b.m.f0_d) * fc;
     float spec;
@@ -113,19 +117,15 @@ float bsdf_pdf(Bsdf b, vec3 N, vec3 V, vec3 L) {
     return pdf;
 }
 
-// One direction from the BSDF: lobe by u, direction by xi.
+// One direction from the BSDF: lobe by u, direction by xi. (The reflection side's lobes
+// share one evaluation and one density at the end: each call site is the whole layered
+// model inlined, which llvmpipe runs whichever lobe a lane took.)
 BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, float u, vec2 xi) {
     BsdfSample s = BsdfSample(vec3(0.0), vec3(0.0), 0.0, false, false);
-    if (u < b.p_coat) {  // the clear coat
-        s.L = reflect(-V, around(ggx_sample(xi, b.m.cc_alpha), b.m.cc_n));
-        s.pdf = bsdf_pdf(b, N, V, s.L);
-        if (s.pdf <= 0.0) return s;
-        s.weight = bsdf_eval(b, N, V, s.L) / s.pdf;
-        s.ok = true;
-        return s;
-    }
     u -= b.p_coat;
-    if (u < b.p_spec) {  // reflection
+    if (u < 0.0) {  // the clear coat
+        s.L = reflect(-V, around(ggx_sample(xi, b.m.cc_alpha), b.m.cc_n));
+    } else if (u < b.p_spec) {  // reflection
         if (b.polished) {
             s.L = reflect(-V, N);
             s.weight = vec3(b.fresnel / b.p_spec);
@@ -133,7 +133,9 @@ BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, float u, vec2 xi) {
             return s;
         }
         s.L = reflect(-V, around(ggx_sample(xi, b.m.alpha), N));
-    } else if (u < b.p_spec + b.p_trans) {  // transmission
+    }
+#ifndef NO_TRANSMISSION
+    else if (u < b.p_spec + b.p_trans) {  // transmission
         s.through = true;
         float n_dot_v = b.m.n_dot_v;
         if (b.polished) {
@@ -164,7 +166,9 @@ BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, float u, vec2 xi) {
                  / (b.p_trans * b.eta * b.eta);
         s.ok = true;
         return s;
-    } else {  // diffuse
+    }
+#endif
+    else {  // diffuse
         s.L = around(cosine_sample(xi), N);
     }
     s.pdf = bsdf_pdf(b, N, V, s.L);

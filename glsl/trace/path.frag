@@ -151,7 +151,9 @@ void main() {
             }
             going = going && bounce <= u_max_depth;  // else it only gathered what it hit
             vec3 V = -d, N = valid_normal(mat.n, s.ng, V);
+#ifndef NO_CLEARCOAT
             mat.cc_n = valid_normal(mat.cc_n, s.ng, V);
+#endif
             Bsdf b = make_bsdf(mat, s.front, N, V);
             if (going)
                 radiance += throughput * direct_light(s, mat, b, N, V, light_nee,
