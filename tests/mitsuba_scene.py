@@ -67,6 +67,18 @@ def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
     """(height, width, 3) float32 linear radiance of ``scene`` seen by ``camera``;
     ``environment``: the radiance (3,) of a constant sky, the path of an HDR image, or
     None; ``approximate``: see the module docstring."""
+    return timed_render(scene, camera, width, height, spp, max_depth, seed, environment,
+                        approximate)[0]
+
+
+def timed_render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
+                 seed: int = 0, environment=None, approximate: bool = False,
+                 repeats: int = 1) -> tuple[np.ndarray, float]:
+    """``render``'s picture and the seconds Mitsuba's render took (the fastest of
+    ``repeats``), the scene's translation and loading not counted (benchmarks/pathtrace.py
+    times facet's renders of an uploaded scene alike)."""
+    import time
+
     import mitsuba as mi
     import trimesh
 
@@ -105,8 +117,13 @@ def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
                 shape["emitter"] = {"type": "area",
                                     "radiance": {"type": "rgb", "value": radiance}}
             desc[f"object{i}"] = shape
-        image = mi.render(mi.load_dict(desc), spp=spp, seed=seed)
-    return np.array(image, dtype=np.float32)[..., :3]
+        loaded = mi.load_dict(desc)
+        seconds = []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            image = mi.render(loaded, spp=spp, seed=seed)
+            seconds.append(time.perf_counter() - start)
+    return np.array(image, dtype=np.float32)[..., :3], min(seconds)
 
 
 def _sensor(camera, width, height, spp, seed) -> dict:

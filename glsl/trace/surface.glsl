@@ -86,9 +86,11 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
         vec4 a2 = fetch(u_vertices, at.z), b2 = fetch(u_vertices, at.z + 1);
         n_obj = t0.w == PRIM_TRIANGLE ? a0.xyz * w.x + a1.xyz * w.y + a2.xyz * w.z : ng_obj;
         uv = vec2(a0.w, b0.x) * w.x + vec2(a1.w, b1.x) * w.y + vec2(a2.w, b2.x) * w.z;
+#ifndef NO_SLOT_IMAGES
         if (t0.w == PRIM_TRIANGLE)
             density = uv_density(base, e1, e2, vec2(a1.w, b1.x) - vec2(a0.w, b0.x),
                                  vec2(a2.w, b2.x) - vec2(a0.w, b0.x));
+#endif
         if ((int(info.w) & FLAG_COLORS) != 0) {
             // Vertex colours are stored sRGB-encoded: decoded in the sRGB mode, and
             // always for the metallic-roughness model (linear), each vertex's before they
@@ -106,7 +108,8 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
                                  srgb_to_linear(c[2]));
             albedo = c * w;
         }
-#ifdef PBR_SLOTS
+#if defined(PBR_SLOTS) && (!defined(NO_SLOT_IMAGES) || defined(HAS_ALPHA))
+        // (uv1 and tangents are for images; the alpha of vertex colours for BLEND / MASK)
         vec3 extra = mat3(fetch(u_vertices, at.x + 3).xyz, fetch(u_vertices, at.y + 3).xyz,
                           fetch(u_vertices, at.z + 3).xyz) * w;  // (uv1, alpha)
         uv1 = extra.xy;
@@ -137,8 +140,7 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     if (!s.front) { s.n = -s.n; s.ng = -s.ng; }
     s.footprint = density * (u_cone.x + u_cone.y * (g_travelled + h.t))
                 / max(abs(dot(s.ng, d)), 0.05);
-    float lod = texture_lod(s.footprint, float(textureSize(u_textures, 0).x));
-#ifdef PBR_SLOTS
+#if defined(PBR_SLOTS) && !defined(NO_SLOT_IMAGES)
     // Tangents are directions on the surface: carried by M (the object -> world rows).
     vec3 t_world = apply_rows(base + 3, tangent.xyz, 0.0);
     // A mirroring placement (det M < 0) turns the frame's handedness round.
@@ -150,10 +152,14 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
 #else
     s.tangent = vec4(0.0);
 #endif
-#ifdef PBR_SHADING
+#ifdef NO_SLOT_IMAGES
+    // (no images at all)
+#elif defined(PBR_SHADING)
     // A Phong material's image (the metallic-roughness model reads its own slots).
+    float lod = texture_lod(s.footprint, float(textureSize(u_textures, 0).x));
     if (m2.w >= 0.0 && !own_pbr) albedo *= textureLod(u_textures, vec3(uv, m2.w), lod).rgb;
 #else
+    float lod = texture_lod(s.footprint, float(textureSize(u_textures, 0).x));
     if (m2.w >= 0.0) albedo *= textureLod(u_textures, vec3(uv, m2.w), lod).rgb;
 #endif
     s.albedo = albedo;
