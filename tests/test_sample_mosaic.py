@@ -12,15 +12,19 @@ from facet.render.path.engine import PathEngine
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
 
 
-@pytest.mark.parametrize("spp", [7, 20])
-def test_a_mosaic_draws_the_picture_sample_by_sample_draws(spp):
+@pytest.mark.parametrize("spp, size", [(7, (24, 24)), (20, (24, 24)), (9, (64, 64)),
+                                       (6, (160, 96))])
+def test_a_mosaic_draws_the_picture_sample_by_sample_draws(spp, size):
+    """Stacked parts (small pictures) and several paths run one after the other in each
+    fragment (64 x 64: 4 parts of 4; 160 x 96: one part of 4, then 2) draw the samples
+    that single draws draw."""
     scene = facet.load(ROOT / "models" / "cornell.toml")
     out = {}
     stacked = []
     draw_mosaic = PathEngine.draw_mosaic
 
     def counted(self, scene, states, *args):
-        stacked.append(len(states))
+        stacked.append((len(states), args[-1]))
         return draw_mosaic(self, scene, states, *args)
 
     for mosaic in (True, False):
@@ -28,11 +32,13 @@ def test_a_mosaic_draws_the_picture_sample_by_sample_draws(spp):
         PathEngine.draw_mosaic = counted
         stacked.clear()
         try:
-            with facet.Renderer(24, 24) as r:
+            with facet.Renderer(*size) as r:
                 frame = r.render(scene, scene.cameras["front"], spp=spp, float_color=True,
                                  outputs=("color", "spp"))
                 out[mosaic] = frame
                 assert bool(stacked) == mosaic  # (each way was taken)
+                if mosaic and size != (24, 24):
+                    assert stacked[0][1] == 4  # (paths one after the other in a fragment)
         finally:
             PathEngine.mosaic = True
             PathEngine.draw_mosaic = draw_mosaic

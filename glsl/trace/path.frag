@@ -30,6 +30,8 @@
 // picture fills more of the rasterizer's tiles: facet.render.sequence), each with its
 // camera and shift; one sample is a mosaic of one.
 uniform mat4 u_inv_view_projections[MOSAIC];
+uniform int u_count;         // samples in this draw (at most MOSAIC)
+uniform int u_per_fragment;  // samples each fragment runs, one after the other
 uniform vec2 u_viewport;
 uniform vec4 u_background;  // straight RGB (linear) and alpha, for eye rays that escape
 uniform int u_max_depth;    // bounces after the eye ray
@@ -73,129 +75,151 @@ void escape(inout vec3 radiance, inout float alpha, int bounce, vec3 d, vec3 thr
 
 void main() {
     vec2 frag = gl_FragCoord.xy;  // in the picture
-    int sample_index = u_sample;
     int part = int(frag.y / u_viewport.y);
     frag.y -= float(part) * u_viewport.y;
-    sample_index += part;
-    mat4 inv_view_projection = u_inv_view_projections[part];
 #ifdef ADAPTIVE
     if (texelFetch(u_active, ivec2(frag), 0).r == 0.0) discard;  // (adds 0)
 #endif
+    // This fragment's samples: [first, last) of the draw's u_count, each a path of its own
+    // (camera and shift u_inv_view_projections[j], random stream of sample u_sample + j).
+    // One loop runs them all, a new path starting in a lane where the last one ended: the
+    // SIMD lanes llvmpipe runs together (8 fragments) stay busy until the longest sum of
+    // paths ends, not each sample's longest path.
+    int first = part * u_per_fragment, last = min(first + u_per_fragment, u_count);
     // The stream of this pixel of the picture (its row counted from the top whichever way
     // the target is drawn: a window refines to the offscreen picture), sample and seed.
     float row = u_flip_y ? frag.y : u_viewport.y - frag.y;
-    g_rng = pcg_hash(uint(frag.x) + pcg_hash(uint(row) +
-                     pcg_hash(uint(sample_index) + pcg_hash(uint(u_seed)))));
     vec2 ndc = frag / u_viewport * 2.0 - 1.0;
-    vec4 near = inv_view_projection * vec4(ndc, -1.0, 1.0);
-    vec4 far = inv_view_projection * vec4(ndc, 1.0, 1.0);
-    vec3 o = near.xyz / near.w;
-    vec3 span = far.xyz / far.w - o;
-    vec3 d = normalize(span);
-    float t_max = length(span);  // the eye ray stops at the far plane, as rasterized
-    vec3 radiance = vec3(0.0), throughput = vec3(1.0);
-    float alpha = 1.0;
-    float prev_pdf = 0.0;  // the BSDF's density of d (0: the eye ray, a delta or
-                           // transmission lobe: not weighed against light sampling)
-    vec3 sigma = vec3(0.0);  // absorption of the volume the ray is in (KHR_materials_volume)
-    float eta_scale = 1.0;   // undoes refraction's radiance scale for Russian roulette
     bool light_nee = u_strategy != STRATEGY_BSDF, bsdf_hits = u_strategy != STRATEGY_LIGHT;
 #ifdef HAS_ENVIRONMENT
     bool sample_environment = light_nee;
 #else
     bool sample_environment = light_nee && any(greaterThan(u_ambient.rgb, vec3(0.0)));
 #endif
-    int bounce = 0;
-    float travelled = 0.0;  // along the path so far: its ray cone's width (surface.glsl)
-    // The eye ray, then a loop whose turn shades a hit and traces the next ray, ending
-    // where a ray escapes: llvmpipe runs the rest of a loop's body (masked) after its
-    // last lane breaks, so a path that ended at the top of a turn cost a whole bounce's
-    // shading more (the second call site of trace_scene costs compile time only).
-    g_camera_ray = true;
-    Hit h = trace_scene(o, d, t_max, false);
-    g_camera_ray = false;
-    bool going = segment(h, sigma, travelled, throughput);
-    if (!going) escape(radiance, alpha, bounce, d, throughput, prev_pdf, sample_environment,
-                       bsdf_hits);
-    int step = 0;
-    if (going) do {
-        g_travelled = travelled - h.t;
-        Surface s = surface_at(h, o, d);
+    vec4 total = vec4(0.0);  // premultiplied colour and coverage of the samples
+    // One path's state.
+    vec3 o, d, radiance, throughput;
+    float t_max, alpha;
+    float prev_pdf;    // the BSDF's density of d (0: the eye ray, a delta or transmission
+                       // lobe: not weighed against light sampling)
+    vec3 sigma;        // absorption of the volume the ray is in (KHR_materials_volume)
+    float eta_scale;   // undoes refraction's radiance scale for Russian roulette
+    int bounce, step;
+    float travelled;   // along the path so far: its ray cone's width (surface.glsl)
+    int j = first - 1;
+    bool fresh = true, done = false;
+    do {
+        if (fresh) {  // the next sample's eye ray
+            ++j;
+            g_rng = pcg_hash(uint(frag.x) + pcg_hash(uint(row) +
+                             pcg_hash(uint(u_sample + j) + pcg_hash(uint(u_seed)))));
+            mat4 inv_view_projection = u_inv_view_projections[j];
+            vec4 near = inv_view_projection * vec4(ndc, -1.0, 1.0);
+            vec4 far = inv_view_projection * vec4(ndc, 1.0, 1.0);
+            o = near.xyz / near.w;
+            vec3 span = far.xyz / far.w - o;
+            d = normalize(span);
+            t_max = length(span);  // the eye ray stops at the far plane, as rasterized
+            radiance = vec3(0.0);
+            throughput = vec3(1.0);
+            alpha = 1.0;
+            prev_pdf = 0.0;
+            sigma = vec3(0.0);
+            eta_scale = 1.0;
+            bounce = 0;
+            step = 0;
+            travelled = 0.0;
+            fresh = false;
+        }
+        // One ray (the last call site of trace_scene: each inlines a traversal), then
+        // what it found.
+        g_camera_ray = bounce == 0;  // (past cut-outs, the eye ray goes on)
+        Hit h = trace_scene(o, d, t_max, false);
+        g_camera_ray = false;
+        bool going = segment(h, sigma, travelled, throughput);
+        if (!going) {
+            escape(radiance, alpha, bounce, d, throughput, prev_pdf, sample_environment,
+                   bsdf_hits);
+        } else {
+            g_travelled = travelled - h.t;
+            Surface s = surface_at(h, o, d);
 #ifdef HAS_ALPHA
-        if (passes(s, random01())) {  // not there for this ray: on, unchanged
-            o = offset_ray(s.p, -s.ng);
-            t_max -= h.t;
-        } else
+            if (passes(s, random01())) {  // not there for this ray: on, unchanged
+                o = offset_ray(s.p, -s.ng);
+                t_max -= h.t;
+            } else
 #endif
-        {
-            Material mat = material_of(s);
-            // What it emits towards the eye, or towards the last surface that sampled its
-            // BSDF.
-            bool one_sided = (int(instance_texel(h.inst * INSTANCE_TEXELS + 6).w)
-                              & FLAG_ONE_SIDED) != 0;
-            going = s.front || !one_sided;  // a one-sided surface's back: opaque and black
-            if (going && mat.emission != vec3(0.0)) {
-                float w = 1.0;
+            {
+                Material mat = material_of(s);
+                // What it emits towards the eye, or towards the last surface that sampled
+                // its BSDF.
+                bool one_sided = (int(instance_texel(h.inst * INSTANCE_TEXELS + 6).w)
+                                  & FLAG_ONE_SIDED) != 0;
+                going = s.front || !one_sided;  // a one-sided surface's back: opaque, black
+                if (going && mat.emission != vec3(0.0)) {
+                    float w = 1.0;
 #ifndef NO_EMITTERS
-                if (prev_pdf > 0.0 && mat.emit_pdf > 0.0 && u_emitter_count > 0) {
-                    float pdf_light = emitter_pdf(h.inst, mat.emit_pdf, o, d, h.t, s.ng);
-                    w = !light_nee ? 1.0 : bsdf_hits ? power_weight(prev_pdf, pdf_light)
-                                                     : 0.0;
-                }
-#endif
-                radiance += throughput * mat.emission * w;
-            }
-            if (going && mat.unlit) {  // KHR_materials_unlit: its colour, nothing reflected
-                radiance += throughput * mat.base;
-                going = false;
-            }
-            going = going && bounce <= u_max_depth;  // else it only gathered what it hit
-            vec3 V = -d, N = valid_normal(mat.n, s.ng, V);
-#ifndef NO_CLEARCOAT
-            mat.cc_n = valid_normal(mat.cc_n, s.ng, V);
-#endif
-            Bsdf b = make_bsdf(mat, s.front, N, V);
-            if (going)
-                radiance += throughput * direct_light(s, mat, b, N, V, light_nee,
-                                                      sample_environment, bsdf_hits);
-            // The next direction, from the BSDF.
-            float u = random01();
-            BsdfSample next = bsdf_sample(b, N, V, u, random2());
-            // Absorbed: no direction, or one on the wrong side of the geometric surface.
-            going = going && next.ok && (next.through ? dot(s.ng, next.L) < 0.0
-                                                      : dot(s.ng, next.L) > 0.0);
-            if (going) {
-                throughput *= next.weight;
-                prev_pdf = next.pdf;  // 0: a delta or transmission lobe (not weighed)
-                if (next.through) {
-                    if (!b.thin) sigma = s.front ? mat.absorption : vec3(0.0);  // in or out
-                    else throughput *= thin_absorbed(mat);
-                    eta_scale *= b.eta * b.eta;
-                }
-                ++bounce;
-                if (bounce > ROULETTE_AFTER) {
-                    // Paths that carry little go on with that probability (pbrt's rule;
-                    // through glass by what they carry before the 1 / eta^2 of refraction).
-                    float survive = clamp(max(throughput.r, max(throughput.g, throughput.b))
-                                          * eta_scale, 0.05, 1.0);
-                    if (survive < 1.0) {
-                        going = random01() < survive;
-                        throughput /= survive;
+                    if (prev_pdf > 0.0 && mat.emit_pdf > 0.0 && u_emitter_count > 0) {
+                        float pdf_light = emitter_pdf(h.inst, mat.emit_pdf, o, d, h.t, s.ng);
+                        w = !light_nee ? 1.0 : bsdf_hits ? power_weight(prev_pdf, pdf_light)
+                                                         : 0.0;
                     }
+#endif
+                    radiance += throughput * mat.emission * w;
                 }
-                o = offset_ray(s.p, next.through ? -s.ng : s.ng);
-                d = next.L;
-                t_max = INF;
+                if (going && mat.unlit) {  // KHR_materials_unlit: its colour, no reflection
+                    radiance += throughput * mat.base;
+                    going = false;
+                }
+                going = going && bounce <= u_max_depth;  // else it only gathered its hit
+                vec3 V = -d, N = valid_normal(mat.n, s.ng, V);
+#ifndef NO_CLEARCOAT
+                mat.cc_n = valid_normal(mat.cc_n, s.ng, V);
+#endif
+                Bsdf b = make_bsdf(mat, s.front, N, V);
+                if (going)
+                    radiance += throughput * direct_light(s, mat, b, N, V, light_nee,
+                                                          sample_environment, bsdf_hits);
+                // The next direction, from the BSDF.
+                float u = random01();
+                BsdfSample next = bsdf_sample(b, N, V, u, random2());
+                // Absorbed: no direction, or one on the wrong side of the geometric
+                // surface.
+                going = going && next.ok && (next.through ? dot(s.ng, next.L) < 0.0
+                                                          : dot(s.ng, next.L) > 0.0);
+                if (going) {
+                    throughput *= next.weight;
+                    prev_pdf = next.pdf;  // 0: a delta or transmission lobe (not weighed)
+                    if (next.through) {
+                        // in or out of a volume
+                        if (!b.thin) sigma = s.front ? mat.absorption : vec3(0.0);
+                        else throughput *= thin_absorbed(mat);
+                        eta_scale *= b.eta * b.eta;
+                    }
+                    ++bounce;
+                    if (bounce > ROULETTE_AFTER) {
+                        // Paths that carry little go on with that probability (pbrt's
+                        // rule; through glass by what they carry before the 1 / eta^2 of
+                        // refraction).
+                        float survive = clamp(max(throughput.r, max(throughput.g,
+                                                                    throughput.b))
+                                              * eta_scale, 0.05, 1.0);
+                        if (survive < 1.0) {
+                            going = random01() < survive;
+                            throughput /= survive;
+                        }
+                    }
+                    o = offset_ray(s.p, next.through ? -s.ng : s.ng);
+                    d = next.L;
+                    t_max = INF;
+                }
             }
         }
-        if (going) {
-            g_camera_ray = bounce == 0;  // (past cut-outs, the eye ray goes on)
-            h = trace_scene(o, d, t_max, false);
-            g_camera_ray = false;
-            going = segment(h, sigma, travelled, throughput);
-            if (!going) escape(radiance, alpha, bounce, d, throughput, prev_pdf,
-                               sample_environment, bsdf_hits);
+        if (!going || ++step >= u_max_depth + 2 + MAX_PASSES) {
+            total += vec4(radiance, alpha);
+            fresh = true;
+            done = j + 1 >= last;
         }
-    } while (going && ++step < u_max_depth + 2 + MAX_PASSES);
-    f_color = vec4(radiance, alpha);
+    } while (!done);
+    f_color = total;
 }

@@ -59,6 +59,7 @@ class Engine:
     adaptive = False  # skips the pixels ``active`` marks stopped (facet.render.budget)
     active = None  # the mask texture of the sum being drawn (R8, 0: stopped), or None
     mosaic = False  # draws several samples at once, stacked (draw_mosaic)
+    per_fragment = 1  # in a mosaic, samples one fragment draws one after the other
 
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache

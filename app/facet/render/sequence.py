@@ -167,19 +167,21 @@ class PassSequence:
             budget.begin()
             engine.active = budget.mask
         done, k = samples.start, samples.start
-        parts = _mosaic_parts(engine, scene, opts, plain, budget)
+        parts, per = _mosaic_parts(engine, scene, opts, plain, budget)
         while k < samples.stop:
-            n = min(parts, samples.stop - k)
+            n = min(parts * per, samples.stop - k)
             drawn = [self._sample_state(engine, scene, state, opts, aa, offsets, j, plain)
                      for j in range(k, k + n)]
             began = time.monotonic()
-            if n > 1:  # several samples at once, stacked (a small picture: _mosaic_parts)
-                target = acc.mosaic(n)
+            if n > 1:  # several samples at once (_mosaic_parts)
+                stacked = -(-n // per)
+                target = acc.mosaic(stacked)
                 target.use()
                 target.clear(*clear)
                 self.ctx.enable_only(self.ctx.DEPTH_TEST)
-                engine.draw_mosaic(drawn[0][0], [d[1] for d in drawn], k, opts, surf, bg)
-                acc.add_sample(n)
+                engine.draw_mosaic(drawn[0][0], [d[1] for d in drawn], k, opts, surf, bg,
+                                   per)
+                acc.add_sample(stacked)
             else:
                 scene_k, sample = drawn[0]
                 acc.begin_sample((0.0,) * 4 if engine.active is not None else clear)
@@ -273,18 +275,21 @@ MOSAIC_PIXELS = 128 * 128  # a picture smaller than this draws samples stacked t
 MAX_MOSAIC = 16
 
 
-def _mosaic_parts(engine, scene, opts, plain: bool, budget) -> int:
-    """How many samples to draw at once, stacked one above the other: a picture smaller
-    than about 2 x 2 of llvmpipe's 64-pixel tiles keeps one core busy per tile (64 x 64:
-    one of two cores; the Cornell box drew 48k paths a second there against 89k at
-    256 x 256), so the path tracer draws several of its samples as one taller picture.
+def _mosaic_parts(engine, scene, opts, plain: bool, budget) -> tuple[int, int]:
+    """How many samples to draw at once: (parts stacked one above the other, samples each
+    fragment of a part draws one after the other; their product at most MAX_MOSAIC).
+
+    A picture smaller than about 2 x 2 of llvmpipe's 64-pixel tiles keeps one core busy
+    per tile (64 x 64: one of two cores; the Cornell box drew 48k paths a second there
+    against 89k at 256 x 256), so the path tracer draws several of its samples as one
+    taller picture; and a fragment draws the engine's ``per_fragment`` paths in one loop.
     Only where samples differ in camera and shift alone (no motion blur), and where no
     budget watches sample by sample (a time limit, noise, a progress callback: each
     counts, and may stop, single samples)."""
     pixels = opts.width * opts.height
-    if not engine.mosaic or plain or pixels * 2 > MOSAIC_PIXELS or (
-            budget is not None and budget.synced) or \
+    if not engine.mosaic or plain or (budget is not None and budget.synced) or \
             getattr(scene, "moving", None) is not None or \
             any(o.transform_end is not None for o in scene.objects):
-        return 1
-    return min(MAX_MOSAIC, MOSAIC_PIXELS // pixels)
+        return 1, 1
+    parts = min(MAX_MOSAIC, MOSAIC_PIXELS // pixels) if pixels * 2 <= MOSAIC_PIXELS else 1
+    return parts, max(1, min(engine.per_fragment, MAX_MOSAIC // parts))

@@ -45,6 +45,10 @@ class PathEngine(Engine):
     radiance = True
     adaptive = True
     mosaic = True
+    # A fragment runs up to 4 paths one after the other, starting the next where the last
+    # ended (glsl/trace/path.frag): llvmpipe's SIMD lanes idled while the longest path
+    # of their 8 went on.
+    per_fragment = 4
     strategy = "mis"
 
     def __init__(self, ctx, cache):
@@ -92,16 +96,21 @@ class PathEngine(Engine):
                 return scene.view(objects=scene.objects + rectangles)
         return scene
 
-    def draw_mosaic(self, scene, states, first: int, opts, surf, background) -> None:
+    def draw_mosaic(self, scene, states, first: int, opts, surf, background,
+                    per_fragment: int = 1) -> None:
         """Samples ``first``, ``first + 1``, ... (one state each, differing only in camera
-        and shift) at once into the bound mosaic target, one above the other."""
+        and shift) at once into the bound mosaic target: ``per_fragment`` of them in each
+        part, the parts one above the other."""
         self._sample = first
-        self.draw_sample(scene, states[0], opts, surf, background, mosaic=states)
+        self.draw_sample(scene, states[0], opts, surf, background, mosaic=states,
+                         per_fragment=per_fragment)
 
-    def draw_sample(self, scene, state, opts, surf, background, mosaic=None) -> None:
-        """One sample, or with ``mosaic`` (states) several stacked. One program draws
-        both (a picture's first call compiles what its later ones use: a mosaic variant
-        cost its first stacked draw about 0.1 s on llvmpipe)."""
+    def draw_sample(self, scene, state, opts, surf, background, mosaic=None,
+                    per_fragment: int = 1) -> None:
+        """One sample, or with ``mosaic`` (states) several: ``per_fragment`` in each part
+        of the stack. One program draws both (a picture's first call compiles what its
+        later ones use: a mosaic variant cost its first stacked draw about 0.1 s on
+        llvmpipe)."""
         states = mosaic or [state]
         inverse = b"".join(mat_bytes(np.linalg.inv(s.view_projection())) for s in states)
         inverse += bytes(64 * (MAX_MOSAIC - len(states)))  # (the array's unused part)
@@ -127,7 +136,8 @@ class PathEngine(Engine):
             u_background=background, u_max_depth=int(opts.max_depth),
             u_sample=self._sample, u_flip_y=int(state.flip_y), u_seed=int(opts.seed),
             u_strategy=STRATEGIES[self.strategy],
-            u_inv_view_projections=inverse,
+            u_inv_view_projections=inverse, u_count=len(states),
+            u_per_fragment=per_fragment,
             u_emitter_count=lambda: self._emitter_count,  # (counted while binding)
             u_sky_size=sky[3] if sky is not None else (1, 1))
 
