@@ -173,14 +173,15 @@ class PassSequence:
             drawn = [self._sample_state(engine, scene, state, opts, aa, offsets, j, plain)
                      for j in range(k, k + n)]
             began = time.monotonic()
-            if n > 1:  # several samples at once (_mosaic_parts)
-                stacked = -(-n // per)
+            if n > 1:  # several samples at once (_mosaic_parts): parts first (tiles)
+                each = -(-n // min(parts, n))
+                stacked = -(-n // each)
                 target = acc.mosaic(stacked)
                 target.use()
                 target.clear(*clear)
                 self.ctx.enable_only(self.ctx.DEPTH_TEST)
                 engine.draw_mosaic(drawn[0][0], [d[1] for d in drawn], k, opts, surf, bg,
-                                   per)
+                                   each)
                 acc.add_sample(stacked)
             else:
                 scene_k, sample = drawn[0]
