@@ -83,21 +83,28 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
 // inlines a whole mesh traversal, and on CPU-emulated GL (llvmpipe) each copy costs time
 // even where it never runs. WALK(t_max, body) runs body with int i for each candidate;
 // the stack holds top-level children: a node index, or a leaf -(first + 1) and its count.
+// Two inner loops, as trace_mesh's: the candidates a lane holds, then top-level nodes
+// until it holds more (a turn of one loop paid for a whole mesh traversal in every lane).
 #define WALK(T_MAX, BODY) {                                                             \
     vec3 inv_ = safe_inverse(d);                                                       \
     int stack_[STACK_SIZE], count_[STACK_SIZE];                                        \
     int sp_ = 0, k_ = 0, node_ = u_has_tlas ? 0 : -1;                                  \
     int end_ = u_unbounded + (!u_has_tlas && u_single >= 0 ? 1 : 0);                   \
-    for (;;) {                                                                         \
-        if (k_ < end_) {                                                               \
+    do {                                                                               \
+        while (k_ < end_) {                                                            \
             int i = k_++;                                                              \
             BODY                                                                       \
-            continue;                                                                  \
         }                                                                              \
-        if (node_ >= 0) {                                                              \
+        while (k_ >= end_ && (node_ >= 0 || sp_ > 0)) {                                \
+            if (node_ < 0) {                                                           \
+                int e_ = stack_[--sp_];                                                \
+                if (e_ >= 0) node_ = e_;                                               \
+                else { k_ = -e_ - 1; end_ = k_ + count_[sp_]; }                        \
+                continue;                                                              \
+            }                                                                          \
             int b_ = node_ * NODE_TEXELS;                                              \
-            vec4 lo0 = tlas_texel(b_), hi0 = tlas_texel(b_ + 1);                 \
-            vec4 lo1 = tlas_texel(b_ + 2), hi1 = tlas_texel(b_ + 3);             \
+            vec4 lo0 = tlas_texel(b_), hi0 = tlas_texel(b_ + 1);                       \
+            vec4 lo1 = tlas_texel(b_ + 2), hi1 = tlas_texel(b_ + 3);                   \
             float e0 = box_entry(lo0.xyz, hi0.xyz, o, inv_, T_MAX);                    \
             float e1 = box_entry(lo1.xyz, hi1.xyz, o, inv_, T_MAX);                    \
             bool near0 = e0 <= e1;                                                     \
@@ -110,13 +117,8 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
                 stack_[sp_] = int(near0 ? lo0.w : lo1.w);                              \
                 count_[sp_++] = int(near0 ? hi0.w : hi1.w);                            \
             }                                                                          \
-            continue;                                                                  \
         }                                                                              \
-        if (sp_ == 0) break;                                                           \
-        int e_ = stack_[--sp_];                                                        \
-        if (e_ >= 0) node_ = e_;                                                       \
-        else { k_ = -e_ - 1; end_ = k_ + count_[sp_]; }                                \
-    }                                                                                  \
+    } while (k_ < end_);                                                               \
 }
 
 // The nearest hit of o + t d for t in (0, t_max); ``opaque_only`` skips transparent objects
@@ -134,7 +136,7 @@ float trace_shadow(vec3 o, vec3 d, float t_max) {
     WALK(t_max, {
         Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
         if (hit_instance(i, o, d, h, true)) through *= 1.0 - instance_opacity(i);
-        if (through <= 0.0) break;
+        if (through <= 0.0) { end_ = k_; node_ = -1; sp_ = 0; }  // (the walk ends)
     })
     return through;
 }
