@@ -98,16 +98,18 @@ def _area(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return d[..., 0] * d[..., 1] + d[..., 1] * d[..., 2] + d[..., 2] * d[..., 0]
 
 
-def build_bvh(lo, hi, method: str = "auto") -> BVH:
+def build_bvh(lo, hi, method: str = "auto", leaf_items: int = LEAF_SIZE) -> BVH:
     """The hierarchy of N boxes ``lo``, ``hi`` (N, 3); N >= 1 (module docstring).
-    ``method``: "sah", "clustered", or "auto" (SAH up to ``SAH_LIMIT`` boxes)."""
+    ``method``: "sah", "clustered", or "auto" (SAH up to ``SAH_LIMIT`` boxes);
+    ``leaf_items``: 1 splits down to single boxes (the top level over placed objects, whose
+    every test is a whole mesh's traversal: each is tested only where its own box is hit)."""
     lo = np.asarray(lo, dtype=np.float32).reshape(-1, 3)
     hi = np.asarray(hi, dtype=np.float32).reshape(-1, 3)
     if len(lo) == 0:
         raise ValueError("a BVH needs at least one primitive")
     if method == "auto":
         method = "sah" if len(lo) <= SAH_LIMIT else "clustered"
-    bvh = _sah(lo, hi) if method == "sah" else _clustered(lo, hi)
+    bvh = _sah(lo, hi, leaf_items=leaf_items) if method == "sah" else _clustered(lo, hi)
     # Widen every box by a few float32 steps of its coordinates: a ray grazing a face, or
     # running in a box's face plane with a zero direction component, still enters it
     # (the slab test then sees (lo - o) / d with lo - o < 0 instead of 0 * inf).

@@ -178,7 +178,7 @@ def pack_instances(objects, mesh_root: dict, material_color, layers: dict,
     tlas = None
     if len(bounded) > 1:
         boxes = np.array([_world_box(o, (boxes or {}).get(id(o.mesh))) for o in bounded])
-        bvh = build_bvh(boxes[:, 0], boxes[:, 1])
+        bvh = build_bvh(boxes[:, 0], boxes[:, 1], leaf_items=1)
         bounded = [bounded[i] for i in bvh.order]
         tlas = pack_nodes(bvh)
         tlas[:, [0, 2], 3] = np.where(tlas[:, [0, 2], 3] >= 0, tlas[:, [0, 2], 3],
