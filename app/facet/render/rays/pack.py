@@ -177,24 +177,44 @@ def pack_instances(objects, mesh_root: dict, material_color, layers: dict,
     bounded = [o for o in objects if not o.infinite]
     tlas = None
     if len(bounded) > 1:
-        boxes = np.array([_world_box(o, (boxes or {}).get(id(o.mesh))) for o in bounded])
-        bvh = build_bvh(boxes[:, 0], boxes[:, 1], leaf_items=1)
-        bounded = [bounded[i] for i in bvh.order]
-        tlas = pack_nodes(bvh)
+        boxes = _world_boxes(bounded, boxes or {})
+        order, tlas = _top_level(boxes)
+        bounded = [bounded[i] for i in order]
+        tlas = tlas.copy()
         tlas[:, [0, 2], 3] = np.where(tlas[:, [0, 2], 3] >= 0, tlas[:, [0, 2], 3],
                                       tlas[:, [0, 2], 3] - len(unbounded))
     ordered = unbounded + bounded
     rows = np.zeros((len(ordered), INSTANCE_TEXELS, 4), np.float32)
+    if not ordered:
+        return rows, tlas, len(unbounded), ordered
+    m = np.array([o.transform for o in ordered], dtype=np.float64)
+    rows[:, 0:3] = np.linalg.inv(m)[:, :3]  # (all at once: a scene of many objects)
+    rows[:, 3:6] = m[:, :3]
     for i, o in enumerate(ordered):  # one row per placed object, not per triangle
-        rows[i] = _instance(o, mesh_root, material_color, layers)
+        _instance(rows[i], o, mesh_root, material_color, layers)
     return rows, tlas, len(unbounded), ordered
 
 
-def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
-    m = np.asarray(obj.transform, dtype=np.float64)
-    row = np.zeros((INSTANCE_TEXELS, 4), np.float32)
-    row[0:3] = np.linalg.inv(m)[:3]
-    row[3:6] = m[:3]
+_TOP_LEVELS: dict = {}  # the world boxes' bytes -> (order, packed nodes): the last few
+
+
+def _top_level(boxes: np.ndarray):
+    """The top level over placed objects' world ``boxes`` (n, 2, 3): (their order, its
+    packed nodes), built again only when a box changed (a series of renders of one scene
+    builds it once)."""
+    key = boxes.tobytes()
+    made = _TOP_LEVELS.pop(key, None)
+    if made is None:
+        bvh = build_bvh(boxes[:, 0], boxes[:, 1], leaf_items=1)
+        made = (bvh.order, pack_nodes(bvh))
+    _TOP_LEVELS[key] = made
+    while len(_TOP_LEVELS) > 4:
+        del _TOP_LEVELS[next(iter(_TOP_LEVELS))]
+    return made
+
+
+def _instance(row, obj, mesh_root, material_color, layers) -> None:
+    """The rest of ``obj``'s row (its matrices are there): kind, flags and material."""
     mat = obj.material
     if obj.shape is not None:
         kind, root = KINDS[obj.shape.kind], 0
@@ -215,7 +235,6 @@ def _instance(obj, mesh_root, material_color, layers) -> np.ndarray:
         mat, material_color(mat),
         lambda name, slot: layers.get((id(slot.texture), slot_mode(name, slot)), -1),
         phong_image)
-    return row
 
 
 def open_volume(obj) -> bool:
@@ -251,11 +270,19 @@ def slot_mode(name: str, slot) -> str:
     return mode + NEAREST if slot.filter[1] == "nearest" else mode
 
 
-def _world_box(obj, box=None) -> np.ndarray:
-    b = obj.shape.bounds if obj.shape is not None else obj.mesh.bounds if box is None else box
-    corners = np.array([[x, y, z] for x in b[:, 0] for y in b[:, 1] for z in b[:, 2]])
-    w = corners @ np.asarray(obj.transform)[:3, :3].T + np.asarray(obj.transform)[:3, 3]
-    return np.stack([w.min(axis=0), w.max(axis=0)])
+_CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])
+
+
+def _world_boxes(objects, boxes: dict) -> np.ndarray:
+    """(n, 2, 3) world boxes of ``objects``: each one's object-space box (its shape's, its
+    mesh's, or ``boxes``' for id(mesh)) through its transform, corner by corner."""
+    b = np.array([o.shape.bounds if o.shape is not None else boxes.get(id(o.mesh),
+                                                                       o.mesh.bounds)
+                  for o in objects], dtype=np.float64)  # (n, 2, 3)
+    corners = np.where(_CORNERS[None].astype(bool), b[:, None, 1], b[:, None, 0])  # (n, 8, 3)
+    m = np.array([o.transform for o in objects], dtype=np.float64)
+    w = np.einsum("nij,nkj->nki", m[:, :3, :3], corners) + m[:, None, :3, 3]
+    return np.stack([w.min(axis=1), w.max(axis=1)], axis=1)
 
 
 def to_texels(rows: np.ndarray) -> np.ndarray:
