@@ -15,6 +15,7 @@ import pytest
 from facet.batch import render_dataset
 from facet.cli import main
 from facet.errors import InputError
+from processes import own_session
 
 from batch_data import child_pids, make_models, write_manifest
 
@@ -60,7 +61,7 @@ def test_a_run_stopped_from_outside_resumes(tmp_path):
     env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
     proc = subprocess.Popen([sys.executable, "-m", "facet", "batch", str(manifest), "-o",
                              str(out), "-q"], env=env, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, start_new_session=True)
+                            stderr=subprocess.PIPE, preexec_fn=own_session)
     end = time.time() + 60
     while time.time() < end and len(list(out.glob("*/images/*.png"))) < 10:
         time.sleep(0.05)

@@ -12,6 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from processes import own_session
+
 ROOT = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
 
@@ -54,7 +56,7 @@ def _gone(pids, timeout: float = 10.0) -> bool:
 def _run(args, sig, tmp_path, wait_for, poll: float = 0.1, group: bool = False):
     proc = subprocess.Popen([sys.executable, "-m", "facet", *args], env=ENV,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            start_new_session=True, cwd=tmp_path)
+                            preexec_fn=own_session, cwd=tmp_path)
     end = time.time() + 60
     while not wait_for() and time.time() < end and proc.poll() is None:
         time.sleep(poll)
