@@ -56,7 +56,11 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
     if (!trace_mesh(int(info.y), oo, od, h.t, h.tri, h.bary, any_hit, one_sided))
         return false;
 #else
+#ifdef NO_MESHES
+    if (false) {
+#else
     if (kind == KIND_MESH) {
+#endif
         if (!trace_mesh(int(info.y), oo, od, h.t, h.tri, h.bary, any_hit, one_sided))
             return false;
     } else {

@@ -50,6 +50,8 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
     n = vec3(0.0, 1.0, 0.0);
     uv = vec2(0.0);
     float s0, s1;
+    // (NO_KIND_*: a kind no object of the scene has, its test left out: scene_defines)
+#ifndef NO_KIND_SPHERE
     if (kind == KIND_SPHERE) {  // |o + s d|^2 = r^2: the nearest positive root
         if (!roots(dot(d, d), dot(o, d), dot(o, o) - q.x * q.x, s0, s1)) return false;
         float s = s0 > 0.0 ? s0 : s1;
@@ -60,8 +62,14 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
         uv = vec2(around(p).x, asin(clamp(n.y, -1.0, 1.0)) / PI + 0.5);
         return true;
     }
+#endif
+#ifndef NO_KIND_PLANE
     if (kind == KIND_PLANE) return hit_flat(0.0, 0.0, 0.5 * q.xy, o, d, t, n, uv, 1.0);
+#endif
+#ifndef NO_KIND_DISK
     if (kind == KIND_DISK) return hit_flat(0.0, q.x, vec2(0.0), o, d, t, n, uv, 1.0);
+#endif
+#ifndef NO_KIND_BOX
     if (kind == KIND_BOX) {  // slabs
         vec3 half_size = 0.5 * q.xyz;
         vec3 inv = safe_inverse(d);
@@ -82,8 +90,10 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
         uv = axis.x > 0.0 ? f.yz : axis.y > 0.0 ? f.zx : f.xy;
         return true;
     }
+#endif
     float r = q.x, h = q.y;
     bool hit = false;
+#if !defined(NO_KIND_CYLINDER) || !defined(NO_KIND_CONE)
     if (kind == KIND_CYLINDER || kind == KIND_CONE) {
         // Side: x^2 + z^2 = k(y)^2 with k = r (cylinder) or r (h/2 - y) / h (cone, apex up).
         float slope = kind == KIND_CONE ? r / h : 0.0;
@@ -115,6 +125,7 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
             n = cap_n; uv = cap_uv; hit = true;
         }
     }
+#endif
     return hit;
 }
 

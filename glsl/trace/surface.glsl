@@ -60,7 +60,9 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     vec4 tangent = vec4(0.0);
     vec3 albedo = vec3(1.0);
     float alpha = 1.0, density = 0.0;
-#ifndef NO_SHAPES
+#if defined(NO_MESHES)
+    if (false) {  // (shapes only)
+#elif !defined(NO_SHAPES)
     if (h.tri >= 0) {
 #else
     {

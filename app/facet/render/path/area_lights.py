@@ -16,9 +16,9 @@ from __future__ import annotations
 import numpy as np
 
 from ...scene.light import AreaLight
-from ...scene.mesh import Mesh
 from ...scene.pbr import PbrMaterial
 from ...scene.scene import SceneObject
+from ...scene.shapes import Plane
 
 
 class AreaEmitters:
@@ -49,13 +49,19 @@ class AreaEmitters:
 
 
 def _rectangle(light: AreaLight) -> SceneObject:
-    corners = light.corners()
-    mesh = Mesh(corners, [[0, 1, 2], [0, 2, 3]], [light.normal] * 4, name="area light")
+    """The light's rectangle as an analytic plane (facet.scene.shapes: y = 0 facing +y,
+    ``size`` along x and z) turned to face its normal: a scene of shapes stays one (its
+    tracers' programs leave mesh traversal out: facet.render.rays.scene scene_defines)."""
+    a, b = light.axes()  # a x b = normal; the plane's x, y, z: a, normal, a x normal = -b
+    placed = np.eye(4)
+    placed[:3, :3] = np.column_stack([a, light.normal, -b])
+    placed[:3, 3] = light.position
+    shape = Plane(light.size)
     area = light.size[0] * light.size[1]
     material = PbrMaterial(base_color=(0, 0, 0, 1), metallic=0.0, specular=0.0,
                            emissive=light.color, emissive_strength=np.pi * light.intensity / area,
                            name="area light")
-    return SceneObject(0, mesh, material, np.eye(4), "area light")
+    return SceneObject(0, shape.mesh(), material, placed, "area light", shape=shape)
 
 
 def strip_area_points(scene, scene_k, lights) -> tuple:

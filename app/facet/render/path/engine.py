@@ -150,9 +150,10 @@ class PathEngine(Engine):
     def _emitter_rows(self, rows, ordered) -> None:
         """The emitters' table (facet.render.path.emitters) uploaded when it changed, and
         each instance row's density factor."""
-        key = tuple((i, id(o.mesh), np.asarray(o.transform).tobytes(),
+        key = tuple((i, id(o.mesh), o.shape and (o.shape.kind, o.shape.params),
+                     np.asarray(o.transform).tobytes(),
                      tuple(as_pbr(o.material).emissive * as_pbr(o.material).emissive_strength))
-                    for i, o in enumerate(ordered) if o.shape is None)
+                    for i, o in enumerate(ordered))  # (shapes too: they emit as meshes do)
         if key != self._emitters_key or "emitters" not in self.rays.textures:
             tris = {id(o.mesh): self.rays.meshes[o.mesh].tris for o in ordered
                     if o.shape is None}

@@ -48,13 +48,19 @@ def pixel_cone(state: FrameState) -> tuple[float, float]:
 def scene_defines(scene) -> tuple:
     """The kinds of object ``scene`` lacks, as defines that leave their code out of the
     tracers' programs: NO_SPRITES (no points or lines: no sphere or capsule in a triangle
-    test), NO_SHAPES (no analytic shapes). llvmpipe runs every line of a shader's branches
-    whether or not a lane takes them (only loops end early), so code a scene cannot reach
-    still costs it time: in a traversal's inner loop, most of it."""
+    test), NO_SHAPES (no analytic shapes), NO_MESHES (shapes only: no mesh traversal),
+    NO_KIND_<KIND> (no shape of that kind: its intersection left out). llvmpipe runs every
+    line of a shader's branches whether or not a lane takes them (only loops end early), so
+    code a scene cannot reach still costs it time: in a traversal's inner loop, most of it
+    (the Cornell box of shapes: every candidate paid for the cylinder's and cone's test)."""
     objects = scene.objects
+    kinds = {o.shape.kind for o in objects if o.shape is not None}
     return (("NO_SPRITES",) if all(o.shape is not None or o.mesh.kind == "mesh"
                                    for o in objects) else ()) + \
-        (("NO_SHAPES",) if all(o.shape is None for o in objects) else ())
+        (("NO_SHAPES",) if not kinds else ()) + \
+        (("NO_MESHES",) if objects and all(o.shape is not None for o in objects) else ()) + \
+        tuple(f"NO_KIND_{kind.upper()}" for kind in pack.KINDS
+              if kind != "mesh" and kind not in kinds)
 
 
 class RayScene:
