@@ -62,7 +62,8 @@ def test_a_time_limit_stops_the_sum_in_time():
     every pixel; the picture is their mean (as bright as a fixed count's)."""
     scene, camera = _half_lit()
     with facet.Renderer(32, 32) as r:
-        r.render(scene, camera, engine="path", spp=1, lights="scene")  # (compiled)
+        r.render(scene, camera, engine="path", spp=1, float_color=True, lights="scene",
+                 outputs=("color", "spp"))  # (compiled: what is measured is the sum)
         began = time.monotonic()
         frame = r.render(scene, camera, engine="path", time_limit=1.0, float_color=True,
                          lights="scene", outputs=("color", "spp"))

@@ -84,7 +84,7 @@ vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters
 #endif
         {
             // One direction of the environment.
-            L = sample_sky(pdf_light);
+            L = sample_sky(s.ng, pdf_light);
             if (pdf_light <= 0.0 || dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0) continue;
             weight = sky_light(L) / pdf_light;
         }

@@ -6,7 +6,8 @@
 //   - the scene's point, spot and directional lights (delta lights: a shadow ray each),
 //   - the emitting triangles (one point, chosen by power, then uniformly by area),
 //   - the environment, or the scene's ambient light as a constant one (one direction: by
-//     the environment image's luminance, or uniform on the sphere),
+//     the environment image's luminance, or for a constant sky by the cosine about the
+//     surface's geometric normal),
 // then the path goes on in a direction drawn from the BSDF (lib/pbr.glsl, the rasterizer's:
 // a mixture of cosine-weighted diffuse and GGX half-vector sampling). Light sampling and
 // BSDF sampling both find emitters and the environment; each is weighted by the power
@@ -58,7 +59,7 @@ bool segment(Hit h, vec3 sigma, inout float travelled, inout vec3 throughput) {
 // A ray that escaped along d: the background behind the eye ray, else the sky's light
 // (weighed against sampling the sky where the last bounce was weighed).
 void escape(inout vec3 radiance, inout float alpha, int bounce, vec3 d, vec3 throughput,
-            float prev_pdf, bool sample_environment, bool bsdf_hits) {
+            float prev_pdf, vec3 prev_ng, bool sample_environment, bool bsdf_hits) {
     if (bounce == 0) {
 #ifdef HAS_ENVIRONMENT
         radiance = escaped(d);
@@ -69,7 +70,7 @@ void escape(inout vec3 radiance, inout float alpha, int bounce, vec3 d, vec3 thr
     } else if (!sample_environment || prev_pdf == 0.0) {
         radiance += throughput * sky_light(d);
     } else if (bsdf_hits) {
-        radiance += throughput * sky_light(d) * power_weight(prev_pdf, sky_pdf(d));
+        radiance += throughput * sky_light(d) * power_weight(prev_pdf, sky_pdf(prev_ng, d));
     }
 }
 
@@ -102,6 +103,7 @@ void main() {
     float t_max, alpha;
     float prev_pdf;    // the BSDF's density of d (0: the eye ray, a delta or transmission
                        // lobe: not weighed against light sampling)
+    vec3 prev_ng;      // the geometric normal of the surface d left (sky_pdf)
     vec3 sigma;        // absorption of the volume the ray is in (KHR_materials_volume)
     float eta_scale;   // undoes refraction's radiance scale for Russian roulette
     int bounce, step;
@@ -124,6 +126,7 @@ void main() {
             throughput = vec3(1.0);
             alpha = 1.0;
             prev_pdf = 0.0;
+            prev_ng = vec3(0.0);
             sigma = vec3(0.0);
             eta_scale = 1.0;
             bounce = 0;
@@ -138,8 +141,8 @@ void main() {
         g_camera_ray = false;
         bool going = segment(h, sigma, travelled, throughput);
         if (!going) {
-            escape(radiance, alpha, bounce, d, throughput, prev_pdf, sample_environment,
-                   bsdf_hits);
+            escape(radiance, alpha, bounce, d, throughput, prev_pdf, prev_ng,
+                   sample_environment, bsdf_hits);
         } else {
             g_travelled = travelled - h.t;
             Surface s = surface_at(h, o, d);
@@ -190,6 +193,7 @@ void main() {
                 if (going) {
                     throughput *= next.weight;
                     prev_pdf = next.pdf;  // 0: a delta or transmission lobe (not weighed)
+                    prev_ng = s.ng;
                     if (next.through) {
                         // in or out of a volume
                         if (!b.thin) sigma = s.front ? mat.absorption : vec3(0.0);

@@ -17,7 +17,6 @@ uniform sampler2D u_sky_radiance;  // the grid the distribution was made from (R
 uniform ivec2 u_sky_size;  // W, H
 #endif
 
-const float UNIFORM_SPHERE_PDF = 1.0 / (4.0 * PI);
 
 // The radiance of the sky in direction d: the environment, or without one the scene's
 // ambient light as a constant sky (the rasterizer's pbr model lights by it the same way).
@@ -51,20 +50,24 @@ vec3 sky_light(vec3 d) {
 #endif
 }
 
-// The sky's density of direction d for light sampling (solid angle).
-float sky_pdf(vec3 d) {
+// The sky's density of direction d for light sampling (solid angle) from a surface of
+// geometric normal ng (facing the side the light is gathered on).
+float sky_pdf(vec3 ng, vec3 d) {
 #ifdef SKY_DISTRIBUTION
     float sin_t = sqrt(max(1.0 - d.y * d.y, 0.0));
     return sin_t > 0.0 ? texelFetch(u_sky_pdf, sky_texel(d), 0).r / (2.0 * PI * PI * sin_t)
                        : 0.0;
 #else
-    return UNIFORM_SPHERE_PDF;
+    return max(dot(ng, d), 0.0) / PI;
 #endif
 }
 
-// A sky direction for light sampling, and its density: by luminance (a texel by two
-// binary searches, then a point in it), or uniform on the sphere.
-vec3 sample_sky(out float pdf) {
+// A sky direction for light sampling from a surface of geometric normal ng, and its
+// density: by luminance (a texel by two binary searches, then a point in it), or, for a
+// constant sky, by the cosine about ng: a Lambertian surface's light from it then has no
+// noise but its shadows' (uniform on the sphere, half the samples fell below the surface
+// and the rest were weighed by a cosine they did not follow).
+vec3 sample_sky(vec3 ng, out float pdf) {
 #ifdef SKY_DISTRIBUTION
     int w = u_sky_size.x;
     float r = random01(), c = random01();
@@ -83,12 +86,11 @@ vec3 sample_sky(out float pdf) {
     vec2 uv = (vec2(lo, y) + random2()) / vec2(u_sky_size);
     float phi = (uv.x - 0.5) * TWO_PI, theta = uv.y * PI;
     vec3 d = vec3(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
-    pdf = sky_pdf(d);
+    pdf = sky_pdf(ng, d);
     return d;
 #else
-    vec2 xi = random2();
-    float z = 1.0 - 2.0 * xi.x, r = sqrt(max(1.0 - z * z, 0.0));
-    pdf = UNIFORM_SPHERE_PDF;
-    return vec3(r * cos(TWO_PI * xi.y), r * sin(TWO_PI * xi.y), z);
+    vec3 d = around(cosine_sample(random2()), ng);
+    pdf = sky_pdf(ng, d);
+    return d;
 #endif
 }
