@@ -235,17 +235,26 @@ def test_degenerate_triangles(tmp_path):
         facet.open_scene(b.write_glb(tmp_path / "flat.glb"))
 
 
+def test_dracopy_is_a_core_dependency():
+    """Draco files open in a default install: the distribution requires DracoPy with no
+    extra (it was the 'draco' extra: a plain install refused such files)."""
+    import tomllib
+
+    with open(Path(__file__).resolve().parents[1] / "pyproject.toml", "rb") as f:
+        core = tomllib.load(f)["project"]["dependencies"]
+    assert any(r.lower().startswith("dracopy") for r in core), core
+
+
 def test_draco_needs_dracopy_and_decodes_with_it(monkeypatch):
     draco = shared_gltf("Box/draco/Box.gltf")
     plain = facet.open_scene(shared_gltf("Box/Box.glb"))
-    pytest.importorskip("DracoPy")
     decoded = facet.open_scene(draco)
     a, b = decoded.objects[0].mesh, plain.objects[0].mesh
     assert a.face_count == b.face_count == 12
     np.testing.assert_allclose(np.sort(a.positions, axis=0), np.sort(b.positions, axis=0),
                                atol=1e-3)
     monkeypatch.setitem(sys.modules, "DracoPy", None)  # as if it were not installed
-    with pytest.raises(MeshError, match=r"Draco-compressed .*pip install 'facet\[draco\]'"):
+    with pytest.raises(MeshError, match=r"Draco-compressed .*pip install DracoPy"):
         facet.open_scene(draco)
 
 
@@ -299,3 +308,32 @@ def test_command_line_renders_the_parts_as_the_scene_file_does(tmp_path):
         others = [c for c in range(3) if c != channel]
         strong = (colours[:, channel] > 120) & (colours[:, others].max(1) < 80)
         assert strong.sum() > 5, channel
+
+
+def test_a_models_own_camera_by_first_or_index(tmp_path, capsys):
+    """`--camera first` (or an index, or the name `facet info` lists) renders through the
+    file's own camera, the same picture as by its name; a scene file's render.camera takes
+    the same; a wrong one is one line listing them (first and indices were refused)."""
+    path = shared_gltf("Cameras/Cameras.gltf")
+    scene = facet.open_scene(path)
+    names = list(scene.cameras)
+    assert scene.camera("first") is scene.cameras[names[0]]
+    assert scene.camera("1") is scene.cameras[names[1]]
+    pictures = []
+    for pick in ("first", "0", names[0]):
+        out = tmp_path / f"{pick}.png"
+        assert main(["render", str(path), "--camera", pick, "-o", str(out), "--size", "64x48",
+                     "-q"]) == 0
+        pictures.append(np.asarray(__import__("PIL.Image").Image.open(out)))
+    framed = tmp_path / "framed.png"
+    assert main(["render", str(path), "-o", str(framed), "--size", "64x48", "-q"]) == 0
+    np.testing.assert_array_equal(pictures[0], pictures[1])
+    np.testing.assert_array_equal(pictures[0], pictures[2])
+    assert not np.array_equal(pictures[0], np.asarray(__import__("PIL.Image").Image.open(framed)))
+    toml = tmp_path / "s.toml"
+    toml.write_text('[render]\ncamera = "1"\n\n[cameras.near]\ntype = "perspective"\neye = [0, 0, 3]\n\n'
+                    '[cameras.far]\ntype = "perspective"\neye = [0, 0, 9]\n\n[[objects]]\nprimitive = "cube"\n')
+    assert facet.load(toml).camera().eye[2] == 9  # (the second camera, "far")
+    assert main(["render", str(path), "--camera", "7", "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'first', or an index 0-1" in err[0], err

@@ -178,7 +178,9 @@ def _add_view_options(g) -> None:
     """The render options about the view, the scene's lights and time (add_render_options)."""
     from ..options.render import CULL, LIGHTS
 
-    g.add_argument("--camera", metavar="NAME", help="which of the scene file's cameras to use")
+    g.add_argument("--camera", metavar="NAME",
+                   help="which camera to render through: a scene file's or a model's own, "
+                        "by name, 'first' or index (facet info lists them)")
     g.add_argument("--lights", metavar="MODE",
                    help=f"{', '.join(LIGHTS)}. auto: the scene's lights, or a key + fill rig "
                    "following the camera when it has none (default); scene: only its own; "

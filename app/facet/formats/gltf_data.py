@@ -188,7 +188,8 @@ class GltfData:
             import DracoPy
         except ImportError:
             self.fail("is Draco-compressed (KHR_draco_mesh_compression), which needs the "
-                      "DracoPy package: pip install 'facet[draco]' (or DracoPy)")
+                      "DracoPy package, a dependency of facet missing from this Python: "
+                      "pip install DracoPy")
         data, start, length, _ = self.view(ext["bufferView"])
         try:
             mesh = DracoPy.decode(data[start:start + length])

@@ -101,7 +101,7 @@ class _SceneBuilder(MaterialTables):
         for name, cam in cameras.items():
             scene.add_camera(name, read_camera(self.r, cam, f"cameras.{name}", scene))
         camera = options.get("camera")
-        if camera is not None and camera not in scene.cameras:
+        if camera is not None and not _picks_camera(scene, camera):
             close = difflib.get_close_matches(camera, list(scene.cameras), n=1)
             hint = f" (did you mean '{close[0]}'?)" if close else ""
             r.fail("render.camera", f"no camera named {_show(camera)}{hint}")
@@ -352,3 +352,12 @@ class _SceneBuilder(MaterialTables):
 def _strip_key(message: str, key: str | None) -> str:
     """An option parser's message without its leading ``key: `` (the caller names the key)."""
     return message[len(key) + 2:] if key and message.startswith(f"{key}: ") else message
+
+
+def _picks_camera(scene, name) -> bool:
+    """Whether ``name`` picks one of the scene's cameras (a name, "first" or an index)."""
+    try:
+        scene.camera_key(name)
+    except FacetError:
+        return False
+    return True

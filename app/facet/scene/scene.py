@@ -208,8 +208,10 @@ class Scene:
         Parameters
         ----------
         name : str, optional
-            A camera's name; without one the options' ``camera``, else the first one (none for a
-            model file's scene, which is framed).
+            A camera's name, ``"first"`` (the first camera: a model file's own, such as the
+            one it was authored with) or an index ("0", "1", ... in the file's order);
+            without one the options' ``camera``, else the first one (none for a model
+            file's scene, which is framed).
 
         Returns
         -------
@@ -220,11 +222,23 @@ class Scene:
         if name is None and self.frame_by_default:
             return None
         if name is not None:
-            if name not in self.cameras:
-                known = ", ".join(self.cameras) or "none"
-                raise InputError(f"no camera named {name!r} (cameras: {known})")
-            return self.cameras[name]
+            return self.cameras[self.camera_key(name)]
         return next(iter(self.cameras.values()), None)
+
+    def camera_key(self, name) -> str:
+        """The name of the camera ``name`` picks: a name, ``"first"`` or an index (the
+        camera named so wins); InputError naming the cameras when none."""
+        names = list(self.cameras)
+        text = str(name)
+        if text in self.cameras:
+            return text
+        if text == "first" and names:
+            return names[0]
+        if text.isdigit() and int(text) < len(names):
+            return names[int(text)]
+        known = ", ".join(names) or "none"
+        picks = f"; or 'first', or an index 0-{len(names) - 1}" if names else ""
+        raise InputError(f"no camera named {text!r} (cameras: {known}{picks})")
 
     def at(self, time: float = 0.0, animation=None) -> Scene:
         """The scene as it stands at ``time``, its animations playing, skins and morph
