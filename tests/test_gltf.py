@@ -331,8 +331,10 @@ def test_a_models_own_camera_by_first_or_index(tmp_path, capsys):
     np.testing.assert_array_equal(pictures[0], pictures[2])
     assert not np.array_equal(pictures[0], np.asarray(__import__("PIL.Image").Image.open(framed)))
     toml = tmp_path / "s.toml"
-    toml.write_text('[render]\ncamera = "1"\n\n[cameras.near]\ntype = "perspective"\neye = [0, 0, 3]\n\n'
-                    '[cameras.far]\ntype = "perspective"\neye = [0, 0, 9]\n\n[[objects]]\nprimitive = "cube"\n')
+    toml.write_text('[render]\ncamera = "1"\n\n'
+                    '[cameras.near]\ntype = "perspective"\neye = [0, 0, 3]\n\n'
+                    '[cameras.far]\ntype = "perspective"\neye = [0, 0, 9]\n\n'
+                    '[[objects]]\nprimitive = "cube"\n')
     assert facet.load(toml).camera().eye[2] == 9  # (the second camera, "far")
     assert main(["render", str(path), "--camera", "7", "-o", str(tmp_path / "x.png")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
