@@ -85,12 +85,26 @@ def test_a_mapping_to_a_missing_material_is_one_line(tmp_path, capsys):
     assert len(err) == 1 and "mappings[0].material" in err[0]
 
 
-def _textured(tmp_path, extension: str, fallback: bool, required: bool):
+def _webp(pixels: np.ndarray) -> bytes:
+    import io
+
+    from PIL import Image
+
+    out = io.BytesIO()
+    Image.fromarray(np.asarray(pixels, np.uint8)).save(out, "WEBP", lossless=True)
+    return out.getvalue()
+
+
+def _textured(tmp_path, extension: str, fallback: bool, required: bool, webp: bool = False):
     from gltf_files import png
 
     b = GltfBuilder()
-    tex = b.texture(png(np.full((4, 4, 3), (20, 200, 40), np.uint8)))
+    pixels = np.full((4, 4, 3), (20, 200, 40), np.uint8)
+    tex = b.texture(_webp(pixels) if webp else png(pixels))
+    if webp:
+        b.doc["images"][-1]["mimeType"] = "image/webp"
     texture = b.doc["textures"][tex]
+    texture["name"] = "basecolor.ktx2" if extension == "KHR_texture_basisu" else "basecolor"
     source = texture.pop("source")
     texture["extensions"] = {extension: {"source": source}}
     if fallback:
@@ -112,21 +126,27 @@ def test_ktx2_textures_are_refused_by_name_or_their_fallbacks_drawn(tmp_path, ca
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "KHR_texture_basisu" in err[0] and "PNG or JPEG" in err[0]
     path = _textured(tmp_path, "KHR_texture_basisu", fallback=True, required=False)
-    with pytest.warns(facet.FacetWarning, match="KHR_texture_basisu"):
+    with pytest.warns(facet.FacetWarning) as said:
         scene = facet.load(path)
+    lines = [str(x.message) for x in said]
+    assert len(lines) == 1 and "fallbacks of its KTX2 textures 'basecolor.ktx2'" in lines[0]
     assert scene.objects[0].material.base_color_texture is not None
+    # No fallback: the texture is named and no fallback is claimed, on every load.
     path = _textured(tmp_path, "KHR_texture_basisu", fallback=False, required=False)
-    with pytest.warns(facet.FacetWarning, match="without a PNG or JPEG fallback"):
-        scene = facet.load(path)
-    assert scene.objects[0].material.base_color_texture is None
+    for _ in range(2):
+        with pytest.warns(facet.FacetWarning) as said:
+            scene = facet.load(path)
+        lines = [str(x.message) for x in said]
+        assert len(lines) == 1 and "'basecolor.ktx2', which has no PNG or JPEG" in lines[0]
+        assert "draws the PNG" not in lines[0]
+        assert scene.objects[0].material.base_color_texture is None
 
 
 def test_webp_textures_are_decoded(tmp_path, renderer):
-    """EXT_texture_webp: Pillow decodes the image (here a PNG's bytes stand in: Pillow
-    reads what the bytes are)."""
+    """EXT_texture_webp: Pillow decodes the WebP image (a lossless one, written here)."""
     import warnings
 
-    path = _textured(tmp_path, "EXT_texture_webp", fallback=False, required=True)
+    path = _textured(tmp_path, "EXT_texture_webp", fallback=False, required=True, webp=True)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         scene = facet.load(path)

@@ -140,8 +140,7 @@ class _Reader(MaterialReading, VariantReading):
         ignored = set(g.extensionsUsed or ()) - SUPPORTED
         if "KHR_texture_basisu" in ignored:
             ignored.discard("KHR_texture_basisu")
-            self.warn("draws the PNG / JPEG fallbacks of its KTX2 textures "
-                      "(KHR_texture_basisu: no pip-installable decoder)")
+            self._ktx2_fallbacks()
         if ignored:
             self.warn(f"ignores the glTF extension(s) {', '.join(sorted(ignored))}")
         if not g.scenes and not g.nodes:
@@ -235,6 +234,19 @@ class _Reader(MaterialReading, VariantReading):
             self.data.fail(f"{where}.ROTATION holds a zero quaternion")
         return list(trs_matrices(values.get("TRANSLATION", np.zeros((n, 3))), rotation,
                                  values.get("SCALE", np.ones((n, 3)))))
+
+    def _ktx2_fallbacks(self) -> None:
+        """One line naming the KTX2 textures drawn from their PNG / JPEG fallbacks, if any
+        has one (those without are named where a material uses them: gltf_textures)."""
+        images = self.document.get("images") or []
+        kept = []
+        for i, t in enumerate(self.document.get("textures") or []):
+            ext = (t.get("extensions") or {}).get("KHR_texture_basisu")
+            if isinstance(ext, dict) and isinstance(t.get("source"), int):
+                kept.append(_texture_name(t, ext, images, i))
+        if kept:
+            self.warn(f"draws the PNG / JPEG fallbacks of its KTX2 textures {', '.join(kept)} "
+                      "(KHR_texture_basisu: no pip-installable decoder)")
 
     def warn(self, message: str) -> None:
         warnings.warn(f"{self.path.name}: {message}", FacetWarning, stacklevel=4)
@@ -376,3 +388,11 @@ def _triangles(indices: np.ndarray, mode: int, where: str, fail) -> np.ndarray:
     if mode == FAN:
         return np.stack([np.full_like(k, indices[0]), indices[k + 1], indices[k + 2]], axis=1)
     fail(f"{where}: unknown primitive mode {mode}")
+
+
+def _texture_name(texture: dict, ext: dict, images: list, index: int) -> str:
+    """A KTX2 texture as a person finds it: its name, else its KTX2 image's file name."""
+    source = ext.get("source")
+    image = images[source] if isinstance(source, int) and 0 <= source < len(images) else {}
+    name = texture.get("name") or (image.get("uri") if isinstance(image, dict) else None)
+    return f"'{name}'" if name else f"texture {index}"

@@ -107,10 +107,15 @@ class MaterialReading:
         if isinstance((ext.get("EXT_texture_webp") or {}).get("source"), int):
             source = ext["EXT_texture_webp"]["source"]  # Pillow decodes WebP
         if source is None:
-            if "KHR_texture_basisu" in ext:
-                self.skipped.add("KTX2 textures without a PNG or JPEG fallback "
-                                 "(KHR_texture_basisu: no pip-installable decoder; drawn "
-                                 "without them)")
+            if isinstance(ext.get("KHR_texture_basisu"), dict):
+                from .gltf import _texture_name
+
+                name = _texture_name(self.document["textures"][info.index],
+                                     ext["KHR_texture_basisu"],
+                                     self.document.get("images") or [], info.index)
+                self.skipped.add(f"the KTX2 texture {name}, which has no PNG or JPEG "
+                                 "fallback (KHR_texture_basisu: no pip-installable decoder; "
+                                 "drawn without it)")
             return None
         if source not in self.textures:
             self.textures[source] = self.data.image(source)
