@@ -8,6 +8,11 @@ material's slots (TEXTURES).
     KHR_materials_volume        thicknessFactor, attenuationDistance, attenuationColor
     KHR_materials_clearcoat     clearcoatFactor, clearcoatRoughnessFactor
     KHR_materials_sheen         sheenColorFactor, sheenRoughnessFactor
+    KHR_materials_pbrSpecularGlossiness   (archived; files made before 2022 still use it)
+        converted as KHR_materials_specular describes: the diffuse colour is the base
+        colour, the specular colour is the dielectric's F0 colour with ior 0 (F0 = that
+        colour), metallic 0, roughness 1 - glossiness (the glossiness in the
+        specular-glossiness texture's alpha becomes a roughness image)
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ FIELDS = {
     "KHR_materials_sheen": (("sheenColorFactor", "sheen_color", "colour"),
                             ("sheenRoughnessFactor", "sheen_roughness", "unit")),
 }
+SPEC_GLOSS = "KHR_materials_pbrSpecularGlossiness"
 # extension -> (glTF textureInfo field, PbrMaterial slot)
 TEXTURES = {
     "KHR_materials_specular": (("specularTexture", "specular"),
@@ -40,6 +46,8 @@ TEXTURES = {
                                 ("clearcoatNormalTexture", "clearcoat_normal")),
     "KHR_materials_sheen": (("sheenColorTexture", "sheen_color"),
                             ("sheenRoughnessTexture", "sheen_roughness")),
+    SPEC_GLOSS: (("diffuseTexture", "base_color"),
+                 ("specularGlossinessTexture", "specular_color")),
 }
 
 
@@ -47,11 +55,11 @@ def extension_fields(ext: dict, name: str, fail, slot) -> dict:
     """PbrMaterial keywords from a material's ``extensions`` object. ``fail(message)``
     raises; ``slot(info)`` makes a TextureSlot of a textureInfo object (or None)."""
     out = {}
-    for extension, fields in FIELDS.items():
+    for extension in {**FIELDS, **TEXTURES}:
         values = ext.get(extension)
         if not isinstance(values, dict):
             continue
-        for key, keyword, kind in fields:
+        for key, keyword, kind in FIELDS.get(extension, ()):
             if key in values:
                 out[keyword] = _value(values[key], kind, f"material {name!r} {key}", fail)
         for key, keyword in TEXTURES.get(extension, ()):
@@ -61,6 +69,40 @@ def extension_fields(ext: dict, name: str, fail, slot) -> dict:
             out[f"{keyword}_texture"] = slot(info)
             if keyword == "clearcoat_normal" and "scale" in info:
                 out["clearcoat_normal_scale"] = abs(float(info["scale"]))
+    if isinstance(ext.get(SPEC_GLOSS), dict):
+        out.update(_spec_gloss(ext[SPEC_GLOSS], name, fail, out.get("specular_color_texture")))
+    return out
+
+
+def _spec_gloss(values: dict, name: str, fail, texture) -> dict:
+    """PbrMaterial keywords of a specular-glossiness material (module docstring);
+    ``texture``: the slot of its specularGlossinessTexture (or None)."""
+    what = f"material {name!r} KHR_materials_pbrSpecularGlossiness"
+    diffuse = values.get("diffuseFactor", [1.0, 1.0, 1.0, 1.0])
+    if not (isinstance(diffuse, list) and len(diffuse) == 4):
+        fail(f"{what} diffuseFactor must be 4 numbers, got {diffuse!r}")
+    out = {"base_color": [float(np.clip(_number(x, f"{what} diffuseFactor", fail), 0, 1))
+                          for x in diffuse],
+           "specular_color": _value(values.get("specularFactor", [1.0, 1.0, 1.0]), "colour",
+                                    f"{what} specularFactor", fail),
+           "specular": 1.0, "ior": 0.0, "metallic": 0.0}
+    gloss = _value(values.get("glossinessFactor", 1.0), "unit", f"{what} glossinessFactor",
+                   fail)
+    out["roughness"] = 1.0 - gloss
+    if texture is not None:
+        from dataclasses import replace
+
+        from ..scene.texture import Texture
+
+        alpha = texture.texture.pixels[..., 3].astype(np.float64) / 255.0
+        rough = np.empty(texture.texture.pixels.shape, np.uint8)
+        rough[..., 0] = 0
+        rough[..., 1] = np.rint(255.0 * (1.0 - gloss * alpha))  # (metallic-roughness: G)
+        rough[..., 2] = 0
+        rough[..., 3] = 255
+        out["roughness"] = 1.0
+        out["metallic_roughness_texture"] = replace(
+            texture, texture=Texture(rough, f"{texture.texture.name} (roughness)"))
     return out
 
 
