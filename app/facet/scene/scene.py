@@ -226,8 +226,19 @@ class Scene:
         return next(iter(self.cameras.values()), None)
 
     def camera_key(self, name) -> str:
-        """The name of the camera ``name`` picks: a name, ``"first"`` or an index (the
-        camera named so wins); InputError naming the cameras when none."""
+        """The name of the camera that ``name`` picks.
+
+        Parameters
+        ----------
+        name : str or int
+            A camera's name, ``"first"``, or an index in the order the cameras were added
+            (a camera named so wins over the other readings).
+
+        Returns
+        -------
+        str
+            The key of ``cameras``; InputError naming the cameras when ``name`` picks none.
+        """
         names = list(self.cameras)
         text = str(name)
         if text in self.cameras:
