@@ -187,3 +187,81 @@ def test_the_top_level_is_built_again_when_an_object_moves():
     assert not np.array_equal(moved[1], first[1])
     np.testing.assert_array_equal(moved[1], fresh[1])
     np.testing.assert_array_equal(moved[0], fresh[0])
+
+
+def _dequantised_leaves(nodes):
+    """Each leaf of a packed mesh hierarchy (facet.render.rays.pack pack_mesh_nodes):
+    (first, count, lo, hi) with its box back in object space (float64)."""
+    from facet.render.rays.pack import LEAF_BIT
+
+    origin = nodes[0, 0, :3].view(np.float32).astype(np.float64)
+    scale = nodes[0, 1, :3].view(np.float32).astype(np.float64)
+    out = []
+    for child in nodes[1:].reshape(-1, 4):
+        if not child[3] & LEAF_BIT or not (child[3] >> 24) & 0x7F:
+            continue  # (an inner child, or a single-leaf root's leaf of nothing)
+        lo = np.array([child[0] & 0xFFFF, child[0] >> 16, child[1] & 0xFFFF], np.float64)
+        hi = np.array([child[1] >> 16, child[2] & 0xFFFF, child[2] >> 16], np.float64)
+        out.append((int(child[3] & 0xFFFFFF), int((child[3] >> 24) & 0x7F),
+                    lo / scale + origin, hi / scale + origin))
+    return out
+
+
+@pytest.mark.parametrize("case", ["sphere", "flat", "far and small", "one triangle", "line"])
+def test_quantised_boxes_hold_their_triangles(case):
+    """A mesh's hierarchy is packed with 16-bit boxes in its own frame (half the texel
+    fetches of float boxes): every triangle lies in its leaf's box, with room for what
+    float32 loses carrying a ray into that frame, for a flat mesh, a small mesh far from
+    the origin and a single triangle as for a sphere; every triangle is in one leaf."""
+    import facet
+    from facet.render.rays.pack import mesh_data
+
+    sphere = trimesh.creation.icosphere(subdivisions=3)
+    v, f = np.asarray(sphere.vertices), np.asarray(sphere.faces)
+    if case == "flat":
+        v = v * [3.0, 0.0, 2.0]
+    if case == "far and small":
+        v = v * 1e-3 + [5e4, -2e4, 1e3]
+    if case == "one triangle":
+        v, f = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float), np.array([[0, 1, 2]])
+    if case == "line":
+        v = v * [0.0, 0.0, 1.0] + [1.0, 2.0, 0.0]
+    data = mesh_data(facet.Mesh(v, f))
+    tri = data.tris[:, 0, :3][:, None, :] + np.concatenate(
+        [np.zeros((len(data.tris), 1, 3)), data.tris[:, 1:, :3]], axis=1)
+    tri = np.stack([tri[:, 0], tri[:, 0] + tri[:, 1] - tri[:, 0], tri[:, 0] + tri[:, 2]
+                    - tri[:, 0]], axis=1)  # (N, 3, 3) object-space corners
+    seen = np.zeros(len(tri), int)
+    for first, count, lo, hi in _dequantised_leaves(data.nodes):
+        corners = tri[first:first + count].reshape(-1, 3).astype(np.float64)
+        room = 2.0 ** -21 * np.abs(corners).max() + 1e-30
+        assert (corners >= lo - room).all() and (corners <= hi + room).all(), case
+        seen[first:first + count] += 1
+    assert (seen == 1).all()
+
+
+def test_a_one_leaf_mesh_beside_others_is_traced_exactly():
+    """A floor of two triangles (one leaf: its root's other child is a leaf of nothing)
+    beside a box: each pixel sees the nearer of the two as each alone shows it (the empty
+    child was once an inner reference to the mesh's header: rays by the box saw nothing)."""
+    import facet
+    from facet.scene.pbr import PbrMaterial
+
+    cam = facet.Camera.look_at((0, 1.4, 3.2), (0, 0.4, 0), fov_y=35, near=0.5, far=20)
+    grey = PbrMaterial(base_color=(0.6,) * 3, metallic=0.0)
+
+    def depth(*parts):
+        scene = facet.Scene(ambient=0.3)
+        for part, matrix in parts:
+            scene.add(part, grey, matrix)
+        with facet.Renderer(64, 64) as r:
+            return r.render(scene, cam, engine="trace", outputs=("color", "depth")).depth
+
+    floor = (facet.primitives.plane(6.0), np.eye(4))
+    box = (facet.primitives.cube(0.5), facet.transforms.translate((-0.2, 0.25, -1.0)))
+    def seen(d):  # (0 where nothing is hit)
+        return np.where(d > 0, d, np.inf)
+
+    both, alone = seen(depth(floor, box)), np.minimum(seen(depth(floor)), seen(depth(box)))
+    np.testing.assert_allclose(both, alone, rtol=1e-5)
+    assert np.isfinite(both).sum() > 2000

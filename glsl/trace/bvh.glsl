@@ -92,37 +92,56 @@ bool hit_triangle(int tri, vec3 o, vec3 d, inout float t, out vec2 bary, bool fr
 // node step and a triangle test ("if-if") paid for both on every turn; here a turn pays
 // for one (the glass and glTF-spheres scenes of benchmarks/pathtrace.py: 10-25% faster).
 // The nearer of two inner children is opened next and the farther one waits on the stack.
+// Boxes are quantised to 16 bits in the mesh's frame (its header: origin and scale), where
+// the ray is carried once: o_q = (o - origin) scale, d_q = d scale keep its parameter t.
+// A child's texel: (lo.x | lo.y << 16, lo.z | hi.x << 16, hi.y | hi.z << 16, reference).
+const uint LEAF_BIT = 0x80000000u;
+
+void child_box(uvec4 c, out vec3 lo, out vec3 hi) {
+    lo = vec3(float(c.x & 0xFFFFu), float(c.x >> 16), float(c.y & 0xFFFFu));
+    hi = vec3(float(c.y >> 16), float(c.z & 0xFFFFu), float(c.z >> 16));
+}
+
 bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout vec2 bary,
                 bool any_hit, bool front_only) {
-    vec3 inv = safe_inverse(d);
+    int head = root * MESH_NODE_TEXELS;
+    vec3 origin = uintBitsToFloat(fetch_uint(u_nodes, head).xyz);
+    vec3 scale = uintBitsToFloat(fetch_uint(u_nodes, head + 1).xyz);
+    vec3 o_q = (o - origin) * scale;
+    vec3 inv = safe_inverse(d * scale);
     int stack[STACK_SIZE];
     int sp = 0;
-    int node = root;
+    int node = root + 1;
     int k = 0, end = 0;    // the triangles being tested
     int k2 = 0, end2 = 0;  // a second leaf of the same node, tested next
     bool found = false;
     do {
         // Inner nodes until this lane has a leaf to test (or nothing left).
         while (node >= 0 && k >= end) {
-            int base = node * NODE_TEXELS;
-            vec4 lo0 = fetch(u_nodes, base), hi0 = fetch(u_nodes, base + 1);
-            vec4 lo1 = fetch(u_nodes, base + 2), hi1 = fetch(u_nodes, base + 3);
-            float e0 = box_entry(lo0.xyz, hi0.xyz, o, inv, t);
-            float e1 = box_entry(lo1.xyz, hi1.xyz, o, inv, t);
+            int base = node * MESH_NODE_TEXELS;
+            uvec4 c0 = fetch_uint(u_nodes, base), c1 = fetch_uint(u_nodes, base + 1);
+            vec3 lo0, hi0, lo1, hi1;
+            child_box(c0, lo0, hi0);
+            child_box(c1, lo1, hi1);
+            float e0 = box_entry(lo0, hi0, o_q, inv, t);
+            float e1 = box_entry(lo1, hi1, o_q, inv, t);
             int inner0 = -1, inner1 = -1;
+            // A leaf: its first primitive and count (LEAF_BIT | count << 24 | first).
+            int first0 = int(c0.w & 0xFFFFFFu), n0 = int((c0.w >> 24) & 0x7Fu);
+            int first1 = int(c1.w & 0xFFFFFFu), n1 = int((c1.w >> 24) & 0x7Fu);
             if (e0 < INF) {
-                if (lo0.w >= 0.0) inner0 = int(lo0.w);
-                else { k = int(-lo0.w) - 1; end = k + int(hi0.w); }
+                if ((c0.w & LEAF_BIT) == 0u) inner0 = int(c0.w);
+                else { k = first0; end = first0 + n0; }
             }
             if (e1 < INF) {
-                if (lo1.w >= 0.0) inner1 = int(lo1.w);
-                else if (k >= end) { k = int(-lo1.w) - 1; end = k + int(hi1.w); }
-                else { k2 = int(-lo1.w) - 1; end2 = k2 + int(hi1.w); }
+                if ((c1.w & LEAF_BIT) == 0u) inner1 = int(c1.w);
+                else if (k >= end) { k = first1; end = first1 + n1; }
+                else { k2 = first1; end2 = first1 + n1; }
             }
             if (inner0 >= 0 && inner1 >= 0) {
-                bool first0 = e0 <= e1;
-                if (sp < STACK_SIZE) stack[sp++] = first0 ? inner1 : inner0;
-                node = first0 ? inner0 : inner1;
+                bool near0 = e0 <= e1;
+                if (sp < STACK_SIZE) stack[sp++] = near0 ? inner1 : inner0;
+                node = near0 ? inner0 : inner1;
             } else if (inner0 >= 0 || inner1 >= 0) {
                 node = max(inner0, inner1);
             } else {

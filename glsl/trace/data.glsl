@@ -13,17 +13,20 @@ uniform sampler2D u_tris;        // 3 texels per triangle: v0, e1 = v1 - v0, e2 
 uniform isampler2D u_tri_index;  // 1 texel per triangle: its vertices' indices
 uniform sampler2D u_vertices;    // VERTEX_TEXELS per vertex: (normal, u), (v, colour rgb),
                                  // (tangent xyz, handedness), (uv1, colour alpha, 0)
-uniform sampler2D u_nodes;       // meshes' hierarchies, NODE_TEXELS per inner node
+uniform usampler2D u_nodes;      // meshes' hierarchies: per mesh a header, then
+                                 // MESH_NODE_TEXELS per inner node (quantised boxes:
+                                 // facet.render.rays.pack pack_mesh_nodes)
 uniform sampler2D u_instances;   // INSTANCE_TEXELS per placed object (see scene.glsl)
-uniform sampler2D u_tlas;        // the top level over instances, laid out like u_nodes
+uniform sampler2D u_tlas;        // the top level over instances, float nodes (below)
 uniform int u_unbounded;         // instances [0, u_unbounded) are infinite: not in u_tlas
 uniform bool u_has_tlas;         // false: at most one bounded instance, u_single
 uniform int u_single;            // that instance, or -1
 
 const float INF = 1e30;
-// A hierarchy node holds both children's boxes: texels (left lo, ref), (left hi, count),
+// A top-level node holds both children's boxes: texels (left lo, ref), (left hi, count),
 // (right lo, ref), (right hi, count). ref >= 0: an inner child's node index; ref < 0: a leaf
-// of count elements starting at -ref - 1. An empty child has lo > hi (NODE_TEXELS = 4).
+// of count elements starting at -ref - 1 (an empty child: a leaf of 0; NODE_TEXELS = 4). A
+// mesh's nodes are quantised, a texel a child (trace/bvh.glsl trace_mesh).
 
 vec4 fetch(sampler2D s, int i) {
     return texelFetch(s, ivec2(i & TEX_MASK, i >> TEX_SHIFT), 0);
@@ -43,6 +46,10 @@ vec4 tlas_texel(int i) { return fetch(u_tlas, i); }
 #endif
 
 ivec4 fetch_int(isampler2D s, int i) {
+    return texelFetch(s, ivec2(i & TEX_MASK, i >> TEX_SHIFT), 0);
+}
+
+uvec4 fetch_uint(usampler2D s, int i) {
     return texelFetch(s, ivec2(i & TEX_MASK, i >> TEX_SHIFT), 0);
 }
 

@@ -28,7 +28,9 @@ from ..materials import as_pbr
 
 TEX_SHIFT = 12
 TEX_WIDTH = 1 << TEX_SHIFT  # texels per texture row (glsl/trace/data.glsl)
-NODE_TEXELS = 4
+NODE_TEXELS = 4  # the top level's nodes: float boxes (pack_nodes)
+MESH_NODE_TEXELS = 2  # a mesh's nodes: boxes quantised to 16 bits (pack_mesh_nodes)
+QUANT = 65535  # the quantised coordinates' range
 VERTEX_TEXELS = 4  # (normal, u), (v, colour rgb), (tangent xyz, handedness), (uv1, alpha, 0)
 MATERIAL_ROW = 8  # the material record's texels (facet.render.material_record)
 INSTANCE_TEXELS = MATERIAL_ROW + RECORD_TEXELS
@@ -45,6 +47,7 @@ FLAG_COLORS, FLAG_ONE_SIDED, FLAG_OPEN_VOLUME = 1, 2, 4
 def layout_defines() -> dict:
     """The layout's constants for the GLSL that reads it (glsl/trace/data.glsl)."""
     return {"TEX_SHIFT": TEX_SHIFT, "NODE_TEXELS": NODE_TEXELS,
+            "MESH_NODE_TEXELS": MESH_NODE_TEXELS,
             "VERTEX_TEXELS": VERTEX_TEXELS, "INSTANCE_TEXELS": INSTANCE_TEXELS,
             "MATERIAL_ROW": MATERIAL_ROW, **record_defines(),
             "FLAG_COLORS": FLAG_COLORS, "FLAG_ONE_SIDED": FLAG_ONE_SIDED,
@@ -61,7 +64,7 @@ class MeshData:
     tris: np.ndarray  # (N, 3, 4) float32
     index: np.ndarray  # (N, 4) int32
     vertices: np.ndarray  # (V, VERTEX_TEXELS, 4) float32
-    nodes: np.ndarray  # (K, 4, 4) float32
+    nodes: np.ndarray  # (K + 1, MESH_NODE_TEXELS, 4) uint32: a header, then the nodes
     has_colors: bool
     has_tangents: bool
     bounds: np.ndarray | None = None  # (2, 3) object space: points' and lines' with radii
@@ -86,6 +89,71 @@ def pack_nodes(bvh) -> np.ndarray:
     return out
 
 
+LEAF_BIT = 1 << 31  # a mesh node's child reference: a leaf (LEAF_BIT | count << 24 | first)
+MAX_LEAF_COUNT = 127
+
+
+def pack_mesh_nodes(bvh) -> np.ndarray:
+    """(K + 1, MESH_NODE_TEXELS, 4) uint32: a mesh's hierarchy with its boxes quantised to
+    16 bits (half the texel fetches of a float node; a node visit's fetches were most of
+    its time on llvmpipe). Row 0 is the header: the quantisation frame's origin and scale
+    (float32 bits), object -> quantised = (p - origin) * scale, an affine map that keeps a
+    ray's parameter t. Then one texel per child: (lo.x | lo.y << 16, lo.z | hi.x << 16,
+    hi.y | hi.z << 16, reference): an inner child's node index (the header counts as node
+    0 of the mesh's block, so the root is node 1), or LEAF_BIT | count << 24 | first (a
+    single-leaf mesh's root has a leaf of nothing beside its leaf).
+    Boxes are rounded outwards and widened by what float32 loses where the traversal
+    carries a ray into the frame (about 2^-20 of the coordinates' size): never smaller
+    than the float boxes."""
+    inner = np.flatnonzero(bvh.left >= 0)
+    lo_all, hi_all = bvh.lo.astype(np.float64), bvh.hi.astype(np.float64)
+    lo_root, hi_root = lo_all.min(axis=0), hi_all.max(axis=0)
+    size = np.abs(np.concatenate([lo_root, hi_root])).reshape(2, 3).max(axis=0)
+    ext = hi_root - lo_root
+    # (the mesh's largest extent sets each axis's least margin: a flat mesh's thin axis
+    # keeps a scale of the same order as the others')
+    margin = np.maximum(np.maximum(ext.max() * 2.0 ** -10, size * 2.0 ** -18), 1e-30)
+    origin = lo_root - margin
+    scale = QUANT / (ext + 2.0 * margin)
+    slack = 1.0 + np.ceil(size * 2.0 ** -20 * scale)  # float32's error, in quantised units
+
+    def quantised(lo, hi):
+        q_lo = np.clip(np.floor((lo - origin) * scale) - slack, 0, QUANT).astype(np.uint32)
+        q_hi = np.clip(np.ceil((hi - origin) * scale) + slack, 0, QUANT).astype(np.uint32)
+        return q_lo, q_hi
+
+    def texels(q_lo, q_hi, ref):
+        sixteen = np.uint32(16)
+        return np.stack([q_lo[:, 0] | q_lo[:, 1] << sixteen, q_lo[:, 2] | q_hi[:, 0] << sixteen,
+                         q_hi[:, 1] | q_hi[:, 2] << sixteen, ref.astype(np.uint32)],
+                        axis=1).astype(np.uint32)
+
+    def leaf_ref(first, count):
+        if np.any(count > MAX_LEAF_COUNT):
+            raise ValueError(f"a hierarchy leaf holds at most {MAX_LEAF_COUNT} primitives")
+        count, first = np.asarray(count, np.uint64), np.asarray(first, np.uint64)
+        return (np.uint64(LEAF_BIT) | count << np.uint64(24) | first).astype(np.uint32)
+
+    header = np.zeros((1, MESH_NODE_TEXELS, 4), np.uint32)
+    header[0, 0, :3] = origin.astype(np.float32).view(np.uint32)
+    header[0, 1, :3] = scale.astype(np.float32).view(np.uint32)
+    if inner.size == 0:  # a single leaf: a root with that leaf and an empty child
+        q_lo, q_hi = quantised(lo_all[:1], hi_all[:1])
+        leaf = texels(q_lo, q_hi, leaf_ref(bvh.first[:1], bvh.count[:1]))
+        empty = texels(np.zeros((1, 3), np.uint32), np.zeros((1, 3), np.uint32),
+                       leaf_ref(np.zeros(1), np.zeros(1)))  # (a leaf of nothing)
+        return np.concatenate([header, np.stack([leaf, empty], axis=1)])
+    packed = np.full(len(bvh.left), -1, np.int64)
+    packed[inner] = np.arange(inner.size) + 1  # (after the header)
+    out = np.empty((inner.size, MESH_NODE_TEXELS, 4), np.uint32)
+    for slot, child in enumerate((bvh.left[inner], bvh.right[inner])):
+        is_leaf = bvh.left[child] < 0
+        q_lo, q_hi = quantised(lo_all[child], hi_all[child])
+        ref = np.where(is_leaf, leaf_ref(bvh.first[child], bvh.count[child]), packed[child])
+        out[:, slot] = texels(q_lo, q_hi, ref.astype(np.uint32))
+    return np.concatenate([header, out])
+
+
 # Rest meshes' hierarchies, kept while the rest mesh lives (its poses refit them).
 _REST_TREES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -100,7 +168,7 @@ def mesh_data(mesh, tangents: bool = False, radii=None) -> MeshData:
 
         tris, index, vertices, bvh = sprite_data(mesh, radii, VERTEX_TEXELS)
         bounds = np.stack([bvh.lo.min(axis=0), bvh.hi.max(axis=0)]).astype(np.float64)
-        return MeshData(tris, index, vertices, pack_nodes(bvh), mesh.colors is not None,
+        return MeshData(tris, index, vertices, pack_mesh_nodes(bvh), mesh.colors is not None,
                         False, bounds)
     faces = mesh.faces.astype(np.int64)
     tri = mesh.positions[faces].astype(np.float32)  # (N, 3, 3) object space
@@ -131,7 +199,7 @@ def mesh_data(mesh, tangents: bool = False, radii=None) -> MeshData:
     if mesh.uvs1 is not None:
         vertices[:, 3, :2] = mesh.uvs1
     vertices[:, 3, 2] = 1.0 if mesh.colors is None else mesh.colors[:, 3]
-    return MeshData(tris, index, vertices, pack_nodes(bvh), mesh.colors is not None,
+    return MeshData(tris, index, vertices, pack_mesh_nodes(bvh), mesh.colors is not None,
                     frames is not None)
 
 
@@ -142,9 +210,13 @@ def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
     tri_off = np.cumsum([0] + [len(m.tris) for m in meshes])
     vert_off = np.cumsum([0] + [len(m.vertices) for m in meshes])
     nodes = np.concatenate([m.nodes for m in meshes]).copy()
-    refs = nodes[:, [0, 2], 3]  # the children's references
+    refs = nodes[:, :, 3].astype(np.int64)  # the children's references (headers': 0)
     own = np.repeat(np.arange(len(meshes)), [len(m.nodes) for m in meshes])[:, None]
-    nodes[:, [0, 2], 3] = np.where(refs >= 0, refs + node_off[own], refs - tri_off[own])
+    header = np.zeros(len(nodes), bool)
+    header[node_off[:-1]] = True
+    leaf = (refs & LEAF_BIT) != 0
+    shifted = np.where(leaf, refs + tri_off[own], refs + node_off[own])
+    nodes[:, :, 3] = np.where(header[:, None], refs, shifted).astype(np.uint32)
     index = np.concatenate([m.index + np.array([1, 1, 1, 0]) * vert_off[i]
                             for i, m in enumerate(meshes)])
     out = {"tris": np.concatenate([m.tris for m in meshes]).reshape(-1, 4),

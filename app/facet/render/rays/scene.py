@@ -146,7 +146,7 @@ class RayScene:
         self.upload("tris", geo["tris"])
         self.upload("tri_index", geo["index"], "i4")
         self.upload("vertices", geo["vertices"])
-        self.upload("nodes", geo["nodes"])
+        self.upload("nodes", geo["nodes"], "u4")
         self.roots = {id(m): int(r) for m, r in zip(meshes, geo["root"], strict=False)}
         self.first_tri = {id(m): int(f) for m, f in zip(meshes, geo["first_tri"],
                                                         strict=False)}
