@@ -15,6 +15,7 @@ from urllib.parse import unquote
 
 import numpy as np
 
+from ..budgets import budget
 from ..errors import MeshError
 
 COMPONENTS = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16,
@@ -42,7 +43,7 @@ class GltfData:
 
     def __init__(self, gltf, path: Path):
         self.gltf, self.path = gltf, path
-        self._buffers: dict[int, bytes] = {}
+        self._buffers: dict = {}  # buffer index (or ("meshopt", view)) -> bytes
 
     def fail(self, message: str):
         raise MeshError(f"{self.path}: {message}")
@@ -78,14 +79,70 @@ class GltfData:
         return read_bytes(p, what, MeshError)  # not a FIFO or a device: no hang, no flood
 
     def view(self, index: int) -> tuple[bytes, int, int, int | None]:
-        """(buffer bytes, offset, length, stride) of bufferView ``index``."""
+        """(buffer bytes, offset, length, stride) of bufferView ``index`` (decoded first
+        when it is EXT_meshopt_compression's: its own buffer is then a fallback, unread)."""
         bv = self.gltf.bufferViews[index]
+        meshopt = (bv.extensions or {}).get("EXT_meshopt_compression")
+        if meshopt is not None:
+            data = self._meshopt(index, meshopt)
+            return data, 0, len(data), bv.byteStride
         data = self.buffer(bv.buffer)
         offset, length = bv.byteOffset or 0, bv.byteLength
         if offset + length > len(data):
             self.fail(f"bufferView {index} reaches past the end of its buffer; is the file "
                       "truncated?")
         return data, offset, length, bv.byteStride
+
+    MESHOPT_MODES = ("ATTRIBUTES", "TRIANGLES", "INDICES")
+    MESHOPT_FILTERS = ("NONE", "OCTAHEDRAL", "QUATERNION", "EXPONENTIAL")
+
+    def _meshopt(self, index: int, ext) -> bytes:
+        """bufferView ``index``'s bytes, decoded from its EXT_meshopt_compression stream
+        (meshoptimizer's decoder, the meshopt package), once."""
+        key = ("meshopt", index)
+        if key in self._buffers:
+            return self._buffers[key]
+        at = f"bufferViews[{index}].extensions.EXT_meshopt_compression"
+        try:
+            import meshopt
+        except ImportError:
+            self.fail("is compressed with EXT_meshopt_compression, which needs "
+                      "meshoptimizer's decoder: pip install meshopt")
+        if not isinstance(ext, dict):
+            self.fail(f"{at}: expected an object")
+
+        def whole(name, low=0, optional=False, default=0):
+            v = ext.get(name, None if not optional else default)
+            if isinstance(v, bool) or not isinstance(v, int) or v < low:
+                self.fail(f"{at}.{name}: expected an integer >= {low}, got {v!r}")
+            return v
+
+        buffer, offset = whole("buffer"), whole("byteOffset", optional=True)
+        length, stride, count = whole("byteLength", 1), whole("byteStride", 1), whole("count", 1)
+        mode, filt = ext.get("mode"), ext.get("filter", "NONE")
+        if mode not in self.MESHOPT_MODES:
+            self.fail(f"{at}.mode: expected one of {', '.join(self.MESHOPT_MODES)}, "
+                      f"got {mode!r}")
+        if filt not in self.MESHOPT_FILTERS:
+            self.fail(f"{at}.filter: expected one of {', '.join(self.MESHOPT_FILTERS)}, "
+                      f"got {filt!r}")
+        if count * stride > budget("file_bytes"):
+            self.fail(f"{at}: {count:,} elements of {stride} bytes decode to more than the "
+                      f"{budget('file_bytes'):,} bytes a buffer may hold "
+                      "(FACET_BUDGET_FILE_BYTES)")
+        if buffer >= len(self.gltf.buffers or []):
+            self.fail(f"{at}.buffer: no buffer {buffer}")
+        data = self.buffer(buffer)
+        if offset + length > len(data):
+            self.fail(f"{at} reaches past the end of buffer {buffer}; is the file truncated?")
+        try:
+            rows = meshopt.decode_gltf_buffer(data[offset:offset + length], count, stride,
+                                              mode, None if filt == "NONE" else filt)
+        except Exception as exc:  # the decoder's own word for a broken stream
+            self.fail(f"{at}: the compressed data does not decode ({exc})")
+        out = np.ascontiguousarray(rows).view(np.uint8).tobytes()
+        self._buffers[key] = out
+        return out
 
     # -- accessors ---------------------------------------------------------------------
     def accessor(self, index: int, normalize: bool = True) -> np.ndarray:
