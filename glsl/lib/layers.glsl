@@ -2,8 +2,8 @@
 // rasterizer's glsl/mesh/pbr.frag, the Whitted tracer's glsl/trace/shade.glsl, the path
 // tracer's glsl/trace/bsdf.glsl): glTF's base BRDF (lib/pbr.glsl) with the dielectric lobe
 // of KHR_materials_ior and _specular; the share of the diffuse part that
-// KHR_materials_transmission lets through instead; KHR_materials_sheen over them; and
-// KHR_materials_clearcoat over all.
+// KHR_materials_transmission lets through instead; KHR_materials_iridescence's thin film
+// in the Fresnel terms; KHR_materials_sheen over them; and KHR_materials_clearcoat over all.
 #include "lib/pbr.glsl"
 
 // What a light of intensity 1 from direction L behind the surface adds through it, towards
@@ -20,7 +20,7 @@ vec3 pbr_light_through(PbrSurface s, vec3 c_trans, vec3 N, vec3 V, vec3 L, float
     vec3 L_m = normalize(L - 2.0 * N * dot(N, L));  // mirrored to the viewer's side
     float n_dot_l = max(dot(N, L_m), 0.0);
     vec3 H = normalize(L_m + V);
-    vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * schlick_weight(s.n_dot_v);
+    vec3 F_d = pbr_fresnel_d(s, schlick_weight(s.n_dot_v));
     vec3 kept = (1.0 - F_d) * (1.0 - s.cc * s.cc_fresnel) * (1.0 - s.sheen_dim);
     return kept * c_trans * PI * n_dot_l * ggx_d(max(dot(N, H), 0.0), alpha)
          * smith_vis(n_dot_l, s.n_dot_v, alpha);
@@ -33,6 +33,10 @@ PbrSurface layered_surface(Material m, vec3 N, vec3 N_coat, vec3 V, out vec3 c_t
                                     m.f0_d, m.f90_d);
     c_trans = s.c_diff * m.transmission;
     s.c_diff *= 1.0 - m.transmission;
+#ifndef NO_IRIDESCENCE
+    pbr_iridescence(s, m.base, m.metallic, m.iridescence, m.iridescence_ior,
+                    m.iridescence_thickness);
+#endif
 #ifndef NO_SHEEN
     pbr_sheen(s, m.sheen, m.sheen_roughness);
 #endif

@@ -39,6 +39,9 @@ struct Material {
     vec3 cc_n;
     vec3 sheen;       // KHR_materials_sheen: colour and roughness
     float sheen_roughness;
+    float iridescence;  // KHR_materials_iridescence: share, the film's index and thickness
+    float iridescence_ior;  // (nm)
+    float iridescence_thickness;
     vec3 emission;    // emitted radiance
     float occlusion;  // what reaches the surface of the ambient light (occlusionTexture)
     vec3 n;           // the shading normal, normal map applied, facing the viewer
@@ -132,6 +135,10 @@ Material material_at(int rec, MaterialPoint p) {
     vec4 sh = record_texel(rec, REC_SHEEN);
     m.sheen = sh.rgb * slot(rec, SLOT_SHEEN_COLOR, p).rgb;
     m.sheen_roughness = sh.w * slot(rec, SLOT_SHEEN_ROUGHNESS, p).a;
+    vec4 ir = record_texel(rec, REC_IRIDESCENCE);
+    m.iridescence = ir.x * slot(rec, SLOT_IRIDESCENCE, p).r;
+    m.iridescence_ior = ir.y;
+    m.iridescence_thickness = mix(ir.z, ir.w, slot(rec, SLOT_IRIDESCENCE_THICKNESS, p).g);
 #ifdef ORM_PACKED
     float occluded = mr.r;  // glTF's "ORM" image: occlusion in the red of the same fetch
 #else

@@ -9,6 +9,9 @@
 // KHR_materials_sheen (pbr_sheen): f = f min(1 - c E_s(N.V), 1 - c E_s(N.L)) + sheen D_c V_c,
 // c = max(sheen colour): the Charlie distribution, Estevez and Kulla's shadowing, E_s its
 // albedo (lib/sheen_albedo.glsl), under the coat.
+// KHR_materials_iridescence (pbr_iridescence): F = mix(F, F_film, iridescence) and F_d
+// alike, F_film the thin film's (lib/iridescence.glsl) at N.V over the dielectric's F0 and
+// over the metal's, mixed by metallic (the Khronos Sample Viewer's evaluation).
 // KHR_materials_clearcoat (pbr_coat): f = (1 - c F_c(N_c.V)) f + c F_c(V.H) f_specular(alpha_c),
 // F_c with f0 = 0.04, on the coat's own normal N_c (its normal map's, else the surface's).
 // facet's lights of intensity I give irradiance pi I (facet.scene.pbr), so a light adds
@@ -21,6 +24,7 @@
 #include "lib/constants.glsl"
 #include "lib/ggx_albedo.glsl"
 #include "lib/sheen_albedo.glsl"
+#include "lib/iridescence.glsl"
 const float DIELECTRIC_F0 = 0.04;  // ior 1.5
 const float MIN_ALPHA = 1e-3;  // keeps D finite for a perfect mirror
 
@@ -65,6 +69,9 @@ struct PbrSurface {
     vec3 sheen;     // sheen colour (0: none), its roughness, and max(colour) E_s(N.V)
     float sheen_roughness;
     float sheen_dim;
+    float irid;     // iridescence: its share of F, the film's F and the dielectric's alone
+    vec3 irid_f;
+    vec3 irid_fd;
 };
 
 // E: the GGX lobe's directional albedo (F = 1), bilinear in the table.
@@ -88,7 +95,26 @@ PbrSurface pbr_surface_full(vec3 base, float metallic, float roughness, float n_
     return PbrSurface((1.0 - metallic) * base, f0, mix(f90_d, 1.0, metallic), f0_d, f90_d,
                       max(roughness * roughness, MIN_ALPHA), n_dot_v,
                       1.0 + f0 * ((1.0 - e) / e), 0.0, 1.0, 0.0, vec3(0.0, 0.0, 1.0),
-                      n_dot_v, vec3(0.0), 1.0, 0.0);
+                      n_dot_v, vec3(0.0), 1.0, 0.0, 0.0, vec3(0.0), vec3(0.0));
+}
+
+// A thin film on the surface (KHR_materials_iridescence): ``factor`` its share, index
+// ``film_ior``, ``nm`` thick, over a base of colour ``base`` and ``metallic``.
+void pbr_iridescence(inout PbrSurface s, vec3 base, float metallic, float factor,
+                     float film_ior, float nm) {
+    s.irid = factor;
+    if (factor <= 0.0) return;
+    s.irid_fd = thin_film_fresnel(1.0, film_ior, s.n_dot_v, nm, s.f0_d);
+    s.irid_f = mix(s.irid_fd, thin_film_fresnel(1.0, film_ior, s.n_dot_v, nm, base), metallic);
+}
+
+// The specular Fresnel term at Schlick weight fc (F(f0, f90), the film's mixed in), and the
+// dielectric's alone (what its diffuse part keeps 1 - of).
+vec3 pbr_fresnel(PbrSurface s, float fc) {
+    return mix(s.f0 + (s.f90 - s.f0) * fc, s.irid_f, s.irid);
+}
+vec3 pbr_fresnel_d(PbrSurface s, float fc) {
+    return mix(s.f0_d + (s.f90_d - s.f0_d) * fc, s.irid_fd, s.irid);
 }
 
 const float SHEEN_MIN_ROUGHNESS = 0.07;  // facet.render.energy's
@@ -149,8 +175,8 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
     vec3 H = (L + V) * inversesqrt(max(dot(L + V, L + V), 1e-12));
     float fc = schlick_weight(max(dot(V, H), 0.0));
     float spec = ggx_d(max(dot(N, H), 0.0), s.alpha) * smith_vis(n_dot_l, s.n_dot_v, s.alpha);
-    vec3 F = s.f0 + (s.f90 - s.f0) * fc;
-    vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * fc;
+    vec3 F = pbr_fresnel(s, fc);
+    vec3 F_d = pbr_fresnel_d(s, fc);
     vec3 f = n_dot_l * (PI * spec * F * s.ms + (1.0 - F_d) * s.c_diff);
 #ifndef NO_SHEEN
     if (s.sheen != vec3(0.0) && n_dot_l > 0.0) {
@@ -187,8 +213,10 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
 // environment prefiltered by the GGX lobe around the mirror direction. Exact for a uniform
 // environment.
 vec3 pbr_ambient(PbrSurface s, vec3 diffuse, vec3 specular, vec3 lut) {
-    vec3 kept = 1.0 - s.f0_d - (s.f90_d - s.f0_d) * (1.0 - lut.z);
-    return kept * s.c_diff * diffuse + (s.f0 * lut.x + s.f90 * lut.y) * s.ms * specular;
+    vec3 kept = mix(1.0 - s.f0_d - (s.f90_d - s.f0_d) * (1.0 - lut.z), 1.0 - s.irid_fd,
+                    s.irid);  // (a film's F is constant over the lobe: F (A + B))
+    vec3 spec = mix(s.f0 * lut.x + s.f90 * lut.y, s.irid_f * (lut.x + lut.y), s.irid);
+    return kept * s.c_diff * diffuse + spec * s.ms * specular;
 }
 
 // The sheen over ``ambient`` (pbr_ambient's): its albedo lights it by ``diffuse`` (the

@@ -6,7 +6,8 @@ uniform vec4 u_material[RECORD_TEXELS];
 uniform sampler2D u_tex_base, u_tex_mr, u_tex_normal, u_tex_occlusion, u_tex_emissive,
                   u_tex_specular, u_tex_specular_color, u_tex_transmission, u_tex_thickness,
                   u_tex_clearcoat, u_tex_clearcoat_roughness, u_tex_clearcoat_normal,
-                  u_tex_sheen_color, u_tex_sheen_roughness;
+                  u_tex_sheen_color, u_tex_sheen_roughness, u_tex_iridescence,
+                  u_tex_iridescence_thickness;
 
 vec4 record_texel(int rec, int k) {
     return u_material[k];
@@ -55,6 +56,12 @@ vec4 slot_image(int rec, int k, vec2 uv) {
 #endif
 #ifdef TEX_SHEEN_ROUGHNESS
     SLOT_IMAGE(SLOT_SHEEN_ROUGHNESS, u_tex_sheen_roughness)
+#endif
+#ifdef TEX_IRIDESCENCE
+    SLOT_IMAGE(SLOT_IRIDESCENCE, u_tex_iridescence)
+#endif
+#ifdef TEX_IRIDESCENCE_THICKNESS
+    SLOT_IMAGE(SLOT_IRIDESCENCE_THICKNESS, u_tex_iridescence_thickness)
 #endif
 #undef SLOT_IMAGE
     return vec4(1.0);

@@ -65,7 +65,7 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
                mat.roughness < SMOOTH_ROUGHNESS;
 #endif
     float fc = schlick_weight(b.m.n_dot_v);
-    vec3 kept = 1.0 - b.m.f0_d - (b.m.f90_d - b.m.f0_d) * fc;
+    vec3 kept = 1.0 - pbr_fresnel_d(b.m, fc);
     float spec;
     if (b.polished) {
         b.fresnel = (b.thin ? fresnel_dielectric(b.m.n_dot_v, ior)
@@ -74,7 +74,7 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
         kept = vec3(1.0 - b.fresnel);
     } else {
         b.fresnel = 0.0;
-        spec = luminance(b.m.f0 + (b.m.f90 - b.m.f0) * fc);
+        spec = luminance(pbr_fresnel(b.m, fc));
     }
     // (the sheen lobe is broad: the cosine-weighted one samples it too)
     float diff = luminance(b.m.c_diff * kept) + b.m.sheen_dim,

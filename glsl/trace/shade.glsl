@@ -88,7 +88,7 @@ vec3 shade_pbr(Surface s, vec3 V) {
             rgb += falloff * seen * u_lights[i].color.rgb * (pbr_light(m, N, V, L) + through);
         }
         float fc = schlick_weight(m.n_dot_v);
-        vec3 F = m.f0 + (m.f90 - m.f0) * fc, F_d = m.f0_d + (m.f90_d - m.f0_d) * fc;
+        vec3 F = pbr_fresnel(m, fc), F_d = pbr_fresnel_d(m, fc);
         vec3 sky = pbr_ambient_sheen(m, F * ggx_albedo(m.n_dot_v, mat.roughness) * m.ms
                                          * (1.0 - g_traced_specular)
                                          + (1.0 - F_d) * m.c_diff, vec3(1.0));

@@ -180,8 +180,17 @@ void main() {
                 vec3 N = valid_normal(mat.n, s.ng, -d);
                 float n_dot_v = max(dot(N, -d), 1e-4);
                 vec3 f0 = mix(mat.f0_d, mat.base, mat.metallic);
-                vec3 spec = (f0 + (mix(mat.f90_d, 1.0, mat.metallic) - f0)
-                             * schlick_weight(n_dot_v)) * lobe_albedo(n_dot_v, mat.roughness, f0);
+                vec3 F = (f0 + (mix(mat.f90_d, 1.0, mat.metallic) - f0)
+                          * schlick_weight(n_dot_v));
+#ifndef NO_IRIDESCENCE
+                if (mat.iridescence > 0.0)  // (a thin film's F: lib/pbr.glsl pbr_iridescence)
+                    F = mix(F, mix(thin_film_fresnel(1.0, mat.iridescence_ior, n_dot_v,
+                                                     mat.iridescence_thickness, mat.f0_d),
+                                   thin_film_fresnel(1.0, mat.iridescence_ior, n_dot_v,
+                                                     mat.iridescence_thickness, mat.base),
+                                   mat.metallic), mat.iridescence);
+#endif
+                vec3 spec = F * lobe_albedo(n_dot_v, mat.roughness, f0);
                 vec3 N_c = valid_normal(mat.cc_n, s.ng, -d);
                 float cc_v = clamp(dot(N_c, -d), 1e-4, 1.0);
                     float f_c = mat.clearcoat * (DIELECTRIC_F0 + (1.0 - DIELECTRIC_F0)

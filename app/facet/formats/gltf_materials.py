@@ -8,6 +8,8 @@ material's slots (TEXTURES).
     KHR_materials_volume        thicknessFactor, attenuationDistance, attenuationColor
     KHR_materials_clearcoat     clearcoatFactor, clearcoatRoughnessFactor
     KHR_materials_sheen         sheenColorFactor, sheenRoughnessFactor
+    KHR_materials_iridescence   iridescenceFactor, iridescenceIor, iridescenceThickness-
+                                Minimum and -Maximum (nm)
     KHR_materials_pbrSpecularGlossiness   (archived; files made before 2022 still use it)
         converted as KHR_materials_specular describes: the diffuse colour is the base
         colour, the specular colour is the dielectric's F0 colour with ior 0 (F0 = that
@@ -33,6 +35,12 @@ FIELDS = {
                                 ("clearcoatRoughnessFactor", "clearcoat_roughness", "unit")),
     "KHR_materials_sheen": (("sheenColorFactor", "sheen_color", "colour"),
                             ("sheenRoughnessFactor", "sheen_roughness", "unit")),
+    "KHR_materials_iridescence": (("iridescenceFactor", "iridescence", "unit"),
+                                  ("iridescenceIor", "iridescence_ior", "film ior"),
+                                  ("iridescenceThicknessMinimum", "iridescence_thickness_min",
+                                   "length"),
+                                  ("iridescenceThicknessMaximum", "iridescence_thickness_max",
+                                   "length")),
 }
 SPEC_GLOSS = "KHR_materials_pbrSpecularGlossiness"
 # extension -> (glTF textureInfo field, PbrMaterial slot)
@@ -46,6 +54,8 @@ TEXTURES = {
                                 ("clearcoatNormalTexture", "clearcoat_normal")),
     "KHR_materials_sheen": (("sheenColorTexture", "sheen_color"),
                             ("sheenRoughnessTexture", "sheen_roughness")),
+    "KHR_materials_iridescence": (("iridescenceTexture", "iridescence"),
+                                  ("iridescenceThicknessTexture", "iridescence_thickness")),
     SPEC_GLOSS: (("diffuseTexture", "base_color"),
                  ("specularGlossinessTexture", "specular_color")),
 }
@@ -117,6 +127,8 @@ def _value(v, kind: str, what: str, fail):
         return float(np.clip(x, 0, 1))
     if kind == "ior" and x != 0 and x < 1:
         fail(f"{what} must be >= 1 (or 0), got {x}")
+    if kind == "film ior" and x < 1:
+        fail(f"{what} must be >= 1, got {x}")
     if kind == "distance" and x <= 0:
         fail(f"{what} must be > 0, got {x}")
     return max(x, 0.0)

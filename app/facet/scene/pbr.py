@@ -84,7 +84,8 @@ def texture_transform(offset=(0.0, 0.0), rotation: float = 0.0, scale=(1.0, 1.0)
 SLOTS = ("base_color", "metallic_roughness", "normal", "occlusion", "emissive",
          # the KHR extensions' (each multiplies its factor; channels as the extension says)
          "specular", "specular_color", "transmission", "thickness", "clearcoat",
-         "clearcoat_roughness", "clearcoat_normal", "sheen_color", "sheen_roughness")
+         "clearcoat_roughness", "clearcoat_normal", "sheen_color", "sheen_roughness",
+         "iridescence", "iridescence_thickness")
 COLOR_SLOTS = ("base_color", "emissive", "specular_color", "sheen_color")  # sRGB images
 
 
@@ -100,8 +101,12 @@ class PbrMaterial:
     ``thickness`` 0 is thin-walled, above 0 the mesh bounds a volume of index ``ior`` that
     absorbs by Beer-Lambert (``attenuation_color`` is what is left after
     ``attenuation_distance``). ``clearcoat`` is a clear layer (ior 1.5) on top, a second GGX
-    lobe; ``sheen_color`` the soft back-scattering of cloth. Vertex colours multiply the base
-    colour. Each extension's texture multiplies its factor.
+    lobe; ``sheen_color`` the soft back-scattering of cloth; ``iridescence`` a thin film
+    (KHR_materials_iridescence: index ``iridescence_ior``, ``iridescence_thickness_max``
+    nanometres thick, or between the minimum and the maximum by its thickness texture's G)
+    whose interference (Belcour and Barla 2017, as the extension gives it) replaces the
+    specular Fresnel term by that share. Vertex colours multiply the base colour. Each
+    extension's texture multiplies its factor.
 
     Parameters
     ----------
@@ -171,6 +176,15 @@ class PbrMaterial:
         See ``clearcoat_normal_texture``.
     sheen_color_texture, sheen_roughness_texture : TextureSlot, optional
         The sheen's textures.
+    iridescence : float
+        KHR_materials_iridescence's factor in [0, 1] (``iridescence_texture``: R).
+    iridescence_ior : float
+        The film's index of refraction (>= 1).
+    iridescence_thickness_min, iridescence_thickness_max : float
+        The film's thickness in nanometres: the maximum without a thickness texture, else
+        mixed between them by ``iridescence_thickness_texture``'s G.
+    iridescence_texture, iridescence_thickness_texture : TextureSlot, optional
+        The film's textures.
     """
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
@@ -211,6 +225,12 @@ class PbrMaterial:
     clearcoat_normal_scale: float = 1.0
     sheen_color_texture: TextureSlot | None = None
     sheen_roughness_texture: TextureSlot | None = None
+    iridescence: float = 0.0
+    iridescence_ior: float = 1.3
+    iridescence_thickness_min: float = 100.0
+    iridescence_thickness_max: float = 400.0
+    iridescence_texture: TextureSlot | None = None
+    iridescence_thickness_texture: TextureSlot | None = None
 
     # Not used by this model; present so that every material answers the same questions.
     shader = None
@@ -225,7 +245,8 @@ class PbrMaterial:
             np.append(as_color(self.base_color, "base color"), 1.0)
         self.emissive = as_color(self.emissive, "emissive")
         for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff", "specular",
-                    "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness"):
+                    "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness",
+                    "iridescence"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and 0.0 <= v <= 1.0):
                 raise InputError(f"material {key} must be a number in [0, 1], got {v!r}")
@@ -248,7 +269,12 @@ class PbrMaterial:
             raise InputError(f"material attenuation_distance must be a number > 0 (inf: "
                              f"clear), got {d!r}")
         self.attenuation_distance = float(d)
-        for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale"):
+        v = self.iridescence_ior
+        if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 1):
+            raise InputError(f"material iridescence_ior must be a number >= 1, got {v!r}")
+        self.iridescence_ior = float(v)
+        for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale",
+                    "iridescence_thickness_min", "iridescence_thickness_max"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
                 raise InputError(f"material {key} must be a number >= 0, got {v!r}")
