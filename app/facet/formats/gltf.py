@@ -33,7 +33,7 @@ from .gltf_check import check_gltf
 from .gltf_data import GltfData
 from .gltf_lights import document_lights, facet_light, node_light
 from .gltf_rig import read_rig, vertex_deformation
-from .gltf_textures import MaterialReading, _flip_v
+from .gltf_textures import MaterialReading, _flip_v, _texture_name
 from .gltf_variants import VariantReading
 
 SUPPORTED = {"EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression", "KHR_mesh_quantization",
@@ -391,10 +391,3 @@ def _triangles(indices: np.ndarray, mode: int, where: str, fail) -> np.ndarray:
         return np.stack([np.full_like(k, indices[0]), indices[k + 1], indices[k + 2]], axis=1)
     fail(f"{where}: unknown primitive mode {mode}")
 
-
-def _texture_name(texture: dict, ext: dict, images: list, index: int) -> str:
-    """A KTX2 texture as a person finds it: its name, else its KTX2 image's file name."""
-    source = ext.get("source")
-    image = images[source] if isinstance(source, int) and 0 <= source < len(images) else {}
-    name = texture.get("name") or (image.get("uri") if isinstance(image, dict) else None)
-    return f"'{name}'" if name else f"texture {index}"

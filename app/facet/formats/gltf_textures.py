@@ -108,8 +108,6 @@ class MaterialReading:
             source = ext["EXT_texture_webp"]["source"]  # Pillow decodes WebP
         if source is None:
             if isinstance(ext.get("KHR_texture_basisu"), dict):
-                from .gltf import _texture_name
-
                 name = _texture_name(self.document["textures"][info.index],
                                      ext["KHR_texture_basisu"],
                                      self.document.get("images") or [], info.index)
@@ -139,3 +137,11 @@ class MaterialReading:
         # The transform is defined on glTF's uvs (v down); facet's are flipped (v up).
         transform = FLIP_V @ transform @ FLIP_V
         return TextureSlot(image, min(int(texcoord), 1), transform, wrap, filt, mips)
+
+
+def _texture_name(texture: dict, ext: dict, images: list, index: int) -> str:
+    """A KTX2 texture as a person finds it: its name, else its KTX2 image's file name."""
+    source = ext.get("source")
+    image = images[source] if isinstance(source, int) and 0 <= source < len(images) else {}
+    name = texture.get("name") or (image.get("uri") if isinstance(image, dict) else None)
+    return f"'{name}'" if name else f"texture {index}"
