@@ -21,27 +21,8 @@ def _path(name):
     return next(p for p in sorted((SHARED_GLTF / name).glob("*.gl*")))
 
 
-# Extensions facet does not draw yet, said by name: a file that requires one is refused in
-# one line, one that only uses it draws with one warning line naming it.
-REFUSED: dict[str, str] = {}  # (IridescenceSuzanne was, until the film was drawn)
-WARNED = {"AnisotropyStrengthTest": "KHR_materials_anisotropy"}
-
-
 @pytest.mark.skipif(not MODELS, reason=f"the shared glTF models are absent ({SHARED_GLTF})")
-@pytest.mark.parametrize("name", sorted(REFUSED) + sorted(WARNED))
-def test_a_sample_model_facet_cannot_draw_all_of_says_what(renderer, name):
-    """What facet cannot draw of a file is named, never dropped silently."""
-    if name in REFUSED:
-        with pytest.raises(facet.FacetError, match=REFUSED[name]):
-            facet.load(_path(name))
-        return
-    with pytest.warns(facet.FacetWarning, match=WARNED[name]):
-        scene = facet.load(_path(name))
-    assert (renderer(48, 48).render(scene, outputs=("ids",)).object_ids >= 0).sum() > 20
-
-
-@pytest.mark.skipif(not MODELS, reason=f"the shared glTF models are absent ({SHARED_GLTF})")
-@pytest.mark.parametrize("name", [m for m in MODELS if m not in REFUSED and m not in WARNED])
+@pytest.mark.parametrize("name", MODELS)  # (every one: none is refused or drawn in part)
 def test_every_sample_model_loads_and_draws_without_warnings(renderer, name):
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -37,6 +37,9 @@ PbrSurface layered_surface(Material m, vec3 N, vec3 N_coat, vec3 V, out vec3 c_t
     pbr_iridescence(s, m.base, m.metallic, m.iridescence, m.iridescence_ior,
                     m.iridescence_thickness);
 #endif
+#ifndef NO_ANISOTROPY
+    pbr_anisotropy(s, m.anisotropy, m.aniso_t, N);
+#endif
 #ifndef NO_SHEEN
     pbr_sheen(s, m.sheen, m.sheen_roughness);
 #endif

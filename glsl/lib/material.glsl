@@ -42,6 +42,8 @@ struct Material {
     float iridescence;  // KHR_materials_iridescence: share, the film's index and thickness
     float iridescence_ior;  // (nm)
     float iridescence_thickness;
+    float anisotropy;     // KHR_materials_anisotropy: strength, and the direction the lobe
+    vec3 aniso_t;         // stretches along (world, on the surface; 0 without a frame)
     vec3 emission;    // emitted radiance
     float occlusion;  // what reaches the surface of the ambient light (occlusionTexture)
     vec3 n;           // the shading normal, normal map applied, facing the viewer
@@ -139,6 +141,26 @@ Material material_at(int rec, MaterialPoint p) {
     m.iridescence = ir.x * slot(rec, SLOT_IRIDESCENCE, p).r;
     m.iridescence_ior = ir.y;
     m.iridescence_thickness = mix(ir.z, ir.w, slot(rec, SLOT_IRIDESCENCE_THICKNESS, p).g);
+#ifdef NO_ANISOTROPY
+    m.anisotropy = 0.0;
+    m.aniso_t = vec3(0.0);
+#else
+    // The direction in the tangent frame: the texture's RG (to [-1, 1]; (1, 0) without
+    // one) turned by the rotation; its strength the factor times B.
+    vec4 an = record_texel(rec, REC_ANISOTROPY);
+    vec4 at = has_slot(rec, SLOT_ANISOTROPY) ? slot(rec, SLOT_ANISOTROPY, p)
+                                             : vec4(1.0, 0.5, 1.0, 1.0);
+    vec2 dir = at.rg * 2.0 - 1.0;
+    dir = vec2(an.y * dir.x - an.z * dir.y, an.z * dir.x + an.y * dir.y);
+    m.anisotropy = an.x * at.b;
+    m.aniso_t = vec3(0.0);
+    if (p.tangent.w != 0.0) {
+        vec3 T = normalize(p.tangent.xyz - p.n * dot(p.n, p.tangent.xyz)) * p.side;
+        vec3 B = cross(p.n, T) * p.tangent.w;
+        m.aniso_t = T * dir.x + B * dir.y;
+    }
+    if (dot(m.aniso_t, m.aniso_t) == 0.0) m.anisotropy = 0.0;  // (no frame: isotropic)
+#endif
 #ifdef ORM_PACKED
     float occluded = mr.r;  // glTF's "ORM" image: occlusion in the red of the same fetch
 #else

@@ -9,6 +9,8 @@
 // KHR_materials_sheen (pbr_sheen): f = f min(1 - c E_s(N.V), 1 - c E_s(N.L)) + sheen D_c V_c,
 // c = max(sheen colour): the Charlie distribution, Estevez and Kulla's shadowing, E_s its
 // albedo (lib/sheen_albedo.glsl), under the coat.
+// KHR_materials_anisotropy (pbr_anisotropy): the lobe's D and Vis stretched along a
+// tangent direction (pbr_specular); the environment read about a bent normal.
 // KHR_materials_iridescence (pbr_iridescence): F = mix(F, F_film, iridescence) and F_d
 // alike, F_film the thin film's (lib/iridescence.glsl) at N.V over the dielectric's F0 and
 // over the metal's, mixed by metallic (the Khronos Sample Viewer's evaluation).
@@ -72,6 +74,9 @@ struct PbrSurface {
     float irid;     // iridescence: its share of F, the film's F and the dielectric's alone
     vec3 irid_f;
     vec3 irid_fd;
+    float aniso;    // anisotropy: its strength, alpha along the stretch direction T and T
+    float alpha_t;  // (B = N x T, alpha along it: alpha)
+    vec3 aniso_t;
 };
 
 // E: the GGX lobe's directional albedo (F = 1), bilinear in the table.
@@ -95,7 +100,62 @@ PbrSurface pbr_surface_full(vec3 base, float metallic, float roughness, float n_
     return PbrSurface((1.0 - metallic) * base, f0, mix(f90_d, 1.0, metallic), f0_d, f90_d,
                       max(roughness * roughness, MIN_ALPHA), n_dot_v,
                       1.0 + f0 * ((1.0 - e) / e), 0.0, 1.0, 0.0, vec3(0.0, 0.0, 1.0),
-                      n_dot_v, vec3(0.0), 1.0, 0.0, 0.0, vec3(0.0), vec3(0.0));
+                      n_dot_v, vec3(0.0), 1.0, 0.0, 0.0, vec3(0.0), vec3(0.0), 0.0, 0.0,
+                      vec3(1.0, 0.0, 0.0));
+}
+
+// An anisotropic specular lobe (KHR_materials_anisotropy): ``strength``, stretched along
+// ``t`` (on the surface of normal N): alpha_t = mix(alpha, 1, strength^2) along it.
+void pbr_anisotropy(inout PbrSurface s, float strength, vec3 t, vec3 N) {
+    s.aniso = strength;
+    if (strength <= 0.0) return;
+    s.aniso_t = normalize(t - N * dot(N, t));
+    s.alpha_t = mix(s.alpha, 1.0, strength * strength);
+}
+
+// GGX's distribution of normals at H: isotropic, or stretched (s.aniso > 0).
+float pbr_ndf(PbrSurface s, vec3 N, vec3 H) {
+    float n_dot_h = max(dot(N, H), 0.0);
+#ifndef NO_ANISOTROPY
+    if (s.aniso > 0.0) {
+        vec3 T = s.aniso_t, B = cross(N, T);
+        float at = s.alpha_t, ab = s.alpha, a2 = at * ab;
+        vec3 f = vec3(ab * dot(T, H), at * dot(B, H), a2 * n_dot_h);
+        float w2 = a2 / max(dot(f, f), 1e-30);
+        return a2 * w2 * w2 / PI;
+    }
+#endif
+    return ggx_d(n_dot_h, s.alpha);
+}
+
+// GGX's D times Smith's height-correlated Vis, isotropic or (s.aniso > 0) anisotropic as
+// KHR_materials_anisotropy gives them (D = a^2 w^2 w^2 / pi, w^2 = a^2 / |f|^2).
+float pbr_specular(PbrSurface s, vec3 N, vec3 V, vec3 L, vec3 H, float n_dot_l) {
+#ifndef NO_ANISOTROPY
+    if (s.aniso > 0.0) {
+        vec3 T = s.aniso_t, B = cross(N, T);
+        float at = s.alpha_t, ab = s.alpha;
+        float d = pbr_ndf(s, N, H);
+        float gv = n_dot_l * length(vec3(at * dot(T, V), ab * dot(B, V), s.n_dot_v));
+        float gl = s.n_dot_v * length(vec3(at * dot(T, L), ab * dot(B, L), n_dot_l));
+        return d * (gv + gl > 0.0 ? 0.5 / (gv + gl) : 0.0);
+    }
+#endif
+    return ggx_d(max(dot(N, H), 0.0), s.alpha) * smith_vis(n_dot_l, s.n_dot_v, s.alpha);
+}
+
+// The normal the environment's prefiltered radiance is read about for an anisotropic
+// lobe: bent towards the stretch as the Khronos Sample Viewer bends it; N otherwise.
+vec3 pbr_bent_normal(PbrSurface s, vec3 N, vec3 V, float roughness) {
+#ifndef NO_ANISOTROPY
+    if (s.aniso > 0.0) {
+        vec3 B = cross(N, s.aniso_t);
+        vec3 bent = normalize(cross(cross(B, V), B));
+        float a = pow(1.0 - s.aniso * (1.0 - roughness), 4.0);
+        return normalize(mix(bent, N, a));
+    }
+#endif
+    return N;
 }
 
 // A thin film on the surface (KHR_materials_iridescence): ``factor`` its share, index
@@ -174,7 +234,7 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
     float n_dot_l = max(dot(N, L), 0.0);
     vec3 H = (L + V) * inversesqrt(max(dot(L + V, L + V), 1e-12));
     float fc = schlick_weight(max(dot(V, H), 0.0));
-    float spec = ggx_d(max(dot(N, H), 0.0), s.alpha) * smith_vis(n_dot_l, s.n_dot_v, s.alpha);
+    float spec = pbr_specular(s, N, V, L, H, n_dot_l);
     vec3 F = pbr_fresnel(s, fc);
     vec3 F_d = pbr_fresnel_d(s, fc);
     vec3 f = n_dot_l * (PI * spec * F * s.ms + (1.0 - F_d) * s.c_diff);

@@ -120,7 +120,7 @@ vec3 image_light(PbrSurface s, Material m, vec3 N, vec3 V) {
 #endif
     vec3 lut = lut_at(s.n_dot_v, m.roughness);
     vec3 ambient = pbr_ambient_sheen(s, pbr_ambient(s, diffuse, prefiltered(
-        reflect(-V, N), m.roughness), lut), diffuse);
+        reflect(-V, pbr_bent_normal(s, N, V, m.roughness)), m.roughness), lut), diffuse);
     if (m.clearcoat > 0.0)  // the coat's own lobe, at its roughness, on its normal
         ambient = pbr_ambient_coat(s, ambient, prefiltered(reflect(-V, m.cc_n),
                                    m.clearcoat_roughness),
@@ -152,7 +152,8 @@ void main() {
     p.color = vec4(1.0);
 #endif
     p.n = normalize(v_normal_world) * side;
-#if defined(HAS_TANGENTS) && (defined(TEX_NORMAL) || defined(TEX_CLEARCOAT_NORMAL))
+#if defined(HAS_TANGENTS) && (defined(TEX_NORMAL) || defined(TEX_CLEARCOAT_NORMAL) || \
+                              !defined(NO_ANISOTROPY))
     p.tangent = v_tangent;
 #else
     p.tangent = vec4(0.0);

@@ -7,7 +7,7 @@ uniform sampler2D u_tex_base, u_tex_mr, u_tex_normal, u_tex_occlusion, u_tex_emi
                   u_tex_specular, u_tex_specular_color, u_tex_transmission, u_tex_thickness,
                   u_tex_clearcoat, u_tex_clearcoat_roughness, u_tex_clearcoat_normal,
                   u_tex_sheen_color, u_tex_sheen_roughness, u_tex_iridescence,
-                  u_tex_iridescence_thickness;
+                  u_tex_iridescence_thickness, u_tex_anisotropy;
 
 vec4 record_texel(int rec, int k) {
     return u_material[k];
@@ -62,6 +62,9 @@ vec4 slot_image(int rec, int k, vec2 uv) {
 #endif
 #ifdef TEX_IRIDESCENCE_THICKNESS
     SLOT_IMAGE(SLOT_IRIDESCENCE_THICKNESS, u_tex_iridescence_thickness)
+#endif
+#ifdef TEX_ANISOTROPY
+    SLOT_IMAGE(SLOT_ANISOTROPY, u_tex_anisotropy)
 #endif
 #undef SLOT_IMAGE
     return vec4(1.0);

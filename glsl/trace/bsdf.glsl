@@ -111,7 +111,7 @@ float bsdf_pdf(Bsdf b, vec3 N, vec3 V, vec3 L) {
         vec3 H = normalize(L + V);
         float n_dot_h = max(dot(N, H), 0.0), v_dot_h = max(dot(V, H), 1e-6);
         float n_dot_h_c = max(dot(b.m.cc_n, H), 0.0);
-        pdf += (b.p_spec * ggx_d(n_dot_h, b.m.alpha) * n_dot_h
+        pdf += (b.p_spec * pbr_ndf(b.m, N, H) * n_dot_h
                 + b.p_coat * ggx_d(n_dot_h_c, b.m.cc_alpha) * n_dot_h_c) / (4.0 * v_dot_h);
     }
     return pdf;
@@ -132,6 +132,13 @@ BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, float u, vec2 xi) {
             s.ok = true;
             return s;
         }
+#ifndef NO_ANISOTROPY
+        if (b.m.aniso > 0.0) {  // slopes of the alpha-1 lobe stretched by (alpha_t, alpha)
+            vec3 h = ggx_sample(xi, 1.0), T = b.m.aniso_t;
+            h = normalize(vec3(b.m.alpha_t * h.x, b.m.alpha * h.y, h.z));
+            s.L = reflect(-V, h.x * T + h.y * cross(N, T) + h.z * N);
+        } else
+#endif
         s.L = reflect(-V, around(ggx_sample(xi, b.m.alpha), N));
     }
 #ifndef NO_TRANSMISSION

@@ -110,8 +110,10 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
                                  srgb_to_linear(c[2]));
             albedo = c * w;
         }
-#if defined(PBR_SLOTS) && (!defined(NO_SLOT_IMAGES) || defined(HAS_ALPHA))
-        // (uv1 and tangents are for images; the alpha of vertex colours for BLEND / MASK)
+#if defined(PBR_SLOTS) && (!defined(NO_SLOT_IMAGES) || defined(HAS_ALPHA) || \
+                           !defined(NO_ANISOTROPY))
+        // (uv1 and tangents are for images and anisotropy; the alpha of vertex colours for
+        // BLEND / MASK)
         vec3 extra = mat3(fetch(u_vertices, at.x + 3).xyz, fetch(u_vertices, at.y + 3).xyz,
                           fetch(u_vertices, at.z + 3).xyz) * w;  // (uv1, alpha)
         uv1 = extra.xy;
@@ -142,7 +144,7 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     if (!s.front) { s.n = -s.n; s.ng = -s.ng; }
     s.footprint = density * (u_cone.x + u_cone.y * (g_travelled + h.t))
                 / max(abs(dot(s.ng, d)), 0.05);
-#if defined(PBR_SLOTS) && !defined(NO_SLOT_IMAGES)
+#if defined(PBR_SLOTS) && (!defined(NO_SLOT_IMAGES) || !defined(NO_ANISOTROPY))
     // Tangents are directions on the surface: carried by M (the object -> world rows).
     vec3 t_world = apply_rows(base + 3, tangent.xyz, 0.0);
     // A mirroring placement (det M < 0) turns the frame's handedness round.

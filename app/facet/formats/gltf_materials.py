@@ -10,6 +10,7 @@ material's slots (TEXTURES).
     KHR_materials_sheen         sheenColorFactor, sheenRoughnessFactor
     KHR_materials_iridescence   iridescenceFactor, iridescenceIor, iridescenceThickness-
                                 Minimum and -Maximum (nm)
+    KHR_materials_anisotropy    anisotropyStrength, anisotropyRotation (radians)
     KHR_materials_pbrSpecularGlossiness   (archived; files made before 2022 still use it)
         converted as KHR_materials_specular describes: the diffuse colour is the base
         colour, the specular colour is the dielectric's F0 colour with ior 0 (F0 = that
@@ -41,6 +42,8 @@ FIELDS = {
                                    "length"),
                                   ("iridescenceThicknessMaximum", "iridescence_thickness_max",
                                    "length")),
+    "KHR_materials_anisotropy": (("anisotropyStrength", "anisotropy", "unit"),
+                                 ("anisotropyRotation", "anisotropy_rotation", "angle")),
 }
 SPEC_GLOSS = "KHR_materials_pbrSpecularGlossiness"
 # extension -> (glTF textureInfo field, PbrMaterial slot)
@@ -56,6 +59,7 @@ TEXTURES = {
                             ("sheenRoughnessTexture", "sheen_roughness")),
     "KHR_materials_iridescence": (("iridescenceTexture", "iridescence"),
                                   ("iridescenceThicknessTexture", "iridescence_thickness")),
+    "KHR_materials_anisotropy": (("anisotropyTexture", "anisotropy"),),
     SPEC_GLOSS: (("diffuseTexture", "base_color"),
                  ("specularGlossinessTexture", "specular_color")),
 }
@@ -123,6 +127,8 @@ def _value(v, kind: str, what: str, fail):
         numbers = [_number(x, what, fail) for x in v]
         return [float(np.clip(x, 0, 1)) if kind == "colour" else max(x, 0.0) for x in numbers]
     x = _number(v, what, fail)
+    if kind == "angle":
+        return x
     if kind == "unit":
         return float(np.clip(x, 0, 1))
     if kind == "ior" and x != 0 and x < 1:

@@ -49,13 +49,14 @@ PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emi
        "occlusion_strength", "unlit", "transmission", "thickness", "attenuation_color",
        "attenuation_distance", "clearcoat", "clearcoat_roughness", "sheen_color",
        "sheen_roughness", "clearcoat_normal_scale", "iridescence", "iridescence_ior",
-       "iridescence_thickness_min", "iridescence_thickness_max",
+       "iridescence_thickness_min", "iridescence_thickness_max", "anisotropy",
+       "anisotropy_rotation",
        *(f"{s}_texture" for s in SLOTS))
 SHARED = ("ior",)  # a Phong material's refraction, a metallic-roughness one's dielectric
 SLOT_KEYS = ("image", "texcoord", "wrap", "filter", "offset", "rotation", "scale")
 UNIT_KEYS = ("metallic", "roughness", "specular", "alpha_cutoff", "occlusion_strength",
              "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness",
-             "iridescence")
+             "iridescence", "anisotropy")
 
 
 def is_pbr(t: dict) -> bool:

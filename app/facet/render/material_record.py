@@ -22,6 +22,7 @@ Texels (``TEXELS``; GLSL reads them as REC_<NAME>, the alpha modes as ALPHA_MODE
     absorption   (absorption per unit length rgb, clear coat roughness)
     sheen        (sheen colour rgb, sheen roughness)
     iridescence  (iridescence factor, film ior, film thickness min and max in nm)
+    anisotropy   (anisotropy strength, cos and sin of its rotation, -)
     flags        (an emitter's light-sampling density (the path tracer's, per instance),
                   unlit, 1 for a metallic-roughness material, clear coat normal scale)
     occlusion    (occlusion strength, -, -, -)
@@ -42,7 +43,8 @@ from .materials import as_pbr
 
 TEXELS = {"color": 0, "phong": 1, "effects": 2, "base": 3, "emission": 4, "alpha": 5,
           "specular": 6, "transmission": 7, "absorption": 8, "sheen": 9, "flags": 10,
-          "occlusion": 11, "iridescence": 12}
+          "occlusion": 11, "iridescence": 12,
+          "anisotropy": 13}
 SLOT_ROW = len(TEXELS)
 SLOT_TEXELS = 3
 RECORD_TEXELS = SLOT_ROW + SLOT_TEXELS * len(SLOTS)
@@ -93,6 +95,8 @@ def material_record(material, color, image, phong_image: float = -1.0) -> np.nda
     out[t["sheen"]] = (*pbr.sheen_color, pbr.sheen_roughness)
     out[t["iridescence"]] = (pbr.iridescence, pbr.iridescence_ior,
                              pbr.iridescence_thickness_min, pbr.iridescence_thickness_max)
+    out[t["anisotropy"]] = (pbr.anisotropy, np.cos(pbr.anisotropy_rotation),
+                            np.sin(pbr.anisotropy_rotation), 0.0)
     out[t["flags"]] = (0.0, float(pbr.unlit), float(isinstance(m, PbrMaterial)),
                        pbr.clearcoat_normal_scale)
     out[t["occlusion"]] = (pbr.occlusion_strength, 0.0, 0.0, 0.0)

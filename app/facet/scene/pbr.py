@@ -85,7 +85,7 @@ SLOTS = ("base_color", "metallic_roughness", "normal", "occlusion", "emissive",
          # the KHR extensions' (each multiplies its factor; channels as the extension says)
          "specular", "specular_color", "transmission", "thickness", "clearcoat",
          "clearcoat_roughness", "clearcoat_normal", "sheen_color", "sheen_roughness",
-         "iridescence", "iridescence_thickness")
+         "iridescence", "iridescence_thickness", "anisotropy")
 COLOR_SLOTS = ("base_color", "emissive", "specular_color", "sheen_color")  # sRGB images
 
 
@@ -105,8 +105,10 @@ class PbrMaterial:
     (KHR_materials_iridescence: index ``iridescence_ior``, ``iridescence_thickness_max``
     nanometres thick, or between the minimum and the maximum by its thickness texture's G)
     whose interference (Belcour and Barla 2017, as the extension gives it) replaces the
-    specular Fresnel term by that share. Vertex colours multiply the base colour. Each
-    extension's texture multiplies its factor.
+    specular Fresnel term by that share; ``anisotropy`` stretches the specular lobe along
+    the surface's tangent turned by ``anisotropy_rotation`` (KHR_materials_anisotropy:
+    roughness alpha along it mixed towards 1 by anisotropy^2). Vertex colours multiply the
+    base colour. Each extension's texture multiplies its factor.
 
     Parameters
     ----------
@@ -185,6 +187,12 @@ class PbrMaterial:
         mixed between them by ``iridescence_thickness_texture``'s G.
     iridescence_texture, iridescence_thickness_texture : TextureSlot, optional
         The film's textures.
+    anisotropy : float
+        KHR_materials_anisotropy's strength in [0, 1] (``anisotropy_texture``: B).
+    anisotropy_rotation : float
+        Radians from the tangent towards the bitangent.
+    anisotropy_texture : TextureSlot, optional
+        RG: the direction in the tangent frame ([0, 1] for [-1, 1]), B: strength.
     """
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
@@ -231,6 +239,9 @@ class PbrMaterial:
     iridescence_thickness_max: float = 400.0
     iridescence_texture: TextureSlot | None = None
     iridescence_thickness_texture: TextureSlot | None = None
+    anisotropy: float = 0.0
+    anisotropy_rotation: float = 0.0
+    anisotropy_texture: TextureSlot | None = None
 
     # Not used by this model; present so that every material answers the same questions.
     shader = None
@@ -246,7 +257,7 @@ class PbrMaterial:
         self.emissive = as_color(self.emissive, "emissive")
         for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff", "specular",
                     "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness",
-                    "iridescence"):
+                    "iridescence", "anisotropy"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and 0.0 <= v <= 1.0):
                 raise InputError(f"material {key} must be a number in [0, 1], got {v!r}")
@@ -273,6 +284,11 @@ class PbrMaterial:
         if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 1):
             raise InputError(f"material iridescence_ior must be a number >= 1, got {v!r}")
         self.iridescence_ior = float(v)
+        v = self.anisotropy_rotation
+        if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v)):
+            raise InputError(f"material anisotropy_rotation must be a number (radians), "
+                             f"got {v!r}")
+        self.anisotropy_rotation = float(v)
         for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale",
                     "iridescence_thickness_min", "iridescence_thickness_max"):
             v = getattr(self, key)
@@ -310,8 +326,10 @@ class PbrMaterial:
 
     @property
     def normal_mapped(self) -> bool:
-        """Whether a normal map (the surface's or the clear coat's) needs tangent frames."""
-        return self.normal_texture is not None or self.clearcoat_normal_texture is not None
+        """Whether the material needs tangent frames: a normal map (the surface's or the
+        clear coat's) or an anisotropic lobe (turned from the tangent)."""
+        return self.normal_texture is not None or self.clearcoat_normal_texture is not None \
+            or self.anisotropy > 0
 
     @property
     def transparent(self) -> bool:
