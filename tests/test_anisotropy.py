@@ -92,3 +92,31 @@ def test_anisotropy_is_read_from_gltf():
         scene = facet.load(path)
     strengths = {round(o.material.anisotropy, 3) for o in scene.objects}
     assert {0.0, 0.5, 1.0} <= strengths
+
+
+def test_scene_file_keys_of_the_newer_extensions_reach_the_material(tmp_path):
+    """iridescence_*, anisotropy_* and diffuse_transmission_* in a scene file set the
+    material (iridescence_ior, the film's thickness range and anisotropy_rotation were
+    accepted and dropped: a key that parses must act)."""
+    toml = tmp_path / "s.toml"
+    toml.write_text("""[materials.m]
+base_color = [0.8, 0.8, 0.8]
+iridescence = 0.5
+iridescence_ior = 1.4
+iridescence_thickness_min = 150.0
+iridescence_thickness_max = 450.0
+anisotropy = 0.6
+anisotropy_rotation = 0.5
+diffuse_transmission = 0.3
+diffuse_transmission_color = [0.9, 0.6, 0.4]
+
+[[objects]]
+primitive = "sphere"
+material = "m"
+""")
+    m = facet.load(toml).objects[0].material
+    assert (m.iridescence, m.iridescence_ior) == (0.5, 1.4)
+    assert (m.iridescence_thickness_min, m.iridescence_thickness_max) == (150.0, 450.0)
+    assert (m.anisotropy, m.anisotropy_rotation) == (0.6, 0.5)
+    assert m.diffuse_transmission == 0.3
+    np.testing.assert_allclose(m.diffuse_transmission_color, (0.9, 0.6, 0.4))

@@ -33,6 +33,12 @@ PbrSurface layered_surface(Material m, vec3 N, vec3 N_coat, vec3 V, out vec3 c_t
                                     m.f0_d, m.f90_d);
     c_trans = s.c_diff * m.transmission;
     s.c_diff *= 1.0 - m.transmission;
+#ifndef NO_DIFFUSE_TRANSMISSION
+    // (transmission overrides it: of what it leaves, the share dt goes through, tinted)
+    s.c_dt = (1.0 - m.metallic) * (1.0 - m.transmission) * m.diffuse_transmission
+           * m.dt_color;
+    s.c_diff *= 1.0 - m.diffuse_transmission;
+#endif
 #ifndef NO_IRIDESCENCE
     pbr_iridescence(s, m.base, m.metallic, m.iridescence, m.iridescence_ior,
                     m.iridescence_thickness);

@@ -42,6 +42,8 @@ struct Material {
     float iridescence;  // KHR_materials_iridescence: share, the film's index and thickness
     float iridescence_ior;  // (nm)
     float iridescence_thickness;
+    float diffuse_transmission;  // KHR_materials_diffuse_transmission: share and colour
+    vec3 dt_color;
     float anisotropy;     // KHR_materials_anisotropy: strength, and the direction the lobe
     vec3 aniso_t;         // stretches along (world, on the surface; 0 without a frame)
     vec3 emission;    // emitted radiance
@@ -141,6 +143,14 @@ Material material_at(int rec, MaterialPoint p) {
     m.iridescence = ir.x * slot(rec, SLOT_IRIDESCENCE, p).r;
     m.iridescence_ior = ir.y;
     m.iridescence_thickness = mix(ir.z, ir.w, slot(rec, SLOT_IRIDESCENCE_THICKNESS, p).g);
+#ifdef NO_DIFFUSE_TRANSMISSION
+    m.diffuse_transmission = 0.0;
+    m.dt_color = vec3(0.0);
+#else
+    vec4 dt = record_texel(rec, REC_DIFFUSE_T);
+    m.diffuse_transmission = dt.w * slot(rec, SLOT_DIFFUSE_TRANSMISSION, p).a;
+    m.dt_color = dt.rgb * slot(rec, SLOT_DIFFUSE_TRANSMISSION_COLOR, p).rgb;
+#endif
 #ifdef NO_ANISOTROPY
     m.anisotropy = 0.0;
     m.aniso_t = vec3(0.0);

@@ -9,6 +9,9 @@
 // KHR_materials_sheen (pbr_sheen): f = f min(1 - c E_s(N.V), 1 - c E_s(N.L)) + sheen D_c V_c,
 // c = max(sheen colour): the Charlie distribution, Estevez and Kulla's shadowing, E_s its
 // albedo (lib/sheen_albedo.glsl), under the coat.
+// KHR_materials_diffuse_transmission (layers.glsl): c_dt = the diffuse part's share dt of
+// colour dt_color through the surface, c_diff keeping 1 - dt; a light behind adds
+// (1 - F_d) c_dt |N.L|.
 // KHR_materials_anisotropy (pbr_anisotropy): the lobe's D and Vis stretched along a
 // tangent direction (pbr_specular); the environment read about a bent normal.
 // KHR_materials_iridescence (pbr_iridescence): F = mix(F, F_film, iridescence) and F_d
@@ -77,6 +80,7 @@ struct PbrSurface {
     float aniso;    // anisotropy: its strength, alpha along the stretch direction T and T
     float alpha_t;  // (B = N x T, alpha along it: alpha)
     vec3 aniso_t;
+    vec3 c_dt;      // diffuse transmission: the Lambertian lobe through the surface
 };
 
 // E: the GGX lobe's directional albedo (F = 1), bilinear in the table.
@@ -101,7 +105,7 @@ PbrSurface pbr_surface_full(vec3 base, float metallic, float roughness, float n_
                       max(roughness * roughness, MIN_ALPHA), n_dot_v,
                       1.0 + f0 * ((1.0 - e) / e), 0.0, 1.0, 0.0, vec3(0.0, 0.0, 1.0),
                       n_dot_v, vec3(0.0), 1.0, 0.0, 0.0, vec3(0.0), vec3(0.0), 0.0, 0.0,
-                      vec3(1.0, 0.0, 0.0));
+                      vec3(1.0, 0.0, 0.0), vec3(0.0));
 }
 
 // An anisotropic specular lobe (KHR_materials_anisotropy): ``strength``, stretched along
@@ -238,6 +242,11 @@ vec3 pbr_light(PbrSurface s, vec3 N, vec3 V, vec3 L) {
     vec3 F = pbr_fresnel(s, fc);
     vec3 F_d = pbr_fresnel_d(s, fc);
     vec3 f = n_dot_l * (PI * spec * F * s.ms + (1.0 - F_d) * s.c_diff);
+#ifndef NO_DIFFUSE_TRANSMISSION
+    // A light behind: what the diffuse transmission lobe passes (under the viewer's side's
+    // Fresnel, as the diffuse part is).
+    f += (1.0 - pbr_fresnel_d(s, schlick_weight(s.n_dot_v))) * s.c_dt * max(-dot(N, L), 0.0);
+#endif
 #ifndef NO_SHEEN
     if (s.sheen != vec3(0.0) && n_dot_l > 0.0) {
         float alpha = s.sheen_roughness * s.sheen_roughness;
@@ -277,6 +286,14 @@ vec3 pbr_ambient(PbrSurface s, vec3 diffuse, vec3 specular, vec3 lut) {
                     s.irid);  // (a film's F is constant over the lobe: F (A + B))
     vec3 spec = mix(s.f0 * lut.x + s.f90 * lut.y, s.irid_f * (lut.x + lut.y), s.irid);
     return kept * s.c_diff * diffuse + spec * s.ms * specular;
+}
+
+// What the diffuse transmission lobe adds under light arriving from behind, ``back`` the
+// irradiance / pi around -N.
+vec3 pbr_ambient_through(PbrSurface s, vec3 back, vec3 lut) {
+    vec3 kept = mix(1.0 - s.f0_d - (s.f90_d - s.f0_d) * (1.0 - lut.z), 1.0 - s.irid_fd,
+                    s.irid);
+    return kept * s.c_dt * back;
 }
 
 // The sheen over ``ambient`` (pbr_ambient's): its albedo lights it by ``diffuse`` (the

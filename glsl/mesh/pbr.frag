@@ -121,6 +121,13 @@ vec3 image_light(PbrSurface s, Material m, vec3 N, vec3 V) {
     vec3 lut = lut_at(s.n_dot_v, m.roughness);
     vec3 ambient = pbr_ambient_sheen(s, pbr_ambient(s, diffuse, prefiltered(
         reflect(-V, pbr_bent_normal(s, N, V, m.roughness)), m.roughness), lut), diffuse);
+#ifndef NO_DIFFUSE_TRANSMISSION
+#ifdef HAS_ENVIRONMENT
+    ambient += pbr_ambient_through(s, texture(u_irradiance, octahedral_uv(-N)).rgb, lut);
+#else
+    ambient += pbr_ambient_through(s, u_ambient.rgb, lut);
+#endif
+#endif
     if (m.clearcoat > 0.0)  // the coat's own lobe, at its roughness, on its normal
         ambient = pbr_ambient_coat(s, ambient, prefiltered(reflect(-V, m.cc_n),
                                    m.clearcoat_roughness),

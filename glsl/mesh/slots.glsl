@@ -7,7 +7,8 @@ uniform sampler2D u_tex_base, u_tex_mr, u_tex_normal, u_tex_occlusion, u_tex_emi
                   u_tex_specular, u_tex_specular_color, u_tex_transmission, u_tex_thickness,
                   u_tex_clearcoat, u_tex_clearcoat_roughness, u_tex_clearcoat_normal,
                   u_tex_sheen_color, u_tex_sheen_roughness, u_tex_iridescence,
-                  u_tex_iridescence_thickness, u_tex_anisotropy;
+                  u_tex_iridescence_thickness, u_tex_anisotropy,
+                  u_tex_diffuse_transmission, u_tex_diffuse_transmission_color;
 
 vec4 record_texel(int rec, int k) {
     return u_material[k];
@@ -65,6 +66,12 @@ vec4 slot_image(int rec, int k, vec2 uv) {
 #endif
 #ifdef TEX_ANISOTROPY
     SLOT_IMAGE(SLOT_ANISOTROPY, u_tex_anisotropy)
+#endif
+#ifdef TEX_DIFFUSE_TRANSMISSION
+    SLOT_IMAGE(SLOT_DIFFUSE_TRANSMISSION, u_tex_diffuse_transmission)
+#endif
+#ifdef TEX_DIFFUSE_TRANSMISSION_COLOR
+    SLOT_IMAGE(SLOT_DIFFUSE_TRANSMISSION_COLOR, u_tex_diffuse_transmission_color)
 #endif
 #undef SLOT_IMAGE
     return vec4(1.0);

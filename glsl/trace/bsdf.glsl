@@ -5,6 +5,8 @@
 //                 the lobes below are dimmed by 1 - clearcoat F_c(N.V))
 //   reflection    GGX with Schlick's F (F0 from ior, specular and metal)
 //   diffuse       (1 - F_d) (1 - transmission) (1 - metallic) base / pi
+//   diffuse transmission  (1 - F_d) dt (1 - transmission) (1 - metallic) dt_color / pi
+//                 behind the surface (KHR_materials_diffuse_transmission)
 //   transmission  (1 - F_d) transmission (1 - metallic) base, through the surface:
 //                 thin-walled (thickness 0): on unbent, mirrored GGX when rough;
 //                 a volume: Snell's refraction, GGX microfacet transmission when rough
@@ -30,6 +32,7 @@ struct Bsdf {
     float p_spec;    // the lobes' probabilities (diffuse: the rest)
     float p_trans;
     float p_coat;
+    float p_dt;      // diffuse transmission (KHR_materials_diffuse_transmission)
 };
 
 struct BsdfSample {
@@ -78,8 +81,8 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
     }
     // (the sheen lobe is broad: the cosine-weighted one samples it too)
     float diff = luminance(b.m.c_diff * kept) + b.m.sheen_dim,
-          trans = luminance(b.c_trans * kept);
-    float rest = diff + trans;
+          trans = luminance(b.c_trans * kept), dt = luminance(b.m.c_dt * kept);
+    float rest = diff + trans + dt;
     // The coat's share first (exactly by its weight), the rest below it as before.
     float coat = b.polished ? 0.0 : b.m.cc * b.m.cc_fresnel;
     float under = (spec + rest) * (1.0 - coat);
@@ -89,8 +92,10 @@ Bsdf make_bsdf(Material mat, bool front, vec3 N, vec3 V) {
     else if (b.polished) b.p_spec = spec / (spec + rest);  // delta lobes: exactly by weight
     else b.p_spec = clamp(spec / (spec + rest), 0.1, 0.9);
     b.p_trans = rest <= 0.0 ? 0.0 : (1.0 - b.p_spec) * trans / rest;
+    b.p_dt = rest <= 0.0 ? 0.0 : (1.0 - b.p_spec) * dt / rest;
     b.p_spec *= 1.0 - b.p_coat;
     b.p_trans *= 1.0 - b.p_coat;
+    b.p_dt *= 1.0 - b.p_coat;
     return b;
 }
 
@@ -105,7 +110,7 @@ vec3 bsdf_eval(Bsdf b, vec3 N, vec3 V, vec3 L) {
 float bsdf_pdf(Bsdf b, vec3 N, vec3 V, vec3 L) {
     float n_dot_l = dot(N, L);
     if (n_dot_l <= 0.0) return 0.0;
-    float p_diff = 1.0 - b.p_spec - b.p_trans - b.p_coat;
+    float p_diff = 1.0 - b.p_spec - b.p_trans - b.p_coat - b.p_dt;
     float pdf = p_diff * n_dot_l / PI;
     if (!b.polished) {
         vec3 H = normalize(L + V);
@@ -171,6 +176,15 @@ BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, float u, vec2 xi) {
         float g = 4.0 * smith_vis(n_dot_l, n_dot_v, b.m.alpha) * n_dot_l * n_dot_v;
         s.weight = (1.0 - F_d) * b.c_trans * (v_dot_h * g / (n_dot_v * n_dot_h))
                  / (b.p_trans * b.eta * b.eta);
+        s.ok = true;
+        return s;
+    }
+#endif
+#ifndef NO_DIFFUSE_TRANSMISSION
+    else if (u < b.p_spec + b.p_trans + b.p_dt) {  // diffuse transmission: cosine, behind
+        s.L = around(cosine_sample(xi), -N);
+        s.through = true;
+        s.weight = (1.0 - pbr_fresnel_d(b.m, schlick_weight(b.m.n_dot_v))) * b.m.c_dt / b.p_dt;
         s.ok = true;
         return s;
     }

@@ -68,7 +68,7 @@ vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters
             scale = PI;
             // A thin rough wall passes a light behind it through its transmission lobe (a
             // delta light: no path from the eye finds it otherwise).
-            through = b.thin && !b.polished && dot(s.ng, L) < 0.0;
+            through = (b.thin && !b.polished || b.m.c_dt != vec3(0.0)) && dot(s.ng, L) < 0.0;
             if (!through && (dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0)) continue;
         } else
 #endif
@@ -88,9 +88,10 @@ vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters
             if (pdf_light <= 0.0 || dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0) continue;
             weight = sky_light(L) / pdf_light;
         }
-        vec3 f = through ? pbr_light_through(b.m, b.c_trans, N, V, L, mat.roughness,
-                                             max(mat.ior, 1.0))
-                         : scale * bsdf_eval(b, N, V, L);
+        // (behind, bsdf_eval is the diffuse transmission lobe's alone)
+        vec3 f = scale * bsdf_eval(b, N, V, L);
+        if (through && b.thin && !b.polished)
+            f += pbr_light_through(b.m, b.c_trans, N, V, L, mat.roughness, max(mat.ior, 1.0));
         float w = pdf_light > 0.0 && bsdf_hits ?
                   power_weight(pdf_light, bsdf_pdf(b, N, V, L)) : 1.0;
         if (f == vec3(0.0) || w == 0.0) continue;

@@ -84,14 +84,15 @@ vec3 shade_pbr(Surface s, vec3 V) {
             float falloff = incident_light(i, s.p, L);
             vec3 through = pbr_light_through(m, c_trans, N, V, L, mat.roughness,
                                              max(mat.ior, 1.0));  // a light behind glass
-            float seen = light_visibility(i, s.p, through == vec3(0.0) ? N : -N, L, falloff);
+            float seen = light_visibility(i, s.p, through == vec3(0.0) && dot(N, L) >= 0.0
+                                                  ? N : -N, L, falloff);  // (behind: -N)
             rgb += falloff * seen * u_lights[i].color.rgb * (pbr_light(m, N, V, L) + through);
         }
         float fc = schlick_weight(m.n_dot_v);
         vec3 F = pbr_fresnel(m, fc), F_d = pbr_fresnel_d(m, fc);
         vec3 sky = pbr_ambient_sheen(m, F * ggx_albedo(m.n_dot_v, mat.roughness) * m.ms
                                          * (1.0 - g_traced_specular)
-                                         + (1.0 - F_d) * m.c_diff, vec3(1.0));
+                                         + (1.0 - F_d) * (m.c_diff + m.c_dt), vec3(1.0));
         sky = sky * (1.0 - m.cc * m.cc_fresnel) + m.cc * m.cc_fresnel * (1.0 - g_traced_coat)
             * ggx_albedo(m.cc_n_dot_v, mat.clearcoat_roughness);
         rgb += sky * u_ambient.rgb * mat.occlusion;

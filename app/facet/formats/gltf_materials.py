@@ -11,6 +11,7 @@ material's slots (TEXTURES).
     KHR_materials_iridescence   iridescenceFactor, iridescenceIor, iridescenceThickness-
                                 Minimum and -Maximum (nm)
     KHR_materials_anisotropy    anisotropyStrength, anisotropyRotation (radians)
+    KHR_materials_diffuse_transmission   diffuseTransmissionFactor, -ColorFactor
     KHR_materials_pbrSpecularGlossiness   (archived; files made before 2022 still use it)
         converted as KHR_materials_specular describes: the diffuse colour is the base
         colour, the specular colour is the dielectric's F0 colour with ior 0 (F0 = that
@@ -44,6 +45,9 @@ FIELDS = {
                                    "length")),
     "KHR_materials_anisotropy": (("anisotropyStrength", "anisotropy", "unit"),
                                  ("anisotropyRotation", "anisotropy_rotation", "angle")),
+    "KHR_materials_diffuse_transmission": (
+        ("diffuseTransmissionFactor", "diffuse_transmission", "unit"),
+        ("diffuseTransmissionColorFactor", "diffuse_transmission_color", "colour")),
 }
 SPEC_GLOSS = "KHR_materials_pbrSpecularGlossiness"
 # extension -> (glTF textureInfo field, PbrMaterial slot)
@@ -60,6 +64,9 @@ TEXTURES = {
     "KHR_materials_iridescence": (("iridescenceTexture", "iridescence"),
                                   ("iridescenceThicknessTexture", "iridescence_thickness")),
     "KHR_materials_anisotropy": (("anisotropyTexture", "anisotropy"),),
+    "KHR_materials_diffuse_transmission": (
+        ("diffuseTransmissionTexture", "diffuse_transmission"),
+        ("diffuseTransmissionColorTexture", "diffuse_transmission_color")),
     SPEC_GLOSS: (("diffuseTexture", "base_color"),
                  ("specularGlossinessTexture", "specular_color")),
 }

@@ -50,13 +50,13 @@ PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emi
        "attenuation_distance", "clearcoat", "clearcoat_roughness", "sheen_color",
        "sheen_roughness", "clearcoat_normal_scale", "iridescence", "iridescence_ior",
        "iridescence_thickness_min", "iridescence_thickness_max", "anisotropy",
-       "anisotropy_rotation",
+       "anisotropy_rotation", "diffuse_transmission", "diffuse_transmission_color",
        *(f"{s}_texture" for s in SLOTS))
 SHARED = ("ior",)  # a Phong material's refraction, a metallic-roughness one's dielectric
 SLOT_KEYS = ("image", "texcoord", "wrap", "filter", "offset", "rotation", "scale")
 UNIT_KEYS = ("metallic", "roughness", "specular", "alpha_cutoff", "occlusion_strength",
              "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness",
-             "iridescence", "anisotropy")
+             "iridescence", "anisotropy", "diffuse_transmission")
 
 
 def is_pbr(t: dict) -> bool:
@@ -93,9 +93,19 @@ def read_pbr(r, t: dict, where: str, phong_keys, texture) -> PbrMaterial:
             kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
             if kw[key] > 1:
                 r.fail(f"{where}.{key}", f"expected a number in [0, 1], got {show(t[key])}")
-    for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale"):
+    if "diffuse_transmission_color" in t:
+        kw["diffuse_transmission_color"] = r.color(t["diffuse_transmission_color"],
+                                                   f"{where}.diffuse_transmission_color")
+    for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale",
+                "iridescence_thickness_min", "iridescence_thickness_max"):
         if key in t:
             kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
+    if "iridescence_ior" in t:
+        kw["iridescence_ior"] = r.number(t["iridescence_ior"], f"{where}.iridescence_ior",
+                                         minimum=1)
+    if "anisotropy_rotation" in t:
+        kw["anisotropy_rotation"] = r.number(t["anisotropy_rotation"],
+                                             f"{where}.anisotropy_rotation")
     if "ior" in t:
         kw["ior"] = r.number(t["ior"], f"{where}.ior", minimum=0)
         if 0 < kw["ior"] < 1:

@@ -95,6 +95,7 @@ def material_features(m) -> list[str]:
         ("KHR_materials_sheen", bool(any(m.sheen_color > 0))),
         ("KHR_materials_iridescence", m.iridescence > 0),
         ("KHR_materials_anisotropy", m.anisotropy > 0),
+        ("KHR_materials_diffuse_transmission", m.diffuse_transmission > 0),
         ("KHR_materials_emissive_strength", m.emissive_strength != 1.0)) if used]
 
 

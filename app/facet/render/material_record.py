@@ -23,6 +23,7 @@ Texels (``TEXELS``; GLSL reads them as REC_<NAME>, the alpha modes as ALPHA_MODE
     sheen        (sheen colour rgb, sheen roughness)
     iridescence  (iridescence factor, film ior, film thickness min and max in nm)
     anisotropy   (anisotropy strength, cos and sin of its rotation, -)
+    diffuse_t    (diffuse transmission colour rgb, diffuse transmission)
     flags        (an emitter's light-sampling density (the path tracer's, per instance),
                   unlit, 1 for a metallic-roughness material, clear coat normal scale)
     occlusion    (occlusion strength, -, -, -)
@@ -44,7 +45,7 @@ from .materials import as_pbr
 TEXELS = {"color": 0, "phong": 1, "effects": 2, "base": 3, "emission": 4, "alpha": 5,
           "specular": 6, "transmission": 7, "absorption": 8, "sheen": 9, "flags": 10,
           "occlusion": 11, "iridescence": 12,
-          "anisotropy": 13}
+          "anisotropy": 13, "diffuse_t": 14}
 SLOT_ROW = len(TEXELS)
 SLOT_TEXELS = 3
 RECORD_TEXELS = SLOT_ROW + SLOT_TEXELS * len(SLOTS)
@@ -97,6 +98,7 @@ def material_record(material, color, image, phong_image: float = -1.0) -> np.nda
                              pbr.iridescence_thickness_min, pbr.iridescence_thickness_max)
     out[t["anisotropy"]] = (pbr.anisotropy, np.cos(pbr.anisotropy_rotation),
                             np.sin(pbr.anisotropy_rotation), 0.0)
+    out[t["diffuse_t"]] = (*pbr.diffuse_transmission_color, pbr.diffuse_transmission)
     out[t["flags"]] = (0.0, float(pbr.unlit), float(isinstance(m, PbrMaterial)),
                        pbr.clearcoat_normal_scale)
     out[t["occlusion"]] = (pbr.occlusion_strength, 0.0, 0.0, 0.0)

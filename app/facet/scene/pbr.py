@@ -85,8 +85,10 @@ SLOTS = ("base_color", "metallic_roughness", "normal", "occlusion", "emissive",
          # the KHR extensions' (each multiplies its factor; channels as the extension says)
          "specular", "specular_color", "transmission", "thickness", "clearcoat",
          "clearcoat_roughness", "clearcoat_normal", "sheen_color", "sheen_roughness",
-         "iridescence", "iridescence_thickness", "anisotropy")
-COLOR_SLOTS = ("base_color", "emissive", "specular_color", "sheen_color")  # sRGB images
+         "iridescence", "iridescence_thickness", "anisotropy", "diffuse_transmission",
+         "diffuse_transmission_color")
+COLOR_SLOTS = ("base_color", "emissive", "specular_color", "sheen_color",
+               "diffuse_transmission_color")  # sRGB images
 
 
 @dataclass
@@ -107,8 +109,11 @@ class PbrMaterial:
     whose interference (Belcour and Barla 2017, as the extension gives it) replaces the
     specular Fresnel term by that share; ``anisotropy`` stretches the specular lobe along
     the surface's tangent turned by ``anisotropy_rotation`` (KHR_materials_anisotropy:
-    roughness alpha along it mixed towards 1 by anisotropy^2). Vertex colours multiply the
-    base colour. Each extension's texture multiplies its factor.
+    roughness alpha along it mixed towards 1 by anisotropy^2); ``diffuse_transmission`` the
+    share of the diffuse part that goes through the surface as a Lambertian lobe of colour
+    ``diffuse_transmission_color`` (KHR_materials_diffuse_transmission: leaves, paper,
+    wax; ``transmission`` overrides it). Vertex colours multiply the base colour. Each
+    extension's texture multiplies its factor.
 
     Parameters
     ----------
@@ -193,6 +198,12 @@ class PbrMaterial:
         Radians from the tangent towards the bitangent.
     anisotropy_texture : TextureSlot, optional
         RG: the direction in the tangent frame ([0, 1] for [-1, 1]), B: strength.
+    diffuse_transmission : float
+        In [0, 1] (``diffuse_transmission_texture``: A).
+    diffuse_transmission_color : (3,) float
+        Linear (``diffuse_transmission_color_texture``: sRGB RGB).
+    diffuse_transmission_texture, diffuse_transmission_color_texture : TextureSlot, optional
+        Their textures.
     """
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
@@ -242,6 +253,10 @@ class PbrMaterial:
     anisotropy: float = 0.0
     anisotropy_rotation: float = 0.0
     anisotropy_texture: TextureSlot | None = None
+    diffuse_transmission: float = 0.0
+    diffuse_transmission_color: np.ndarray = field(default_factory=lambda: np.ones(3))
+    diffuse_transmission_texture: TextureSlot | None = None
+    diffuse_transmission_color_texture: TextureSlot | None = None
 
     # Not used by this model; present so that every material answers the same questions.
     shader = None
@@ -257,7 +272,7 @@ class PbrMaterial:
         self.emissive = as_color(self.emissive, "emissive")
         for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff", "specular",
                     "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness",
-                    "iridescence", "anisotropy"):
+                    "iridescence", "anisotropy", "diffuse_transmission"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and 0.0 <= v <= 1.0):
                 raise InputError(f"material {key} must be a number in [0, 1], got {v!r}")
@@ -275,6 +290,8 @@ class PbrMaterial:
         self.ior = float(v)
         self.attenuation_color = as_color(self.attenuation_color, "attenuation color")
         self.sheen_color = as_color(self.sheen_color, "sheen color")
+        self.diffuse_transmission_color = as_color(self.diffuse_transmission_color,
+                                                   "diffuse transmission color")
         d = self.attenuation_distance
         if not (isinstance(d, (int, float, np.floating)) and d > 0):
             raise InputError(f"material attenuation_distance must be a number > 0 (inf: "

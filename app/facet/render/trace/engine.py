@@ -113,9 +113,10 @@ def _material_defines(scene, state) -> tuple:
     """Defines of how materials are read: PBR_SLOTS when some are metallic-roughness (their
     records' slots: cut-outs and coverage in every shading model, as the rasterizer cuts
     them), PBR_SHADING when they are shaded by that model (glsl/trace/shade.glsl's
-    shade_pbr; shading "auto" or "pbr"; by their Phong stand-ins otherwise); NO_IRIDESCENCE
-    and NO_ANISOTROPY where no material has a thin film or an anisotropic lobe (their code
-    left out: llvmpipe runs a branch no pixel takes)."""
+    shade_pbr; shading "auto" or "pbr"; by their Phong stand-ins otherwise); NO_IRIDESCENCE,
+    NO_ANISOTROPY and NO_DIFFUSE_TRANSMISSION where no material has a thin film, an
+    anisotropic lobe or diffuse transmission (their code left out: llvmpipe runs a branch no
+    pixel takes)."""
     if not any(isinstance(o.material, PbrMaterial) for o in scene.objects):
         return ()
     # shadow rays through BLEND coverage, MASK cut-outs and glass, texel by texel
@@ -123,9 +124,11 @@ def _material_defines(scene, state) -> tuple:
                 for o in scene.objects)
     film = any(as_pbr(o.material).iridescence > 0 for o in scene.objects)
     stretched = any(as_pbr(o.material).anisotropy > 0 for o in scene.objects)
+    through = any(as_pbr(o.material).diffuse_transmission > 0 for o in scene.objects)
     return ("PBR_SLOTS",) + (("PBR_SHADING",) if _pbr_shading(state) else ()) + \
         (("ALPHA_SHADOWS",) if alpha else ()) + (() if film else ("NO_IRIDESCENCE",)) + \
-        (() if stretched else ("NO_ANISOTROPY",))
+        (() if stretched else ("NO_ANISOTROPY",)) + \
+        (() if through else ("NO_DIFFUSE_TRANSMISSION",))
 
 
 def _pbr_shading(state) -> bool:
