@@ -42,6 +42,7 @@ struct Material {
     float iridescence;  // KHR_materials_iridescence: share, the film's index and thickness
     float iridescence_ior;  // (nm)
     float iridescence_thickness;
+    float dispersion_spread;  // KHR_materials_dispersion: the ior's half spread over R, G, B
     float diffuse_transmission;  // KHR_materials_diffuse_transmission: share and colour
     vec3 dt_color;
     float anisotropy;     // KHR_materials_anisotropy: strength, and the direction the lobe
@@ -143,6 +144,7 @@ Material material_at(int rec, MaterialPoint p) {
     m.iridescence = ir.x * slot(rec, SLOT_IRIDESCENCE, p).r;
     m.iridescence_ior = ir.y;
     m.iridescence_thickness = mix(ir.z, ir.w, slot(rec, SLOT_IRIDESCENCE_THICKNESS, p).g);
+    m.dispersion_spread = record_texel(rec, REC_DISPERSION).x;
 #ifdef NO_DIFFUSE_TRANSMISSION
     m.diffuse_transmission = 0.0;
     m.dt_color = vec3(0.0);

@@ -74,7 +74,21 @@ vec3 transmitted(PbrSurface s, Material m, vec3 c_trans, vec3 N, vec3 V) {
     vec4 clip = u_view_projection * vec4(v_pos_world + ray, 1.0);
     vec2 uv = clamp(clip.xy / clip.w * 0.5 + 0.5, 0.0, 1.0);
     float rough = m.roughness * clamp(2.0 * ior - 2.0, 0.0, 1.0);  // rougher, bigger ior
-    vec3 behind = textureLod(u_behind, uv, log2(u_behind_width) * rough).rgb;
+    float lod = log2(u_behind_width) * rough;
+    vec3 behind = textureLod(u_behind, uv, lod).rgb;
+#ifndef NO_DISPERSION
+    // KHR_materials_dispersion, as the Khronos Sample Viewer approximates it: red and
+    // blue read where rays at their own indices leave the volume.
+    if (m.dispersion_spread > 0.0) {
+        for (int c = 0; c < 3; c += 2) {
+            float ior_c = ior + m.dispersion_spread * float(c - 1);
+            vec3 ray_c = normalize(refract(-V, N, 1.0 / ior_c)) * m.thickness * scale;
+            vec4 clip_c = u_view_projection * vec4(v_pos_world + ray_c, 1.0);
+            vec2 uv_c = clamp(clip_c.xy / clip_c.w * 0.5 + 0.5, 0.0, 1.0);
+            behind[c] = textureLod(u_behind, uv_c, lod)[c];
+        }
+    }
+#endif
 #if !defined(COLOR_SRGB) && !defined(LINEAR_OUT)
     behind = srgb_to_linear(max(behind, 0.0));  // the picture holds display values then
 #endif

@@ -107,6 +107,7 @@ void main() {
     vec3 sigma;        // absorption of the volume the ray is in (KHR_materials_volume)
     float eta_scale;   // undoes refraction's radiance scale for Russian roulette
     int bounce, step;
+    int channel;       // the colour a dispersive refraction chose (-1: none yet)
     float travelled;   // along the path so far: its ray cone's width (surface.glsl)
     int j = first - 1;
     bool fresh = true, done = false;
@@ -131,6 +132,7 @@ void main() {
             eta_scale = 1.0;
             bounce = 0;
             step = 0;
+            channel = -1;
             travelled = 0.0;
             fresh = false;
         }
@@ -178,6 +180,18 @@ void main() {
                 vec3 V = -d, N = valid_normal(mat.n, s.ng, V);
 #ifndef NO_CLEARCOAT
                 mat.cc_n = valid_normal(mat.cc_n, s.ng, V);
+#endif
+#ifndef NO_DISPERSION
+                // KHR_materials_dispersion: a path through a dispersive volume follows one
+                // colour (chosen at the first, 1 in 3, its throughput that channel's 3x),
+                // refracting at that colour's index.
+                if (mat.dispersion_spread > 0.0 && mat.transmission > 0.0) {
+                    if (channel < 0) {
+                        channel = min(int(random01() * 3.0), 2);
+                        throughput *= 3.0 * vec3(equal(ivec3(channel), ivec3(0, 1, 2)));
+                    }
+                    mat.ior += mat.dispersion_spread * float(channel - 1);
+                }
 #endif
                 Bsdf b = make_bsdf(mat, s.front, N, V);
                 if (going)

@@ -44,7 +44,7 @@ SUPPORTED = {"EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression", "KHR_mesh_
              "KHR_materials_variants", "EXT_texture_webp",
              "KHR_materials_pbrSpecularGlossiness", "EXT_meshopt_compression",
              "KHR_materials_iridescence", "KHR_materials_anisotropy",
-             "KHR_materials_diffuse_transmission",
+             "KHR_materials_diffuse_transmission", "KHR_materials_dispersion",
              "KHR_xmp_json_ld"}  # (metadata: nothing to draw)
 TRIANGLES, STRIP, FAN = 4, 5, 6
 MODES = {0: "points", 1: "lines", 2: "line loops", 3: "line strips"}

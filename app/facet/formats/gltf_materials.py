@@ -12,6 +12,7 @@ material's slots (TEXTURES).
                                 Minimum and -Maximum (nm)
     KHR_materials_anisotropy    anisotropyStrength, anisotropyRotation (radians)
     KHR_materials_diffuse_transmission   diffuseTransmissionFactor, -ColorFactor
+    KHR_materials_dispersion    dispersion (20 / Abbe number)
     KHR_materials_pbrSpecularGlossiness   (archived; files made before 2022 still use it)
         converted as KHR_materials_specular describes: the diffuse colour is the base
         colour, the specular colour is the dielectric's F0 colour with ior 0 (F0 = that
@@ -48,6 +49,7 @@ FIELDS = {
     "KHR_materials_diffuse_transmission": (
         ("diffuseTransmissionFactor", "diffuse_transmission", "unit"),
         ("diffuseTransmissionColorFactor", "diffuse_transmission_color", "colour")),
+    "KHR_materials_dispersion": (("dispersion", "dispersion", "length"),),
 }
 SPEC_GLOSS = "KHR_materials_pbrSpecularGlossiness"
 # extension -> (glTF textureInfo field, PbrMaterial slot)

@@ -51,6 +51,7 @@ PBR = ("base_color", "metallic", "roughness", "specular", "specular_color", "emi
        "sheen_roughness", "clearcoat_normal_scale", "iridescence", "iridescence_ior",
        "iridescence_thickness_min", "iridescence_thickness_max", "anisotropy",
        "anisotropy_rotation", "diffuse_transmission", "diffuse_transmission_color",
+       "dispersion",
        *(f"{s}_texture" for s in SLOTS))
 SHARED = ("ior",)  # a Phong material's refraction, a metallic-roughness one's dielectric
 SLOT_KEYS = ("image", "texcoord", "wrap", "filter", "offset", "rotation", "scale")
@@ -97,7 +98,7 @@ def read_pbr(r, t: dict, where: str, phong_keys, texture) -> PbrMaterial:
         kw["diffuse_transmission_color"] = r.color(t["diffuse_transmission_color"],
                                                    f"{where}.diffuse_transmission_color")
     for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale",
-                "iridescence_thickness_min", "iridescence_thickness_max"):
+                "iridescence_thickness_min", "iridescence_thickness_max", "dispersion"):
         if key in t:
             kw[key] = r.number(t[key], f"{where}.{key}", minimum=0)
     if "iridescence_ior" in t:

@@ -96,6 +96,7 @@ def material_features(m) -> list[str]:
         ("KHR_materials_iridescence", m.iridescence > 0),
         ("KHR_materials_anisotropy", m.anisotropy > 0),
         ("KHR_materials_diffuse_transmission", m.diffuse_transmission > 0),
+        ("KHR_materials_dispersion", m.dispersion > 0 and m.transmission > 0),
         ("KHR_materials_emissive_strength", m.emissive_strength != 1.0)) if used]
 
 
@@ -129,7 +130,10 @@ CAPABILITIES: dict[str, Capabilities] = {
         _NO_WIREFRAME, _NO_CULL, _EXACT_SHADOWS, _NO_NOISE,
         OptionLimit(lambda o: o.shading == "gouraud",
                     "the ray tracer shades gouraud as phong (per pixel)")), {
-        "users' mesh shaders": "the material's Phong terms are traced"}),
+        "users' mesh shaders": "the material's Phong terms are traced",
+        "KHR_materials_dispersion": "each refraction ray bends at the material's ior (the "
+                                    "path tracer and the rasterizer spread it over the "
+                                    "colours)"}),
     "path": _row("the path tracer", True, 8, (
         _NO_WIREFRAME, _NO_CULL, _EXACT_SHADOWS,
         OptionLimit(lambda o: o.shadows is False,

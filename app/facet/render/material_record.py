@@ -24,6 +24,7 @@ Texels (``TEXELS``; GLSL reads them as REC_<NAME>, the alpha modes as ALPHA_MODE
     iridescence  (iridescence factor, film ior, film thickness min and max in nm)
     anisotropy   (anisotropy strength, cos and sin of its rotation, -)
     diffuse_t    (diffuse transmission colour rgb, diffuse transmission)
+    dispersion   (the ior's half spread over R, G, B: (ior - 1) 0.025 dispersion, -, -, -)
     flags        (an emitter's light-sampling density (the path tracer's, per instance),
                   unlit, 1 for a metallic-roughness material, clear coat normal scale)
     occlusion    (occlusion strength, -, -, -)
@@ -45,7 +46,7 @@ from .materials import as_pbr
 TEXELS = {"color": 0, "phong": 1, "effects": 2, "base": 3, "emission": 4, "alpha": 5,
           "specular": 6, "transmission": 7, "absorption": 8, "sheen": 9, "flags": 10,
           "occlusion": 11, "iridescence": 12,
-          "anisotropy": 13, "diffuse_t": 14}
+          "anisotropy": 13, "diffuse_t": 14, "dispersion": 15}
 SLOT_ROW = len(TEXELS)
 SLOT_TEXELS = 3
 RECORD_TEXELS = SLOT_ROW + SLOT_TEXELS * len(SLOTS)
@@ -99,6 +100,7 @@ def material_record(material, color, image, phong_image: float = -1.0) -> np.nda
     out[t["anisotropy"]] = (pbr.anisotropy, np.cos(pbr.anisotropy_rotation),
                             np.sin(pbr.anisotropy_rotation), 0.0)
     out[t["diffuse_t"]] = (*pbr.diffuse_transmission_color, pbr.diffuse_transmission)
+    out[t["dispersion"], 0] = (max(pbr.ior, 1.0) - 1.0) * 0.025 * pbr.dispersion
     out[t["flags"]] = (0.0, float(pbr.unlit), float(isinstance(m, PbrMaterial)),
                        pbr.clearcoat_normal_scale)
     out[t["occlusion"]] = (pbr.occlusion_strength, 0.0, 0.0, 0.0)

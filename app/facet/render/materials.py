@@ -23,13 +23,14 @@ SRGB_SLOTS = COLOR_SLOTS  # colour images; the others hold data
 def slot_defines(m: PbrMaterial) -> tuple[str, ...]:
     """The TEX_* defines of ``m``'s slots; an occlusion map packed into the red channel of
     the metallic-roughness image (glTF's common "ORM" texture) is read from that one fetch
-    (ORM_PACKED) instead of a second; NO_IRIDESCENCE, NO_ANISOTROPY and
-    NO_DIFFUSE_TRANSMISSION without a thin film, an anisotropic lobe or diffuse transmission
-    (their code left out of the material's program variant)."""
+    (ORM_PACKED) instead of a second; NO_IRIDESCENCE, NO_ANISOTROPY,
+    NO_DIFFUSE_TRANSMISSION and NO_DISPERSION without a thin film, an anisotropic lobe,
+    diffuse transmission or dispersion (their code left out of the material's variant)."""
     slots = m.slots
     film = (() if m.iridescence > 0 else ("NO_IRIDESCENCE",)) + \
         (() if m.anisotropy > 0 else ("NO_ANISOTROPY",)) + \
-        (() if m.diffuse_transmission > 0 else ("NO_DIFFUSE_TRANSMISSION",))
+        (() if m.diffuse_transmission > 0 else ("NO_DIFFUSE_TRANSMISSION",)) + \
+        (() if m.dispersion > 0 else ("NO_DISPERSION",))
     mr, occ = slots.get("metallic_roughness"), slots.get("occlusion")
     if mr is not None and occ is not None and _same_lookup(mr, occ):
         return (*(SLOT_DEFINES[s] for s in slots if s != "occlusion"), "ORM_PACKED", *film)

@@ -112,7 +112,10 @@ class PbrMaterial:
     roughness alpha along it mixed towards 1 by anisotropy^2); ``diffuse_transmission`` the
     share of the diffuse part that goes through the surface as a Lambertian lobe of colour
     ``diffuse_transmission_color`` (KHR_materials_diffuse_transmission: leaves, paper,
-    wax; ``transmission`` overrides it). Vertex colours multiply the base colour. Each
+    wax; ``transmission`` overrides it); ``dispersion`` spreads a transmitting volume's
+    index over the colours (KHR_materials_dispersion: 20 / Abbe number; red, green and blue
+    refract at ior -+ (ior - 1) 0.025 dispersion, as the Khronos Sample Viewer spreads it).
+    Vertex colours multiply the base colour. Each
     extension's texture multiplies its factor.
 
     Parameters
@@ -204,6 +207,8 @@ class PbrMaterial:
         Linear (``diffuse_transmission_color_texture``: sRGB RGB).
     diffuse_transmission_texture, diffuse_transmission_color_texture : TextureSlot, optional
         Their textures.
+    dispersion : float
+        KHR_materials_dispersion (>= 0; 0: none).
     """
 
     base_color: np.ndarray = field(default_factory=lambda: np.ones(4))
@@ -257,6 +262,7 @@ class PbrMaterial:
     diffuse_transmission_color: np.ndarray = field(default_factory=lambda: np.ones(3))
     diffuse_transmission_texture: TextureSlot | None = None
     diffuse_transmission_color_texture: TextureSlot | None = None
+    dispersion: float = 0.0
 
     # Not used by this model; present so that every material answers the same questions.
     shader = None
@@ -307,7 +313,7 @@ class PbrMaterial:
                              f"got {v!r}")
         self.anisotropy_rotation = float(v)
         for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale",
-                    "iridescence_thickness_min", "iridescence_thickness_max"):
+                    "iridescence_thickness_min", "iridescence_thickness_max", "dispersion"):
             v = getattr(self, key)
             if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
                 raise InputError(f"material {key} must be a number >= 0, got {v!r}")

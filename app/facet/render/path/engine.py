@@ -214,9 +214,9 @@ def _light_defines(scene, state) -> tuple:
 def _material_defines(scene) -> tuple:
     """The material's own slots (PBR_SLOTS); HAS_ALPHA when some are not opaque or let
     light through unbent (thin-walled glass: shadow rays pass it); NO_SLOT_IMAGES,
-    NO_TRANSMISSION, NO_CLEARCOAT, NO_SHEEN, NO_IRIDESCENCE, NO_ANISOTROPY and
-    NO_DIFFUSE_TRANSMISSION where no material has them (their lobes' code would cost
-    llvmpipe time unused: facet.render.rays.scene scene_defines)."""
+    NO_TRANSMISSION, NO_CLEARCOAT, NO_SHEEN, NO_IRIDESCENCE, NO_ANISOTROPY,
+    NO_DIFFUSE_TRANSMISSION and NO_DISPERSION where no material has them (their lobes'
+    code would cost llvmpipe time unused: facet.render.rays.scene scene_defines)."""
     pbrs = [as_pbr(o.material) for o in scene.objects]
     alpha = any(m.alpha_mode != "OPAQUE" or (m.transmission > 0 and m.thickness == 0)
                 for m in pbrs) or any(pack.open_volume(o) for o in scene.objects)
@@ -226,6 +226,7 @@ def _material_defines(scene) -> tuple:
               ("NO_SHEEN", any(np.any(np.asarray(m.sheen_color) > 0) for m in pbrs)),
               ("NO_IRIDESCENCE", any(m.iridescence > 0 for m in pbrs)),
               ("NO_ANISOTROPY", any(m.anisotropy > 0 for m in pbrs)),
-              ("NO_DIFFUSE_TRANSMISSION", any(m.diffuse_transmission > 0 for m in pbrs)))
+              ("NO_DIFFUSE_TRANSMISSION", any(m.diffuse_transmission > 0 for m in pbrs)),
+              ("NO_DISPERSION", any(m.dispersion > 0 and m.transmission > 0 for m in pbrs)))
     return ("PBR_SLOTS", "PBR_SHADING", "PATH_TRACER") + (("HAS_ALPHA",) if alpha else ()) + \
         images + tuple(name for name, used in absent if not used)
