@@ -165,7 +165,7 @@ def table(n: int) -> None:
         try:
             import ray
         except ImportError:
-            print("(Ray not installed: pip install 'facet[ray]')")
+            print("(Ray not installed: pip install 'facet-render[ray]')")
         else:
             t = time.perf_counter()
             ray.init(include_dashboard=False, log_to_driver=False, configure_logging=False)

@@ -27,7 +27,7 @@ def render_dataset_ray(jobs, out, *, address: str | None = None, gpus: int = 0,
     try:
         import ray
     except ImportError:
-        raise InputError("--ray needs the Ray package: pip install 'facet[ray]'") from None
+        raise InputError("--ray needs the Ray package: pip install 'facet-render[ray]'") from None
     out = Path(out).resolve()
     out.mkdir(parents=True, exist_ok=True)
     started = not ray.is_initialized()

@@ -146,7 +146,7 @@ def add_render_options(p, size_default: str) -> None:
                    "gives the same picture (default 0)")
     g.add_argument("--denoise", action=argparse.BooleanOptionalAction,
                    help="the path tracer's picture through Intel Open Image Denoise "
-                   "(fed albedo and normals; pip install 'facet[denoise]'); the exact "
+                   "(fed albedo and normals; pip install 'facet-render[denoise]'); the exact "
                    "channels stay as traced (default: off)")
     g.add_argument("--spp", metavar="N",
                    help="samples per pixel, jittered (the same as --aa jittered:N); with "

@@ -40,7 +40,7 @@ def add_parser(sub) -> None:
     b.add_argument("--seed", type=int, help="default seed of random view plans")
     b.add_argument("--float-files", metavar="npy|exr|npy,exr",
                    help="file formats of the float channels (default npy; exr needs "
-                   "pip install 'facet[exr]')")
+                   "pip install 'facet-render[exr]')")
     b.add_argument("--colmap", action="store_true",
                    help="also write each job's cameras as a COLMAP text model (sparse/0/)")
     b.add_argument("--workers", type=int, metavar="N",
@@ -49,7 +49,8 @@ def add_parser(sub) -> None:
     b.add_argument("--gpus", metavar="0,1,...", help="EGL device indices, one per worker")
     b.add_argument("--ray", nargs="?", const=True, metavar="ADDRESS",
                    help="run on a Ray cluster (its ADDRESS, or without one a local cluster; "
-                   "pip install 'facet[ray]'); the output folder must be one every node sees")
+                   "pip install 'facet-render[ray]'); the output folder must be one every "
+                   "node sees")
     b.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     A.add_confine_option(b)
 

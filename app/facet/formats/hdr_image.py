@@ -3,7 +3,7 @@
 - Radiance RGBE (``.hdr``, ``.pic``): read here (Pillow does not read it): the header, then
   flat or run-length-encoded scanlines (the "new" RLE: four channel runs per line);
   RGBE -> RGB is mantissa x 2^(exponent - 136).
-- OpenEXR (``.exr``): through the OpenEXR package (``pip install facet[exr]``).
+- OpenEXR (``.exr``): through the OpenEXR package (``pip install facet-render[exr]``).
 
 ``write_hdr`` writes flat RGBE files (tests and tools).
 """
@@ -113,7 +113,7 @@ def _read_exr(p: Path) -> np.ndarray:
         import OpenEXR
     except ImportError:
         raise InputError(f"{p}: reading OpenEXR needs the OpenEXR package (pip install "
-                         "'facet[exr]')") from None
+                         "'facet-render[exr]')") from None
     try:
         with OpenEXR.File(str(p), header_only=True) as f:  # the size, before any pixel
             (x0, y0), (x1, y1) = (np.asarray(c).tolist() for c in

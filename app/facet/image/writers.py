@@ -20,7 +20,7 @@ IMAGE_FORMATS = {".png": "PNG", ".jpg": "JPEG", ".jpeg": "JPEG", ".webp": "WEBP"
                  ".tif": "TIFF", ".tiff": "TIFF", ".exr": "EXR", ".hdr": "HDR"}
 FLOAT_FORMATS = (".exr", ".hdr")  # linear float colour (the render keeps float colour)
 DEFAULT_QUALITY = 95  # JPEG / WebP quality when none is given (Pillow's own is 75)
-HDR_HINT = "pip install 'facet[hdr]' (OpenCV for imageio)"
+HDR_HINT = "pip install 'facet-render[hdr]' (OpenCV for imageio)"
 
 
 @contextlib.contextmanager
@@ -269,7 +269,7 @@ def save_array(path, array: np.ndarray) -> Path:
     return p
 
 
-EXR_HINT = "pip install 'facet[exr]' (the OpenEXR package)"
+EXR_HINT = "pip install 'facet-render[exr]' (the OpenEXR package)"
 
 
 def exr_available() -> bool:

@@ -23,7 +23,7 @@ from ..viewing.session import Session
 QUALITY = 80  # JPEG quality while the view moves (lossless once it is still)
 WATCH_EVERY = 0.25  # seconds between looks at the open file (and users' shaders)
 SIZE = (640, 480)  # CSS pixels, when neither the call nor the scene gives a size
-NEEDS = "the notebook widget needs jupyter_rfb: pip install 'facet[notebook]'"
+NEEDS = "the notebook widget needs jupyter_rfb: pip install 'facet-render[notebook]'"
 
 
 def _base():

@@ -1,6 +1,6 @@
 """Denoising (the ``denoise`` render option): the path tracer's mean colour, linear
 radiance, through Intel Open Image Denoise's "RT" filter (the pyoidn binding, an optional
-extra: ``pip install 'facet[denoise]'``), guided by the first hit's albedo and shading
+extra: ``pip install 'facet-render[denoise]'``), guided by the first hit's albedo and shading
 normal at each pixel's centre (glsl/trace/primary.frag with ALBEDO). Only colour: the exact
 channels are never touched. Never on by default: a denoised picture is an estimate of the
 converged one, not an unbiased sample of it.
@@ -12,7 +12,7 @@ import numpy as np
 
 from ..errors import InputError
 
-INSTALL = "pip install 'facet[denoise]' (Intel Open Image Denoise through pyoidn)"
+INSTALL = "pip install 'facet-render[denoise]' (Intel Open Image Denoise through pyoidn)"
 
 
 def require():

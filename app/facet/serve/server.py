@@ -34,7 +34,7 @@ STATIC = {"/": ("page.html", "text/html; charset=utf-8"),
           "/viewer.js": ("viewer.js", "text/javascript; charset=utf-8")}
 DEFAULT_HOST = "127.0.0.1"
 LOCAL = ("127.0.0.1", "localhost", "::1")
-NEEDS = "facet view --serve needs websockets: pip install 'facet[serve]'"
+NEEDS = "facet view --serve needs websockets: pip install 'facet-render[serve]'"
 
 
 def parse_address(text: str) -> tuple[str, int]:
