@@ -258,3 +258,17 @@ def test_command_line_defaults_replace_the_manifests_and_jobs_win(tmp_path):
     plain, sized = load_manifest(manifest, {"size": "32x32", "outputs": "color"})
     assert plain.options["size"] == (32, 32) and plain.options["outputs"] == ("color",)
     assert sized.options["size"] == (20, 10) and sized.options["outputs"] == ("color",)
+
+
+def test_the_summary_names_the_index_once_slashed(tmp_path, capsys):
+    """`facet batch ... -o dataset/` says where the index is as a path (it printed
+    dataset//index.jsonl)."""
+    from facet.cli import main
+
+    make_models(tmp_path / "models", 1)
+    manifest = write_manifest(tmp_path, [{"model": "models/m00.ply"}],
+                              {"size": [16, 16], "views": {"plan": "sphere", "count": 1}})
+    out = str(tmp_path / "dataset") + "/"
+    assert main(["batch", str(manifest), "-o", out, "-q"]) == 0
+    err = capsys.readouterr().err
+    assert "index.jsonl" in err and "//index.jsonl" not in err, err

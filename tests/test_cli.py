@@ -269,3 +269,26 @@ def test_bad_output_options(tmp_path, sphere_file, capsys, args, message):
     err = capsys.readouterr().err
     assert code == 2 and message in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "r").exists() and not list(tmp_path.glob("*.png"))
+
+
+def test_list_uniforms_keeps_its_columns(tmp_path, capsys):
+    """--list-uniforms: the kind column starts at one place on every line, array types
+    included (a uniform array pushed its line's kind two places right)."""
+    shader = tmp_path / "u.frag"
+    shader.write_text("uniform float u_gain[4];\nuniform vec3 u_tint;\n"
+                      "void mainImage(out vec4 c, in vec2 p) {\n"
+                      "    c = vec4(u_tint * u_gain[1] + u_gain[3], 1.0) + iTime;\n}\n")
+    assert main(["shader", str(shader), "--list-uniforms"]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if line.strip()]
+    starts = {max(line.find("user (--uniform)"), line.find("filled by facet")) for line in lines}
+    assert len(lines) >= 3 and len(starts) == 1, lines
+
+
+def test_help_says_what_facet_is(capsys):
+    """`facet --help` names the three engines and shaders (it said "meshes with Phong
+    shading", which facet outgrew)."""
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "Phong shading" not in text
+    assert "path tracer" in text and "ray tracer" in text and "shaders" in text

@@ -174,8 +174,9 @@ def test_resize_redraws_at_the_new_size(window):
     assert img.std() > 10 and w.quit() == 0
 
 
-def test_python_viewer_api(display, tmp_path):
-    """Scripting: a Viewer with a camera set from Python saves what it shows."""
+def test_python_viewer_api(display, tmp_path, capsys):
+    """Scripting: a Viewer with a camera set from Python saves what it shows, and returns
+    the path without printing it (a library call writes nothing to stdout)."""
     os.environ["DISPLAY"] = display
     import facet
     from facet.geometry.camera import Camera
@@ -190,7 +191,9 @@ def test_python_viewer_api(display, tmp_path):
                 v.draw()
     with facet.Viewer(scene, size=(W, H), msaa=0) as v:
         v.set_camera(Camera.look_at((0, 0, 5), (0, 0, 0), fov_y=30))
+        capsys.readouterr()
         path = v.save(tmp_path / "shot.png")
+        assert capsys.readouterr().out == ""
         image = np.asarray(Image.open(path))
         # A file dropped on the window opens framed; a bad one is reported and survived.
         trimesh.creation.box(extents=(4, 1, 1)).export(tmp_path / "long.stl")

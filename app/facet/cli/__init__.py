@@ -35,8 +35,10 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="facet", description="facet: headless GPU rendering of meshes with "
-                     "Phong shading (OpenGL through EGL; Mesa llvmpipe when there is no GPU).")
+    parser = _Parser(prog="facet", description="facet: headless GPU rendering of 3D scenes "
+                     "(meshes, points, lines, shapes, glTF) by a rasterizer, a Whitted ray "
+                     "tracer and a path tracer, and GLSL shaders (OpenGL through EGL; Mesa "
+                     "llvmpipe when there is no GPU).")
     parser.add_argument("--version", action="version", version="facet 0.1.0")
     parser.add_argument("--budget", action="append", metavar="NAME=VALUE", default=[],
                         help="raise (or lower) one of facet's resource budgets for this run, "

@@ -57,6 +57,7 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     import sys
+    from pathlib import Path
 
     from ..batch import render_dataset
     from ..errors import InputError
@@ -91,5 +92,5 @@ def run(args) -> int:
                             confine=args.confine or "manifest", ray=args.ray)
     print(f"facet batch: {counts['done']} done, {counts['failed']} failed, "
           f"{counts['skipped']} skipped; {counts['views']} views in {counts['seconds']:.1f} s "
-          f"(index: {args.output}/index.jsonl)", file=sys.stderr)
+          f"(index: {Path(args.output) / 'index.jsonl'})", file=sys.stderr)
     return 1 if counts["failed"] else 0

@@ -168,7 +168,8 @@ def run(args) -> list[Path]:
                 uniforms = toy.active_uniforms()
         for name, (gl_type, length, filled) in uniforms.items():
             kind = "filled by facet" if filled else "user (--uniform)"
-            print(f"{name:24} {gl_type}{f'[{length}]' if length > 1 else '':6} {kind}")
+            of_type = f"{gl_type}[{length}]" if length > 1 else gl_type
+            print(f"{name:24} {of_type:12} {kind}")  # (the type's column, array or not)
         return []
     if args.output is None:
         from ..window.shader import run_window

@@ -46,8 +46,7 @@ class ViewerActions:
         # JSON is already there.
         write_camera_json(path.with_suffix(".json"), camera.describe(w * scale, h * scale))
         save_image(path, image)
-        print(path)
-        return path
+        return path  # (said by the key's action, not by this library call)
 
     # -- actions (KEYMAP) ----------------------------------------------------------------
     def frame(self):
@@ -112,10 +111,10 @@ class ViewerActions:
             if current in options else None
 
     def screenshot(self):
-        self.save()
+        print(self.save())
 
     def screenshot_2x(self):
-        self.save(scale=2)
+        print(self.save(scale=2))
 
     def record_turntable(self):
         from ..image.sequence import BackgroundWriter, SequenceSink
