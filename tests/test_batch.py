@@ -177,7 +177,7 @@ def test_exr_without_openexr_is_one_error_before_rendering(tmp_path, monkeypatch
     manifest = write_manifest(tmp_path, [{"model": "models/m00.ply", "float_files": ["exr"]}])
     monkeypatch.setattr(writers, "exr_available", lambda: False)  # as if not installed
     with pytest.raises(InputError, match=r"float_files: EXR files need pip install "
-                                         r"'facet\[exr\]'"):
+                                         r"'facet-render\[exr\]'"):
         load_manifest(manifest)
 
 
@@ -272,3 +272,26 @@ def test_the_summary_names_the_index_once_slashed(tmp_path, capsys):
     assert main(["batch", str(manifest), "-o", out, "-q"]) == 0
     err = capsys.readouterr().err
     assert "index.jsonl" in err and "//index.jsonl" not in err, err
+
+
+def test_a_nerf_synthetic_file_with_no_images_takes_the_jobs_size(tmp_path):
+    """A Blender / NeRF-synthetic transforms.json gives camera_angle_x and poses only (no
+    w, h, and its images not beside it): the job's size is the images' (was refused: "no
+    image size: give w and h"), the field of view the file's angle."""
+    import math
+
+    make_models(tmp_path / "models", 1)
+    pose = np.eye(4)
+    pose[:3, 3] = (0.0, 0.0, 4.0)  # looking down -z at the model, OpenGL convention
+    (tmp_path / "transforms.json").write_text(json.dumps({
+        "camera_angle_x": math.radians(40.0),
+        "frames": [{"file_path": "./train/r_0", "transform_matrix": pose.tolist()}]}))
+    manifest = tmp_path / "cams.jsonl"
+    manifest.write_text(json.dumps({"model": "models/m00.ply", "size": [40, 30],
+                                    "views": {"plan": "cameras",
+                                              "file": "transforms.json"}}) + "\n")
+    assert render_dataset(manifest, tmp_path / "out")["views"] == 1
+    image = np.asarray(Image.open(tmp_path / "out" / "m00" / "images" / "0000.png"))
+    assert image.shape[:2] == (30, 40)
+    written = json.loads((tmp_path / "out" / "m00" / "transforms.json").read_text())
+    assert written["camera_angle_x"] == pytest.approx(math.radians(40.0), rel=1e-4)

@@ -14,7 +14,7 @@ import facet
 from facet.cli import main
 from facet.errors import FacetWarning, InputError
 
-pytest.importorskip("pyoidn", reason="denoising needs pyoidn: pip install 'facet[denoise]'")
+pytest.importorskip("pyoidn", reason="denoising needs pyoidn: pip install 'facet-render[denoise]'")
 
 CORNELL = Path(__file__).resolve().parents[1] / "models" / "cornell.toml"
 SIZE = 32
@@ -67,13 +67,13 @@ def test_other_engines_say_they_leave_their_picture():
 def test_without_pyoidn_it_is_one_line_naming_the_extra(monkeypatch, tmp_path, capsys):
     monkeypatch.setitem(sys.modules, "pyoidn", None)  # import fails
     scene = facet.open_scene(CORNELL)
-    with facet.Renderer(16, 16) as r, pytest.raises(InputError, match=r"facet\[denoise\]"):
+    with facet.Renderer(16, 16) as r, pytest.raises(InputError, match=r"facet-render\[denoise\]"):
         r.render(scene, engine="path", spp=1, denoise=True)
     out = tmp_path / "x.png"
     assert main(["render", str(CORNELL), "--engine", "path", "--spp", "1", "--denoise",
                  "-o", str(out), "--size", "16x16"]) == 2
     err = capsys.readouterr().err
-    assert "facet[denoise]" in err and "Traceback" not in err and not out.exists()
+    assert "facet-render[denoise]" in err and "Traceback" not in err and not out.exists()
 
 
 def test_the_viewer_says_it_shows_the_picture_as_it_refines():

@@ -281,7 +281,7 @@ def _flag(t: dict, key: str, where: str) -> bool:
 def _camera_count(path: str) -> int:
     from .transforms_file import read_transforms
 
-    count = len(read_transforms(Path(path)))
+    count = len(read_transforms(Path(path), size=(64, 64)))  # (any size: only counted)
     if not 1 <= count <= MAX_FRAMES:
         raise InputError(f"{path}: {count} frames; expected 1..{MAX_FRAMES}")
     return count

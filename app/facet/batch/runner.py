@@ -87,8 +87,9 @@ def job_options(job, scene, renderer):
             "size" not in scene.options:
         from .transforms_file import file_size
 
-        return renderer.options(scene, job.options, front=FRONT,
-                                size=file_size(job.views.file))
+        size = file_size(job.views.file)  # (None: the file gives none, the job's is used)
+        if size is not None:
+            return renderer.options(scene, job.options, front=FRONT, size=size)
     return renderer.options(scene, job.options, front=FRONT)
 
 

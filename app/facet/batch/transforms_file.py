@@ -23,8 +23,10 @@ from ..errors import InputError
 
 def read_transforms(path, bounds=None, size=None) -> list:
     """The file's cameras (facet Cameras with intrinsics) for images of ``size`` (w, h;
-    default the file's: intrinsics scaled to another size); near and far fitted around
-    ``bounds`` when given."""
+    default the file's: intrinsics scaled to another size; a file that gives no size,
+    neither w and h nor images beside it, as a NeRF-synthetic one with only
+    camera_angle_x, is taken at ``size``); near and far fitted around ``bounds`` when
+    given."""
     from ..geometry.camera import Camera
     from ..geometry.framing import depth_range
     from ..geometry.intrinsics import Intrinsics
@@ -40,7 +42,7 @@ def read_transforms(path, bounds=None, size=None) -> list:
         if not isinstance(frame, dict):
             raise InputError(f"{where}: expected an object with a transform_matrix")
         fields = {**data, **frame}  # a frame's own intrinsics win
-        w, h = image_size(path, data, frame)
+        w, h = image_size(path, data, frame, fallback=size)
         fl_x = _focal(fields, "fl_x", "camera_angle_x", w, where)
         fl_y = _focal(fields, "fl_y", "camera_angle_y", h, where, default=fl_x)
         for name, fl, extent in (("fl_x", fl_x, w), ("fl_y", fl_y, h)):
@@ -61,17 +63,23 @@ def read_transforms(path, bounds=None, size=None) -> list:
     return cams
 
 
-def file_size(path) -> tuple[int, int]:
-    """(w, h) of the images a transforms.json describes (its first frame's)."""
+def file_size(path) -> tuple[int, int] | None:
+    """(w, h) of the images a transforms.json describes (its first frame's); None when it
+    gives none (the job's size is used)."""
     path = Path(path)
     data = _document(path)
     frames = data.get("frames")
     return image_size(path, data, frames[0] if isinstance(frames, list) and frames and
-                      isinstance(frames[0], dict) else None)
+                      isinstance(frames[0], dict) else None, fallback=NO_SIZE) or None
 
 
-def image_size(path: Path, data: dict, frame: dict | None = None) -> tuple[int, int]:
-    """(w, h) of the file's (or ``frame``'s) images."""
+NO_SIZE = ()  # image_size's fallback meaning "say None"
+
+
+def image_size(path: Path, data: dict, frame: dict | None = None,
+               fallback=None) -> tuple[int, int]:
+    """(w, h) of the file's (or ``frame``'s) images; ``fallback`` (w, h) where the file
+    gives no size (neither w and h nor images beside it), else InputError."""
     fields = {**data, **(frame or {})}
     if "w" in fields and "h" in fields:
         w, h = fields["w"], fields["h"]
@@ -95,8 +103,10 @@ def image_size(path: Path, data: dict, frame: dict | None = None) -> tuple[int, 
             if candidate.is_file():
                 with open_image(regular_file(candidate, "frame image"), str(candidate)) as im:
                     return im.size
+    if fallback is not None:
+        return tuple(int(v) for v in fallback)
     raise InputError(f"{path}: no image size: give w and h, or keep the frames' images "
-                     f"beside it ({first!r} not found)")
+                     f"beside it ({first!r} not found), or give the job a size")
 
 
 def _document(path: Path) -> dict:
