@@ -122,3 +122,18 @@ def test_a_plys_own_vertex_property_colours_it(tmp_path, capsys):
     assert main(["render", str(path), "--scalars", "nope", "-o", str(tmp_path / "n.png")]) \
         == 2
     assert "the model's: quality" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("background", [0, 255])
+def test_colorbar_labels_show_on_any_background(background):
+    """The range labels contrast with what lies behind them: on a white picture they are
+    dark (they were white on white, invisible), on a black one light."""
+    from facet.scene.colormap import colorbar
+
+    image = np.full((200, 300, 3), background, np.uint8)
+    out = colorbar(image, "viridis", (0.0, 1.0))
+    left_of_bar = out[:, :275].astype(int)  # the labels, not the bar (x >= 279)
+    changed = np.abs(left_of_bar - background).max(axis=2) > 100
+    assert changed.sum() > 20  # the labels' strokes
+    ink = left_of_bar[changed].mean()
+    assert (ink < 100) if background == 255 else (ink > 155)

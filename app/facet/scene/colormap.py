@@ -123,6 +123,15 @@ def colorbar(image: np.ndarray, name: str, limits, width: int | None = None) -> 
     lo, hi = scalar_range([0.0], limits)
     for text, y in ((f"{hi:.3g}", top), (f"{lo:.3g}", bottom - 10)):
         box = draw.textbbox((0, 0), text)
-        draw.text((max(0, x0 - 3 - (box[2] - box[0])), y), text,
-                  fill=(255, 255, 255, 255) if img.shape[2] == 4 else (255, 255, 255))
+        x = max(0, x0 - 3 - (box[2] - box[0]))
+        # The label in the colour that contrasts with what lies behind it (white on a dark
+        # picture, black on a light one), edged in the other.
+        behind = img[max(0, y):max(0, y) + (box[3] - box[1]) + 1,
+                     x:x + (box[2] - box[0]) + 1, :3]
+        lum = behind.reshape(-1, 3) @ np.array([0.2126, 0.7152, 0.0722])
+        light = lum.size > 0 and float(lum.mean()) > 128
+        ink, edge = ((0, 0, 0), (255, 255, 255)) if light else ((255, 255, 255), (0, 0, 0))
+        if img.shape[2] == 4:
+            ink, edge = (*ink, 255), (*edge, 255)
+        draw.text((x, y), text, fill=ink, stroke_width=1, stroke_fill=edge)
     return np.asarray(pil)
