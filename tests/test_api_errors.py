@@ -141,3 +141,32 @@ def test_bad_arguments_from_python_are_facets_errors_naming_them(renderer):
                       {"type": "wheel", "dy": float("nan")}, {"type": "resize", "width": [1]}):
             with pytest.raises(InputError, match=r"\.(x|dy|width):"):
                 session.handle(event)
+
+
+def test_a_render_that_sees_nothing_says_why():
+    """Camera.from_intrinsics given an OpenGL-convention pose looks away from the model:
+    the empty picture comes with one warning line naming the likely causes (it came with
+    none); a camera that sees the model says nothing."""
+    import warnings
+
+    import numpy as np
+
+    import facet
+
+    scene = facet.Scene()
+    scene.add(facet.primitives.cube(1.0))
+    gl_pose = np.eye(4)
+    gl_pose[:3, 3] = (0.0, 0.0, 4.0)  # an OpenGL camera at +z looking down -z at the cube
+    away = facet.Camera.from_intrinsics(60, 60, 32, 32, 64, 64, pose=gl_pose)
+    cv_pose = gl_pose.copy()
+    cv_pose[:3, :3] = np.diag([1.0, -1.0, -1.0])  # the same camera in OpenCV's axes
+    seeing = facet.Camera.from_intrinsics(60, 60, 32, 32, 64, 64, pose=cv_pose)
+    with facet.Renderer(64, 64) as r:
+        with pytest.warns(facet.FacetWarning, match="nothing of the scene .* other "
+                                                    "convention"):
+            frame = r.render(scene, away)
+        assert (frame.object_ids >= 0).sum() == 0
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            frame = r.render(scene, seeing)
+        assert (frame.object_ids >= 0).sum() > 100

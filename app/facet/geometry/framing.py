@@ -35,3 +35,35 @@ def depth_range(view, bounds) -> tuple[float, float]:
     far = max(float(depth.max()) + 0.01 * extent, 1e-3 * extent)
     near = max(float(depth.min()) - 0.01 * extent, far * 1e-4)
     return near, far
+
+
+_CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], bool)
+
+
+def boxes_in_view(view_projection, boxes, transforms) -> np.ndarray:
+    """Which of n object-space boxes, placed by their transforms, may show in the view.
+
+    Parameters
+    ----------
+    view_projection : (4, 4) float
+        World -> clip.
+    boxes : (n, 2, 3) float
+        Object-space (lo, hi) boxes.
+    transforms : (n, 4, 4) float
+        Object -> world.
+
+    Returns
+    -------
+    (n,) bool ndarray
+        False where all eight corners lie outside one clip plane (the box is out of view);
+        True otherwise (in view, or across a plane: it may show).
+    """
+    b = np.asarray(boxes, np.float64)
+    corners = np.where(_CORNERS[None], b[:, None, 1], b[:, None, 0])  # (n, 8, 3)
+    world = np.einsum("nij,nkj->nki", np.asarray(transforms, np.float64)[:, :3, :3], corners) \
+        + np.asarray(transforms, np.float64)[:, None, :3, 3]
+    clip = np.concatenate([world, np.ones(world.shape[:2] + (1,))], axis=2) \
+        @ np.asarray(view_projection, np.float64).T  # (n, 8, 4)
+    w = clip[..., 3:4]
+    outside = np.concatenate([clip[..., :3] < -w, clip[..., :3] > w], axis=2)  # (n, 8, 6)
+    return ~outside.all(axis=1).any(axis=1)

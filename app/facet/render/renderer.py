@@ -204,8 +204,9 @@ class Renderer(PassSequence):
         with self.ctx:  # several renderers (contexts) may live in one thread
             self._inside = True
             try:
-                return self._sequence(scene, camera or self.camera(scene, opts), opts,
-                                      Destination())
+                camera = camera or self.camera(scene, opts)
+                _say_if_nothing_in_view(scene, camera, opts)
+                return self._sequence(scene, camera, opts, Destination())
             finally:
                 self._inside = False
 
@@ -391,3 +392,26 @@ class Renderer(PassSequence):
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def _say_if_nothing_in_view(scene, camera, opts) -> None:
+    """One warning line when no object of the scene can show in the camera's view (the
+    picture would be empty with no word): its likely causes named."""
+    import warnings
+
+    from ..errors import FacetWarning
+    from ..geometry.framing import boxes_in_view
+
+    finite = [o for o in scene.objects if not o.infinite]
+    if not finite or len(finite) < len(scene.objects):
+        return  # (nothing to see, or an infinite plane, which nearly any view meets)
+    boxes = [o.shape.bounds if o.shape is not None else o.mesh.bounds for o in finite]
+    w, h = opts.size
+    view_projection = camera.projection(w, h) @ camera.view
+    if boxes_in_view(view_projection, boxes, [o.transform for o in finite]).any():
+        return
+    warnings.warn(f"nothing of the scene ({len(finite)} objects) is in the camera's view: "
+                  "is its pose in the other convention (Camera.from_intrinsics takes "
+                  "OpenCV's, x right, y down, z forward; an OpenGL camera looks down -z), "
+                  "does it look away, or is the scene beyond near / far "
+                  f"({camera.near:g} / {camera.far:g})?", FacetWarning, stacklevel=3)
