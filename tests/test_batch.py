@@ -11,6 +11,7 @@ import pytest
 import trimesh
 from PIL import Image
 
+import facet
 from facet.batch import render_dataset
 from facet.batch.manifest import load_manifest
 from facet.batch.views import ViewPlan
@@ -295,3 +296,20 @@ def test_a_nerf_synthetic_file_with_no_images_takes_the_jobs_size(tmp_path):
     assert image.shape[:2] == (30, 40)
     written = json.loads((tmp_path / "out" / "m00" / "transforms.json").read_text())
     assert written["camera_angle_x"] == pytest.approx(math.radians(40.0), rel=1e-4)
+
+
+def test_a_command_line_default_that_jobs_override_is_said(tmp_path):
+    """--views N when jobs set their own views: the jobs' views win, as the precedence
+    says, and one line says so (the flag was silently without effect)."""
+    import warnings
+
+    make_models(tmp_path / "models", 2)
+    manifest = write_manifest(tmp_path, [
+        {"model": "models/m00.ply", "views": {"plan": "sphere", "count": 2}},
+        {"model": "models/m01.ply"}])
+    with pytest.warns(facet.FacetWarning, match=r"1 of 2 jobs set their own views: --views"):
+        own, plain = load_manifest(manifest, {"views": {"plan": "sphere", "count": 5}})
+    assert own.views.count == 2 and plain.views.count == 5
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_manifest(manifest, {"size": [32, 32]})  # (no job sets its size: nothing said)

@@ -132,6 +132,7 @@ def load_manifest(source, defaults: dict | None = None, confine=None) -> list[Jo
     if not entries:
         raise InputError(f"{text}: the manifest lists no jobs")
     jobs = [_job(where, merge_raw(d, j), base, confine) for where, d, j in entries]
+    _say_what_jobs_keep(base_defaults, [j for _, _, j in entries])
     names: dict[str, str] = {}
     unique = []
     for (where, _, _), job in zip(entries, jobs, strict=True):
@@ -142,6 +143,23 @@ def load_manifest(source, defaults: dict | None = None, confine=None) -> list[Jo
         names[name] = where
         unique.append(job if name == job.name else dataclasses.replace(job, name=name))
     return unique
+
+
+def _say_what_jobs_keep(given: dict, jobs: list[dict]) -> None:
+    """One warning line for each command-line default (--views, --size ...) that some jobs
+    set for themselves: a job's own value wins (the documented precedence), so the flag
+    does not reach them, and that is said, not silent."""
+    import warnings
+
+    from ..errors import FacetWarning
+
+    for key in given:
+        own = sum(1 for j in jobs if key in j)
+        if own:
+            flag = "--" + key.replace("_", "-")
+            warnings.warn(f"{own} of {len(jobs)} jobs set their own {key}: {flag} is the "
+                          "default of the others only (a job's own values win)",
+                          FacetWarning, stacklevel=3)
 
 
 def _model_files(pattern: str) -> list[str]:
