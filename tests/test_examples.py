@@ -37,3 +37,21 @@ def test_a_blank_or_different_picture_is_caught(tmp_path):
     Image.fromarray(np.roll(np.asarray(Image.open(stored).convert("RGB")), 8, axis=1)).save(
         shifted)
     assert "of pixels differ" in gallery.problems(shifted, stored)
+
+
+def test_the_engines_example_without_the_denoiser_says_one_line(tmp_path):
+    """examples/engines.py (linked from the README's top table) without the denoise extra:
+    its picture with more samples and one line saying so (it ended in a traceback)."""
+    import subprocess
+
+    out = tmp_path / "engines.png"
+    code = ("import sys, runpy; sys.modules['pyoidn'] = None; "
+            f"sys.argv = ['engines.py', {str(out)!r}]; "
+            f"runpy.run_path({str(ROOT / 'examples' / 'engines.py')!r}, run_name='__main__')")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300, env={**__import__("os").environ,
+                                           "PYTHONPATH": str(ROOT / "app")})
+    assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr
+    lines = [line for line in run.stderr.splitlines() if "engines.py:" in line]
+    assert len(lines) == 1 and "denoise" in lines[0]
+    assert out.is_file()
