@@ -101,3 +101,16 @@ def test_mypy_is_clean_on_the_public_modules():
     run = subprocess.run([sys.executable, "-m", "mypy"], cwd=ROOT, capture_output=True,
                          text=True, timeout=600)
     assert run.returncode == 0, run.stdout[-3000:]
+
+
+def test_the_documented_msaa_counts_are_the_accepted_ones():
+    """The Renderer's msaa parameter lists what the options accept (it listed 16, which
+    they refuse)."""
+    import re
+
+    from facet.options.values import MSAA_CHOICES
+    from facet.render.renderer import Renderer
+
+    doc = Renderer.__doc__ or Renderer.__init__.__doc__
+    line = re.search(r"Multisample anti-aliasing samples \(([^:]*):", doc).group(1)
+    assert [int(n) for n in re.findall(r"\d+", line)] == list(MSAA_CHOICES)

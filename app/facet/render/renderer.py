@@ -71,7 +71,8 @@ class Renderer(PassSequence):
     width, height : int, optional
         The image size (both or neither: without, the scene's size, else 1280x720).
     msaa : int, optional
-        Multisample anti-aliasing samples (0, 2, 4, 8, 16).
+        Multisample anti-aliasing samples (0, 2, 4 or 8: MSAA_CHOICES; within what the GL
+        allows, said in one line where it allows fewer).
     context : moderngl.Context, optional
         A window's GL context (used, not owned); otherwise a headless one is made.
     device : int, optional
