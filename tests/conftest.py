@@ -20,13 +20,18 @@ def pytest_addoption(parser):
                      help="rewrite tests/golden/*.png from the current renderer (llvmpipe only)")
 
 
+# What ../shared is, for every skip that needs it.
+SHARED_NOTE = ("../shared, beside the repository, holds the real-world corpora the tests use "
+               "when present (meshes, Khronos glTF samples, Shadertoy shaders, each with its "
+               "licence); a plain clone has none, and these tests skip")
+
+
 def shared_model(name: str, folder: Path = SHARED_MODELS) -> Path:
     """A file of ../shared (models/, or gltf/ with ``folder=SHARED_GLTF``); the test skips
     with the reason when the folder is absent."""
     path = folder / name
     if not path.is_file():
-        pytest.skip(f"real-world file {name} not found in {folder} (the shared folder "
-                    "sits beside the repository)")
+        pytest.skip(f"real-world file {name} not found in {folder}: {SHARED_NOTE}")
     return path
 
 

@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, SHARED_NOTE
 
 CORPUS = ROOT.parent / "shared" / "shadertoy"
 
@@ -16,8 +16,7 @@ CORPUS = ROOT.parent / "shared" / "shadertoy"
 @pytest.mark.slow
 def test_every_baseline_shader_still_runs(tmp_path):
     if not (CORPUS / "run.py").is_file():
-        pytest.skip(f"the Shadertoy corpus is not at {CORPUS} (the shared folder sits beside "
-                    "the repository)")
+        pytest.skip(f"the Shadertoy corpus is not at {CORPUS}: {SHARED_NOTE}")
     facet = tmp_path / "facet"
     facet.write_text(f"#!{sys.executable}\nimport sys\nsys.path.insert(0, {str(ROOT / 'app')!r})"
                      "\nfrom facet.cli import main\nsys.exit(main())\n")
