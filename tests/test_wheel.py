@@ -22,7 +22,7 @@ def test_wheel_installs_and_renders(tmp_path):
     dist = tmp_path / "dist"
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
                     "-q", "-w", str(dist), str(ROOT)], check=True, capture_output=True)
-    wheel = next(dist.glob("facet-*.whl"))
+    wheel = next(dist.glob("facet_render-*.whl"))  # (the distribution: facet-render)
     names = set(zipfile.ZipFile(wheel).namelist())
     for needed in ("facet/glsl/lib/lighting.glsl", "facet/glsl/mesh/phong.frag",
                    "facet/models/default.obj", "facet/cli/__init__.py"):

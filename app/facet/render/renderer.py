@@ -404,8 +404,10 @@ def _say_if_nothing_in_view(scene, camera, opts) -> None:
     from ..geometry.framing import boxes_in_view
 
     finite = [o for o in scene.objects if not o.infinite]
-    if not finite or len(finite) < len(scene.objects):
-        return  # (nothing to see, or an infinite plane, which nearly any view meets)
+    if not finite or len(finite) < len(scene.objects) or \
+            any(getattr(o.mesh, "rest", None) is not None for o in finite):
+        return  # (nothing to see, an infinite plane, which nearly any view meets, or a
+        #          skinned or morphed pose, whose box would cost posing it on the CPU)
     boxes = [o.shape.bounds if o.shape is not None else o.mesh.bounds for o in finite]
     w, h = opts.size
     view_projection = camera.projection(w, h) @ camera.view
