@@ -117,14 +117,20 @@ def _textured(tmp_path, extension: str, fallback: bool, required: bool, webp: bo
     return b.write_gltf(tmp_path / "t.gltf")
 
 
-def test_ktx2_textures_are_refused_by_name_or_their_fallbacks_drawn(tmp_path, capsys, renderer):
-    """No maintained KTX2 / Basis Universal decoder installs with pip: a file that requires
-    KHR_texture_basisu is one refusal line naming it; one that offers PNG fallbacks draws
-    them (one warning line); a texture with no fallback is drawn without, and said so."""
+def test_ktx2_textures_are_refused_by_name_or_their_fallbacks_drawn(tmp_path, capsys, renderer,
+                                                                  monkeypatch):
+    """Without the ktx2 extra (no KTX2 / Basis Universal transcoder): a file that requires
+    KHR_texture_basisu is one refusal line naming it and the extra; one that offers PNG
+    fallbacks draws them (one warning line); a texture with no fallback is drawn without,
+    and said so (tests/test_ktx2.py: with the extra, the KTX2 images themselves)."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, "opengl_basisu", None)  # as if not installed
     path = _textured(tmp_path, "KHR_texture_basisu", fallback=False, required=True)
     assert main(["render", str(path), "-o", str(tmp_path / "o.png")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "KHR_texture_basisu" in err[0] and "PNG or JPEG" in err[0]
+    assert "facet-render[ktx2]" in err[0]
     path = _textured(tmp_path, "KHR_texture_basisu", fallback=True, required=False)
     with pytest.warns(facet.FacetWarning) as said:
         scene = facet.load(path)

@@ -30,7 +30,7 @@ from ..scene.pbr import PbrMaterial
 from ..srgb import linear_to_srgb
 from .gltf_cameras import gltf_camera
 from .gltf_check import check_gltf
-from .gltf_data import GltfData
+from .gltf_data import KTX2_EXTRA, GltfData, ktx2_available
 from .gltf_lights import document_lights, facet_light, node_light
 from .gltf_rig import read_rig, vertex_deformation
 from .gltf_textures import MaterialReading, _flip_v, _texture_name
@@ -128,22 +128,26 @@ class _Reader(MaterialReading, VariantReading):
         self.textures: dict[int, object] = {}
         self.primitives: dict[tuple[int, int], dict | None] = {}
         self.skipped: set[str] = set()
+        self.ktx2 = False  # (read: whether KTX2 textures are decoded here)
 
     def read(self) -> tuple[list, dict, list, object]:
         g = self.gltf
         required = set(g.extensionsRequired or ()) - SUPPORTED
+        self.ktx2 = ktx2_available()  # KTX2 textures decoded (the ktx2 extra), else fallbacks
+        if self.ktx2:
+            required.discard("KHR_texture_basisu")
         if "KHR_texture_basisu" in required:
             self.data.fail("requires KHR_texture_basisu (KTX2 / Basis Universal textures), "
-                           "which facet cannot decode: no maintained decoder installs with "
-                           "pip (pyktx needs the native libktx); re-export its textures as "
-                           "PNG or JPEG (gltf-transform png FILE OUT)")
+                           f"which needs the ktx2 extra: {KTX2_EXTRA}; or re-export its "
+                           "textures as PNG or JPEG (gltf-transform png FILE OUT)")
         if required:
             self.data.fail(f"requires the glTF extension(s) {', '.join(sorted(required))}, "
                            "which facet does not support")
         ignored = set(g.extensionsUsed or ()) - SUPPORTED
         if "KHR_texture_basisu" in ignored:
             ignored.discard("KHR_texture_basisu")
-            self._ktx2_fallbacks()
+            if not self.ktx2:
+                self._ktx2_fallbacks()
         if ignored:
             self.warn(f"ignores the glTF extension(s) {', '.join(sorted(ignored))}")
         if not g.scenes and not g.nodes:
@@ -249,7 +253,7 @@ class _Reader(MaterialReading, VariantReading):
                 kept.append(_texture_name(t, ext, images, i))
         if kept:
             self.warn(f"draws the PNG / JPEG fallbacks of its KTX2 textures {', '.join(kept)} "
-                      "(KHR_texture_basisu: no pip-installable decoder)")
+                      f"(KHR_texture_basisu: {KTX2_EXTRA} decodes them)")
 
     def warn(self, message: str) -> None:
         warnings.warn(f"{self.path.name}: {message}", FacetWarning, stacklevel=4)

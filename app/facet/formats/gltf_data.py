@@ -37,6 +37,41 @@ def _data_uri(uri: str, what: str = "data") -> bytes | None:
         raise ValueError(f"{what}: its data: URI is not valid base64 ({exc})") from None
 
 
+KTX2_MAGIC = b"\xabKTX 20\xbb\r\n\x1a\n"
+KTX2_EXTRA = "pip install 'facet-render[ktx2]' (opengl_basisu, a Basis Universal transcoder)"
+
+
+def ktx2_available() -> bool:
+    """Whether KTX2 / Basis Universal textures can be decoded here (the ktx2 extra)."""
+    try:
+        import opengl_basisu  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def ktx2_pixels(raw: bytes, name: str) -> np.ndarray:
+    """(H, W, 4) uint8 of a KTX2 file's first image (its top mip level), transcoded from
+    Basis Universal (ETC1S or UASTC, KHR_texture_basisu) by opengl_basisu; rows from the
+    top, as a PNG's (glTF's orientation for KTX2). ValueError naming the file when it
+    cannot be read, the extra when the transcoder is missing."""
+    from ..budgets import check_pixels
+
+    try:
+        import opengl_basisu
+    except ImportError:
+        raise ValueError(f"{name}: KTX2 / Basis Universal needs {KTX2_EXTRA}") from None
+    try:
+        texture = opengl_basisu.open(raw)
+        image = texture.transcode(opengl_basisu.Target.RGBA8)
+    except opengl_basisu.BasisuError as exc:
+        raise ValueError(f"{name}: not a KTX2 file opengl_basisu can transcode ({exc})") \
+            from None
+    check_pixels(image.width, image.height, name)
+    pixels = np.frombuffer(memoryview(image.data).cast("B"), np.uint8)
+    return pixels[:image.height * image.width * 4].reshape(image.height, image.width, 4).copy()
+
+
 class GltfData:
     """Decodes the accessors, images and Draco primitives of one parsed glTF document
     (``gltf``: a pygltflib.GLTF2 read from ``path``)."""
@@ -232,6 +267,8 @@ class GltfData:
                     return None, (f"{self.path.name}: texture file '{uri}' not found in "
                                   f"{p.parent}; drawn without it")
                 raw = read_bytes(p, f"texture {name}", MeshError)
+            if raw[:12] == KTX2_MAGIC:
+                return Texture(ktx2_pixels(raw, f"texture {name}"), str(name)), None
             with open_image(io.BytesIO(raw), f"texture {name}") as pil:
                 return Texture.from_pil(pil, str(name)), None
         except (UnidentifiedImageError, OSError, ValueError, MeshError) as exc:

@@ -12,6 +12,7 @@ import numpy as np
 from ..errors import FacetWarning
 from ..guard import carried
 from ..scene.pbr import PbrMaterial, TextureSlot, texture_transform
+from .gltf_data import KTX2_EXTRA
 from .gltf_materials import extension_fields
 
 WRAP = {33071: "clamp", 33648: "mirror", 10497: "repeat"}
@@ -41,8 +42,7 @@ class MaterialReading:
 
         sources = []
         for t in self.document.get("textures") or []:
-            ext = (t.get("extensions") or {}).get("EXT_texture_webp") or {}
-            source = ext.get("source", t.get("source"))
+            source = self._source(t.get("extensions") or {}, t.get("source"))
             if isinstance(source, int) and source not in sources:
                 sources.append(source)
         if len(sources) < 2:
@@ -57,6 +57,14 @@ class MaterialReading:
                 self.textures[index] = image
                 if why is not None:
                     w.warn(why, FacetWarning, stacklevel=4)
+
+    def _source(self, ext: dict, source):
+        """The image a texture reads: EXT_texture_webp's (Pillow decodes WebP), or
+        KHR_texture_basisu's KTX2 where the ktx2 extra decodes it, else its own."""
+        for name in ("EXT_texture_webp",) + (("KHR_texture_basisu",) if self.ktx2 else ()):
+            if isinstance((ext.get(name) or {}).get("source"), int):
+                return ext[name]["source"]
+        return source
 
     def _material(self, index: int | None) -> PbrMaterial:
         if index is None:  # glTF's default material: white, metallic 1, roughness 1
@@ -104,15 +112,14 @@ class MaterialReading:
         tex = self.gltf.textures[info.index]
         source = tex.source
         ext = self.document["textures"][info.index].get("extensions") or {}
-        if isinstance((ext.get("EXT_texture_webp") or {}).get("source"), int):
-            source = ext["EXT_texture_webp"]["source"]  # Pillow decodes WebP
+        source = self._source(ext, source)
         if source is None:
             if isinstance(ext.get("KHR_texture_basisu"), dict):
                 name = _texture_name(self.document["textures"][info.index],
                                      ext["KHR_texture_basisu"],
                                      self.document.get("images") or [], info.index)
                 self.skipped.add(f"the KTX2 texture {name}, which has no PNG or JPEG "
-                                 "fallback (KHR_texture_basisu: no pip-installable decoder; "
+                                 f"fallback (KHR_texture_basisu: {KTX2_EXTRA} decodes it; "
                                  "drawn without it)")
             return None
         if source not in self.textures:
