@@ -296,3 +296,22 @@ def test_a_slow_decode_never_puts_an_older_picture_over_a_newer_one(browser):
         _shows(browser, canvas, lambda _, pixels: pixels[0, 0].any(), "the new background")
         indices = browser.execute_script("return window.__shown")
     assert indices == sorted(indices), indices
+
+
+def test_the_page_is_told_what_keys_say_and_what_engines_warn(tmp_path):
+    """Messages reach the page, not only the server's terminal: h's key map (the page's: no
+    "q quit", no files dropped onto a window), a key's result (the engine now drawing) and
+    a warning of the render (the ray tracer draws no wireframe) travel as notices with the
+    pictures."""
+    with Served() as s:
+        keys = [{"type": "resize", "width": 48, "height": 32},
+                {"type": "key_down", "key": "h"}, {"type": "key_down", "key": "w"},
+                {"type": "key_down", "key": "e"}]
+        got = asyncio.run(_pictures(s.ws, keys, 2, until_lossless=True))
+        s.stop()
+        out = s.proc.stdout.read()
+    notices = "\n".join(n for meta, _ in got for n in meta.get("notices", []))
+    assert "facet view keys:" in notices and "quit" not in notices and "drop" not in notices
+    assert "engine: trace" in notices
+    assert "warning:" in notices and "wireframe" in notices
+    assert "facet view keys" not in out  # (not printed on the server's terminal)

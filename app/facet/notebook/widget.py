@@ -99,6 +99,8 @@ class _WidgetMixin:
         if self.session.closed:
             return None
         picture = self.session.frame()
+        for text in self.session.take_notices():  # (a key's result, the key map: the cell's)
+            print(text)
         if self.session.animated or self.session.refining:
             self.request_draw()
         return picture

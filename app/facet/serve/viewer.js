@@ -7,6 +7,8 @@
   'use strict'
   const canvas = document.getElementById('canvas')
   const status = document.getElementById('status')
+  const notice = document.getElementById('notice')
+  let noticeTimer = null
   const view = document.getElementById('view')
   const token = new URLSearchParams(location.search).get('token') || ''
   const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:'
@@ -54,6 +56,11 @@
     canvas.dataset.camera = JSON.stringify(m.camera)
     status.className = m.status.includes(' - error: ') ? 'error' : ''
     status.textContent = m.status
+    if (m.notices && m.notices.length) { // a key's result, the key map, a warning: shown a while
+      notice.textContent = m.notices.join('\n')
+      clearTimeout(noticeTimer)
+      noticeTimer = setTimeout(() => { notice.textContent = '' }, 6000 + 300 * m.notices.join('\n').split('\n').length)
+    }
     send({ type: 'frame_feedback', index: m.index })
   }
 

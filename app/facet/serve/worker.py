@@ -10,7 +10,9 @@ import queue
 import sys
 import threading
 import time
+import warnings
 
+from ..errors import FacetWarning
 from ..guard import carried
 from ..viewing.debounce import POLL
 from .encode import jpeg, png
@@ -81,7 +83,14 @@ class Worker(threading.Thread):
                 lossless_due = None if self.pages == 0 else lossless_due
                 continue
             try:
-                picture = session.frame()
+                with warnings.catch_warnings(record=True) as said:
+                    warnings.simplefilter("always", FacetWarning)
+                    picture = session.frame()
+                for w in said:  # (a warning reaches the page, not only this terminal)
+                    if issubclass(w.category, FacetWarning):
+                        session.say(f"warning: {w.message}")
+                    else:
+                        warnings.showwarning(w.message, w.category, w.filename, w.lineno)
             except Exception as exc:  # a shader or file that fails: shown, never fatal
                 picture = self._failed(session, exc)
             if picture is not None:
@@ -151,6 +160,7 @@ class Worker(threading.Thread):
         meta = {"type": "frame", "index": self.index, "lossless": lossless,
                 "mime": "image/png" if lossless else "image/jpeg",
                 "width": int(picture.shape[1]), "height": int(picture.shape[0]),
-                "status": session.status(), "camera": camera.describe(
+                "status": session.status(), "notices": session.take_notices(),
+                "camera": camera.describe(
                     int(picture.shape[1]), int(picture.shape[0]))}
         self.send(meta, png(picture) if lossless else jpeg(picture, self.quality))

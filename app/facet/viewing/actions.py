@@ -66,7 +66,7 @@ class ViewerActions:
         from ..options.render import SHADING
 
         self.keys["shading"] = _next(SHADING, self.options().shading)
-        print(f"shading: {self.keys['shading']}")
+        self.say(f"shading: {self.keys['shading']}")
 
     def toggle_wireframe(self):
         self.keys["wireframe"] = not self.options().wireframe
@@ -75,7 +75,7 @@ class ViewerActions:
         """Next anti-aliasing mode: MSAA, none, or progressive supersampling."""
         self.keys["aa"] = _next(AA_CYCLE, str(self.options().aa))
         self._samples = 0
-        print(f"aa: {self.keys['aa']}")
+        self.say(f"aa: {self.keys['aa']}")
 
     def toggle_shadows(self):
         self.keys["shadows"] = not decided(self.options()).shadows
@@ -85,7 +85,7 @@ class ViewerActions:
 
         self.keys["engine"] = _next(ENGINES, self.options().engine)
         self._samples = 0
-        print(f"engine: {self.keys['engine']}")
+        self.say(f"engine: {self.keys['engine']}")
 
     def toggle_headlight(self):
         """Lights follow the camera, or stay in the world: a scene with its own lights
@@ -96,13 +96,13 @@ class ViewerActions:
         if self.scene.lights:
             following = self.options().lights == "camera"
             self.keys["lights"] = "auto" if following else "camera"
-            print(f"lights: {'the scene' if following else 'follow the camera'}")
+            self.say(f"lights: {'the scene' if following else 'follow the camera'}")
         elif self.fixed_rig is None:
             self.fixed_rig = camera_rig(self.camera().view)
-            print("lights: fixed in the scene")
+            self.say("lights: fixed in the scene")
         else:
             self.fixed_rig = None
-            print("lights: follow the camera")
+            self.say("lights: follow the camera")
 
     def cycle_background(self):
         current = self.keys.get("background")
@@ -111,10 +111,10 @@ class ViewerActions:
             if current in options else None
 
     def screenshot(self):
-        print(self.save())
+        self.say(str(self.save()))
 
     def screenshot_2x(self):
-        print(self.save(scale=2))
+        self.say(str(self.save(scale=2)))
 
     def record_turntable(self):
         from ..image.sequence import BackgroundWriter, SequenceSink
@@ -135,11 +135,11 @@ class ViewerActions:
             sink.abort()
             raise
         self.request_frame()
-        print(path)
+        self.say(str(path))
 
     def toggle_playing(self):
-        print("playing" if self.playback.toggle() else
-              f"paused at {self.playback.time():.3f} s")
+        self.say("playing" if self.playback.toggle() else
+                 f"paused at {self.playback.time():.3f} s")
 
     def step_back(self):
         self._step(-FRAME_STEP)
@@ -154,10 +154,10 @@ class ViewerActions:
         self._step(SECOND_STEP)
 
     def _step(self, seconds: float):
-        print(f"paused at {self.playback.step(seconds):.3f} s")
+        self.say(f"paused at {self.playback.step(seconds):.3f} s")
 
     def print_help(self):
-        print(help_text())
+        self.say(help_text(self.front))
 
     def use_camera(self, index: int):
         cameras = list(self.scene.cameras.values())

@@ -95,6 +95,13 @@ class ViewerCore(ViewerActions):
     def show_status(self, text: str) -> None:
         """Show a one-line status (a window's title)."""
 
+    front = "window"  # what keys.help_text describes: "window", or "page" (served, notebook)
+
+    def say(self, text: str) -> None:
+        """A notice for the person at this viewer (a key's result, the key map, a warning):
+        a window's terminal here; a page's overlay in facet.viewing.session."""
+        print(text)
+
     # -- scene, options and camera ---------------------------------------------------------
     def _load(self, path):
         from ..formats.source import open_scene

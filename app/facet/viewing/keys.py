@@ -49,10 +49,15 @@ KEYMAP: dict[str, Action] = {
 }
 
 
-def help_text() -> str:
-    rows = [f"  {key:5} {action.description}" for key, action in KEYMAP.items()]
-    mouse = ["  drag  orbit (left), pan (right / middle / shift+left)", "  wheel zoom to cursor",
-             "  drop  a mesh or scene file onto the window to open it"]
+def help_text(front: str = "window") -> str:
+    """The key map for a ``front``: "window" (glfw), or "page" (a served page, a notebook
+    widget: no quitting from it, no files dropped onto it)."""
+    page = front == "page"
+    rows = [f"  {key:5} {action.description}" for key, action in KEYMAP.items()
+            if not (page and action.method == "quit")]
+    mouse = ["  drag  orbit (left), pan (right / middle / shift+left)", "  wheel zoom to cursor"]
+    if not page:
+        mouse.append("  drop  a mesh or scene file onto the window to open it")
     return "facet view keys:\n" + "\n".join(rows + mouse)
 
 

@@ -90,6 +90,19 @@ class Session(ViewerCore):
         (a reload that failed, say) is drawn with the next picture, so one is asked for."""
         self.request_frame()
 
+    front = "page"
+
+    def say(self, text: str) -> None:
+        """A notice travels with the next picture (facet.serve.worker: the page shows it
+        over the picture), not to the server's terminal, where no one looks."""
+        self.notices = [*getattr(self, "notices", []), text][-8:]
+        self.request_frame()
+
+    def take_notices(self) -> list[str]:
+        """The notices said since the last picture (and forgets them)."""
+        out, self.notices = list(getattr(self, "notices", [])), []
+        return out
+
     def handle(self, event: dict) -> None:
         """Apply one event (the module docstring's vocabulary); unknown kinds are ignored
         (a page may send more than the viewer uses). InputError naming the field when the
