@@ -120,3 +120,23 @@ material = "m"
     assert (m.anisotropy, m.anisotropy_rotation) == (0.6, 0.5)
     assert m.diffuse_transmission == 0.3
     np.testing.assert_allclose(m.diffuse_transmission_color, (0.9, 0.6, 0.4))
+
+
+@pytest.mark.parametrize("engine", ["raster", "trace", "path"])
+def test_anisotropy_without_a_tangent_frame_is_said(engine):
+    """A mesh with no uvs and no tangents gives the lobe no direction: drawn isotropic,
+    and one line says so (it was silent)."""
+    import trimesh
+
+    ico = trimesh.creation.icosphere(subdivisions=2)
+    scene = facet.Scene(ambient=0.3)
+    scene.add(facet.Mesh(np.asarray(ico.vertices), np.asarray(ico.faces)),
+              PbrMaterial(metallic=1.0, roughness=0.3, anisotropy=0.8))
+    with facet.Renderer(16, 16) as r, pytest.warns(facet.FacetWarning,
+                                                   match="without uvs or tangents"):
+        r.render(scene, CAM, engine=engine, spp=1)
+    with warnings.catch_warnings():  # (a sphere shape has its frame: nothing said)
+        warnings.simplefilter("error")
+        with facet.Renderer(16, 16) as r:
+            r.render(_sphere_scene(PbrMaterial(metallic=1.0, roughness=0.3, anisotropy=0.8)),
+                     CAM, engine=engine, spp=1, lights="scene")

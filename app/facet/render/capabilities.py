@@ -57,7 +57,7 @@ class Capabilities:
         many objects use it."""
         counts: dict[str, int] = {}
         for obj in scene.objects:
-            for feature in material_features(obj.material):
+            for feature in material_features(obj.material) + _object_features(obj):
                 if feature in self.leaves_out:
                     counts[feature] = counts.get(feature, 0) + 1
         total = len(scene.objects)
@@ -100,6 +100,21 @@ def material_features(m) -> list[str]:
         ("KHR_materials_emissive_strength", m.emissive_strength != 1.0)) if used]
 
 
+NO_FRAME = "KHR_materials_anisotropy on a mesh without uvs or tangents"
+# (every engine: the lobe is stretched along the tangent frame the uvs or tangents give)
+_NO_FRAME_LINE = "no tangent frame to stretch the lobe along: drawn isotropic"
+
+
+def _object_features(obj) -> list[str]:
+    """Features an object's material asks of its geometry that the geometry lacks."""
+    mesh, m = obj.mesh, obj.material
+    if getattr(m, "anisotropy", 0.0) > 0 and obj.shape is None and \
+            getattr(mesh, "kind", "mesh") == "mesh" and mesh.uvs is None and \
+            getattr(mesh, "_tangents", None) is None:
+        return [NO_FRAME]
+    return []
+
+
 def _given(key: str):
     return lambda opts: getattr(opts, key) is not None
 
@@ -117,7 +132,7 @@ def _row(noun: str, shadows: bool, max_depth, options=(), leaves_out=None,
          implied_ambient: bool = True) -> Capabilities:
     limits = tuple(OptionLimit(o.given, o.line.format(noun=noun)) for o in options)
     return Capabilities(noun, shadows, max_depth, implied_ambient, limits,
-                        dict(leaves_out or {}))
+                        {NO_FRAME: _NO_FRAME_LINE, **(leaves_out or {})})
 
 
 CAPABILITIES: dict[str, Capabilities] = {
