@@ -149,6 +149,9 @@ CAPABILITIES: dict[str, Capabilities] = {
         "KHR_materials_dispersion": "each refraction ray bends at the material's ior (the "
                                     "path tracer and the rasterizer spread it over the "
                                     "colours)"}),
+    # (occlusionTexture is not left out by the path tracer: the texture stands for the
+    # occlusion of indirect light, which its bounces find exactly; as Mitsuba and Cycles, it
+    # draws no baked occlusion over that)
     "path": _row("the path tracer", True, 8, (
         _NO_WIREFRAME, _NO_CULL, _EXACT_SHADOWS,
         OptionLimit(lambda o: o.shadows is False,
@@ -157,7 +160,6 @@ CAPABILITIES: dict[str, Capabilities] = {
                     "the path tracer shades by the metallic-roughness model, not the "
                     "shading option's model")), {
         "users' mesh shaders": "traced by the material's metallic-roughness mapping",
-        "occlusionTexture": "it traces occlusion itself",
         "Phong reflectivity": "mirrors are traced as the metallic-roughness mapping of the "
                               "Phong terms",
         "Phong ior": "refraction is traced as a transparent surface that does not bend "
