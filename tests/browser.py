@@ -73,8 +73,13 @@ def canvas_pixels(driver, element) -> np.ndarray:
 
 
 def camera_from(description: dict):
-    """A facet.Camera from Camera.describe's data (perspective)."""
+    """A facet.Camera from Camera.describe's data (perspective or orthographic)."""
     from facet.geometry.camera import Camera
+
+    if description["model"] == "orthographic":
+        return Camera(description["world_to_camera_opengl"],
+                      ortho_height=description["ortho_height"], near=description["near"],
+                      far=description["far"])
 
     proj = np.array(description["projection_opengl"])
     fov_y = float(np.degrees(2 * np.arctan(1.0 / proj[1, 1])))

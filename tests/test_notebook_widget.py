@@ -105,6 +105,50 @@ def test_an_idle_widget_draws_nothing(widget):
     assert widget.get_frame() is None
 
 
+def test_a_view_shown_again_gets_the_picture(widget):
+    """A widget shown again (a reloaded page, ``w`` in a new cell) is a new view: its first
+    event is a resize to the same size, and it must get a picture (the old widget returned
+    None, nothing having changed, and the new view stayed grey: found by the browser soak,
+    tests/test_remote_soak.py)."""
+    first = widget.get_frame().copy()
+    assert widget.get_frame() is None  # idle
+    message(widget, type="resize", width=160, height=120, pixel_ratio=1.0)
+    again = widget.get_frame()
+    assert again is not None and np.array_equal(again, first)
+
+
+def test_the_title_bar_is_the_status_line_and_says_how_far_the_view_refined(widget):
+    """The page shows the status line (the served page's, under its picture) in the
+    widget's title bar: the engine, a refinement's progress (what a person and the browser
+    soak wait on)."""
+    widget.get_frame()
+    assert widget.has_titlebar and widget.title.startswith("facet - default")
+    message(widget, type="key_down", key="e")
+    widget.get_frame()
+    assert "engine trace" in widget.title and "/" in widget.title
+    while widget.get_frame() is not None:
+        pass
+    done = widget.title.rsplit(" - ", 1)[-1].split()[0]
+    assert done.split("/")[0] == done.split("/")[1], widget.title
+
+
+def test_a_reloaded_page_is_not_left_waiting_on_pictures_sent_to_the_old_one(widget):
+    """Pictures sent while a page reloads are never confirmed (the old page is gone); the
+    new page's view confirms only pictures it gets. jupyter_rfb sends nothing while two are
+    unconfirmed, so the reloaded widget stayed grey for good (found by the browser soak).
+    A view's resize (a new view's first event) forgets what is in flight."""
+    widget._has_visible_views = True
+    sent = []
+    for _ in range(3):  # (no page confirms them)
+        widget._rfb_maybe_draw()
+        sent.append(widget._rfb_frame_index)
+        message(widget, type="key_down", key="b")
+    assert sent == [1, 2, 2]  # the third waits on the first two
+    message(widget, type="resize", width=160, height=120, pixel_ratio=1.0)  # the new page
+    widget._rfb_maybe_draw()
+    assert widget._rfb_frame_index == 3
+
+
 def test_keys_switch_engine_and_a_still_view_refines_to_the_headless_picture(widget):
     widget.get_frame()
     message(widget, type="key_down", key="e")

@@ -32,9 +32,10 @@ MODEL = str(ROOT / "models" / "default.obj")
 class Served:
     """``facet view --serve 127.0.0.1:0`` in a subprocess, stopped on exit."""
 
-    def __init__(self, *args, model: str = MODEL):
+    def __init__(self, *args, model: str = MODEL, cwd=None):
         self.proc = subprocess.Popen([*FACET, "view", model, "--serve", "127.0.0.1:0", *args],
-                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                     cwd=cwd)
         line = self.proc.stdout.readline()
         found = re.search(r"http://\S+", line)
         if not found:

@@ -6,7 +6,8 @@ window's controls and keys (drag orbits, right / shift drag pans, the wheel zoom
 engine, ``m`` shading, ``s`` screenshot, ... ``h`` lists them) and draws the next picture.
 jupyter_rfb sends it as JPEG while the view changes and as a lossless PNG once it has been
 still for a moment; a still view refines (supersampling, the tracers) frame by frame as in
-the window, and an idle widget draws nothing. The open file is looked at every
+the window, and an idle widget draws nothing. The status line (the file, the engine, how far
+a still view has refined, an error) is the widget's title bar. The open file is looked at every
 ``WATCH_EVERY`` seconds on the kernel's event loop and reloaded when it changed, as the
 window reloads it.
 """
@@ -68,6 +69,8 @@ class _WidgetMixin:
         css_width: str
         css_height: str
 
+    _resend = False  # a view came (a resize): send the picture even if it is unchanged
+
     def __init__(self, source, size=None, quality: int = QUALITY, **options):
         session = Session(source, size=size, options=options)
         if size is None and session.scene.options.get("size") is None:
@@ -77,6 +80,10 @@ class _WidgetMixin:
         w, h = session.surface_size
         self.css_width, self.css_height = f"{w}px", f"{h}px"
         self.quality = int(quality)
+        # The status line (file, engine, refinement, an error) in the widget's title bar, as
+        # the served page shows it under its picture.
+        self.has_titlebar = True
+        self.title = session.status()
         self._watching = self._schedule_watch()
 
     # -- jupyter_rfb's two methods ---------------------------------------------------------
@@ -88,6 +95,18 @@ class _WidgetMixin:
             self.session.close()
             return
         self.session.handle(event)
+        if kind == "resize":  # (also a view shown again, which has no picture yet)
+            self._resend = True
+            # A reloaded page never confirms the pictures sent to the page it replaced, and
+            # jupyter_rfb sends nothing while max_buffered_frames are unconfirmed: forget them
+            # (else the new view stays blank for good).
+            # (confirmed in jupyter_rfb's statistics too: they were never seen)
+            import time
+
+            sent, now = self._rfb_frame_index, time.time()
+            self._rfb_last_confirmed_index = max(self._rfb_last_confirmed_index, sent)
+            self._frame_feedback = {"index": sent, "timestamp": now, "localtime": now}
+            self.request_draw()
         if self.session.quitting:
             self.close()
         elif self.session.wants_frame:
@@ -99,6 +118,12 @@ class _WidgetMixin:
         if self.session.closed:
             return None
         picture = self.session.frame()
+        if picture is None and self._resend:  # a new view: the last picture, not redrawn
+            picture = self.session.last
+        self._resend = False
+        status = self.session.status()
+        if status != self.title:
+            self.title = status
         for text in self.session.take_notices():  # (a key's result, the key map: the cell's)
             print(text)
         if self.session.animated or self.session.refining:

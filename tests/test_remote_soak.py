@@ -1,0 +1,331 @@
+"""A soak of both remote fronts in headless Chromium: ``facet view --serve`` and the notebook
+widget in JupyterLab, each driven for SOAK_SECONDS by a seeded random sequence of what a
+person does to them: drags (orbit, shift-drag pan), the wheel, every key the page's key map
+documents, resizes (the window; the widget's own resize handle), engine switches and page
+reloads. Then, once the picture is still, it must be the headless render of the front's
+state: the served viewer's against a fresh session that replays the keys sent and takes the
+page's camera; the widget's against a render of the kernel's session state through a
+renderer of its own (another GL context in the kernel). No exception may reach the server's
+or the kernel's log, nor the notebook's output, nor a dropped-event line.
+
+FACET_SOAK_SECONDS sets the length (a longer soak by hand: FACET_SOAK_SECONDS=300) and
+FACET_SOAK_SEED another sequence."""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+import re
+import time
+
+import numpy as np
+import pytest
+
+from browser import camera_from, canvas_pixels, chromium, quit_chromium, wait_for
+from conftest import ROOT
+from test_golden import MAX_DIFFERING
+from test_notebook_widget import same_picture
+
+pytest.importorskip("websockets", reason="the serve extra (websockets) is not installed")
+
+SOAK_SECONDS = float(os.environ.get("FACET_SOAK_SECONDS", "20"))
+SEED = int(os.environ.get("FACET_SOAK_SEED", "0"))
+MODEL = str(ROOT / "models" / "default.obj")
+# Every key of the page's key map (facet.viewing.keys.help_text("page")) but t, S, l and
+# 1-9: those are pressed once each, at a known moment (a turntable or a 2x screenshot takes
+# a minute with the path tracer; l freezes the lights where the camera is, which the replay
+# must know).
+RANDOM_KEYS = list("fromwaxebp,.[]h?s") + ["e", "e", "m", "a"]
+ONCE_KEYS = ("t", "S", "1")
+# Keys that change nothing drawn (files written, help shown): left out of the replay.
+NOT_REPLAYED = set("sSth?")
+BAD_LINES = ("Traceback", "internal error", "dropped a", "Exception in", "Error:")
+# The kernel's errors in JupyterLab's log (its own, a websocket closed by a reload with a
+# traceback of tornado's, are not the widget's): a frame of facet's, moderngl's or
+# jupyter_rfb's, or ipykernel's line for a message handler that raised.
+KERNEL_LINES = ("/facet/", "moderngl", "jupyter_rfb", "Exception in comm", "Exception in "
+                "message handler", "FacetError", "InputError")
+
+
+def _keys_are_documented():
+    from facet.viewing.keys import help_text
+
+    shown = {line.split()[0] for line in help_text("page").splitlines()[1:]}
+    wanted = set(RANDOM_KEYS) | set(ONCE_KEYS) | {"l"}
+    return wanted, shown
+
+
+def test_the_soak_presses_every_key_the_page_documents():
+    wanted, shown = _keys_are_documented()
+    documented = {k for k in shown if len(k) == 1} | {"1"}  # ("1-9": the cameras)
+    assert documented <= wanted | {"drag", "wheel"}, documented - wanted
+
+
+def _drag(driver, element, rng: random.Random, size) -> None:
+    """A drag of a few moves that stays on the element (and in the window)."""
+    from selenium.webdriver import ActionChains
+    from selenium.webdriver.common.keys import Keys
+
+    view_w, view_h = driver.execute_script("return [window.innerWidth, window.innerHeight]")
+    half_w = max(min(size[0], view_w) / 2 - 6, 1)
+    half_h = max(min(size[1], view_h) / 2 - 6, 1)
+    x, y = rng.uniform(-half_w, half_w) * 0.6, rng.uniform(-half_h, half_h) * 0.6
+    pan = rng.random() < 0.3
+    chain = ActionChains(driver, duration=20)
+    if pan:
+        chain.key_down(Keys.SHIFT)
+    chain.move_to_element_with_offset(element, int(x), int(y)).click_and_hold()
+    for _ in range(rng.randint(1, 4)):
+        nx = min(max(x + rng.randint(-40, 40), -half_w), half_w)
+        ny = min(max(y + rng.randint(-30, 30), -half_h), half_h)
+        chain.move_by_offset(int(nx) - int(x), int(ny) - int(y))
+        x, y = int(nx), int(ny)
+    chain.release()
+    if pan:
+        chain.key_up(Keys.SHIFT)
+    chain.perform()
+
+
+def _wheel(driver, element, rng: random.Random) -> None:
+    from selenium.webdriver import ActionChains
+    from selenium.webdriver.common.actions.wheel_input import ScrollOrigin
+
+    origin = ScrollOrigin.from_element(element, rng.randint(-50, 50), rng.randint(-40, 40))
+    ActionChains(driver).scroll_from_origin(origin, 0, rng.choice((-240, -120, 120, 240))) \
+        .perform()
+
+
+def _press(driver, key: str) -> None:
+    from selenium.webdriver import ActionChains
+
+    ActionChains(driver).send_keys(key).perform()
+
+
+def _soak(driver, rng, element, focus, resize, reload, pressed: list[str]) -> dict:
+    """Random actions for SOAK_SECONDS; ``element()`` the picture's element now,
+    ``focus()`` gives the keys to it, ``resize(rng)`` and ``reload()`` do those; the keys
+    sent are appended to ``pressed``. Returns how many of each action ran."""
+    counts = {"drag": 0, "wheel": 0, "key": 0, "resize": 0, "reload": 0}
+    end = time.monotonic() + SOAK_SECONDS
+    while time.monotonic() < end:
+        what = rng.choices(list(counts), weights=(30, 20, 40, 6, 4))[0]
+        el = element()
+        size = (el.size["width"], el.size["height"])
+        if what == "drag":
+            _drag(driver, el, rng, size)
+        elif what == "wheel":
+            _wheel(driver, el, rng)
+        elif what == "key":
+            focus()
+            key = rng.choice(RANDOM_KEYS)
+            _press(driver, key)
+            pressed.append(key)
+        elif what == "resize":
+            resize(rng)
+        else:
+            reload()
+        counts[what] += 1
+    return counts
+
+
+# -- facet view --serve ----------------------------------------------------------------------
+def test_a_soak_of_the_served_viewer_ends_on_the_headless_picture(tmp_path):
+    from facet.viewing.session import Session
+    from test_serve import Served, _settled
+
+    rng = random.Random(7 + SEED)
+    driver = chromium()
+    driver.set_window_size(700, 560)
+    pressed: list[str] = []
+    served = Served(cwd=tmp_path)  # (screenshots and turntables are written there)
+    try:
+        driver.get(served.url)
+        canvas = lambda: driver.find_element("id", "canvas")  # noqa: E731 (new after reloads)
+        frame = _settled(driver, canvas(), 0)
+        start = json.loads(canvas().get_attribute("data-camera"))
+        canvas().click()
+        for key in ("l", *ONCE_KEYS):  # at a known camera, in the rasterizer
+            _press(driver, key)
+            frame = _settled(driver, canvas(), frame)
+
+        def reload():
+            driver.refresh()
+            wait_for(lambda: driver.find_elements("id", "canvas") and
+                     int(canvas().get_attribute("data-frame") or 0) > 0, "the reloaded page")
+
+        def resize(rng):
+            driver.set_window_size(rng.randint(420, 900), rng.randint(360, 700))
+
+        counts = _soak(driver, rng, canvas, lambda: canvas().click(), resize, reload, pressed)
+        print("served soak:", counts, "".join(pressed))
+        # Back to the rasterizer (its still picture is exact up to the golden tolerance).
+        for _ in range(-sum(k == "e" for k in pressed) % 3):  # (three engines, raster first)
+            canvas().click()
+            _press(driver, "e")
+            pressed.append("e")
+        shown, camera = wait_for(_quiet(driver, canvas), "the page's still picture")
+    finally:
+        quit_chromium(driver)
+        served.stop()
+    log = served.proc.stderr.read()
+    assert not [line for line in log.splitlines() if any(b in line for b in BAD_LINES)], log
+    assert counts["reload"] and counts["resize"] and counts["key"] >= 5, counts
+    with Session(MODEL) as s:
+        s.set_camera(camera_from(start))
+        s.char("l")
+        for key in pressed:
+            if key not in NOT_REPLAYED:
+                s.char(key)
+        s.resize(shown.shape[1], shown.shape[0])
+        ref = s.renderer.render(s.shown_scene(), camera_from(camera),
+                                s.options(outputs=("color",))).color
+    assert s.options().engine == "raster"
+    assert same_picture(shown, ref) <= MAX_DIFFERING, (counts, pressed)
+
+
+QUIET = 1.0  # seconds the page's lossless picture stays the last one: the server is done
+
+
+def _quiet(driver, canvas):
+    """A condition: (pixels, camera) of the canvas's lossless picture once no newer one came
+    for QUIET seconds (events still queued at the server would bring one)."""
+    state = {"frame": None, "since": 0.0}
+
+    def check():
+        c = canvas()
+        frame = c.get_attribute("data-frame")
+        if c.get_attribute("data-lossless") != "1" or frame != state["frame"]:
+            state["frame"], state["since"] = frame, time.monotonic()
+            return None
+        if time.monotonic() - state["since"] < QUIET:
+            return None
+        pixels = canvas_pixels(driver, c)
+        camera = json.loads(c.get_attribute("data-camera"))
+        return (pixels, camera) if c.get_attribute("data-frame") == frame else None
+    return check
+
+
+def _refined(title: str) -> bool:
+    """Whether a status line says the view has refined all its samples (or has none)."""
+    found = re.search(r" - (\d+)/(\d+) samples", title)
+    return found is None or found.group(1) == found.group(2)
+
+
+def _still_png(driver, view):
+    """A condition: the widget's picture once its title bar (the session's status line)
+    says it has refined all it will, and the picture is a PNG (jupyter_rfb's lossless one,
+    sent when the kernel has drawn the last) that stayed put for QUIET seconds."""
+    state = {"last": None, "since": 0.0}
+
+    def check():
+        img = view()
+        title = driver.execute_script(
+            "return arguments[0].closest('.renderview-wrapper')"
+            ".querySelector('.renderview-top span').innerText", img)
+        kind = driver.execute_async_script(
+            "const done = arguments[arguments.length - 1];"
+            "fetch(arguments[0].src).then((r) => r.blob()).then((b) => done(b.type))"
+            ".catch(() => done(''))", img)
+        now = canvas_pixels(driver, img)
+        if kind != "image/png" or not _refined(title) or state["last"] is None or \
+                now.shape != state["last"].shape or not np.array_equal(now, state["last"]):
+            state["last"], state["since"] = now, time.monotonic()
+            return None
+        return now if time.monotonic() - state["since"] >= QUIET else None
+    return check
+
+
+# -- the notebook widget ---------------------------------------------------------------------
+def test_a_soak_of_the_notebook_widget_ends_on_the_headless_picture(tmp_path):
+    pytest.importorskip("jupyter_rfb", reason="the notebook extra (jupyter_rfb) is not "
+                        "installed")
+    pytest.importorskip("jupyterlab", reason="JupyterLab is not installed (the dev extra has "
+                        "it)")
+    from selenium.webdriver import ActionChains
+
+    from test_notebook_browser import _run_cell, _settled
+
+    from jupyter_lab import JupyterLab, notebook
+
+    ref_file, camera_file = tmp_path / "ref.npy", tmp_path / "camera.json"
+    notebook(tmp_path / "soak.ipynb", [
+        # a renderer of the user's own alive beside the widget (another GL context)
+        f"import facet\nmine = facet.Renderer(64, 48)\nmine.render(facet.load({MODEL!r}))\n"
+        f"w = facet.show({MODEL!r}, size=(420, 320))\nw",
+        "w",
+        "import json\nimport numpy as np\ns = w.session\nwp, hp = s.surface_size\n"
+        "cam = w.camera()\nref = mine.render(s.shown_scene(), cam, "
+        "s.options(outputs=('color',))).color\n"
+        f"np.save({str(ref_file)!r}, ref)\n"
+
+        f"open({str(camera_file)!r}, 'w').write(json.dumps(cam.describe(wp, hp)))"])
+    rng = random.Random(11 + SEED)
+    lab = JupyterLab(tmp_path)
+    driver = chromium()
+    pressed: list[str] = []
+    try:
+        driver.get(lab.url("soak.ipynb"))
+        wait_for(lambda: "| Idle" in driver.find_element("css selector", "body").text,
+                 "the kernel to start")
+        wait_for(lambda: driver.find_elements("css selector", "[data-command="
+                                              "'notebook:run-cell-and-select-next']"),
+                 "the notebook")
+        _run_cell(driver, 0)
+
+        def view():
+            img = wait_for(lambda: driver.find_elements("css selector", "img.renderview-view"),
+                           "the widget")[-1]
+            driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", img)
+            return img
+
+        def focus():
+            ActionChains(driver).move_to_element(view()).click().perform()
+
+        _settled(driver, view())
+        focus()
+        for key in ONCE_KEYS:
+            _press(driver, key)
+            _settled(driver, view())
+
+        def resize(rng):
+            handle = driver.find_elements("css selector", ".renderview-resizer")
+            if handle:
+                ActionChains(driver, duration=20).move_to_element(handle[-1]).click_and_hold() \
+                    .move_by_offset(rng.randint(-80, 80), rng.randint(-60, 60)).release() \
+                    .perform()
+
+        def reload():
+            driver.refresh()
+            wait_for(lambda: "| Idle" in driver.find_element("css selector", "body").text,
+                     "the kernel after the reload")
+            wait_for(lambda: driver.find_elements("css selector", "[data-command="
+                                                  "'notebook:run-cell-and-select-next']"),
+                     "the notebook after the reload")
+            _run_cell(driver, 1)  # (the reloaded page shows the widget again)
+            view()
+
+        counts = _soak(driver, rng, view, focus, resize, reload, pressed)
+        print("notebook soak:", counts, "".join(pressed))
+        for _ in range(-sum(k == "e" for k in pressed) % 3):
+            focus()
+            _press(driver, "e")
+        # The kernel's state and its reference once every event before has been applied
+        # (a cell runs after them), then the page's picture once it is still.
+        _run_cell(driver, 2)
+        camera = json.loads(wait_for(lambda: camera_file.exists() and camera_file.read_text(),
+                                     "the kernel's camera"))
+        shown = wait_for(_still_png(driver, view), "the widget's still lossless picture")
+        outputs = "\n".join(e.text for e in driver.find_elements(
+            "css selector", ".jp-OutputArea-output"))
+    finally:
+        quit_chromium(driver)
+        lab.stop()
+    log = (tmp_path / "jupyter.log").read_text()
+    assert not [line for line in log.splitlines() if any(b in line for b in KERNEL_LINES)], log
+    assert not [line for line in outputs.splitlines() if any(b in line for b in BAD_LINES)], \
+        outputs
+    assert counts["reload"] and counts["resize"] and counts["key"] >= 5, counts
+    ref = np.load(ref_file)
+    assert (camera["width"], camera["height"]) == (shown.shape[1], shown.shape[0])
+    assert same_picture(shown, ref) <= MAX_DIFFERING, (counts, pressed)
