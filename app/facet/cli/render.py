@@ -286,7 +286,7 @@ def run(args) -> list[Path]:
         from ..image.sequence import prestart_writer  # while the scene loads
 
         prestart_writer()
-    from ..image.writers import FLOAT_FORMATS, check_image_path
+    from ..image.writers import FLOAT_FORMATS
 
     if args.colorbar and args.scalars is None:
         raise InputError("--colorbar shows the colormap of --scalars; give --scalars")
@@ -297,7 +297,35 @@ def run(args) -> list[Path]:
     # .exr / .hdr keep linear float colour: the render keeps it too.
     floats = Path(str(target).format(0) if "{" in str(target) else str(target)).suffix.lower() \
         in FLOAT_FORMATS and not args.out_dir
-    scene, opts, camera = resolve(args, color_options.needs_float or floats)
+    from .progress import ticker
+
+    line = ticker(args.quiet)
+    try:
+        with line.stage(_loading(args)):
+            scene, opts, camera = resolve(args, color_options.needs_float or floats)
+        return _render(args, scene, opts, camera, end, target, depth_path, ids_path,
+                       color_options, line)
+    finally:
+        line.close()
+
+
+def _loading(args) -> str:
+    """The progress line's words while the model loads."""
+    from ..paths import default_model
+
+    model = Path(args.model or default_model())
+    try:
+        size = f" ({model.stat().st_size / 1e6:.0f} MB)" if model.stat().st_size >= 1e6 else ""
+    except OSError:
+        size = ""
+    return f"loading {model.name}{size}"
+
+
+def _render(args, scene, opts, camera, end, target, depth_path, ids_path, color_options,
+            line) -> list[Path]:
+    from ..image.writers import check_image_path
+    from .progress import SampleProgress
+
     if not args.out_dir and end is None and not args.turntable:
         check_image_path(target, opts.size)  # a format too small for the size: said now
     span = None if end is None else (opts.time, end)
@@ -313,9 +341,9 @@ def run(args) -> list[Path]:
 
             return render_turntable(renderer, scene, camera, opts, args, target,
                                     color_options, span)
-        from .progress import SampleProgress
-
-        with SampleProgress(args.quiet, args.keep_partial, opts.time_limit) as watch:
+        triangles = sum(o.mesh.face_count for o in scene.objects)
+        with SampleProgress(args.quiet, args.keep_partial, opts.time_limit, line) as watch, \
+                line.stage(f"rendering {triangles:,} triangles ({opts.engine})"):
             renderer.progress = watch
             frame = renderer.render(scene, camera, opts)
             frame.settle()

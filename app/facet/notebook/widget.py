@@ -66,6 +66,11 @@ class _WidgetMixin:
         def request_draw(self) -> None: ...
         def close(self) -> None: ...
         quality: int
+        title: str
+        has_titlebar: bool
+        _frame_feedback: dict
+        _rfb_frame_index: int
+        _rfb_last_confirmed_index: int
         css_width: str
         css_height: str
 
