@@ -67,6 +67,54 @@ def test_webgl_zero_initialises_what_is_declared_without_a_value(tmp_path):
     assert np.allclose(img[H // 2, W // 2, :3], [0.8, 1.2, 0.6], atol=1e-5)
 
 
+GRADIENT = "O = vec4(u / iResolution.xy, .5, 1.);"
+
+
+@pytest.mark.parametrize("text", [
+    # KDE shader wallpaper: a mainImage() overload over the globals its header declares
+    "void mainImage(out vec4 O, in vec2 u) { " + GRADIENT + " }\n"
+    "void mainImage() {\n  vec4 color = vec4(0.0);\n  mainImage(color, fragCoord);\n"
+    "  fragColor = color;\n}\n",
+    # only the overload: facet fills fragCoord and takes fragColor
+    "void mainImage() { vec2 u = fragCoord; vec4 O; " + GRADIENT + " fragColor = O; }\n",
+    "void mainImage(void) { fragColor = vec4(fragCoord / iResolution.xy, .5, 1.); }\n",
+])
+def test_the_kde_wallpaper_dialect_runs(tmp_path, text):
+    """Shaders shared from KDE's shader wallpaper (Abstract_Liquid, Slug_Ring of the
+    corpus) define ``void mainImage()`` over global fragCoord / fragColor: they failed
+    to compile ("variable of type error")."""
+    img = _run(tmp_path, text)
+    x = (np.arange(W) + 0.5) / W
+    assert np.allclose(img[H // 2, :, 0], x, atol=1e-5) and np.allclose(img[..., 2], 0.5)
+
+
+def test_the_kde_wallpapers_desktop_inputs_are_an_empty_desktop(tmp_path):
+    """iWindowCount, iWindowRects, iVirtualDesktopCount, iMousePrev ... (plasma_windows of
+    the corpus failed: undeclared): declared when used, a desktop of no windows, one
+    virtual desktop, the cursor where iMouse is."""
+    path = tmp_path / "s.frag"
+    path.write_text("void mainImage(out vec4 O, in vec2 u) {\n  float lit = 0.0;\n"
+                    "  for (int i = 0; i < iWindowCount; i++) lit += iWindowRects[i].z;\n"
+                    "  O = vec4(lit + float(iScreenCount), float(iVirtualDesktopCount), "
+                    "iMousePrev.x / 10.0 + iVirtualDesktopAnim, 1.0);\n}\n")
+    with ShaderToy(path, size=(W, H)) as st:
+        img = st.render(1.0, mouse=(5.0, 3.0, 0.0, 0.0))
+    assert np.allclose(img[0, 0], [0.0, 1.0, 0.5, 1.0], atol=1e-6)
+
+
+def test_a_desktop_input_the_shader_or_its_common_file_declares_is_not_declared_again(
+        tmp_path):
+    own = "uniform int iWindowCount;\nvoid mainImage(out vec4 O, in vec2 u) { " \
+          "O = vec4(float(iWindowCount + iVirtualDesktop), 0.25, 0.0, 1.0); }\n"
+    assert np.allclose(_run(tmp_path, own)[0, 0], [0.0, 0.25, 0.0, 1.0])
+    (tmp_path / "common.glsl").write_text("uniform int iWindowCount;\n"
+                                          "float windows() { return float(iWindowCount); }\n")
+    img = _run(tmp_path, "void mainImage(out vec4 O, in vec2 u) { "
+                         "O = vec4(windows() + float(iWindowCount), 0.5, 0.0, 1.0); }\n",
+               common=tmp_path / "common.glsl")
+    assert np.allclose(img[0, 0], [0.0, 0.5, 0.0, 1.0])
+
+
 def _export(tmp_path, names, media_file="noise.png"):
     """A Shadertoy export: Buffer A (named names[0]) keeps adding 1/255, Image shows it
     and a texture."""

@@ -23,6 +23,47 @@ uniform FACET_CHANNEL3 iChannel3;
 #ifdef FACET_CUBE_PASS
 uniform int facet_face;
 #endif
+// KDE shader wallpaper's desktop inputs, declared where a shader uses one it does not
+// declare (facet.lab.dialect DESKTOP_INPUTS): a desktop of no windows, one screen and one
+// virtual desktop.
+#ifdef FACET_DECLARE_iMousePrev
+uniform vec2 iMousePrev;            // the cursor a frame ago (headless: iMouse.xy)
+#endif
+#ifdef FACET_DECLARE_iWindowCount
+uniform int iWindowCount;           // windows on the desktop: 0
+#endif
+#ifdef FACET_DECLARE_iWindowRects
+uniform vec4 iWindowRects[16];      // (x, y, width, height) pixels, per window
+#endif
+#ifdef FACET_DECLARE_iWindowRectsPrev
+uniform vec4 iWindowRectsPrev[16];
+#endif
+#ifdef FACET_DECLARE_iWindowVelocities
+uniform vec2 iWindowVelocities[16]; // pixels per second, per window
+#endif
+#ifdef FACET_DECLARE_iScreenOffset
+uniform vec2 iScreenOffset;
+#endif
+#ifdef FACET_DECLARE_iScreenIndex
+uniform int iScreenIndex;
+#endif
+#ifdef FACET_DECLARE_iScreenCount
+uniform int iScreenCount;
+#endif
+#ifdef FACET_DECLARE_iVirtualDesktop
+uniform int iVirtualDesktop;
+#endif
+#ifdef FACET_DECLARE_iVirtualDesktopCount
+uniform int iVirtualDesktopCount;   // 1
+#endif
+#ifdef FACET_DECLARE_iVirtualDesktopAnim
+uniform float iVirtualDesktopAnim;
+#endif
+#ifdef FACET_GLOBAL_FRAG
+// The KDE dialect's void mainImage() reads and writes these globals.
+vec2 fragCoord;
+vec4 fragColor;
+#endif
 
 out vec4 facet_FragColor;
 
@@ -39,6 +80,11 @@ void main() {
                                  vec3(facet_c.x, -facet_c.y, 1.0),
                                  vec3(-facet_c.x, -facet_c.y, -1.0));
     mainCubemap(facet_color, gl_FragCoord.xy, vec3(0.0), normalize(facet_dirs[facet_face]));
+#elif defined(FACET_GLOBAL_MAIN)
+    fragCoord = gl_FragCoord.xy;
+    fragColor = facet_color;
+    mainImage();
+    facet_color = fragColor;
 #else
     mainImage(facet_color, gl_FragCoord.xy);
 #endif

@@ -7,6 +7,13 @@ Shadertoy's defines (``SHADERTOY_DEFINES``): a ``main()`` in a branch Shadertoy 
 (``#ifdef GRIMOIRE``) is not there, and a ``mainImage`` made by a macro (code golf's
 ``#define mainImage(O,u) ...``) is.
 
+The dialect of KDE's shader wallpaper (many shaders shared as Shadertoy ones come from it):
+a ``void mainImage()`` without arguments that reads the global ``fragCoord`` and writes the
+global ``fragColor`` (facet declares both and fills the first), and its desktop inputs
+(``iWindowCount``, ``iWindowRects``, ``iMousePrev``, ...: DESKTOP_INPUTS), declared where a
+shader uses one it does not declare, with a desktop of no windows, one screen and one
+virtual desktop.
+
 Accepted and handled: a UTF-8 byte-order mark (dropped), a ``#version`` line (blanked: the
 wrapper brings its own, and lines keep their numbers), ``precision`` lines and ``#ifdef
 GL_ES`` blocks (valid GLSL 3.3). Refused with a sentence of their own: an empty file,
@@ -27,6 +34,12 @@ SHADERTOY, GLSLVIEWER = "shadertoy", "glslviewer"
 SHADERTOY_DEFINES = {"GL_ES": 1, "__VERSION__": 300, "HW_PERFORMANCE": 1}
 _COMMENTS = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
 _MAIN_IMAGE = re.compile(r"\bvoid\s+mainImage\s*\(")
+_MAIN_IMAGE_GLOBALS = re.compile(r"\bvoid\s+mainImage\s*\(\s*(void\s*)?\)")
+# KDE shader wallpaper's inputs beyond Shadertoy's (glsl/shadertoy/host.frag declares each
+# under FACET_DECLARE_<name>): what facet sets them to headless, the rest zero.
+DESKTOP_INPUTS = ("iMousePrev", "iWindowCount", "iWindowRects", "iWindowRectsPrev",
+                  "iWindowVelocities", "iScreenOffset", "iScreenIndex", "iScreenCount",
+                  "iVirtualDesktop", "iVirtualDesktopCount", "iVirtualDesktopAnim")
 _MAIN_CUBEMAP = re.compile(r"\bvoid\s+mainCubemap\s*\(")
 _MAIN = re.compile(r"\bvoid\s+main\s*\(\s*(void\s*)?\)")
 _VIEWER_NAMES = re.compile(r"\b(gl_FragColor|u_time|u_resolution|u_mouse)\b")
@@ -39,11 +52,34 @@ INVISIBLE = {"\u00a0": "a no-break space (U+00A0)", "\u200b": "a zero-width spac
 @dataclass(frozen=True)
 class Prepared:
     """``kind``: SHADERTOY or GLSLVIEWER; ``text``: what the wrapper includes;
-    ``frag_color``: a glslViewer file writes gl_FragColor (else its own ``out``)."""
+    ``frag_color``: a glslViewer file writes gl_FragColor (else its own ``out``);
+    ``defines``: the wrapper's defines it needs (the KDE dialect's, module docstring)."""
 
     kind: str
     text: str
     frag_color: bool = False
+    defines: tuple[str, ...] = ()
+
+
+def declared_inputs(code: str) -> set[str]:
+    """The DESKTOP_INPUTS that ``code`` declares itself (as uniforms)."""
+    code = _COMMENTS.sub(" ", code)
+    return {name for name in DESKTOP_INPUTS
+            if re.search(rf"\buniform\b[^;]*\b{name}\b", code)}
+
+
+def desktop_defines(code: str) -> tuple[str, ...]:
+    """The wrapper's defines for the KDE dialect in ``code`` (preprocessed, comments kept
+    out): its desktop inputs used and not declared, and FACET_GLOBAL_FRAG for a
+    ``mainImage()`` without arguments (FACET_GLOBAL_MAIN: the only one there is)."""
+    code = _COMMENTS.sub(" ", code)
+    out = [f"FACET_DECLARE_{name}" for name in DESKTOP_INPUTS
+           if re.search(rf"\b{name}\b", code) and name not in declared_inputs(code)]
+    if _MAIN_IMAGE_GLOBALS.search(code):
+        out.append("FACET_GLOBAL_FRAG")
+        if len(_MAIN_IMAGE.findall(code)) == len(_MAIN_IMAGE_GLOBALS.findall(code)):
+            out.append("FACET_GLOBAL_MAIN")
+    return tuple(out)
 
 
 def prepare(text: str, name: str, cube: bool = False, common: bool = False) -> Prepared:
@@ -61,10 +97,11 @@ def prepare(text: str, name: str, cube: bool = False, common: bool = False) -> P
                     "often pasted from web pages; GLSL allows only plain spaces: replace it",
                     [(name, number, col, "error", what)])
     if common:
-        return Prepared(SHADERTOY, text)
+        return Prepared(SHADERTOY, text, defines=desktop_defines(text))
     raw = _COMMENTS.sub(" ", text)
     pre = preprocess(text, SHADERTOY_DEFINES)
     code = pre.text
+    defines = desktop_defines(code)
     if not raw.strip():
         raise ShaderError(f"{name}: error: the file is empty (no code to run); a Shadertoy "
                           "shader defines mainImage(out vec4 fragColor, in vec2 fragCoord)")
@@ -72,7 +109,7 @@ def prepare(text: str, name: str, cube: bool = False, common: bool = False) -> P
         if not _MAIN_CUBEMAP.search(code) and "mainCubemap" not in pre.macros:
             raise ShaderError(f"{name}: error: a Cube A pass defines mainCubemap(out vec4 "
                               "fragColor, in vec2 fragCoord, in vec3 rayOri, in vec3 rayDir)")
-        return Prepared(SHADERTOY, text)
+        return Prepared(SHADERTOY, text, defines=defines)
     has_image = bool(_MAIN_IMAGE.search(code)) or "mainImage" in pre.macros
     has_main = bool(_MAIN.search(code))
     if has_image and has_main:
@@ -81,11 +118,11 @@ def prepare(text: str, name: str, cube: bool = False, common: bool = False) -> P
                           "facet supplies main() for Shadertoy shaders; remove yours (or "
                           "remove mainImage to run it glslViewer-style)")
     if has_image:
-        return Prepared(SHADERTOY, text)
+        return Prepared(SHADERTOY, text, defines=defines)
     if has_main and _VIEWER_NAMES.search(code):
         return Prepared(GLSLVIEWER, text, "gl_FragColor" in code)
     if re.search(r"^\s*#\s*include\b", raw, re.M):
-        return Prepared(SHADERTOY, text)  # mainImage may come from an include
+        return Prepared(SHADERTOY, text, defines=defines)  # (mainImage from an include)
     if has_main:
         raise ShaderError(f"{name}: error: has its own main() but neither gl_FragColor nor "
                           "u_time / u_resolution / u_mouse: facet runs Shadertoy shaders "

@@ -13,7 +13,7 @@ from ..gl.fullscreen import fullscreen_vertex
 from ..gl.glsl_source import display_path, glsl_root
 from ..gl.shaders import Program, compile_program
 from . import project as P
-from .dialect import GLSLVIEWER, blame_user, prepare
+from .dialect import GLSLVIEWER, blame_user, declared_inputs, prepare
 from .shadertoy_json import load_shadertoy_json
 
 
@@ -28,6 +28,7 @@ def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, st
     prepared = prepare(text, name, cube=p.key == "cube")
     texts = {p.path: prepared.text}
     includes = []
+    wanted = set(prepared.defines)
     common = project.common
     if common is not None and prepared.kind != GLSLVIEWER:
         code = project.common_code
@@ -35,7 +36,12 @@ def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, st
             from ..guard import read_text
 
             code = read_text(common, "common file")
-        texts[common] = prepare(code, display_path(common), common=True).text
+        shared = prepare(code, display_path(common), common=True)
+        texts[common] = shared.text
+        wanted |= set(shared.defines) - {"FACET_GLOBAL_MAIN"}
+        # (an input one file declares is not declared again for the other)
+        wanted -= {f"FACET_DECLARE_{n}" for n in declared_inputs(code) |
+                   declared_inputs(prepared.text)}
         includes.append(f'#include "{common.resolve()}"')
     includes.append(f'#include "{p.path.resolve()}"')
     host = "viewer.frag" if prepared.kind == GLSLVIEWER else "host.frag"
@@ -43,6 +49,8 @@ def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, st
     stage = host_path.read_text().replace("\nFACET_USER_CODE\n",
                                           "\n" + "\n".join(includes) + "\n")
     defines = {"HW_PERFORMANCE": 1, **p.defines}
+    if prepared.kind != GLSLVIEWER:
+        defines.update(dict.fromkeys(sorted(wanted)))
     for n, cube in enumerate(cubes):
         defines[f"FACET_CHANNEL{n}"] = "samplerCube" if cube else "sampler2D"
     if p.key == "cube":

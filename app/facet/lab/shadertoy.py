@@ -48,7 +48,8 @@ TIME_INPUTS = ("iTime", "iTimeDelta", "iFrame", "iDate", "iChannelTime", "u_time
 FILLED = ("iResolution", "iTime", "iTimeDelta", "iFrame", "iFrameRate", "iMouse", "iDate",
           "iSampleRate", "iChannelTime", "iChannelResolution", "iChannel0", "iChannel1",
           "iChannel2", "iChannel3", "facet_face", "u_resolution", "u_time", "u_mouse",
-          "u_date", "u_delta", "u_frame", "u_tex0", "u_tex1", "u_tex2", "u_tex3")
+          "u_date", "u_delta", "u_frame", "u_tex0", "u_tex1", "u_tex2", "u_tex3",
+          "iMousePrev", "iVirtualDesktopCount")  # (the KDE dialect's other inputs: settable)
 
 
 class ShaderToy(PassDrawing):
@@ -268,7 +269,8 @@ class ShaderToy(PassDrawing):
                   "iMouse": tuple(float(m) for m in mouse), "iDate": day,
                   "iSampleRate": 44100.0, "u_time": float(time), "u_delta": float(time_delta),
                   "u_frame": int(self.frame), "u_mouse": tuple(float(m) for m in mouse[:2]),
-                  "u_date": day}
+                  "u_date": day, "iMousePrev": tuple(float(m) for m in mouse[:2]),
+                  "iVirtualDesktopCount": 1}
         with self.ctx:
             self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND | self.ctx.CULL_FACE)
             self.resources.upload_keys()
