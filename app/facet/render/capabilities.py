@@ -42,6 +42,9 @@ class Capabilities:
     options: tuple[OptionLimit, ...] = ()
     # material feature -> what the engine draws instead (absent: honoured)
     leaves_out: dict[str, str] = field(default_factory=dict)
+    # material feature -> how the engine finds what it stands for itself (honoured without
+    # drawing it: no warning, and no picture change expected when it is taken away)
+    computes: dict[str, str] = field(default_factory=dict)
 
     def decided(self, opts):
         """``opts`` with what was not given decided by this engine."""
@@ -129,10 +132,10 @@ _NO_CULL = OptionLimit(lambda o: o.cull == "on", "{noun} culls no back faces for
 
 
 def _row(noun: str, shadows: bool, max_depth, options=(), leaves_out=None,
-         implied_ambient: bool = True) -> Capabilities:
+         implied_ambient: bool = True, computes=None) -> Capabilities:
     limits = tuple(OptionLimit(o.given, o.line.format(noun=noun)) for o in options)
     return Capabilities(noun, shadows, max_depth, implied_ambient, limits,
-                        {NO_FRAME: _NO_FRAME_LINE, **(leaves_out or {})})
+                        {NO_FRAME: _NO_FRAME_LINE, **(leaves_out or {})}, computes or {})
 
 
 CAPABILITIES: dict[str, Capabilities] = {
@@ -149,9 +152,6 @@ CAPABILITIES: dict[str, Capabilities] = {
         "KHR_materials_dispersion": "each refraction ray bends at the material's ior (the "
                                     "path tracer and the rasterizer spread it over the "
                                     "colours)"}),
-    # (occlusionTexture is not left out by the path tracer: the texture stands for the
-    # occlusion of indirect light, which its bounces find exactly; as Mitsuba and Cycles, it
-    # draws no baked occlusion over that)
     "path": _row("the path tracer", True, 8, (
         _NO_WIREFRAME, _NO_CULL, _EXACT_SHADOWS,
         OptionLimit(lambda o: o.shadows is False,
@@ -163,7 +163,10 @@ CAPABILITIES: dict[str, Capabilities] = {
         "Phong reflectivity": "mirrors are traced as the metallic-roughness mapping of the "
                               "Phong terms",
         "Phong ior": "refraction is traced as a transparent surface that does not bend "
-                     "light"}, implied_ambient=False),
+                     "light"}, implied_ambient=False,
+        # (as Mitsuba and Cycles: the texture stands for the occlusion of indirect light,
+        # which the bounces find; no baked occlusion is drawn over it)
+        computes={"occlusionTexture": "its bounces find the occlusion of indirect light"}),
 }
 
 
