@@ -26,6 +26,7 @@ _EXPORTS = {
     "Mesh": "scene.mesh",
     "Points": "scene.points",
     "Lines": "scene.points",
+    "Splats": "scene.splats",
     "Material": "scene.material",
     "DirectionalLight": "scene.light",
     "PointLight": "scene.light",

@@ -14,6 +14,8 @@ from ..scene.readers import register
 
 register("mesh file", "facet.formats.loading", "read_parts")
 register("texture", "facet.formats.images", "read_texture")
+register("splat file", "facet.formats.splat_files", "read_splats")
+register("splat writer", "facet.formats.splat_files", "write_ply")
 register("environment", "facet.formats.environment_files", "environment_from_image")
 register("cube faces", "facet.formats.environment_files", "environment_from_faces")
 register("trimesh", "facet.formats.adapters", "trimesh_parts")

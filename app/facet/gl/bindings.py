@@ -10,7 +10,7 @@ at link time. Draw code binds a texture with ``texture.use(location=unit(name))`
 no unit of its own. Users' programs (mesh shaders, the shader lab) may declare samplers of
 their own: those are left for their host to bind.
 
-The 41 units fit GL 3.3's minimum of 48 combined units (llvmpipe has 192); what one stage
+The 42 units fit GL 3.3's minimum of 48 combined units (llvmpipe has 192); what one stage
 of one program declares at once (the metallic-roughness fragment stage: its 14 slots and 5
 more) stays within the 32 per stage of llvmpipe and desktop GPUs.
 """
@@ -27,7 +27,7 @@ _SCENE = ("u_texture", "u_shadow_atlas", "u_environment", "u_mirror", "u_edl_sha
 _SHORT = {"base_color": "base", "metallic_roughness": "mr"}
 SLOT_SAMPLERS = {slot: f"u_tex_{_SHORT.get(slot, slot)}" for slot in SLOTS}
 # Full-screen passes (glsl/post, glsl/ibl): their inputs.
-_POST = ("u_source", "u_sample", "u_accum", "u_reveal", "u_edl_depth")
+_POST = ("u_source", "u_sample", "u_accum", "u_reveal", "u_edl_depth", "u_splat_aux")
 # The ray scene (glsl/trace): geometry, instances, texture layers, emitters, the sky.
 _RAYS = ("u_tris", "u_tri_index", "u_vertices", "u_nodes", "u_instances", "u_tlas",
          "u_textures", "u_emitters", "u_sky_cdf", "u_sky_pdf", "u_sky_radiance",

@@ -83,6 +83,9 @@ class Scene:
         bg = as_color(background, "background", channels=(3, 4))
         self.background = np.append(bg, 1.0) if bg.size == 3 else bg
         self.objects: list[SceneObject] = []
+        # Gaussian splat clouds (facet.scene.splats.SplatObject): the rasterizer draws them
+        # over the objects; their ids follow the objects' (one numbering).
+        self.splats: list = []
         self.lights: list[Light] = []
         self.cameras: dict[str, Camera] = {}
         # parsed once, here (by facet.options.render's parser): {option: typed value}
@@ -112,8 +115,8 @@ class Scene:
 
         Parameters
         ----------
-        mesh : Mesh, Points, Lines, facet.shapes shape, or trimesh Trimesh / PointCloud / Scene
-            What to place (trimesh's through facet.formats.adapters: colours, uvs, materials; a
+        mesh : Mesh, Points, Lines, Splats, facet.shapes shape, or trimesh Trimesh / PointCloud / Scene
+            What to place (Splats: Gaussian splats, drawn by the rasterizer, with no material) (trimesh's through facet.formats.adapters: colours, uvs, materials; a
             Scene's parts each placed by its graph, then by ``transform``).
         material : Material or PbrMaterial, optional
             Default: the file's own material, else a grey ``Material()``.
@@ -132,7 +135,19 @@ class Scene:
         """
         from .points import Lines, Points
         from .shapes import Shape
+        from .splats import SplatObject, Splats
 
+        if isinstance(mesh, Splats):
+            m = np.eye(4) if transform is None else np.asarray(transform, dtype=np.float64)
+            if m.shape != (4, 4) or not np.all(np.isfinite(m)):
+                raise InputError(f"transform must be a finite 4x4 matrix, got shape {m.shape}")
+            T.normal_matrix(m)
+            if material is not None or transform_end is not None:
+                raise InputError("splats carry their own colours and do not move within a "
+                                 "frame: give no material and no transform_end")
+            cloud = SplatObject(self._next_id(), mesh, m, name or mesh.name)
+            self.splats.append(cloud)
+            return cloud.id
         if reader("is trimesh")(mesh):
             parts = reader("trimesh")(mesh, Mesh)
             base = np.eye(4) if transform is None else np.asarray(transform, np.float64)
@@ -158,9 +173,12 @@ class Scene:
             if end.shape != (4, 4) or not np.all(np.isfinite(end)):
                 raise InputError("transform_end must be a finite 4x4 matrix")
             T.normal_matrix(end)
-        obj = SceneObject(len(self.objects), mesh, material, m, name or mesh.name, end, shape)
+        obj = SceneObject(self._next_id(), mesh, material, m, name or mesh.name, end, shape)
         self.objects.append(obj)
         return obj.id
+
+    def _next_id(self) -> int:
+        return len(self.objects) + len(getattr(self, "splats", ()))
 
     def add_light(self, light: Light) -> Light:
         """Add a light (at most ``MAX_LIGHTS``).
@@ -304,8 +322,9 @@ class Scene:
     def bounds(self) -> np.ndarray:
         """World-space bounds of all objects, (2, 3). Infinite planes are left out (unless
         there is nothing else): they would make every framing and shadow map infinite."""
-        if not self.objects:
+        clouds = [c for c in getattr(self, "splats", ()) if c.splats.count]
+        if not self.objects and not clouds:
             raise InputError("the scene is empty; add a mesh first")
         finite = [o for o in self.objects if not o.infinite] or self.objects
-        b = np.array([o.world_bounds for o in finite])
+        b = np.array([o.world_bounds for o in finite] + [c.world_bounds for c in clouds])
         return np.stack([b[:, 0].min(axis=0), b[:, 1].max(axis=0)])

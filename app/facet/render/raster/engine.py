@@ -7,12 +7,13 @@ channels from the opaque objects in a single-sample pass, drawn when first read.
 
 from __future__ import annotations
 
-from ...gl.targets import clear_frame
+from ...gl.targets import aux_locations, clear_frame
 from ..antialias import has_area_lights, point_lights_for
 from ..engine import Engine
 from .forward import ForwardPass
 from .overlay import wireframe_overlay
 from .shadow import ShadowMaps
+from .splats import SplatPass, scene_splats
 from .transparency import split_transparent
 
 
@@ -24,6 +25,13 @@ class RasterEngine(Engine):
         super().__init__(ctx, cache)
         self.forward = ForwardPass(ctx, cache)
         self._shadows = None  # the shadow atlas, made on first use
+        self._splats = None  # the Gaussian splats' pass, made on first use
+
+    @property
+    def splats(self) -> SplatPass:
+        if self._splats is None:
+            self._splats = SplatPass(self.ctx)
+        return self._splats
 
     @property
     def shadows(self) -> ShadowMaps:
@@ -62,7 +70,10 @@ class RasterEngine(Engine):
         self.forward.draw(opaque, state, aux=together)
         if opts.wireframe:
             wireframe_overlay(self.forward, scene, state)
-        if transparent is None and direct is not None:
+        splats = bool(scene_splats(scene))
+        if together and splats:  # their depth and ids where they cover the opaque scene's
+            self.splats.draw_exact(scene, state, target, aux_locations(together))
+        if transparent is None and direct is not None and not splats:
             return target  # shown as it is (a multisampled one resolves as it is copied)
         zbuffer = target.depth_attachment if opts.aa.msaa else t.zbuffer
         result = t.resolve(target, dtype) if opts.aa.msaa else t.color(dtype)
@@ -72,6 +83,8 @@ class RasterEngine(Engine):
             oit = surf.oit.begin(zbuffer)
             self.forward.draw(transparent, state, oit=True)
             surf.oit.end(oit, result)
+        if splats:  # over everything, tested against the opaque depth
+            self.splats.draw(scene, state, zbuffer, result)
         return result
 
     def sample_state(self, scene, scene_k, state, opts, k: int, plain: bool):
@@ -90,6 +103,8 @@ class RasterEngine(Engine):
             oit = surf.oit.begin(acc.sample_depth)
             self.forward.draw(transparent, state, oit=True)
             surf.oit.end(oit, acc.sample)
+        if scene_splats(scene):
+            self.splats.draw(scene, state, acc.sample_depth, acc.sample)
 
     def exact_scene(self, scene):
         return split_transparent(scene)[0]  # the nearest opaque surface, as the tracer's
@@ -97,6 +112,8 @@ class RasterEngine(Engine):
     def draw_exact(self, scene, state, aux) -> None:
         self.forward.draw(scene, state.with_(shading="unlit", shadows=None, environment=None),
                           aux=aux, colour_pass=False)
+        if scene_splats(scene):  # (the bound target: facet.render.sequence's exact one)
+            self.splats.draw_exact(scene, state, self.ctx.fbo, aux_locations(aux))
 
     def more_lines(self, opts, scene) -> list[str]:
         if opts.shadows and any(o.mesh.kind != "mesh" for o in scene.objects):
@@ -107,5 +124,7 @@ class RasterEngine(Engine):
     def release(self) -> None:
         if self._shadows is not None:
             self._shadows.release()
+        if self._splats is not None:
+            self._splats.release()
         self.forward.release()
 
