@@ -3,9 +3,9 @@ rasterizer's preprocessCUDA, computeCov2D, computeColorFromSH and renderCUDA) tr
 to numpy, as the oracle of facet's splats (tests/test_splats.py). Independent of facet's
 code: its own SH constants, covariance, projection and compositing. Camera in OpenCV axes
 (x right, y down, z forward) with pinhole intrinsics in OpenCV's convention (pixel (i, j)'s
-centre at (i, j), as the reference's ndc2Pix). Where facet departs from the reference (facet.render.raster.splats):
-the pixels a splat reaches are its 3-sigma box here too (not whole 16-pixel tiles), a
-splat nearer than ``near`` is left out (the reference: 0.2)."""
+centre at (i, j), as the reference's ndc2Pix). Where facet departs from the reference
+(facet.render.raster.splats): the pixels a splat reaches are its 3-sigma box here too (not
+whole 16-pixel tiles), a splat nearer than ``near`` is left out (the reference: 0.2)."""
 
 from __future__ import annotations
 
@@ -49,6 +49,18 @@ def rotation(q):
 def render(means, scales, quats, opacities, sh, world_to_cv, K, width, height,
            background=(0.0, 0.0, 0.0), near=0.2):
     """(H, W, 3) float64 image, row 0 at the top (the reference's renderCUDA)."""
+    covs = []
+    for i in range(len(means)):
+        M = rotation(quats[i]) @ np.diag(scales[i])
+        covs.append(M @ M.T)
+    return render_covariances(means, covs, opacities, sh, world_to_cv, K, width, height,
+                              background, near)
+
+
+def render_covariances(means, covs, opacities, sh, world_to_cv, K, width, height,
+                       background=(0.0, 0.0, 0.0), near=0.2, to_local=None):
+    """``render`` of splats given by world covariances; ``to_local``: the 3x3 map of view
+    directions into the splats' own frame (a placed cloud's SH turns with it)."""
     fx, fy, cx, cy = K[0][0], K[1][1], K[0][2], K[1][2]
     tan_x, tan_y = width / (2 * fx), height / (2 * fy)
     R, t_cam = np.asarray(world_to_cv)[:3, :3], np.asarray(world_to_cv)[:3, 3]
@@ -58,8 +70,7 @@ def render(means, scales, quats, opacities, sh, world_to_cv, K, width, height,
         t = R @ means[i] + t_cam
         if t[2] <= near:
             continue
-        M = rotation(quats[i]) @ np.diag(scales[i])
-        sigma = M @ M.T
+        sigma = np.asarray(covs[i], np.float64)
         lim_x, lim_y = 1.3 * tan_x, 1.3 * tan_y
         tx = np.clip(t[0] / t[2], -lim_x, lim_x) * t[2]
         ty = np.clip(t[1] / t[2], -lim_y, lim_y) * t[2]
@@ -77,6 +88,8 @@ def render(means, scales, quats, opacities, sh, world_to_cv, K, width, height,
         radius = np.ceil(3.0 * np.sqrt(lam))
         u, v = fx * t[0] / t[2] + cx, fy * t[1] / t[2] + cy
         d = means[i] - eye
+        if to_local is not None:
+            d = np.asarray(to_local) @ d
         color = sh_color(np.asarray(sh[i], np.float64), d / np.linalg.norm(d))
         items.append((t[2], u, v, conic, radius, float(opacities[i]), color))
     items.sort(key=lambda it: it[0])

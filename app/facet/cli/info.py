@@ -26,6 +26,9 @@ def describe_model(path) -> list[str]:
     scene = open_scene(path)
     lines = [f"{'objects':22} {len(scene.objects):,}",
              f"{'triangles':22} {sum(o.mesh.face_count for o in scene.objects):,}",
+             f"{'splats':22} " + (", ".join(
+                 f"{c.splats.count:,} (SH degree {c.splats.degree})" for c in scene.splats)
+                 or "none"),
              f"{'lights':22} {len(scene.lights)}",
              f"{'cameras':22} {', '.join(scene.cameras) or 'none'}"]
     clips = [(k, c) for a in scene.animated for k, c in enumerate(a.rig.clips)]

@@ -49,6 +49,13 @@ def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
         from .scenefile import load_scene
 
         return load_scene(path, crease=crease)
+    from .splat_files import is_splat_file, read_splats
+
+    if is_splat_file(path):  # Gaussian splats (3DGS PLY, .splat): a scene of the cloud
+        scene = Scene()
+        scene.add(read_splats(Path(path)))
+        scene.frame_by_default = True
+        return scene
     parts, cameras, lights, rig = read_parts(path, crease)
     scene = Scene()
     ids = [cast(int, scene.add(mesh, transform=matrix, name=name))  # one geometry: an id

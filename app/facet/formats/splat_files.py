@@ -60,6 +60,11 @@ def _header(path: Path) -> tuple[str, list, int]:
     return fmt, elements, stop
 
 
+def is_splat_file(path) -> bool:
+    """Whether ``path`` holds Gaussian splats: a ``.splat`` file, or a PLY of them."""
+    return Path(path).suffix.lower() == ".splat" or is_splat_ply(path)
+
+
 def is_splat_ply(path) -> bool:
     """Whether ``path`` is a PLY whose vertices are Gaussian splats (module docstring)."""
     p = Path(path)

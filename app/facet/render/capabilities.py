@@ -45,6 +45,7 @@ class Capabilities:
     # material feature -> how the engine finds what it stands for itself (honoured without
     # drawing it: no warning, and no picture change expected when it is taken away)
     computes: dict[str, str] = field(default_factory=dict)
+    draws_splats: bool = False  # Gaussian splats (facet.scene.splats): the rasterizer's
 
     def decided(self, opts):
         """``opts`` with what was not given decided by this engine."""
@@ -64,8 +65,15 @@ class Capabilities:
                 if feature in self.leaves_out:
                     counts[feature] = counts.get(feature, 0) + 1
         total = len(scene.objects)
-        return [f"{self.noun} ignores {feature} ({n} of {total} objects): "
-                f"{self.leaves_out[feature]}" for feature, n in counts.items()]
+        lines = [f"{self.noun} ignores {feature} ({n} of {total} objects): "
+                 f"{self.leaves_out[feature]}" for feature, n in counts.items()]
+        clouds = [c for c in getattr(scene, "splats", ()) if c.splats.count]
+        if clouds and not self.draws_splats:
+            n = sum(c.splats.count for c in clouds)
+            lines.append(f"{self.noun} leaves out the Gaussian splats ({len(clouds)} "
+                         f"cloud{'s' if len(clouds) > 1 else ''}, {n:,} splats): the "
+                         "rasterizer draws them (engine = raster)")
+        return lines
 
 
 def material_features(m) -> list[str]:
@@ -132,10 +140,11 @@ _NO_CULL = OptionLimit(lambda o: o.cull == "on", "{noun} culls no back faces for
 
 
 def _row(noun: str, shadows: bool, max_depth, options=(), leaves_out=None,
-         implied_ambient: bool = True, computes=None) -> Capabilities:
+         implied_ambient: bool = True, computes=None, splats: bool = False) -> Capabilities:
     limits = tuple(OptionLimit(o.given, o.line.format(noun=noun)) for o in options)
     return Capabilities(noun, shadows, max_depth, implied_ambient, limits,
-                        {NO_FRAME: _NO_FRAME_LINE, **(leaves_out or {})}, computes or {})
+                        {NO_FRAME: _NO_FRAME_LINE, **(leaves_out or {})}, computes or {},
+                        splats)
 
 
 CAPABILITIES: dict[str, Capabilities] = {
@@ -143,7 +152,7 @@ CAPABILITIES: dict[str, Capabilities] = {
         OptionLimit(_given("max_depth"), "max_depth sets the tracers' recursion and bounces; "
                     "the rasterizer ignores it"), _NO_NOISE), {
         "KHR_materials_transmission in BLEND materials":
-            "the transparent pass draws its diffuse part"}),
+            "the transparent pass draws its diffuse part"}, splats=True),
     "trace": _row("the ray tracer", True, 5, (
         _NO_WIREFRAME, _NO_CULL, _EXACT_SHADOWS, _NO_NOISE,
         OptionLimit(lambda o: o.shading == "gouraud",

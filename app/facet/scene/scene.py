@@ -115,9 +115,11 @@ class Scene:
 
         Parameters
         ----------
-        mesh : Mesh, Points, Lines, Splats, facet.shapes shape, or trimesh Trimesh / PointCloud / Scene
-            What to place (Splats: Gaussian splats, drawn by the rasterizer, with no material) (trimesh's through facet.formats.adapters: colours, uvs, materials; a
-            Scene's parts each placed by its graph, then by ``transform``).
+        mesh : Mesh, Points, Lines, Splats, facet.shapes shape, or trimesh geometry
+            What to place (trimesh's Trimesh / PointCloud / Scene through
+            facet.formats.adapters: colours, uvs, materials; a Scene's parts each placed
+            by its graph, then by ``transform``; Splats: Gaussian splats, drawn by the
+            rasterizer, with no material).
         material : Material or PbrMaterial, optional
             Default: the file's own material, else a grey ``Material()``.
         transform : (4, 4) float, optional

@@ -222,7 +222,7 @@ def _finite(a, what: str, shape) -> np.ndarray:
     if arr.shape != tuple(shape):
         raise InputError(f"{what}: expected shape {tuple(shape)}, got {arr.shape}")
     if not np.all(np.isfinite(arr)):
-        bad = int(np.flatnonzero(~np.isfinite(arr.reshape(arr.shape[0], -1)).any(1))[0])
+        bad = int(np.flatnonzero((~np.isfinite(arr.reshape(arr.shape[0], -1))).any(1))[0])
         raise InputError(f"splat {bad}: {what} is not finite (NaN or infinity)")
     return arr
 
