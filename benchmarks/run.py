@@ -224,6 +224,7 @@ def main() -> None:
     import raytrace
     import shaderlab
     import shadows
+    import splats
     import transparency
     import turntable
     import viewer
@@ -238,6 +239,7 @@ def main() -> None:
     instancing.table(a.quick)
     load.table(a.quick)
     points.table(a.quick)
+    splats.table(a.quick)
     shaderlab.main()
     raytrace.table(a.quick)
     raytrace.frame(a.quick)

@@ -120,9 +120,11 @@ def test_one_isotropic_splat_is_the_analytic_gaussian():
     assert img.max() > 0.6  # (a splat, not an empty picture)
 
 
-def test_a_splat_and_a_mesh_hide_each_other():
+@pytest.mark.parametrize("aa", ["none", "msaa:4"])
+def test_a_splat_and_a_mesh_hide_each_other(aa):
     """A red square between two splats: the near splat shows over it (colour, depth, id),
-    the far one is hidden behind it and shows beside it."""
+    the far one is hidden behind it and shows beside it; with MSAA (the default) too,
+    where the exact channels come from a pass of their own."""
     near = facet.Splats.from_colors([[0.0, 0.0, 0.8]], [[0.12] * 3], [[1, 0, 0, 0]], [0.99],
                                     [[0.0, 1.0, 0.0]])
     far = facet.Splats.from_colors([[0.55, 0.0, -0.8]], [[0.12] * 3], [[1, 0, 0, 0]], [0.99],
@@ -134,8 +136,8 @@ def test_a_splat_and_a_mesh_hide_each_other():
     id_near, id_far = scene.add(near), scene.add(far)
     assert (plane, id_near, id_far) == (0, 1, 2)
     cam = facet.Camera.look_at((0, 0, 3), (0, 0, 0), fov_y=45, near=0.1, far=50)
-    with facet.Renderer(W, H) as r:
-        frame = r.render(scene, cam, aa="none", background=(0, 0, 0), lights="scene",
+    with facet.Renderer(W, H) as r, pytest.warns(FacetWarning, match="ids of 2 splat clouds"):
+        frame = r.render(scene, cam, aa=aa, background=(0, 0, 0), lights="scene",
                          outputs=("color", "depth", "ids"))
     k = np.array(cam.describe(W, H)["K"])
     v = int(round(k[1, 2]))
@@ -239,3 +241,24 @@ def test_render_and_info_take_a_3dgs_ply(tmp_path):
     info = subprocess.run([*cmd, "info", str(path)], capture_output=True, text=True,
                           timeout=120)
     assert "100 (SH degree 3)" in info.stdout
+
+
+def test_the_viewers_session_orbits_a_splat_scene(tmp_path):
+    """The window, the notebook widget and the served page share this session: a drag
+    turns the splats, the status line counts them, and the still picture is the headless
+    render of the session's camera."""
+    from facet.viewing.session import Session
+
+    path = _cloud(n=200, degree=2).save(tmp_path / "cloud.ply")
+    with Session(path, size=(W, H)) as s:
+        before = s.frame().copy()
+        assert "200 splats" in s.status()
+        for kind, x in (("pointer_down", 20), ("pointer_move", 50), ("pointer_up", 50)):
+            s.handle({"type": kind, "x": x, "y": 30, "button": 1})
+        after = s.frame()
+        while s.refining:
+            after = s.frame()
+        assert np.abs(after.astype(int) - before).mean() > 1
+        ref_frame = s.renderer.render(s.shown_scene(), s.camera(),
+                                      s.options(outputs=("color",))).color[..., :3]
+        assert np.abs(after.astype(int) - ref_frame).max() <= 1

@@ -180,6 +180,7 @@ class ViewerCore(ViewerActions):
         else:
             self.control.bounds = np.asarray(scene.at(opts.time, opts.animation).bounds)
         self.triangles = sum(o.mesh.face_count for o in scene.objects)
+        self.splat_count = sum(c.splats.count for c in getattr(scene, "splats", ()))
         self.request_frame()
 
     @property
@@ -221,6 +222,8 @@ class ViewerCore(ViewerActions):
         """One line: the file, triangles, engine, clock, refinement and any error."""
         name = self.path.name if self.path else "scene"
         text = f"facet - {name} - {self.triangles:,} triangles"
+        if getattr(self, "splat_count", 0):
+            text += f" - {self.splat_count:,} splats"
         if fps is not None:
             text += f" - {fps:.0f} fps"
         engine = self.options().engine  # the keys', the flag's or the scene file's

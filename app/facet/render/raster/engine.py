@@ -83,8 +83,8 @@ class RasterEngine(Engine):
             oit = surf.oit.begin(zbuffer)
             self.forward.draw(transparent, state, oit=True)
             surf.oit.end(oit, result)
-        if splats:  # over everything, tested against the opaque depth
-            self.splats.draw(scene, state, zbuffer, result)
+        if splats:  # over everything, tested against the opaque depth (MSAA's resolved)
+            self.splats.draw(scene, state, t.zbuffer, result)
         return result
 
     def sample_state(self, scene, scene_k, state, opts, k: int, plain: bool):
@@ -116,10 +116,19 @@ class RasterEngine(Engine):
             self.splats.draw_exact(scene, state, self.ctx.fbo, aux_locations(aux))
 
     def more_lines(self, opts, scene) -> list[str]:
+        lines = []
         if opts.shadows and any(o.mesh.kind != "mesh" for o in scene.objects):
-            return ["points and lines cast no shadow maps in the rasterizer (the tracers' "
-                    "spheres and capsules cast shadows)"]
-        return []
+            lines.append("points and lines cast no shadow maps in the rasterizer (the "
+                         "tracers' spheres and capsules cast shadows)")
+        clouds = scene_splats(scene)
+        if "ids" in opts.outputs and len(clouds) > 1:
+            lines.append(f"ids of {len(clouds)} splat clouds: where clouds overlap in a "
+                         "pixel, its id is the mean of theirs weighted by their opacity "
+                         "there (one cloud's pixels are exact)")
+        if clouds and opts.shadows:
+            lines.append("Gaussian splats cast no shadows and take no light: they carry "
+                         "their own colours")
+        return lines
 
     def release(self) -> None:
         if self._shadows is not None:

@@ -1,6 +1,10 @@
 """The rasterizer's Gaussian splats (facet.scene.splats), drawn after the opaque and the
 transparent objects, as the reference forward pass of 3D Gaussian Splatting composites them.
 
+Under MSAA the splats are tested against the resolved (one-sample) depth of the opaque
+scene: a splat's edge is smooth already, a mesh's silhouette over splats is not
+anti-aliased (four times fewer blended samples: benchmarks/splats.py).
+
 Per view, in numpy: every cloud's splats in world space (means, covariances A Sigma A^T of
 the cloud's transform, kept while the cloud and its transform stay), their colours from the
 SH along the direction from the camera to each mean (in the cloud's own frame), and one
@@ -71,6 +75,10 @@ class SplatPass:
         self._targets: dict[int, tuple] = {}  # zbuffer glo -> (zbuffer, framebuffer)
         self.composite = FullScreenPass(ctx, "splats/composite.frag")
         self._exact: dict[tuple, FullScreenPass] = {}
+        # What the sums hold: the frame's state (the same object for a frame's colour and
+        # its exact channels, drawn now or later; a new one for every frame and sample)
+        # and what was drawn with it.
+        self._drawn: tuple | None = None
 
     # -- per view, in numpy ----------------------------------------------------------------
     def _worlds(self, clouds) -> list[_World]:
@@ -186,9 +194,13 @@ class SplatPass:
         if not count:
             return False
         ctx = self.ctx
+        projection = state.view_projection() @ np.linalg.inv(state.camera.view)
+        drawn = (state, zbuffer.glo, id(self._order_key), count)
+        if self._drawn is not None and self._drawn[0] is state and \
+                self._drawn[1:] == drawn[1:]:  # (the exact channels' and the colour's)
+            return True
         fbo = self._sums_for(zbuffer)
         prog, vao = self._vao(state)
-        projection = state.view_projection() @ np.linalg.inv(state.camera.view)
         prog.set("u_view", view)
         prog.set("u_projection", projection)
         prog.set("u_viewport", (float(state.width), float(state.height)))
@@ -206,6 +218,7 @@ class SplatPass:
                 dst.release()
         ctx.blend_func = ctx.SRC_ALPHA, ctx.ONE_MINUS_SRC_ALPHA
         ctx.disable(ctx.BLEND)
+        self._drawn = drawn
         return True
 
     def draw(self, scene, state, zbuffer, target) -> None:
