@@ -213,6 +213,7 @@ def main() -> None:
         models.append((f"icosphere ({SUBDIVISIONS[sub]})", ply))
         cold_table(2 if a.quick else 5, models)
     import pathtrace
+    import splats
 
     import antialias
     import batch
@@ -224,7 +225,6 @@ def main() -> None:
     import raytrace
     import shaderlab
     import shadows
-    import splats
     import transparency
     import turntable
     import viewer
