@@ -262,3 +262,32 @@ def test_the_viewers_session_orbits_a_splat_scene(tmp_path):
         ref_frame = s.renderer.render(s.shown_scene(), s.camera(),
                                       s.options(outputs=("color",))).color[..., :3]
         assert np.abs(after.astype(int) - ref_frame).max() <= 1
+
+
+def test_a_scene_file_places_a_splat_file_and_refuses_a_material(tmp_path):
+    s = _cloud(n=60, degree=1)
+    s.save(tmp_path / "cloud.ply")
+    (tmp_path / "s.toml").write_text(
+        '[[objects]]\nmesh = "cloud.ply"\ntransform = [{translate = [0.5, 0, 0]}]\n\n'
+        '[[objects]]\nprimitive = "cube"\nsize = 0.5\n')
+    scene = facet.load(tmp_path / "s.toml")
+    assert len(scene.splats) == 1 and len(scene.objects) == 1
+    assert np.allclose(scene.splats[0].transform[:3, 3], [0.5, 0, 0])
+    (tmp_path / "bad.toml").write_text('[[objects]]\nmesh = "cloud.ply"\n'
+                                       'material = {color = [1, 0, 0]}\n')
+    with pytest.raises(facet.SceneError, match="give no material"):
+        facet.load(tmp_path / "bad.toml")
+
+
+def test_an_ascii_ply_reads_as_the_binary_one(tmp_path):
+    s = _cloud(n=5, degree=1, seed=4)
+    binary = s.save(tmp_path / "b.ply")
+    data = binary.read_bytes()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().replace("binary_little_endian", "ascii")
+    rows = np.frombuffer(data[end:], "<f4").reshape(5, -1)
+    text = header + "\n".join(" ".join(f"{v:.9g}" for v in row) for row in rows) + "\n"
+    (tmp_path / "a.ply").write_text(text)
+    a, b = facet.Splats.load(tmp_path / "a.ply"), facet.Splats.load(binary)
+    assert np.allclose(a.sh, b.sh) and np.allclose(a.means, b.means)
+    assert np.allclose(a.scales, b.scales, rtol=1e-6)

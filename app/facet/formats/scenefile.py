@@ -279,6 +279,20 @@ class _SceneBuilder(MaterialTables):
             r.fail(f"{where}.{params[0]}", "size parameters belong to a 'primitive'")
         if "mesh" in t:
             path = self.base / r.string(t["mesh"], f"{where}.mesh")
+            from .splat_files import is_splat_file, read_splats
+
+            if is_splat_file(path):  # Gaussian splats (3DGS PLY, .splat): one cloud
+                extra = [k for k in ("crease", "flat", "point_size", "point_radius",
+                                     "line_width") if k in t]
+                if extra:
+                    r.fail(f"{where}.{extra[0]}", "a file of Gaussian splats takes no "
+                           f"{extra[0]} (splats keep their own sizes and colours)")
+                if (path, "splats") not in self.parts_cache:
+                    try:
+                        self.parts_cache[path, "splats"] = read_splats(path)
+                    except FacetError as exc:
+                        r.fail(f"{where}.mesh", str(exc))
+                return [(None, self.parts_cache[path, "splats"], np.eye(4))], None
             crease = self.crease
             if "crease" in t:
                 crease = r.number(t["crease"], f"{where}.crease", minimum=0)
