@@ -289,10 +289,11 @@ class _SceneBuilder(MaterialTables):
                            f"{extra[0]} (splats keep their own sizes and colours)")
                 if (path, "splats") not in self.parts_cache:
                     try:
-                        self.parts_cache[path, "splats"] = read_splats(path)
+                        cloud = [(None, read_splats(path), np.eye(4))]
                     except FacetError as exc:
                         r.fail(f"{where}.mesh", str(exc))
-                return [(None, self.parts_cache[path, "splats"], np.eye(4))], None
+                    self.parts_cache[path, "splats"] = cloud, None
+                return self.parts_cache[path, "splats"]
             crease = self.crease
             if "crease" in t:
                 crease = r.number(t["crease"], f"{where}.crease", minimum=0)
