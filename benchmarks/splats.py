@@ -8,8 +8,11 @@ Rows: the floor (one instanced quad draw of the same splats in plain moderngl, a
 sorted front to back, colours already evaluated, no SH: the GPU's share alone); facet with
 equal work (no anti-aliasing, colour only) with the camera moving every frame (the splats
 sorted and coloured again each time) and still (the order and colours kept); facet's
-default call (4x MSAA, colour, depth and ids, moving); then the numpy steps alone: the sort
-of N depths and the SH colours of N splats. Prints a table; asserts nothing.
+default call (4x MSAA, colour, depth and ids, moving); then the sorts alone: numpy's of N
+depths (what facet does) and a GPU bitonic sort of the same keys in GL 3.3 fragment passes
+(the alternative the GL 3.3 path has: log2(N)(log2(N)+1)/2 full-screen passes over a
+texture of (depth, index) pairs), and the SH colours of N splats. Prints a table; asserts
+nothing.
 """
 
 from __future__ import annotations
@@ -58,6 +61,58 @@ void main() {
     f_color = vec4(v_color.rgb * alpha, alpha);
 }
 """
+
+
+BITONIC_FRAG = """
+#version 330 core
+uniform sampler2D u_keys;  // (depth, index) pairs, row by row
+uniform int u_k, u_j, u_width;
+out vec2 f_out;
+void main() {  // one compare-exchange of the bitonic network, from this texel's side
+    ivec2 c = ivec2(gl_FragCoord.xy);
+    int i = c.y * u_width + c.x, p = i ^ u_j;
+    vec2 a = texelFetch(u_keys, c, 0).xy;
+    vec2 b = texelFetch(u_keys, ivec2(p % u_width, p / u_width), 0).xy;
+    bool a_first = a.x < b.x || (a.x == b.x && a.y < b.y);
+    f_out = ((i < p) == ((i & u_k) == 0)) == a_first ? a : b;
+}
+"""
+FULLSCREEN_VERT = """
+#version 330 core
+void main() {
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+"""
+
+
+def gpu_sort_seconds(keys: np.ndarray) -> tuple[float, bool]:
+    """(seconds, sorted right) of a bitonic sort of ``keys`` (a power-of-two square count)
+    on the GPU, read back."""
+    side = int(round(np.sqrt(len(keys))))
+    ctx = moderngl.create_standalone_context(backend="egl")
+    with ctx:
+        data = np.stack([keys, np.arange(len(keys), dtype=np.float32)], 1)
+        tex = [ctx.texture((side, side), 2, data.tobytes(), dtype="f4") for _ in range(2)]
+        fbo = [ctx.framebuffer([t]) for t in tex]
+        prog = ctx.program(vertex_shader=FULLSCREEN_VERT, fragment_shader=BITONIC_FRAG)
+        vao = ctx.vertex_array(prog, [])
+        prog["u_width"].value = side
+        src, k = 0, 2
+        start = time.perf_counter()
+        while k <= len(keys):
+            j = k // 2
+            while j >= 1:
+                tex[src].use(0)
+                prog["u_k"].value, prog["u_j"].value = k, j
+                fbo[1 - src].use()
+                vao.render(vertices=3)
+                src, j = 1 - src, j // 2
+            k *= 2
+        out = np.frombuffer(tex[src].read(), np.float32).reshape(-1, 2)
+        seconds = time.perf_counter() - start
+    ctx.release()
+    return seconds, bool(np.all(np.diff(out[:, 0]) >= 0))
 
 
 def cloud(n: int, seed: int = 0) -> facet.Splats:
@@ -152,10 +207,12 @@ def table(quick: bool, frames: int | None = None) -> None:
         timings = time_interleaved([floor.frame, equal_moving, equal_still, default], frames,
                                    block=2)
     floor.release()
-    depth = np.random.default_rng(1).random(n, dtype=np.float32)
+    side = 1 << int(np.ceil(np.log2(n) / 2))  # (the bitonic network: a power-of-two square)
+    depth = np.random.default_rng(1).random(side * side, dtype=np.float32)
     start = time.perf_counter()
     np.argsort(depth, kind="stable")
     sort = time.perf_counter() - start
+    gpu_sort, gpu_ok = gpu_sort_seconds(depth)
     dirs = np.tile(np.array([0.0, 0.0, -1.0], np.float32), (n, 1))
     start = time.perf_counter()
     s.colors(dirs)
@@ -165,7 +222,9 @@ def table(quick: bool, frames: int | None = None) -> None:
     print(f"{'':>34} | {'seconds':>8} {'vs floor':>9}")
     for name, t in zip(names, timings, strict=True):
         print(f"{name:>34} | {t.median:>8.3f} {ratio(t, timings[0]):>8.2f}x")
-    print(f"{'numpy sort of the depths alone':>34} | {sort:>8.3f}")
+    print(f"{f'numpy sort of {side * side:,} depths':>34} | {sort:>8.3f}")
+    print(f"{'GPU bitonic sort of the same':>34} | {gpu_sort:>8.3f}" +
+          ("" if gpu_ok else "   (NOT SORTED: a driver problem)"))
     print(f"{'numpy SH colours (degree 3) alone':>34} | {colors:>8.3f}")
 
 

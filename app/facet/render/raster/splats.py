@@ -9,8 +9,9 @@ Per view, in numpy: every cloud's splats in world space (means, covariances A Si
 the cloud's transform, kept while the cloud and its transform stay), their colours from the
 SH along the direction from the camera to each mean (in the cloud's own frame), and one
 order of all of them by depth along the camera axis, front to back (re-sorted and
-re-coloured only when the view has moved: ``RESORT_ANGLE``, ``RESORT_MOVE``; numpy's sort
-on llvmpipe is faster than a GPU sort emulated on the same cores: benchmarks/splats.py).
+re-coloured only when the view has moved: ``RESORT_ANGLE``, ``RESORT_MOVE``; numpy sorts a
+million depths in 0.11 s on 2 cores, a GPU bitonic sort on llvmpipe in 1.1 s:
+benchmarks/splats.py).
 On the GPU, one instanced quad per splat (glsl/splats/splat.vert: EWA projection),
 each pixel's Gaussian composited front to back by the blending into a float sum tested
 against the opaque scene's depth (glsl/splats/splat.frag), then that sum over the picture
