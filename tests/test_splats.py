@@ -291,3 +291,44 @@ def test_an_ascii_ply_reads_as_the_binary_one(tmp_path):
     a, b = facet.Splats.load(tmp_path / "a.ply"), facet.Splats.load(binary)
     assert np.allclose(a.sh, b.sh) and np.allclose(a.means, b.means)
     assert np.allclose(a.scales, b.scales, rtol=1e-6)
+
+
+def test_the_served_page_orbits_a_splat_scene(tmp_path):
+    """``facet view cloud.ply --serve`` in headless Chromium: a drag turns the splats and
+    the still picture is the headless render of the page's camera."""
+    pytest.importorskip("websockets", reason="the serve extra (websockets) is not installed")
+    import json
+
+    from selenium.webdriver import ActionChains
+
+    from facet.viewing.session import Session
+    from test_serve import Served, _settled
+
+    from browser import camera_from, canvas_pixels, chromium, quit_chromium, wait_for
+
+    path = _cloud(n=3000, degree=3, spread=0.4).save(tmp_path / "cloud.ply")
+    driver = chromium()
+    try:
+        with Served(model=str(path), cwd=tmp_path) as served:
+            driver.get(served.url)
+            canvas = driver.find_element("id", "canvas")
+            first = _settled(driver, canvas, 0)
+            before = json.loads(canvas.get_attribute("data-camera"))
+            ActionChains(driver).move_to_element_with_offset(canvas, -40, 0).click_and_hold() \
+                .move_by_offset(40, 10).release().perform()
+            _settled(driver, canvas, first)
+
+            def turned():
+                if canvas.get_attribute("data-lossless") != "1":
+                    return None
+                cam = json.loads(canvas.get_attribute("data-camera"))
+                changed = cam["world_to_camera_opengl"] != before["world_to_camera_opengl"]
+                return (canvas_pixels(driver, canvas), cam) if changed else None
+            shown, camera = wait_for(turned, "the turned, still picture")
+    finally:
+        quit_chromium(driver)
+    with Session(path) as s:
+        s.resize(shown.shape[1], shown.shape[0])
+        ref_img = s.renderer.render(s.shown_scene(), camera_from(camera),
+                                    s.options(outputs=("color",))).color[..., :3]
+    assert shown.std() > 5 and np.abs(shown.astype(int) - ref_img).max() <= 2
