@@ -107,14 +107,16 @@ def test_an_idle_widget_draws_nothing(widget):
 
 def test_a_view_shown_again_gets_the_picture(widget):
     """A widget shown again (a reloaded page, ``w`` in a new cell) is a new view: its first
-    event is a resize to the same size, and it must get a picture (the old widget returned
-    None, nothing having changed, and the new view stayed grey: found by the browser soak,
-    tests/test_remote_soak.py)."""
+    event is a resize to the same size, and it must get the picture, lossless (the old
+    widget returned None, nothing having changed, and the new view stayed grey: found by
+    the browser soak, tests/test_remote_soak.py)."""
     first = widget.get_frame().copy()
     assert widget.get_frame() is None  # idle
+    sent = widget._rfb_frame_index
     message(widget, type="resize", width=160, height=120, pixel_ratio=1.0)
-    again = widget.get_frame()
-    assert again is not None and np.array_equal(again, first)
+    # sent at once, lossless, and not drawn again
+    assert widget._rfb_frame_index == sent + 1 and widget.get_frame() is None
+    assert np.array_equal(widget._rfb_last_frame, first) and widget.session.frames == 1
 
 
 def test_the_title_bar_is_the_status_line_and_says_how_far_the_view_refined(widget):

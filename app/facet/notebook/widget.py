@@ -64,6 +64,7 @@ class _WidgetMixin:
 
     if TYPE_CHECKING:  # jupyter_rfb's RemoteFrameBuffer gives these
         def request_draw(self) -> None: ...
+        def _rfb_send_frame(self, array, is_lossless_redraw: bool = False) -> None: ...
         def close(self) -> None: ...
         quality: int
         title: str
@@ -73,8 +74,6 @@ class _WidgetMixin:
         _rfb_last_confirmed_index: int
         css_width: str
         css_height: str
-
-    _resend = False  # a view came (a resize): send the picture even if it is unchanged
 
     def __init__(self, source, size=None, quality: int = QUALITY, **options):
         session = Session(source, size=size, options=options)
@@ -101,17 +100,20 @@ class _WidgetMixin:
             return
         self.session.handle(event)
         if kind == "resize":  # (also a view shown again, which has no picture yet)
-            self._resend = True
             # A reloaded page never confirms the pictures sent to the page it replaced, and
             # jupyter_rfb sends nothing while max_buffered_frames are unconfirmed: forget them
-            # (else the new view stays blank for good).
-            # (confirmed in jupyter_rfb's statistics too: they were never seen)
+            # (else the new view stays blank for good; confirmed in jupyter_rfb's statistics
+            # too: they were never seen).
             import time
 
             sent, now = self._rfb_frame_index, time.time()
             self._rfb_last_confirmed_index = max(self._rfb_last_confirmed_index, sent)
             self._frame_feedback = {"index": sent, "timestamp": now, "localtime": now}
-            self.request_draw()
+            last = self.session.last
+            if last is not None and not self.session.wants_frame:
+                # A view of the same size shown again: the picture as it is, lossless at
+                # once (the views that have it see no change; nothing is redrawn).
+                self._rfb_send_frame(last, True)
         if self.session.quitting:
             self.close()
         elif self.session.wants_frame:
@@ -123,9 +125,6 @@ class _WidgetMixin:
         if self.session.closed:
             return None
         picture = self.session.frame()
-        if picture is None and self._resend:  # a new view: the last picture, not redrawn
-            picture = self.session.last
-        self._resend = False
         status = self.session.status()
         if status != self.title:
             self.title = status

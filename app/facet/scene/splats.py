@@ -142,13 +142,23 @@ class Splats:
         return reader("splat file")(Path(path))
 
     @classmethod
-    def from_colors(cls, means, scales, rotations, opacities, colors, name="splats"):
-        """Splats of degree 0 from RGB colours in [0, 1] (N, 3) (the DC term whose colour
-        they are).
+    def from_colors(cls, means, scales, rotations, opacities, colors,
+                    name: str = "splats") -> Splats:
+        """Splats of SH degree 0 seen in the same colour from everywhere.
+
+        Parameters
+        ----------
+        means, scales, rotations, opacities : arrays
+            As the class's: (N, 3), (N, 3), (N, 4), (N,).
+        colors : (N, 3) float
+            RGB in [0, 1]: the DC term's colour (SH_C0 c + 0.5).
+        name : str
+            Label.
 
         Returns
         -------
         Splats
+            The cloud.
         """
         dc = (np.asarray(colors, np.float64) - 0.5) / SH_C0
         return cls(means, scales, rotations, opacities, dc[:, None, :], name)
@@ -156,6 +166,7 @@ class Splats:
     # -- what they are ---------------------------------------------------------------------
     @property
     def count(self) -> int:
+        """How many splats."""
         return int(self.means.shape[0])
 
     @property
@@ -172,8 +183,19 @@ class Splats:
         return np.stack([(self.means - reach).min(0), (self.means + reach).max(0)])
 
     def covariances(self, linear: np.ndarray | None = None) -> np.ndarray:
-        """(N, 3, 3) float64: each splat's covariance R S S^T R^T, carried by the 3x3
-        ``linear`` part of an object -> world transform when given (A Sigma A^T)."""
+        """Each splat's covariance ``R S S^T R^T``.
+
+        Parameters
+        ----------
+        linear : (3, 3) float, optional
+            The linear part A of an object -> world transform: the covariances carried by
+            it (``A Sigma A^T``).
+
+        Returns
+        -------
+        (N, 3, 3) float64 ndarray
+            The covariances.
+        """
         m = quaternion_matrices(self.rotations.astype(np.float64)) * \
             self.scales.astype(np.float64)[:, None, :]
         if linear is not None:
@@ -181,14 +203,35 @@ class Splats:
         return m @ np.transpose(m, (0, 2, 1))
 
     def colors(self, directions: np.ndarray) -> np.ndarray:
-        """(N, 3) float32: the colours seen along unit ``directions`` (N, 3), from the
-        camera to each mean in the splats' own frame: SH + 0.5, clamped at 0."""
+        """The colours seen along ``directions``: SH + 0.5, clamped at 0.
+
+        Parameters
+        ----------
+        directions : (N, 3) float
+            Unit vectors from the camera to each mean, in the splats' own frame.
+
+        Returns
+        -------
+        (N, 3) float32 ndarray
+            RGB (display values; above 1 where the SH says so).
+        """
         basis = sh_basis(np.asarray(directions, np.float32), self.degree)
         rgb = np.einsum("nk,nkc->nc", basis, self.sh, optimize=True) + 0.5
         return np.maximum(rgb, 0.0).astype(np.float32)
 
     def subset(self, index) -> Splats:
-        """The splats at ``index`` (a mask or indices), as a new cloud."""
+        """Some of the splats, as a new cloud.
+
+        Parameters
+        ----------
+        index : (N,) bool or (M,) int array, or slice
+            Which splats.
+
+        Returns
+        -------
+        Splats
+            Those splats (same SH degree).
+        """
         return Splats(self.means[index], self.scales[index], self.rotations[index],
                       self.opacities[index], self.sh[index], self.name)
 
