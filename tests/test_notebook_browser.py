@@ -24,21 +24,27 @@ STILL = 0.6  # seconds a picture must stay unchanged to count as the still (loss
 
 
 def _settled(driver, element, previous=None) -> np.ndarray:
-    """The picture ``element`` shows once it differs from ``previous`` and stayed put for
-    STILL seconds (the widget sends JPEG while moving, PNG 0.3 s after)."""
+    """The picture ``element`` shows once it is jupyter_rfb's lossless one (a PNG: the
+    widget sends JPEG while moving, PNG 0.3 s after), differs from ``previous`` and stayed
+    put for STILL seconds (a JPEG that stays put a while under load is not the still one)."""
     state = {"last": None, "since": 0.0}
 
     def still():
+        kind = driver.execute_async_script(
+            "const done = arguments[arguments.length - 1];"
+            "fetch(arguments[0].src).then((r) => r.blob()).then((b) => done(b.type))"
+            ".catch(() => done(''))", element)
         now = canvas_pixels(driver, element)
-        if previous is not None and now.shape == previous.shape and \
-                np.array_equal(now, previous):
+        if kind != "image/png" or (previous is not None and now.shape == previous.shape
+                                   and np.array_equal(now, previous)):
+            state["last"] = None
             return None
         if state["last"] is None or now.shape != state["last"].shape or \
                 not np.array_equal(now, state["last"]):
             state["last"], state["since"] = now, time.monotonic()
             return None
         return now if time.monotonic() - state["since"] >= STILL else None
-    return wait_for(still, "the widget's picture to settle")
+    return wait_for(still, "the widget's still (lossless) picture")
 
 
 def _run_cell(driver, index: int) -> None:
