@@ -697,3 +697,31 @@ def test_the_viewer_plays_pauses_and_steps_an_animation(window, tmp_path):
     w.key("p")
     w.wait_title(lambda t: "paused" not in t)
     assert w.quit() == 0
+
+
+def test_the_window_shows_gaussian_splats_as_the_headless_render(window, tmp_path):
+    """`facet view cloud.ply` (a 3DGS PLY): the window's screenshot equals a headless
+    render of the splats through the camera its JSON records."""
+    import facet
+    from facet.geometry.camera import Camera
+    from facet.render.renderer import Renderer
+
+    rng = np.random.default_rng(4)
+    n = 2000
+    cloud = facet.Splats(rng.normal(0, 0.5, (n, 3)), np.exp(rng.normal(-3, 0.4, (n, 3))),
+                         rng.normal(0, 1, (n, 4)), rng.uniform(0.3, 0.9, n),
+                         rng.normal(0, 0.6, (n, 4, 3)))
+    cloud.save(tmp_path / "cloud.ply")
+    w = window("cloud.ply")
+    assert "2,000 splats" in w.title()
+    w.key("s")
+    shots = files(tmp_path, "facet-*.png")
+    assert w.quit() == 0
+    shot = np.asarray(Image.open(shots[0]))
+    info = json.loads(shots[0].with_suffix(".json").read_text())
+    camera = Camera(info["world_to_camera_opengl"], fov_y=info["fov_y"], near=info["near"],
+                    far=info["far"])
+    with Renderer(W, H) as r:
+        ref = r.render(facet.load(tmp_path / "cloud.ply"), camera).color[..., :3]
+    diff = np.abs(shot.astype(int) - ref).max(axis=2)
+    assert shot.std() > 5 and np.median(diff) <= 1 and (diff > 3).mean() <= 0.01
