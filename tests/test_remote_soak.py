@@ -187,15 +187,25 @@ def test_a_soak_of_the_served_viewer_ends_on_the_headless_picture(tmp_path):
 QUIET = 1.0  # seconds the page's lossless picture stays the last one: the server is done
 
 
+def _final(status: str) -> bool:
+    """Whether a status line is the soak's final state's: the rasterizer (the soak ends
+    there), refined all it will. A busy server or kernel may leave an older still picture
+    up for seconds: its line names the engine it was drawn with."""
+    return " - engine " not in status and _refined(status)
+
+
 def _quiet(driver, canvas):
-    """A condition: (pixels, camera) of the canvas's lossless picture once no newer one came
-    for QUIET seconds (events still queued at the server would bring one)."""
+    """A condition: (pixels, camera) of the canvas's lossless picture of the final state
+    (``_final``, by the page's status line) once no newer one came for QUIET seconds (events
+    still queued at the server would bring one)."""
     state = {"frame": None, "since": 0.0}
 
     def check():
         c = canvas()
         frame = c.get_attribute("data-frame")
-        if c.get_attribute("data-lossless") != "1" or frame != state["frame"]:
+        status = driver.find_element("id", "status").text
+        if c.get_attribute("data-lossless") != "1" or frame != state["frame"] or \
+                not _final(status):
             state["frame"], state["since"] = frame, time.monotonic()
             return None
         if time.monotonic() - state["since"] < QUIET:
@@ -214,8 +224,9 @@ def _refined(title: str) -> bool:
 
 def _still_png(driver, view):
     """A condition: the widget's picture once its title bar (the session's status line)
-    says it has refined all it will, and the picture is a PNG (jupyter_rfb's lossless one,
-    sent when the kernel has drawn the last) that stayed put for QUIET seconds."""
+    says it is the final state's (``_final``: a kernel busy with the last cell leaves an
+    older still picture up for seconds), and the picture is a PNG (jupyter_rfb's lossless
+    one, sent when the kernel has drawn the last) that stayed put for QUIET seconds."""
     state = {"last": None, "since": 0.0}
 
     def check():
@@ -228,7 +239,7 @@ def _still_png(driver, view):
             "fetch(arguments[0].src).then((r) => r.blob()).then((b) => done(b.type))"
             ".catch(() => done(''))", img)
         now = canvas_pixels(driver, img)
-        if kind != "image/png" or not _refined(title) or state["last"] is None or \
+        if kind != "image/png" or not _final(title) or state["last"] is None or \
                 now.shape != state["last"].shape or not np.array_equal(now, state["last"]):
             state["last"], state["since"] = now, time.monotonic()
             return None
