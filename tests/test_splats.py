@@ -241,6 +241,14 @@ def test_render_and_info_take_a_3dgs_ply(tmp_path):
     info = subprocess.run([*cmd, "info", str(path)], capture_output=True, text=True,
                           timeout=120)
     assert "100 (SH degree 3)" in info.stdout
+    # A mesh's colour flag would be ignored without a word: refused in one line.
+    colored = subprocess.run([*cmd, "render", str(path), "-o", str(tmp_path / "c.png"),
+                              "--color", "1,0,0"], capture_output=True, text=True, timeout=120)
+    assert colored.returncode == 2 and "carry their own colours" in colored.stderr
+    assert len(colored.stderr.strip().splitlines()) == 1 and not (tmp_path / "c.png").exists()
+    wire = subprocess.run([*cmd, "render", str(path), "-o", str(tmp_path / "w.png"),
+                           "--wireframe"], capture_output=True, text=True, timeout=120)
+    assert wire.returncode == 0 and "Gaussian splats have none" in wire.stderr
 
 
 def test_the_viewers_session_orbits_a_splat_scene(tmp_path):

@@ -203,6 +203,9 @@ def _scene(args):
                          "materials in the scene file instead")
     texture = _texture(args.texture) if args.texture else None
     scene = open_scene(model, crease=args.crease)
+    if scene.splats and (args.color is not None or texture is not None or shader is not None):
+        raise InputError("--color, --texture and --frag apply to meshes; Gaussian splats "
+                         "carry their own colours (their SH): leave them out")
     resize_scene(scene, A.sprite_sizes(args))
     if not is_scene_file(model) and (args.color is not None or texture is not None or
                                      shader is not None):

@@ -125,6 +125,9 @@ class RasterEngine(Engine):
             lines.append(f"ids of {len(clouds)} splat clouds: where clouds overlap in a "
                          "pixel, its id is the mean of theirs weighted by their opacity "
                          "there (one cloud's pixels are exact)")
+        if clouds and opts.wireframe:
+            lines.append("the wireframe overlay draws meshes' edges; Gaussian splats have "
+                         "none")
         if clouds and opts.shadows:
             lines.append("Gaussian splats cast no shadows and take no light: they carry "
                          "their own colours")
