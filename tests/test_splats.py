@@ -217,6 +217,11 @@ def test_a_truncated_or_foreign_ply_is_one_line(tmp_path):
         facet.Splats([[0, 0, 0]], [[1, 1, 1]], [[1, 0, 0, 0]], [1.5], [[[0, 0, 0]]])
 
 
+def test_channels_splats_cannot_give_are_said():
+    with pytest.warns(FacetWarning, match="Gaussian splats have no normals, uv"):
+        _facet(_scene(_cloud(n=20)), _camera(), outputs=("color", "normals", "uv"))
+
+
 @pytest.mark.parametrize("engine", ["trace", "path"])
 def test_the_tracers_say_they_leave_splats_out(engine):
     scene = _scene(_cloud(n=20))

@@ -125,6 +125,10 @@ class RasterEngine(Engine):
             lines.append(f"ids of {len(clouds)} splat clouds: where clouds overlap in a "
                          "pixel, its id is the mean of theirs weighted by their opacity "
                          "there (one cloud's pixels are exact)")
+        surface = [c for c in ("normals", "position", "uv") if c in opts.outputs]
+        if clouds and surface:
+            lines.append(f"Gaussian splats have no {', '.join(surface)}: those channels show "
+                         "the meshes only (depth, ids and alpha include the splats)")
         if clouds and opts.wireframe:
             lines.append("the wireframe overlay draws meshes' edges; Gaussian splats have "
                          "none")
