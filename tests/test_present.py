@@ -146,3 +146,36 @@ def test_progressive_converges_to_the_headless_supersampled_render(renderer):
     # The effects are there to converge to: one plain picture is far from the result.
     diff = np.abs(single.astype(int) - ref[..., :3].astype(int)).max(axis=2)
     assert (diff > CHANNEL_TOL).mean() > 5 * MAX_DIFFERING
+
+
+def test_the_wireframe_draws_every_visible_edge():
+    """A square of two triangles seen nearly head on: its diagonal is drawn all along, in
+    the offscreen render and in a window's (unflipped) picture. The lines used to tie with
+    their own triangle's depth, and "<=" let about half of the diagonal's rows through,
+    other rows in the window than offscreen (the notebook soak found the two pictures
+    apart)."""
+    import facet
+    from facet.viewing.session import Session
+
+    scene = facet.Scene(ambient=1.0)
+    scene.add(plane(1.0), Material(color=(1, 1, 1), ka=1, kd=0, ks=0), T.rotate_x(90.0))
+    cam = Camera.look_at((0.1, 0.2, 2.0), (0, 0, 0), fov_y=40)
+    kw = dict(aa="none", lights="scene", outputs=("color",))
+    with Session(scene, options=kw) as s:
+        s.resize(200, 200)
+        s.set_camera(cam)
+        s.char("w")
+        window = s.frame()[..., 0].astype(int)
+        offscreen = s.renderer.render(scene, cam, wireframe=True, size=(200, 200),
+                                      **kw).color[..., 0].astype(int)
+        bare = s.renderer.render(scene, cam, size=(200, 200), **kw).color[..., 0].astype(int)
+    inside = bare > 200
+    core = inside.copy()
+    for _ in range(4):  # (away from the square's own edges)
+        core &= np.roll(core, 1, 0) & np.roll(core, -1, 0) & np.roll(core, 1, 1) & \
+            np.roll(core, -1, 1)
+    rows = [y for y in range(200) if core[y].sum() > 10]
+    rows = rows[len(rows) // 5: -len(rows) // 5]
+    for picture in (offscreen, window):
+        missing = [y for y in rows if not (core[y] & (picture[y] < 100)).any()]
+        assert len(rows) > 40 and not missing, (len(missing), len(rows))
