@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, MeshError
-from ..scene.splats import SH_C0, Splats
+from ..scene.splats import Splats
 
 _PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2",
               "int16": "i2", "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4",
@@ -185,7 +185,3 @@ def write_ply(splats: Splats, path: Path) -> Path:
         data.tofile(f)
     return path
 
-
-def dc_colors(splats: Splats) -> np.ndarray:
-    """(N, 3) the colours of the DC term alone, in [0, 1] (what a .splat file keeps)."""
-    return np.clip(SH_C0 * splats.sh[:, 0] + 0.5, 0.0, 1.0)
