@@ -11,9 +11,11 @@ plates; one-sided glossy metal plates under a small lamp; Lambertian objects und
 constant sky; a glowing torus (an emissive mesh); and the glTF model
 MetalRoughSpheresNoTextures from ../shared/gltf under an HDR sky of a bright patch and a
 gradient), each renders at a few sample counts; the error is the RMSE of linear
-radiance against Mitsuba at many samples (the glTF and glossy scenes, whose materials go
-over as Mitsuba's principled BSDF, alike but not equal: against each renderer's own
-picture at many samples). Times are each renderer's render alone, the fastest of three
+radiance against Mitsuba at many independent samples (the glTF and
+glossy scenes, whose materials go over as Mitsuba's principled BSDF, alike but not equal:
+against each renderer's own picture at many samples). Mitsuba runs twice: with its
+default sampler (independent numbers) and with its low-discrepancy one (ldsampler), the
+peer of facet's Owen-scrambled Sobol points. Times are each renderer's render alone, the fastest of three
 (facet's of a scene it has uploaded, Mitsuba's of a scene it has loaded). For an unbiased
 estimator error^2 x time is about constant, so
 "efficiency" is 1 / (RMSE^2 x seconds), and the ratio facet / Mitsuba says who reaches a
@@ -153,12 +155,13 @@ def _facet(scene, camera, size, spp, sky, seed=0):
         return image, min(seconds)
 
 
-def _mitsuba(scene, camera, size, spp, sky, seed=1, approximate=False):
+def _mitsuba(scene, camera, size, spp, sky, seed=1, approximate=False,
+             sampler="independent"):
     import mitsuba_scene
 
     return mitsuba_scene.timed_render(scene, camera, size, size, spp, seed=seed,
                                       environment=sky, approximate=approximate,
-                                      repeats=REPEATS)
+                                      repeats=REPEATS, sampler=sampler)
 
 
 def _error_at(times, errors, budget):
@@ -175,13 +178,15 @@ def efficiency_table(quick: bool) -> None:
         print("(mitsuba is not installed: pip install mitsuba; efficiency table skipped)")
         return
     size = 64 if quick else 128
-    ref_spp = 512 if quick else 2048
+    ref_spp = 1024 if quick else 2048
     facet_spp = (4, 16) if quick else (4, 16, 64)
     mitsuba_spp = (16, 64) if quick else (16, 64, 256)
     print(f"\nPath tracing against Mitsuba 3 scalar_rgb, {size}x{size}, max_depth 8 "
-          f"(Mitsuba's 10); error: RMSE of linear radiance against Mitsuba at {ref_spp} spp "
-          "(the glTF scene: against each renderer's own at that count)")
-    print(f"{'scene':>22} | {'renderer':>8} {'spp':>5} {'seconds':>8} {'RMSE':>8} "
+          f"(Mitsuba's 10); error: RMSE of linear radiance against Mitsuba at "
+          f"{ref_spp} spp (the glTF and glossy scenes: against each renderer's own at that "
+          "count); Mitsuba: its default sampler (independent), Mitsuba ld: its "
+          "low-discrepancy one (facet's samples are Owen-scrambled Sobol)")
+    print(f"{'scene':>22} | {'renderer':>10} {'spp':>5} {'seconds':>8} {'RMSE':>8} "
           f"{'1/(RMSE^2 s)':>13}")
     import tempfile
 
@@ -190,34 +195,46 @@ def efficiency_table(quick: bool) -> None:
         for name, scene, camera, sky, own in _scenes(Path(tmp)):
             ratios[name] = _efficiency_rows(name, scene, camera, sky, own, size, ref_spp,
                                             facet_spp, mitsuba_spp)
-    values = np.array(list(ratios.values()))
-    print(f"{'all scenes':>22} | efficiency facet / Mitsuba: lowest {values.min():.3f} "
-          f"({min(ratios, key=ratios.get)}), median {np.median(values):.3f}")
+    for k, sampler in enumerate(("independent, its default", "ldsampler")):
+        values = {name: r[k] for name, r in ratios.items()}
+        print(f"{'all scenes':>22} | efficiency facet / Mitsuba ({sampler}): lowest "
+              f"{min(values.values()):.3f} ({min(values, key=values.get)}), median "
+              f"{np.median(list(values.values())):.3f}")
 
 
 def _efficiency_rows(name, scene, camera, sky, own, size, ref_spp, facet_spp, mitsuba_spp):
-    def mitsuba(scene, camera, size, spp, sky, seed=1):
-        return _mitsuba(scene, camera, size, spp, sky, seed, approximate=own)
+    """One scene's rows; returns facet's efficiency over Mitsuba's with its default sampler
+    and over Mitsuba's with its low-discrepancy one."""
+    def mitsuba(sampler):
+        def run(scene, camera, size, spp, sky, seed=1):
+            return _mitsuba(scene, camera, size, spp, sky, seed, approximate=own,
+                            sampler=sampler)
+        return run
 
-    ref, _ = mitsuba(scene, camera, size, ref_spp, sky, seed=99)
-    refs = {"Mitsuba": ref, "facet": _facet(scene, camera, size, ref_spp, sky, seed=99)[0]
-            if own else ref}
+    # The reference: Mitsuba with independent samples (a low-discrepancy reference shares
+    # the structure of low-discrepancy pictures, and its error does not fall as 1 / N).
+    ref, _ = mitsuba("independent")(scene, camera, size, ref_spp, sky, seed=99)
+    facet_ref = _facet(scene, camera, size, ref_spp, sky, seed=99)[0] if own else ref
     rows = {}
-    for who, fn, counts in (("facet", _facet, facet_spp), ("Mitsuba", mitsuba, mitsuba_spp)):
+    for who, fn, counts in (("facet", _facet, facet_spp),
+                            ("Mitsuba", mitsuba("independent"), mitsuba_spp),
+                            ("Mitsuba ld", mitsuba("ldsampler"), mitsuba_spp)):
         rows[who] = []
         for spp in counts:
             image, seconds = fn(scene, camera, size, spp, sky)
-            rmse = float(np.sqrt(((image - refs[who]) ** 2).mean()))
+            rmse = float(np.sqrt(((image - (facet_ref if who == "facet" else ref)) ** 2)
+                                 .mean()))
             rows[who].append((seconds, rmse))
-            print(f"{name:>22} | {who:>8} {spp:>5} {seconds:>8.3f} {rmse:>8.4f} "
+            print(f"{name:>22} | {who:>10} {spp:>5} {seconds:>8.3f} {rmse:>8.4f} "
                   f"{1 / (rmse ** 2 * seconds):>13.1f}")
     eff = {who: np.median([1 / (e * e * t) for t, e in r]) for who, r in rows.items()}
     budget = float(np.median([t for t, _ in rows["Mitsuba"]]))
     at = {who: _error_at(*zip(*r, strict=True), budget) for who, r in rows.items()}
-    print(f"{name:>22} | efficiency facet / Mitsuba: {eff['facet'] / eff['Mitsuba']:.3f}; "
-          f"in {budget:.2f} s facet reaches RMSE {at['facet']:.4f}, Mitsuba "
-          f"{at['Mitsuba']:.4f}")
-    return eff["facet"] / eff["Mitsuba"]
+    ratios = (eff["facet"] / eff["Mitsuba"], eff["facet"] / eff["Mitsuba ld"])
+    print(f"{name:>22} | efficiency facet / Mitsuba: {ratios[0]:.3f} (its ldsampler: "
+          f"{ratios[1]:.3f}); in {budget:.2f} s facet reaches RMSE {at['facet']:.4f}, "
+          f"Mitsuba {at['Mitsuba']:.4f} (ldsampler {at['Mitsuba ld']:.4f})")
+    return ratios
 
 
 def rate_table(quick: bool) -> None:

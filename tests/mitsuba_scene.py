@@ -73,7 +73,7 @@ def render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
 
 def timed_render(scene, camera, width: int, height: int, spp: int, max_depth: int = 8,
                  seed: int = 0, environment=None, approximate: bool = False,
-                 repeats: int = 1) -> tuple[np.ndarray, float]:
+                 repeats: int = 1, sampler: str = "independent") -> tuple[np.ndarray, float]:
     """``render``'s picture and the seconds Mitsuba's render took (the fastest of
     ``repeats``), the scene's translation and loading not counted (benchmarks/pathtrace.py
     times facet's renders of an uploaded scene alike)."""
@@ -86,7 +86,7 @@ def timed_render(scene, camera, width: int, height: int, spp: int, max_depth: in
     with tempfile.TemporaryDirectory() as tmp:
         desc = {"type": "scene",
                 "integrator": {"type": "path", "max_depth": max_depth + 2},
-                "sensor": _sensor(camera, width, height, spp, seed)}
+                "sensor": _sensor(camera, width, height, spp, seed, sampler)}
         if isinstance(environment, (str, Path)):
             # Mitsuba's u = atan2(x, -z) / 2 pi, facet's 0.5 + that: half a turn about y.
             desc["sky"] = {"type": "envmap", "filename": str(environment),
@@ -126,7 +126,7 @@ def timed_render(scene, camera, width: int, height: int, spp: int, max_depth: in
     return np.array(image, dtype=np.float32)[..., :3], min(seconds)
 
 
-def _sensor(camera, width, height, spp, seed) -> dict:
+def _sensor(camera, width, height, spp, seed, sampler="independent") -> dict:
     import mitsuba as mi
 
     to_world = np.linalg.inv(np.asarray(camera.view, dtype=np.float64))
@@ -137,7 +137,7 @@ def _sensor(camera, width, height, spp, seed) -> dict:
             "to_world": mi.ScalarTransform4f().look_at(
                 origin=[float(v) for v in eye], target=[float(v) for v in eye + forward],
                 up=[float(v) for v in up]),
-            "sampler": {"type": "independent", "sample_count": spp, "seed": seed},
+            "sampler": {"type": sampler, "sample_count": spp, "seed": seed},
             "film": {"type": "hdrfilm", "width": width, "height": height,
                      "rfilter": {"type": "box"}, "pixel_format": "rgb"}}
 

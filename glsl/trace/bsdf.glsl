@@ -122,12 +122,21 @@ float bsdf_pdf(Bsdf b, vec3 N, vec3 V, vec3 L) {
     return pdf;
 }
 
-// One direction from the BSDF: lobe by u, direction by xi. (The reflection side's lobes
+// One direction from the BSDF by one 2D sample xi: its x chooses the lobe and, rescaled
+// within the lobe's share, is the direction's first coordinate with y (so a pixel's
+// stratified samples stay stratified within each lobe). (The reflection side's lobes
 // share one evaluation and one density at the end: each call site is the whole layered
 // model inlined, which llvmpipe runs whichever lobe a lane took.)
-BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, float u, vec2 xi) {
+BsdfSample bsdf_sample(Bsdf b, vec3 N, vec3 V, vec2 xi) {
     BsdfSample s = BsdfSample(vec3(0.0), vec3(0.0), 0.0, false, false);
-    u -= b.p_coat;
+    float u = xi.x - b.p_coat;
+    // the lobe's share of [0, 1): [lo, lo + share) in u
+    float lo = -b.p_coat, share = b.p_coat;
+    if (u >= 0.0) { lo = 0.0; share = b.p_spec; }
+    if (u >= b.p_spec) { lo = b.p_spec; share = b.p_trans; }
+    if (u >= b.p_spec + b.p_trans) { lo += b.p_trans; share = b.p_dt; }
+    if (u >= b.p_spec + b.p_trans + b.p_dt) { lo += b.p_dt; share = 1.0 - b.p_coat - lo; }
+    xi.x = clamp((u - lo) / max(share, 1e-30), 0.0, 0.99999994);
     if (u < 0.0) {  // the clear coat
         s.L = reflect(-V, around(ggx_sample(xi, b.m.cc_alpha), b.m.cc_n));
     } else if (u < b.p_spec) {  // reflection

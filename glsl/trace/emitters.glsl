@@ -12,8 +12,7 @@ uniform int u_emitter_count;   // share of the emitted power, -), facet.render.p
 // A point uniformly by area on an analytic shape (facet.scene.shapes, object space; y up,
 // centred): a sphere, a disk, a finite plane, a box's faces, a cylinder's or a cone's side
 // and caps, each part chosen by its share of the area.
-vec3 shape_point(int kind, vec4 q) {
-    vec2 r = random2();
+vec3 shape_point(int kind, vec4 q, vec2 r) {
     float phi = 2.0 * PI * r.y, pick = random01();
     vec2 ring = vec2(cos(phi), sin(phi));
     if (kind == KIND_SPHERE) {
@@ -97,40 +96,56 @@ float emitter_pdf(int inst, float emit_pdf, vec3 p, vec3 d, float t, vec3 ng) {
 // A point on the emitters for the surface point p: an emitting triangle or shape chosen by
 // power (binary search in the cumulative shares), then a point uniformly on it by area.
 // Returns the radiance it sends towards p (0 from the back of a one-sided emitter, or
-// where the shape hides the point), the direction L and distance to it, and the density
-// of L in solid angle.
-vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf) {
-    float u = random01();
+// where the shape hides the point), the direction L and distance to it, the density of L
+// in solid angle, and the instance of the shape it chose (-1: a triangle), which the
+// shadow ray towards it passes.
+// One 2D sample picks the emitter (its x) and the point on it (x rescaled within the
+// emitter's share, and y), so a pixel's stratified samples stay stratified over the lamp.
+vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf, out int convex) {
+    vec2 xi = sample2(QMC_EMITTER);
+    float u = xi.x;
     int lo = 0, hi = u_emitter_count - 1;
     while (lo < hi) {
         int mid = (lo + hi) >> 1;
         if (fetch(u_emitters, mid).z > u) hi = mid; else lo = mid + 1;
     }
     vec4 e = fetch(u_emitters, lo);
+    float below = lo > 0 ? fetch(u_emitters, lo - 1).z : 0.0;
+    // (u is a multiple of 2^-24: a random offset within that step keeps the rescaled
+    // number uniform however small the share)
+    xi.x = clamp((u - below + random01() * (1.0 / 16777216.0)) / max(e.z - below, 1e-30),
+                 0.0, 0.99999994);
     int inst = int(e.x), tri = int(e.y);
     Hit h;
     pdf = 0.0;
+    convex = -1;
 #ifndef NO_SHAPES
     if (tri < 0) {  // an analytic shape
         int base = inst * INSTANCE_TEXELS;
         float r, omc;
         vec3 w, p_obj;
-        if (sphere_cone(inst, p, r, w, omc)) {  // a direction in its cone, where it meets it
-            vec2 xi = random2();
+        if (sphere_cone(inst, p, r, w, omc)) {
+            // A direction in its cone and where it meets the sphere: the near side, seen
+            // from p by construction (a hit test there fails for rays that graze it: a
+            // sample in a few hundred was lost).
             float one_minus = xi.x * omc, sin_t = sqrt(max(one_minus * (2.0 - one_minus), 0.0));
-            vec3 dir = around(vec3(sin_t * cos(TWO_PI * xi.y), sin_t * sin(TWO_PI * xi.y),
-                                   1.0 - one_minus), w);
+            L = around(vec3(sin_t * cos(TWO_PI * xi.y), sin_t * sin(TWO_PI * xi.y),
+                            1.0 - one_minus), w);
             vec3 to = apply_rows(base + 3, vec3(0.0), 1.0) - p;
-            float b = dot(dir, to), t = b - sqrt(max(b * b - dot(to, to) + r * r, 0.0));
-            p_obj = apply_rows(base, p + t * dir, 1.0);
+            float b = dot(L, to);
+            dist = b - sqrt(max(b * b - dot(to, to) + r * r, 0.0));
+            p_obj = apply_rows(base, p + dist * L, 1.0);
+            vec3 n = normalize(p_obj);
+            h = Hit(dist, inst, -1, vec2(0.0), n, sphere_uv(p_obj, n));
         } else {
-            p_obj = shape_point(int(instance_texel(base + 6).x), instance_texel(base + 7));
+            p_obj = shape_point(int(instance_texel(base + 6).x), instance_texel(base + 7), xi);
+            if (!shape_hit_at(inst, p_obj, p, h, L, dist)) return vec3(0.0);
         }
-        if (!shape_hit_at(inst, p_obj, p, h, L, dist)) return vec3(0.0);
+        convex = inst;  // (every shape is convex: nothing of it lies before its first hit)
     } else
 #endif
     {
-        vec2 b = random2();
+        vec2 b = xi;
         if (b.x + b.y > 1.0) b = 1.0 - b;
         vec3 p_obj = fetch(u_tris, 3 * tri).xyz + b.x * fetch(u_tris, 3 * tri + 1).xyz
                    + b.y * fetch(u_tris, 3 * tri + 2).xyz;

@@ -58,6 +58,7 @@ vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters
         float pdf_light = 0.0;  // > 0: weighed against BSDF sampling
         float scale = 1.0;    // delta lights: their irradiance times PI
         bool through = false;  // through a thin rough wall, from behind it
+        int skip = -1;         // an instance the shadow ray passes (sample_emitter)
 #ifndef NO_DELTA_LIGHTS
         if (j < delta) {
             // A delta light: one shadow ray each.
@@ -75,7 +76,7 @@ vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters
 #ifndef NO_EMITTERS
         if (j == emitter) {
             // One point on the emitting triangles.
-            vec3 Le = sample_emitter(s.p, L, dist, pdf_light);
+            vec3 Le = sample_emitter(s.p, L, dist, pdf_light, skip);
             if (pdf_light <= 0.0 || Le == vec3(0.0) || dot(N, L) <= 0.0 || dot(s.ng, L) <= 0.0)
                 continue;
             weight = Le / pdf_light;
@@ -95,7 +96,9 @@ vec3 direct_light(Surface s, Material mat, Bsdf b, vec3 N, vec3 V, bool emitters
         float w = pdf_light > 0.0 && bsdf_hits ?
                   power_weight(pdf_light, bsdf_pdf(b, N, V, L)) : 1.0;
         if (f == vec3(0.0) || w == 0.0) continue;
+        g_shadow_skip = skip;
         light += weight * f * w * visibility(offset_ray(s.p, through ? -s.ng : s.ng), L, dist);
+        g_shadow_skip = -1;
     } while (j + 1 < count);
     return light;
 }

@@ -39,6 +39,8 @@ uniform int u_max_depth;    // bounces after the eye ray
 uniform int u_sample;       // this supersample's index: with the pixel, the random stream
 uniform int u_seed;
 uniform bool u_flip_y;      // offscreen targets are drawn upside down (facet.gl.targets)
+uniform bool u_own_positions;  // each path's position in its pixel by sample2 (else the
+                               // centre, or the shift in the sample's camera)
 uniform int u_strategy;     // STRATEGY_*
 #ifdef ADAPTIVE
 uniform sampler2D u_active;  // 0 where the pixel has stopped (facet.render.budget)
@@ -116,9 +118,18 @@ void main() {
             ++j;
             g_rng = pcg_hash(uint(frag.x) + pcg_hash(uint(row) +
                              pcg_hash(uint(u_sample + j) + pcg_hash(uint(u_seed)))));
+            g_pixel = pcg_hash(uint(frag.x) + pcg_hash(uint(row) + pcg_hash(uint(u_seed))));
+            g_index = uint(u_sample + j);
+            g_bounce = 0;
+            vec2 at = ndc;
+            if (u_own_positions) {  // (its offset from the picture's top left)
+                vec2 xi = sample2(QMC_PIXEL);
+                at = (floor(frag) + vec2(xi.x, u_flip_y ? xi.y : 1.0 - xi.y)) / u_viewport
+                   * 2.0 - 1.0;
+            }
             mat4 inv_view_projection = u_inv_view_projections[j];
-            vec4 near = inv_view_projection * vec4(ndc, -1.0, 1.0);
-            vec4 far = inv_view_projection * vec4(ndc, 1.0, 1.0);
+            vec4 near = inv_view_projection * vec4(at, -1.0, 1.0);
+            vec4 far = inv_view_projection * vec4(at, 1.0, 1.0);
             o = near.xyz / near.w;
             vec3 span = far.xyz / far.w - o;
             d = normalize(span);
@@ -194,12 +205,12 @@ void main() {
                 }
 #endif
                 Bsdf b = make_bsdf(mat, s.front, N, V);
+                g_bounce = bounce;  // sample2's dimensions
                 if (going)
                     radiance += throughput * direct_light(s, mat, b, N, V, light_nee,
                                                           sample_environment, bsdf_hits);
                 // The next direction, from the BSDF.
-                float u = random01();
-                BsdfSample next = bsdf_sample(b, N, V, u, random2());
+                BsdfSample next = bsdf_sample(b, N, V, sample2(QMC_BSDF));
                 // Absorbed: no direction, or one on the wrong side of the geometric
                 // surface.
                 going = going && next.ok && (next.through ? dot(s.ng, next.L) < 0.0

@@ -133,13 +133,19 @@ Hit trace_scene(vec3 o, vec3 d, float t_max, bool opaque_only) {
     return h;
 }
 
+// An instance shadow rays pass (-1: none): an emitting shape (convex) aimed at a point
+// that is its first hit from the ray's start, which a grazing ray from the offset start
+// could otherwise find a little sooner (the path tracer's light sampling sets it).
+int g_shadow_skip = -1;
+
 // The light that gets through from o along d within t_max: 0 behind an opaque object,
 // times (1 - opacity) for each transparent one (as the rasterizer's shadow maps count it).
 float trace_shadow(vec3 o, vec3 d, float t_max) {
     float through = 1.0;
     WALK(t_max, {
         Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
-        if (hit_instance(i, o, d, h, true)) through *= 1.0 - instance_opacity(i);
+        if (i != g_shadow_skip && hit_instance(i, o, d, h, true))
+            through *= 1.0 - instance_opacity(i);
         if (through <= 0.0) { end_ = k_; node_ = -1; sp_ = 0; }  // (the walk ends)
     })
     return through;

@@ -56,7 +56,7 @@ float through_surfaces(vec3 o, vec3 d, float t_max, int passes, bool refracting)
     float through = 1.0;
     for (int k = 0; k < passes; ++k) {
         Hit h = trace_scene(o, d, t_max, false);
-        if (h.inst < 0) return through;
+        if (h.inst < 0 || h.inst == g_shadow_skip) return through;
         Surface s = surface_at(h, o, d);
         through *= lets_through(s, d, refracting);
         if (through <= 0.0) return 0.0;

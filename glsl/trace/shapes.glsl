@@ -46,6 +46,11 @@ bool hit_flat(float h, float radius, vec2 half_size, vec3 o, vec3 d, inout float
     return true;
 }
 
+// The texture coordinates of point p (normal n) of a sphere centred at the origin.
+vec2 sphere_uv(vec3 p, vec3 n) {
+    return vec2(around(p).x, asin(clamp(n.y, -1.0, 1.0)) / PI + 0.5);
+}
+
 bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out vec2 uv) {
     n = vec3(0.0, 1.0, 0.0);
     uv = vec2(0.0);
@@ -59,7 +64,7 @@ bool hit_shape(int kind, vec4 q, vec3 o, vec3 d, inout float t, out vec3 n, out 
         t = s;
         vec3 p = o + s * d;
         n = p / q.x;
-        uv = vec2(around(p).x, asin(clamp(n.y, -1.0, 1.0)) / PI + 0.5);
+        uv = sphere_uv(p, n);
         return true;
     }
 #endif

@@ -70,7 +70,8 @@ float sky_pdf(vec3 ng, vec3 d) {
 vec3 sample_sky(vec3 ng, out float pdf) {
 #ifdef SKY_DISTRIBUTION
     int w = u_sky_size.x;
-    float r = random01(), c = random01();
+    vec2 rc = sample2(QMC_SKY);
+    float r = rc.x, c = rc.y;
     int lo = 0, hi = u_sky_size.y - 1;
     while (lo < hi) {
         int mid = (lo + hi) >> 1;
@@ -89,7 +90,7 @@ vec3 sample_sky(vec3 ng, out float pdf) {
     pdf = sky_pdf(ng, d);
     return d;
 #else
-    vec3 d = around(cosine_sample(random2()), ng);
+    vec3 d = around(cosine_sample(sample2(QMC_SKY)), ng);
     pdf = sky_pdf(ng, d);
     return d;
 #endif

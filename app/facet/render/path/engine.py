@@ -58,6 +58,7 @@ class PathEngine(Engine):
         self._areas = AreaEmitters()
         self._lit_by = None  # the frame's scene, whose area lights are rectangles here
         self._sample = 0  # the supersample being drawn (sample_state)
+        self._own_positions = False  # each pixel's own sample positions (prepare)
         self._emitter_count = 0
         self._emitter_pdf = np.zeros(0)
         self._emitters_key = None
@@ -74,7 +75,10 @@ class PathEngine(Engine):
         return aa
 
     def prepare(self, scene, state, opts=None, aa=None):
-        """The ray scene's upload, with the area lights' rectangles."""
+        """The ray scene's upload, with the area lights' rectangles. With the jittered
+        pattern each pixel places its paths by its own stratified points (path.frag): the
+        samples' shared offsets are left out of their cameras."""
+        self._own_positions = aa is not None and aa.pattern == "jittered"
         self._lit_by = scene
         scene = self._areas.with_rectangles(scene)
         self.rays.prepare(scene, state, _layer_requests(scene))
@@ -112,6 +116,9 @@ class PathEngine(Engine):
         later ones use: a mosaic variant cost its first stacked draw about 0.1 s on
         llvmpipe)."""
         states = mosaic or [state]
+        own = self._own_positions and state.jitter is not None  # (else the centre, or the
+        if own:                                                  # pattern's offsets)
+            states = [s.with_(jitter=None) for s in states]
         inverse = b"".join(mat_bytes(np.linalg.inv(s.view_projection())) for s in states)
         inverse += bytes(64 * (MAX_MOSAIC - len(states)))  # (the array's unused part)
         scene = self._with_rectangles(scene)
@@ -137,7 +144,7 @@ class PathEngine(Engine):
             u_sample=self._sample, u_flip_y=int(state.flip_y), u_seed=int(opts.seed),
             u_strategy=STRATEGIES[self.strategy],
             u_inv_view_projections=inverse, u_count=len(states),
-            u_per_fragment=per_fragment,
+            u_per_fragment=per_fragment, u_own_positions=int(own),
             u_emitter_count=lambda: self._emitter_count,  # (counted while binding)
             u_sky_size=sky[3] if sky is not None else (1, 1))
 
