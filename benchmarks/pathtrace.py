@@ -15,9 +15,9 @@ radiance against Mitsuba at many independent samples (the glTF and
 glossy scenes, whose materials go over as Mitsuba's principled BSDF, alike but not equal:
 against each renderer's own picture at many samples). Mitsuba runs twice: with its
 default sampler (independent numbers) and with its low-discrepancy one (ldsampler), the
-peer of facet's Owen-scrambled Sobol points. Times are each renderer's render alone, the fastest of three
-(facet's of a scene it has uploaded, Mitsuba's of a scene it has loaded). For an unbiased
-estimator error^2 x time is about constant, so
+peer of facet's Owen-scrambled Sobol points. Times are each renderer's render alone, the
+fastest of three (facet's of a scene it has uploaded, Mitsuba's of a scene it has loaded).
+For an unbiased estimator error^2 x time is about constant, so
 "efficiency" is 1 / (RMSE^2 x seconds), and the ratio facet / Mitsuba says who reaches a
 given error sooner (>= 1: facet). The table also gives the error each reaches in the same
 wall time (interpolated in log-log). Sample rate: paths per second (256 x 256, 4 paths per
