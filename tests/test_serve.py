@@ -154,6 +154,44 @@ def test_the_served_viewer_reloads_its_file_when_it_changes(tmp_path):
     assert "12 triangles" in statuses[0] and "1,280 triangles" in statuses[-1]
 
 
+def test_the_served_viewer_reloads_the_users_shader_when_it_changes(tmp_path):
+    """``--frag`` edited while a page watches: the page shows the new shader's picture (the
+    shader check made the GL context current in a block of its own inside the frame's, and
+    leaving it left the frame's drawing without one: "cannot create vertex array")."""
+    shader = tmp_path / "mine.frag"
+    solid = "#version 330 core\nout vec4 f_color;\nvoid main() {{ f_color = {}; }}\n"
+    shader.write_text(solid.format("vec4(1.0, 0.0, 0.0, 1.0)"))
+
+    async def session(url):
+        from PIL import Image
+        from websockets.asyncio.client import connect
+
+        async with connect(url) as ws:
+            await ws.send(json.dumps({"type": "resize", "width": 64, "height": 48}))
+            changed = False
+            while True:
+                meta = json.loads(await asyncio.wait_for(ws.recv(), 60))
+                data = await asyncio.wait_for(ws.recv(), 60)
+                await ws.send(json.dumps({"type": "frame_feedback", "index": meta["index"]}))
+                assert "error" not in meta["status"], meta["status"]
+                if not meta["lossless"]:
+                    continue
+                pixels = np.asarray(Image.open(io.BytesIO(data)).convert("RGB")).astype(int)
+                greenest = pixels[..., 1] - pixels[..., 0]
+                if changed and greenest.max() > 200:
+                    return pixels  # the new shader, drawn and still
+                if not changed:  # red shown: now change the shader
+                    assert (pixels[..., 0] - pixels[..., 1]).max() > 200
+                    shader.write_text(solid.format("vec4(0.0, 1.0, 0.0, 1.0)"))
+                    changed = True
+
+    with Served("--frag", str(shader)) as s:
+        asyncio.run(session(s.ws))
+        s.stop()
+        log = s.proc.stderr.read()
+    assert "Traceback" not in log and "shaders reloaded" in log, log
+
+
 def test_q_in_a_page_says_in_one_line_that_the_server_stays(tmp_path):
     with Served() as s:
         keys = [{"type": "resize", "width": 32, "height": 24},

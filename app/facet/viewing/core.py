@@ -310,12 +310,13 @@ class ViewerCore(ViewerActions):
 
     def _check_shaders(self) -> None:
         """Reload user shaders whose files changed and then stayed put; a failure keeps the
-        last good program."""
+        last good program. The caller holds the renderer's context (a window's is always
+        current; a Session's frame enters it): a ``with ctx:`` block of its own here would
+        leave the caller's drawing without a context when it ends (facet.gl.context)."""
         user = self.renderer.user_programs()
         if user is None or not self._shader_watch.due(user.changed):
             return
-        with self.renderer.ctx:
-            result = user.reload()
+        result = user.reload()
         if not result.changed:
             return
         if result.success:
@@ -327,7 +328,7 @@ class ViewerCore(ViewerActions):
 
     def check_files(self) -> None:
         """Reload user shaders and the open file when their content changed and then stayed
-        put (a failure keeps what was shown)."""
+        put (a failure keeps what was shown); with the renderer's context current."""
         self._check_shaders()
         if self.path is None:
             return

@@ -170,7 +170,8 @@ class Viewer(ViewerCore):
             else:
                 glfw.wait_events_timeout(DEBOUNCE if self._file_watch.pending else
                                          min(IDLE_WAIT, POLL))
-            self.check_files()
+            with self.ctx:  # (a reloaded shader is compiled in it)
+                self.check_files()
 
     def close(self) -> None:
         if self.win.handle is None:
