@@ -10,11 +10,11 @@ or the kernel's log, nor the notebook's output, nor a dropped-event line.
 
 FACET_SOAK_SECONDS sets the length (a longer soak by hand: FACET_SOAK_SECONDS=300) and
 FACET_SOAK_SEED another sequence; FACET_SOAK_DEBUG=x.png writes the widget's last picture
-beside its reference. The soak ends in the rasterizer, in 4x MSAA and without the wireframe
-overlay (their keys pressed again as needed; ``_to_the_end``): a one-pixel line lands a row
-apart in a front's picture (drawn unflipped) and in the offscreen render (flipped), GL's
-line rule not being symmetric under a flip (tests/test_present.py checks the overlay's
-edges in both)."""
+beside its reference. The soak ends in the rasterizer, refining 64 supersamples, without
+the wireframe overlay (their keys pressed again as needed; ``_to_the_end``): a one-pixel
+line lands a row apart in a front's picture (drawn unflipped) and in the offscreen render
+(flipped), GL's line rule not being symmetric under a flip (tests/test_present.py checks
+the overlay's edges in both)."""
 
 from __future__ import annotations
 
@@ -67,23 +67,41 @@ def test_the_soak_presses_every_key_the_page_documents():
     assert documented <= wanted | {"drag", "wheel"}, documented - wanted
 
 
-def _drag(driver, element, rng: random.Random, size) -> None:
+def _visible(driver, element):
+    """The part of ``element`` inside the window, 6 pixels in, as offsets from its centre
+    (where Selenium measures moves from): (x0, x1, y0, y1), or None off screen. A resized
+    or scrolled element may stick out of the window, and a move out of it is refused."""
+    left, top, width, height, view_w, view_h = driver.execute_script(
+        "const r = arguments[0].getBoundingClientRect();"
+        "return [r.left, r.top, r.width, r.height, window.innerWidth, window.innerHeight]",
+        element)
+    cx, cy = left + width / 2, top + height / 2
+    lo_x, hi_x = max(-width / 2, -cx) + 6, min(width / 2, view_w - cx) - 6
+    lo_y, hi_y = max(-height / 2, -cy) + 6, min(height / 2, view_h - cy) - 6
+    return (lo_x, hi_x, lo_y, hi_y) if hi_x > lo_x and hi_y > lo_y else None
+
+
+def _drag(driver, element, rng: random.Random) -> None:
     """A drag of a few moves that stays on the element (and in the window)."""
     from selenium.webdriver import ActionChains
     from selenium.webdriver.common.keys import Keys
 
-    view_w, view_h = driver.execute_script("return [window.innerWidth, window.innerHeight]")
-    half_w = max(min(size[0], view_w) / 2 - 6, 1)
-    half_h = max(min(size[1], view_h) / 2 - 6, 1)
-    x, y = rng.uniform(-half_w, half_w) * 0.6, rng.uniform(-half_h, half_h) * 0.6
+    visible = _visible(driver, element)
+    if visible is None:
+        return  # (not on screen: nothing to drag)
+    lo_x, hi_x, lo_y, hi_y = visible
+    mid_x, mid_y = (lo_x + hi_x) / 2, (lo_y + hi_y) / 2
+    half_w, half_h = (hi_x - lo_x) / 2, (hi_y - lo_y) / 2
+    x = mid_x + rng.uniform(-half_w, half_w) * 0.6
+    y = mid_y + rng.uniform(-half_h, half_h) * 0.6
     pan = rng.random() < 0.3
     chain = ActionChains(driver, duration=20)
     if pan:
         chain.key_down(Keys.SHIFT)
     chain.move_to_element_with_offset(element, int(x), int(y)).click_and_hold()
     for _ in range(rng.randint(1, 4)):
-        nx = min(max(x + rng.randint(-40, 40), -half_w), half_w)
-        ny = min(max(y + rng.randint(-30, 30), -half_h), half_h)
+        nx = min(max(x + rng.randint(-40, 40), lo_x), hi_x)
+        ny = min(max(y + rng.randint(-30, 30), lo_y), hi_y)
         chain.move_by_offset(int(nx) - int(x), int(ny) - int(y))
         x, y = int(nx), int(ny)
     chain.release()
@@ -96,7 +114,13 @@ def _wheel(driver, element, rng: random.Random) -> None:
     from selenium.webdriver import ActionChains
     from selenium.webdriver.common.actions.wheel_input import ScrollOrigin
 
-    origin = ScrollOrigin.from_element(element, rng.randint(-50, 50), rng.randint(-40, 40))
+    visible = _visible(driver, element)
+    if visible is None:
+        return
+    lo_x, hi_x, lo_y, hi_y = visible
+    x = min(max(rng.randint(-50, 50), lo_x), hi_x)
+    y = min(max(rng.randint(-40, 40), lo_y), hi_y)
+    origin = ScrollOrigin.from_element(element, int(x), int(y))
     ActionChains(driver).scroll_from_origin(origin, 0, rng.choice((-240, -120, 120, 240))) \
         .perform()
 
@@ -109,12 +133,12 @@ def _press(driver, key: str) -> None:
 
 def _to_the_end(pressed: list[str]) -> list[str]:
     """The keys that bring a soak's state to its end: the rasterizer (three engines, the
-    rasterizer first), no wireframe overlay, the default anti-aliasing (four modes, 4x MSAA
-    first: a still view's progressive supersampling is checked in
-    tests/test_notebook_widget.py, and once in several browser runs its last picture came
-    out 63/64 as bright as the headless one, an open finding)."""
+    rasterizer first), no wireframe overlay, and 64 jittered supersamples (the last of four
+    anti-aliasing modes, 4x MSAA first), which a still view adds one a frame: the sum of
+    frames is what must come out as the headless picture (the widget's came out 2-3% darker
+    while its frames were drawn on several threads at once)."""
     return ["e"] * (-pressed.count("e") % 3) + ["w"] * (pressed.count("w") % 2) + \
-        ["a"] * (-pressed.count("a") % 4)
+        ["a"] * ((3 - pressed.count("a")) % 4)
 
 
 def _soak(driver, rng, element, focus, resize, reload, pressed: list[str]) -> dict:
@@ -126,9 +150,8 @@ def _soak(driver, rng, element, focus, resize, reload, pressed: list[str]) -> di
     while time.monotonic() < end:
         what = rng.choices(list(counts), weights=(30, 20, 40, 6, 4))[0]
         el = element()
-        size = (el.size["width"], el.size["height"])
         if what == "drag":
-            _drag(driver, el, rng, size)
+            _drag(driver, el, rng)
         elif what == "wheel":
             _wheel(driver, el, rng)
         elif what == "key":
@@ -280,12 +303,20 @@ def test_a_soak_of_the_notebook_widget_ends_on_the_headless_picture(tmp_path):
         f"import facet\nmine = facet.Renderer(64, 48)\nmine.render(facet.load({MODEL!r}))\n"
         f"w = facet.show({MODEL!r}, size=(420, 320))\nw",
         "w",
-        "import json\nimport numpy as np\ns = w.session\nwp, hp = s.surface_size\n"
+        # (ipykernel 7 applies a widget's messages on threads of its own: this cell may run
+        # before the last keys are applied, so it waits for the state they lead to, bounded)
+        "import json\nimport time\nimport numpy as np\ns = w.session\n"
+        "end = time.monotonic() + 60\n"
+        "while time.monotonic() < end and (s.options().engine, str(s.options().aa), "
+        "s.options().wireframe) != ('raster', 'ssaa:jittered:64', False):\n"
+        "    time.sleep(0.05)\n"
+        "wp, hp = s.surface_size\n"
         "cam = w.camera()\nref = mine.render(s.shown_scene(), cam, "
         "s.options(outputs=('color',))).color\n"
         f"np.save({str(ref_file)!r}, ref)\n"
 
-        f"open({str(camera_file)!r}, 'w').write(json.dumps(cam.describe(wp, hp)))"])
+        f"open({str(camera_file)!r}, 'w').write(json.dumps({{**cam.describe(wp, hp), "
+        "'state': [s.options().engine, str(s.options().aa), s.options().wireframe]}))"])
     rng = random.Random(11 + SEED)
     lab = JupyterLab(tmp_path)
     driver = chromium()
@@ -336,8 +367,8 @@ def test_a_soak_of_the_notebook_widget_ends_on_the_headless_picture(tmp_path):
         for key in _to_the_end(pressed):
             focus()
             _press(driver, key)
-        # The kernel's state and its reference once every event before has been applied
-        # (a cell runs after them), then the page's picture once it is still.
+        # The kernel's state and its reference once the keys have been applied (the cell
+        # waits for their state), then the page's picture once it is still.
         _run_cell(driver, 2)
         camera = json.loads(wait_for(lambda: camera_file.exists() and camera_file.read_text(),
                                      "the kernel's camera"))
@@ -357,5 +388,6 @@ def test_a_soak_of_the_notebook_widget_ends_on_the_headless_picture(tmp_path):
         from PIL import Image
 
         Image.fromarray(np.hstack([shown, ref[..., :3]])).save(os.environ["FACET_SOAK_DEBUG"])
+    assert camera["state"] == ["raster", "ssaa:jittered:64", False], camera["state"]
     assert (camera["width"], camera["height"]) == (shown.shape[1], shown.shape[0])
     assert same_picture(shown, ref) <= MAX_DIFFERING, (counts, pressed)

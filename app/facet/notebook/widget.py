@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import InputError
+from ..gl.owner import Owner
 from ..viewing.session import Session
 
 QUALITY = 80  # JPEG quality while the view moves (lossless once it is still)
@@ -76,10 +77,19 @@ class _WidgetMixin:
         css_height: str
 
     def __init__(self, source, size=None, quality: int = QUALITY, **options):
-        session = Session(source, size=size, options=options)
+        # The session's GL work runs in a thread of its own, one call at a time (ipykernel 7
+        # delivers a widget's messages and timers on several threads: two frames drawn at
+        # once on one context corrupted the sum of a refining view).
+        gl = Owner("facet-widget")
+        try:
+            session = gl.call(Session, source, size=size, options=options)
+        except BaseException:
+            gl.close()
+            raise
         if size is None and session.scene.options.get("size") is None:
-            session.resize(*SIZE)
+            gl.call(session.resize, *SIZE)
         super().__init__()
+        self._gl = gl
         self.session = session
         w, h = session.surface_size
         self.css_width, self.css_height = f"{w}px", f"{h}px"
@@ -96,9 +106,10 @@ class _WidgetMixin:
         changed the view."""
         kind = event.get("event_type") or event.get("type")
         if kind == "close":
-            self.session.close()
+            self._gl.call(self.session.close)
+            self._gl.close()
             return
-        self.session.handle(event)
+        last, wants_frame, quitting = self._gl.call(self._apply, event)
         if kind == "resize":  # (also a view shown again, which has no picture yet)
             # A reloaded page never confirms the pictures sent to the page it replaced, and
             # jupyter_rfb sends nothing while max_buffered_frames are unconfirmed: forget them
@@ -109,30 +120,45 @@ class _WidgetMixin:
             sent, now = self._rfb_frame_index, time.time()
             self._rfb_last_confirmed_index = max(self._rfb_last_confirmed_index, sent)
             self._frame_feedback = {"index": sent, "timestamp": now, "localtime": now}
-            last = self.session.last
-            if last is not None and not self.session.wants_frame:
+            if last is not None and not wants_frame:
                 # A view of the same size shown again: the picture as it is, lossless at
                 # once (the views that have it see no change; nothing is redrawn).
                 self._rfb_send_frame(last, True)
-        if self.session.quitting:
+        if quitting:
             self.close()
-        elif self.session.wants_frame:
+        elif wants_frame:
             self.request_draw()
+
+    def _apply(self, event: dict):
+        """(In the GL thread) the event applied: (the last picture, whether a new one is
+        wanted, whether q was pressed)."""
+        session = self.session
+        session.handle(event)
+        return session.last, session.wants_frame, session.quitting
 
     def get_frame(self) -> np.ndarray | None:
         """The next picture, (H, W, 3) uint8, or None when nothing changed; asks for
         another while the view refines or plays."""
         if self.session.closed:
             return None
-        picture = self.session.frame()
-        status = self.session.status()
-        if status != self.title:
+        picture, status, notices, again = self._gl.call(self._next_frame)
+        if status is not None and status != self.title:
             self.title = status
-        for text in self.session.take_notices():  # (a key's result, the key map: the cell's)
+        for text in notices:  # (a key's result, the key map: the cell's)
             print(text)
-        if self.session.animated or self.session.refining:
+        if again:
             self.request_draw()
         return picture
+
+    def _next_frame(self):
+        """(In the GL thread) the next picture, the status line, the notices said and
+        whether to ask for another picture."""
+        session = self.session
+        if session.closed:
+            return None, None, [], False
+        picture = session.frame()
+        return (picture, session.status(), session.take_notices(),
+                session.animated or session.refining)
 
     # -- the open file ---------------------------------------------------------------------
     def _schedule_watch(self) -> bool:
@@ -158,17 +184,17 @@ class _WidgetMixin:
         session = self.session
         if session.closed:
             return False
-        if session.poll():
+        if self._gl.call(session.poll):
             self.request_draw()
         return True
 
     # -- for scripts -------------------------------------------------------------------
     def camera(self):
         """The camera shown now (facet.Camera)."""
-        return self.session.camera()
+        return self._gl.call(self.session.camera)
 
     def set_camera(self, camera) -> None:
-        self.session.set_camera(camera)
+        self._gl.call(self.session.set_camera, camera)
         self.request_draw()
 
     def press(self, key: str) -> None:
