@@ -104,6 +104,25 @@ async def _pictures(url, events, count, timeout=60, until_lossless=False):
     return out
 
 
+async def watch(url, size, react, timeout=60):
+    """A page of ``size`` (w, h) that confirms every picture and calls
+    ``react(meta, pixels, ws)`` with each (pixels (H, W, 3) int): it returns what ``react``
+    first returns that is not None."""
+    from PIL import Image
+    from websockets.asyncio.client import connect
+
+    async with connect(url) as ws:
+        await ws.send(json.dumps({"type": "resize", "width": size[0], "height": size[1]}))
+        while True:
+            meta = json.loads(await asyncio.wait_for(ws.recv(), timeout))
+            data = await asyncio.wait_for(ws.recv(), timeout)
+            await ws.send(json.dumps({"type": "frame_feedback", "index": meta["index"]}))
+            pixels = np.asarray(Image.open(io.BytesIO(data)).convert("RGB")).astype(int)
+            result = await react(meta, pixels, ws)
+            if result is not None:
+                return result
+
+
 def test_pictures_are_jpeg_while_moving_then_lossless_when_still(served):
     resize = {"type": "resize", "width": 160, "height": 120, "pixel_ratio": 1}
     got = asyncio.run(_pictures(served.ws, [resize], 2, until_lossless=True))
@@ -131,26 +150,20 @@ def test_the_served_viewer_reloads_its_file_when_it_changes(tmp_path):
 
     path = tmp_path / "model.ply"
     trimesh.creation.box().export(path)
+    statuses: list[str] = []
+    changed = []
 
-    async def session(url):
-        from websockets.asyncio.client import connect
-
-        async with connect(url) as ws:
-            await ws.send(json.dumps({"type": "resize", "width": 64, "height": 48}))
-            statuses, changed = [], False
-            while True:
-                meta = json.loads(await asyncio.wait_for(ws.recv(), 60))
-                await asyncio.wait_for(ws.recv(), 60)
-                await ws.send(json.dumps({"type": "frame_feedback", "index": meta["index"]}))
-                statuses.append(meta["status"])
-                if meta["lossless"] and "1,280 triangles" in meta["status"]:
-                    return statuses  # the new model, drawn and still
-                if meta["lossless"] and not changed:  # the box shown: now change the file
-                    trimesh.creation.icosphere(subdivisions=3).export(path)
-                    changed = True
+    async def react(meta, pixels, ws):
+        statuses.append(meta["status"])
+        if meta["lossless"] and "1,280 triangles" in meta["status"]:
+            return statuses  # the new model, drawn and still
+        if meta["lossless"] and not changed:  # the box shown: now change the file
+            trimesh.creation.icosphere(subdivisions=3).export(path)
+            changed.append(True)
+        return None
 
     with Served(model=str(path)) as s:
-        statuses = asyncio.run(session(s.ws))
+        statuses = asyncio.run(watch(s.ws, (64, 48), react))
     assert "12 triangles" in statuses[0] and "1,280 triangles" in statuses[-1]
 
 
@@ -162,31 +175,22 @@ def test_the_served_viewer_reloads_the_users_shader_when_it_changes(tmp_path):
     solid = "#version 330 core\nout vec4 f_color;\nvoid main() {{ f_color = {}; }}\n"
     shader.write_text(solid.format("vec4(1.0, 0.0, 0.0, 1.0)"))
 
-    async def session(url):
-        from PIL import Image
-        from websockets.asyncio.client import connect
+    changed = []
 
-        async with connect(url) as ws:
-            await ws.send(json.dumps({"type": "resize", "width": 64, "height": 48}))
-            changed = False
-            while True:
-                meta = json.loads(await asyncio.wait_for(ws.recv(), 60))
-                data = await asyncio.wait_for(ws.recv(), 60)
-                await ws.send(json.dumps({"type": "frame_feedback", "index": meta["index"]}))
-                assert "error" not in meta["status"], meta["status"]
-                if not meta["lossless"]:
-                    continue
-                pixels = np.asarray(Image.open(io.BytesIO(data)).convert("RGB")).astype(int)
-                greenest = pixels[..., 1] - pixels[..., 0]
-                if changed and greenest.max() > 200:
-                    return pixels  # the new shader, drawn and still
-                if not changed:  # red shown: now change the shader
-                    assert (pixels[..., 0] - pixels[..., 1]).max() > 200
-                    shader.write_text(solid.format("vec4(0.0, 1.0, 0.0, 1.0)"))
-                    changed = True
+    async def react(meta, pixels, ws):
+        assert "error" not in meta["status"], meta["status"]
+        if not meta["lossless"]:
+            return None
+        if changed and (pixels[..., 1] - pixels[..., 0]).max() > 200:
+            return pixels  # the new shader, drawn and still
+        if not changed:  # red shown: now change the shader
+            assert (pixels[..., 0] - pixels[..., 1]).max() > 200
+            shader.write_text(solid.format("vec4(0.0, 1.0, 0.0, 1.0)"))
+            changed.append(True)
+        return None
 
     with Served("--frag", str(shader)) as s:
-        asyncio.run(session(s.ws))
+        asyncio.run(watch(s.ws, (64, 48), react))
         s.stop()
         log = s.proc.stderr.read()
     assert "Traceback" not in log and "shaders reloaded" in log, log

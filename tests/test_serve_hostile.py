@@ -16,7 +16,7 @@ import urllib.request
 
 import pytest
 
-from test_serve import FACET, MODEL, Served, _status
+from test_serve import FACET, MODEL, Served, _status, watch
 
 pytest.importorskip("websockets", reason="the serve extra (websockets) is not installed")
 
@@ -67,26 +67,20 @@ def test_a_served_file_replaced_by_a_link_leading_out_is_not_reloaded(tmp_path):
     trimesh.creation.box().export(served)
     trimesh.creation.icosphere(subdivisions=3).export(tmp_path / "hidden.ply")
 
-    async def session(url):
-        from websockets.asyncio.client import connect
+    replaced = []
 
-        async with connect(url) as ws:
-            await ws.send(json.dumps({"type": "resize", "width": 32, "height": 24}))
-            replaced = False
-            while True:
-                meta = json.loads(await asyncio.wait_for(ws.recv(), 60))
-                await asyncio.wait_for(ws.recv(), 60)
-                await ws.send(json.dumps({"type": "frame_feedback", "index": meta["index"]}))
-                if "error:" in meta["status"] or "1,280 triangles" in meta["status"]:
-                    return meta["status"]
-                if meta["lossless"] and not replaced:
-                    served.unlink()
-                    served.symlink_to(tmp_path / "hidden.ply")
-                    replaced = True
-                    await ws.send(json.dumps({"type": "key_down", "key": "o"}))
+    async def react(meta, pixels, ws):
+        if "error:" in meta["status"] or "1,280 triangles" in meta["status"]:
+            return meta["status"]
+        if meta["lossless"] and not replaced:
+            served.unlink()
+            served.symlink_to(tmp_path / "hidden.ply")
+            replaced.append(True)
+            await ws.send(json.dumps({"type": "key_down", "key": "o"}))
+        return None
 
     with Served("--confine", str(inside), model=str(served)) as s:
-        status = asyncio.run(session(s.ws))
+        status = asyncio.run(watch(s.ws, (32, 24), react))
     assert "outside the confinement folder" in status and "12 triangles" in status, status
 
 
