@@ -271,3 +271,20 @@ def test_frames_asked_for_from_several_threads_at_once_sum_to_the_headless_pictu
         assert same_picture(w.picture, headless(w)) <= MAX_DIFFERING
     finally:
         w.session.close()
+
+
+def test_a_session_can_be_asked_whether_it_refines_before_any_frame():
+    """``refining`` (and ``wants_frame``) asks the engine how many samples it sums; an engine
+    made on first use makes GL objects, and made outside the renderer's context that was
+    "cannot create buffer" (``w.session.refining`` in a cell before the widget drew, or
+    after an engine switch not yet drawn)."""
+    from facet.viewing.session import Session
+
+    with Session(default_model(), size=(64, 48)) as s:
+        assert s.refining is False  # the rasterizer, 4x MSAA: one picture
+        s.char("e")  # the ray tracer: a sum of samples, not drawn yet
+        s._dirty = False  # (as after a frame: wants_frame then asks refining)
+        assert s.refining is True and s.wants_frame
+        s.request_frame()
+        picture = s.frame()
+        assert picture is not None and picture.std() > 10 and " samples" in s.status()

@@ -26,6 +26,7 @@ format, programs per variant, meshes per Mesh; options are never stored.
 
 from __future__ import annotations
 
+import contextlib
 import weakref
 from dataclasses import replace
 from typing import TYPE_CHECKING
@@ -109,7 +110,7 @@ class Renderer(PassSequence):
         self._closed = False
         # The last Frame with channels still on the GPU (weakly).
         self._unread: weakref.ref[Frame] | None = None
-        self._inside = False  # the context is current (render, present): read directly
+        self._inside = False  # the context is current (current(), render, present)
         with self.ctx:
             # What the MSAA policy needs to know (facet.options.render.clamp_msaa).
             self._limits = (self.ctx.max_samples, self.ctx.info.get("GL_RENDERER", "this GL"))
@@ -202,14 +203,10 @@ class Renderer(PassSequence):
         self._check_open()
         opts = self.options(scene, options, **kwargs)
         scene = staged(scene, opts)
-        with self.ctx:  # several renderers (contexts) may live in one thread
-            self._inside = True
-            try:
-                camera = camera or self.camera(scene, opts)
-                _say_if_nothing_in_view(scene, camera, opts)
-                return self._sequence(scene, camera, opts, Destination())
-            finally:
-                self._inside = False
+        with self.current():  # several renderers (contexts) may live in one thread
+            camera = camera or self.camera(scene, opts)
+            _say_if_nothing_in_view(scene, camera, opts)
+            return self._sequence(scene, camera, opts, Destination())
 
     def present(self, scene: Scene, camera: Camera, framebuffer, options=None, *,
                 sample: int | None = None, **kwargs) -> int:
@@ -241,11 +238,11 @@ class Renderer(PassSequence):
         self._check_open()
         opts = self.options(scene, options, **kwargs)
         scene = staged(scene, opts)
-        self._inside = True
+        was, self._inside = self._inside, True
         try:
             return self._sequence(scene, camera, opts, Destination(framebuffer, sample))
         finally:
-            self._inside = False
+            self._inside = was
 
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
         """How many supersamples the colour of this render sums.
@@ -268,10 +265,28 @@ class Renderer(PassSequence):
         """
         opts = self.options(scene, options, **kwargs)
         scene = staged(scene, opts)
-        engine = self._engine(opts.engine)
+        with self.current():  # (an engine made on first use makes GL objects)
+            engine = self._engine(opts.engine)
         aa = engine.sampling(engine.decided(opts), scene,
                              with_lens(camera, opts.aperture, opts.focus), False)
         return aa.samples if aa is not None else 0
+
+    @contextlib.contextmanager
+    def current(self):
+        """This renderer's context current for a block: what a front wraps its drawing in
+        (``present`` is called inside one). Inside another such block it changes nothing:
+        a ``with ctx:`` block nested in another leaves the outer one without a context
+        when it ends (facet.gl.context), so methods that need the context (``samples``)
+        enter it through here."""
+        if self._inside:
+            yield self
+            return
+        with self.ctx:
+            self._inside = True
+            try:
+                yield self
+            finally:
+                self._inside = False
 
     # -- the pass sequence ---------------------------------------------------------------
     def _sequence(self, scene, camera, opts: RenderOptions, dest: Destination):
@@ -385,7 +400,7 @@ class Renderer(PassSequence):
         str
             ``'GL_NO_ERROR'`` when all is well.
         """
-        with self.ctx:
+        with self.current():
             return self.ctx.error
 
     def __enter__(self) -> Renderer:

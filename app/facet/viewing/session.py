@@ -148,7 +148,7 @@ class Session(ViewerCore):
 
     def draw(self) -> np.ndarray:
         """Draw the next frame now and return it, (H, W, 3) uint8, row 0 at the top."""
-        with self.renderer.ctx:
+        with self.renderer.current():
             return self._draw()
 
     def _draw(self) -> np.ndarray:
@@ -168,7 +168,7 @@ class Session(ViewerCore):
     def frame(self) -> np.ndarray | None:
         """The next picture when something changed, plays or refines (None: nothing to
         draw); reloads the open file and user shaders first when they changed."""
-        with self.renderer.ctx:  # engines are made, and shaders reloaded, in it
+        with self.renderer.current():  # engines are made, and shaders reloaded, in it
             self.check_files()
             return self._draw() if self.wants_frame else None
 
@@ -178,7 +178,7 @@ class Session(ViewerCore):
         loop calls every so often (the notebook widget)."""
         if self.closed:
             return False
-        with self.renderer.ctx:
+        with self.renderer.current():
             self.check_files()
             return self.wants_frame
 
@@ -189,7 +189,7 @@ class Session(ViewerCore):
             return
         self.closed = True
         if self.canvas is not None:
-            with self.renderer.ctx:
+            with self.renderer.current():
                 self.canvas.release()
             self.canvas = None
         if self._own_renderer:

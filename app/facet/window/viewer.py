@@ -102,7 +102,7 @@ class Viewer(ViewerCore):
             Row 0 at the top.
         """
         w, h = self.surface_size
-        with self.ctx:
+        with self.renderer.current():
             data = self.ctx.screen.read(viewport=(0, 0, w, h), components=3)
         return np.frombuffer(data, np.uint8).reshape(h, w, 3)[::-1].copy()
 
@@ -116,7 +116,7 @@ class Viewer(ViewerCore):
         fb = self.surface_size
         if fb[0] < 1 or fb[1] < 1:
             return  # minimised
-        with self.ctx:
+        with self.renderer.current():
             self.draw_into(self.ctx.screen)
             if self.error:  # the picture is stale: say so in the window, not only the title
                 self.win.draw_error_frame()
@@ -170,7 +170,7 @@ class Viewer(ViewerCore):
             else:
                 glfw.wait_events_timeout(DEBOUNCE if self._file_watch.pending else
                                          min(IDLE_WAIT, POLL))
-            with self.ctx:  # (a reloaded shader is compiled in it)
+            with self.renderer.current():  # (a reloaded shader is compiled in it)
                 self.check_files()
 
     def close(self) -> None:
