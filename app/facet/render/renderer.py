@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import contextlib
 import weakref
+from collections.abc import Iterator
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -272,12 +273,18 @@ class Renderer(PassSequence):
         return aa.samples if aa is not None else 0
 
     @contextlib.contextmanager
-    def current(self):
+    def current(self) -> Iterator[Renderer]:
         """This renderer's context current for a block: what a front wraps its drawing in
         (``present`` is called inside one). Inside another such block it changes nothing:
         a ``with ctx:`` block nested in another leaves the outer one without a context
         when it ends (facet.gl.context), so methods that need the context (``samples``)
-        enter it through here."""
+        enter it through here.
+
+        Returns
+        -------
+        contextmanager of Renderer
+            ``with renderer.current():`` holds the context for the block.
+        """
         if self._inside:
             yield self
             return
