@@ -1,50 +1,85 @@
 # facet: two commands on a fresh clone.
-#   make render   create .venv, install facet, render the bundled model to out/default.png
-#   make test     install the dev dependencies too and run the whole test suite
-#                 (JOBS processes side by side; JOBS=1 for one)
-#   make bench    run the benchmarks (prints tables; asserts nothing)
-#   make docs     run the examples and build the documentation site into build/site
-#   make lint     ruff, and mypy on the public modules
+#   make render     create .venv, install facet from uv.lock, render the bundled model to
+#                   out/default.png
+#   make test       install the dev set from uv.lock too and run the fast tier of the tests
+#                   (JOBS processes side by side; JOBS=1 for one)
+#   make test-all   every test: the fast tier and the slow one (soaks, browsers, Ray, the
+#                   wheel, 4096-spp references); what .ci/run runs, with make docs
+#   make bench      run the benchmarks (prints tables; asserts nothing)
+#   make docs       run the examples and build the documentation site into build/site
+#   make lint       ruff, and mypy on the public modules
+#   make lock       resolve uv.lock anew (newest versions within pyproject.toml's ranges)
+#   make test-latest  the whole suite against the newest versions, in .venv-latest (drift
+#                   found on purpose; .venv and uv.lock are left as they are)
+# Every target installs exactly what uv.lock names (uv sync --frozen); pyproject.toml keeps
+# the ranges a user's pip install gets. How to add a dependency: docs/development.md.
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
-PIP    := $(BIN)/python -m pip --disable-pip-version-check -q
+UV     := $(VENV)/.uv/bin/uv
+# uv never downloads a Python of its own: .venv's (made from $(PYTHON)) is the one.
+export UV_PYTHON_DOWNLOADS := never
+SYNC   := $(UV) sync --frozen --quiet
 # Test processes side by side: one per core, at most 4 (llvmpipe renders on every core).
 JOBS   ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$n)
+PYTEST := $(BIN)/python -m pytest -n $(JOBS) --dist worksteal
 
-.PHONY: render test bench lint docs check-gl clean
+.PHONY: render test test-all test-latest bench lint docs lock lock-uv check-gl sync-dev clean
 
 check-gl:
 	@sh tools/check-gl.sh
 
-$(VENV)/.installed: pyproject.toml
+# uv itself, pinned by hash, beside the environment it manages (uv sync removes what the
+# lock does not name from site-packages; .venv/.uv is outside it).
+$(UV): tools/uv-bootstrap.txt
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(PIP) install -e .
+	$(BIN)/python -m pip --disable-pip-version-check -q install --require-hashes \
+	    --no-deps --upgrade --target $(VENV)/.uv -r tools/uv-bootstrap.txt
 	@touch $@
 
-$(VENV)/.installed-dev: $(VENV)/.installed
-	$(PIP) install -e '.[dev]'
-	@touch $@
-
-render: check-gl $(VENV)/.installed
+# render needs facet's own dependencies only; it leaves anything else installed in place.
+render: check-gl $(UV)
+	@$(SYNC) --inexact
 	@$(BIN)/facet render -o out/default.png
 
-test: check-gl $(VENV)/.installed-dev
-	$(BIN)/python -m pytest -n $(JOBS) --dist worksteal
+sync-dev: $(UV)
+	@$(SYNC) --extra dev
 
-bench: check-gl $(VENV)/.installed-dev
-	@$(PIP) install -e '.[bench]' || echo "(embreex or pyrender not installable here: their columns are skipped)"
+test: check-gl sync-dev
+	$(PYTEST) -m "not slow"
+
+test-all: check-gl sync-dev
+	$(PYTEST)
+
+bench: check-gl $(UV)
+	@$(SYNC) --extra dev --extra bench
 	$(BIN)/python benchmarks/run.py
 
-lint: $(VENV)/.installed-dev
+lint: sync-dev
 	$(BIN)/ruff check app tests benchmarks models tools examples
 	$(BIN)/mypy
 
 # The documentation site: run the gallery's examples (each picture checked against the stored
 # one), then build with warnings as errors into build/site.
-docs: check-gl $(VENV)/.installed-dev
+docs: check-gl sync-dev
 	$(BIN)/python tools/gallery.py build/examples
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
+lock: $(UV)
+	$(UV) lock --upgrade
+
+lock-uv: $(UV)
+	echo "uv" | $(UV) pip compile --generate-hashes --no-header --upgrade - \
+	    -o tools/uv-bootstrap.txt.new
+	{ sed -n '/^#/p' tools/uv-bootstrap.txt; cat tools/uv-bootstrap.txt.new; } \
+	    > tools/uv-bootstrap.txt.tmp && rm tools/uv-bootstrap.txt.new && \
+	    mv tools/uv-bootstrap.txt.tmp tools/uv-bootstrap.txt
+
+# The newest versions pyproject.toml's ranges allow, in an environment of their own.
+test-latest: check-gl $(UV)
+	@test -x .venv-latest/bin/python || $(PYTHON) -m venv .venv-latest
+	$(UV) pip install --quiet --python .venv-latest/bin/python --upgrade --refresh -e '.[dev]'
+	.venv-latest/bin/python -m pytest -n $(JOBS) --dist worksteal
+
 clean:
-	rm -rf $(VENV) out dist build
+	rm -rf $(VENV) .venv-latest out dist build

@@ -1,8 +1,10 @@
 """Shared fixtures: renderers over real headless EGL (cached per size), the GL error check
-after each test, small meshes, and the real-world models folder."""
+after each test, small meshes, and the real-world models folder; the suite's hermetic
+check (tests/hermetic.py) and the persistent caches it keeps in the environment."""
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -13,6 +15,29 @@ ROOT = Path(__file__).resolve().parents[1]
 SHARED_MODELS = ROOT.parent / "shared" / "models"
 SHARED_GLTF = ROOT.parent / "shared" / "gltf"  # Khronos glTF samples
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # tests/reference.py
+
+# Caches that outlive a run live in the environment (.venv), never in the home folder:
+# Mesa's compiled shaders (a warm cache halves the suite's time on llvmpipe) and
+# Hypothesis's failing examples. Set before any GL context, and inherited by every process
+# the tests start (the CLI, servers, JupyterLab's kernel).
+CACHES = Path(sys.prefix) / "cache"
+os.environ.setdefault("MESA_SHADER_CACHE_DIR", str(CACHES / "mesa-shader-cache"))
+
+from hermetic import hermetic_test, pytest_sessionfinish, pytest_sessionstart  # noqa: E402, F401
+
+
+def _hypothesis_profile() -> None:
+    try:
+        from hypothesis import settings
+        from hypothesis.database import DirectoryBasedExampleDatabase
+    except ImportError:
+        return
+    settings.register_profile("facet", database=DirectoryBasedExampleDatabase(
+        str(CACHES / "hypothesis")))
+    settings.load_profile("facet")
+
+
+_hypothesis_profile()
 
 
 def pytest_addoption(parser):

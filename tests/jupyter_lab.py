@@ -1,5 +1,10 @@
-"""A JupyterLab server for the notebook browser test: started on 127.0.0.1 with a token in a
-folder of its own, its kernel in this interpreter's environment, stopped afterwards."""
+"""A JupyterLab server for the notebook browser tests: started on 127.0.0.1 with a token in a
+folder of its own (its settings, runtime files and the kernel's IPython folder there too, none
+in the user's home), its kernel in this interpreter's environment, stopped afterwards.
+
+Tests wait on the server's REST API (jupyter_server's ``/api/sessions``: a session's kernel,
+its ``execution_state`` and its ``connections``), never on the page's text, which each
+JupyterLab release may word otherwise (4.6 dropped the status bar's "| Idle")."""
 
 from __future__ import annotations
 
@@ -38,7 +43,9 @@ class JupyterLab:
         env = {**os.environ, "JUPYTER_CONFIG_DIR": str(root / ".jupyter-config"),
                "JUPYTER_RUNTIME_DIR": str(root / ".jupyter-runtime"),
                "JUPYTERLAB_SETTINGS_DIR": str(root / ".jupyterlab-settings"),
-               "JUPYTERLAB_WORKSPACES_DIR": str(root / ".jupyterlab-workspaces")}
+               "JUPYTERLAB_WORKSPACES_DIR": str(root / ".jupyterlab-workspaces"),
+               "JUPYTER_DATA_DIR": str(root / ".jupyter-data"),
+               "IPYTHONDIR": str(root / ".ipython")}
         self.log = open(root / "jupyter.log", "w")
         self.proc = subprocess.Popen(
             [sys.executable, "-m", "jupyterlab", "--no-browser", "--ip=127.0.0.1",
@@ -58,6 +65,26 @@ class JupyterLab:
                 return r.status == 200
         except OSError:
             return False
+
+    def api(self, path: str):
+        """The JSON the server's REST API answers at ``path`` (e.g. "/api/sessions")."""
+        with urllib.request.urlopen(f"http://127.0.0.1:{self.port}{path}?token={self.token}",
+                                    timeout=10) as r:
+            return json.loads(r.read())
+
+    def kernel(self, name: str) -> dict | None:
+        """The kernel model (``execution_state``, ``connections``, ...) of the session of
+        notebook ``name`` (a path under the root), or None while it has none."""
+        for session in self.api("/api/sessions"):
+            if session.get("path") == name and session.get("kernel"):
+                return session["kernel"]
+        return None
+
+    def kernel_ready(self, name: str) -> bool:
+        """Whether notebook ``name``'s kernel is started, idle and connected to a page."""
+        kernel = self.kernel(name)
+        return bool(kernel) and kernel.get("execution_state") == "idle" and \
+            kernel.get("connections", 0) >= 1
 
     def url(self, name: str) -> str:
         return f"http://127.0.0.1:{self.port}/lab/tree/{name}?token={self.token}"

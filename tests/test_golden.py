@@ -1,11 +1,13 @@
 """Tier 3: golden images made on Mesa llvmpipe (the CI renderer).
 
 One tolerance table for all; a failing comparison writes the rendered image and a diff
-(amplified 8x) to tests/_failures/. Goldens are rewritten only with ``pytest
+(amplified 8x) to facet-test-failures/ in the system's temporary folder (the message names
+it; the suite writes nothing into the checkout). Goldens are rewritten only with ``pytest
 --regen-golden``. On other renderers the comparison is skipped (tiers 1-2 still run).
 Each test's docstring says what a person should see in its golden image.
 """
 
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +22,7 @@ from facet.scene.material import Material
 
 ROOT = Path(__file__).resolve().parents[1]
 GOLDEN = Path(__file__).resolve().parent / "golden"
-FAILURES = Path(__file__).resolve().parent / "_failures"
+FAILURES = Path(tempfile.gettempdir()) / "facet-test-failures"
 # The tolerance table: a pixel differs when any channel is off by more than CHANNEL_TOL;
 # at most MAX_DIFFERING of the pixels may differ. 1% leaves room for anti-aliased edge pixels,
 # which change with the rasterisation order (a window is drawn upright, offscreen images
@@ -47,7 +49,7 @@ def golden(request, renderer):
         diff = np.abs(image.astype(int) - want).max(axis=2)
         share = float((diff > CHANNEL_TOL).mean())
         if share > MAX_DIFFERING:
-            FAILURES.mkdir(exist_ok=True)
+            FAILURES.mkdir(parents=True, exist_ok=True)
             Image.fromarray(image).save(FAILURES / f"{name}.png")
             Image.fromarray(np.clip(diff * 8, 0, 255).astype(np.uint8)).save(
                 FAILURES / f"{name}-diff.png")

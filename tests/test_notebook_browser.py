@@ -48,10 +48,18 @@ def _settled(driver, element, previous=None) -> np.ndarray:
 
 
 def _run_cell(driver, index: int) -> None:
-    """Select cell ``index`` and run it (the toolbar's run button)."""
+    """Select cell ``index`` and run it (the toolbar's run button, by its command id)."""
     cells = driver.find_elements("css selector", ".jp-Notebook .jp-Cell")
     cells[index].find_element("css selector", ".jp-InputPrompt").click()
     driver.find_element("css selector", RUN).click()
+
+
+def open_notebook(driver, lab, name: str) -> None:
+    """Wait until the page shows notebook ``name`` with its run button and the server says
+    its kernel is idle and connected (the REST API: no page text)."""
+    wait_for(lambda: driver.find_elements("css selector", RUN) and
+             driver.find_elements("css selector", ".jp-Notebook .jp-Cell"), "the notebook")
+    wait_for(lambda: lab.kernel_ready(name), "the notebook's kernel (idle, connected)")
 
 
 def test_a_drag_in_the_notebook_widget_gives_the_headless_picture(tmp_path):
@@ -70,9 +78,7 @@ def test_a_drag_in_the_notebook_widget_gives_the_headless_picture(tmp_path):
     driver = chromium()
     try:
         driver.get(lab.url("view.ipynb"))
-        wait_for(lambda: "| Idle" in driver.find_element("css selector", "body").text,
-                 "the kernel to start")
-        wait_for(lambda: driver.find_elements("css selector", RUN), "the notebook")
+        open_notebook(driver, lab, "view.ipynb")
         _run_cell(driver, 0)
         img = wait_for(lambda: driver.find_elements("css selector", "img.renderview-view"),
                        "the widget")[0]

@@ -17,6 +17,7 @@ import urllib.request
 
 import numpy as np
 import pytest
+from PIL import Image
 
 from browser import camera_from, canvas_pixels, chromium, quit_chromium, wait_for
 from conftest import ROOT
@@ -138,11 +139,39 @@ def test_a_refining_engine_sends_pictures_until_it_converges(served):
     events = [{"type": "resize", "width": 96, "height": 72, "pixel_ratio": 1},
               {"type": "key_down", "key": "e"}]  # raster -> trace: 4 samples a pixel
     got = asyncio.run(_pictures(served.ws, events, 6, until_lossless=True))
-    traced = [m for m, _ in got if "engine trace" in m["status"]]
-    samples = [int(re.search(r"(\d+)/4 samples", m["status"]).group(1)) for m in traced]
+    traced = [m for m, _ in got if m["state"]["engine"] == "trace"]
+    samples = [m["state"]["samples"] for m in traced]
     assert samples[-5:] == [1, 2, 3, 4, 4] and traced[-1]["lossless"]
+    assert {m["state"]["of"] for m in traced} == {4}
+    # the status line says the same (the page shows it under the picture)
+    assert [int(re.search(r"(\d+)/4 samples", m["status"]).group(1)) for m in traced] == samples
     asyncio.run(_pictures(served.ws, [{"type": "key_down", "key": "e"},
                                       {"type": "key_down", "key": "e"}], 1))  # back to raster
+
+
+def test_the_s_key_writes_into_the_screenshots_folder_not_the_working_one(tmp_path):
+    """``--screenshots DIR``: the s key's PNG and its camera JSON land in DIR; the server's
+    working directory gets nothing."""
+    shots, work = tmp_path / "shots", tmp_path / "work"
+    shots.mkdir()
+    work.mkdir()
+    with Served("--screenshots", str(shots), cwd=work) as s:
+        asyncio.run(_pictures(s.ws, [{"type": "resize", "width": 80, "height": 60},
+                                     {"type": "key_down", "key": "s"}], 2))
+        wait_for(lambda: list(shots.glob("facet-*.png")), "the screenshot", 30)
+    png = next(shots.glob("facet-*.png"))
+    assert png.with_suffix(".json").is_file() and Image.open(png).size == (80, 60)
+    assert list(work.iterdir()) == []
+
+
+def test_a_screenshots_folder_that_is_not_one_is_refused_in_one_line(tmp_path):
+    res = subprocess.run([*FACET, "view", MODEL, "--serve", "127.0.0.1:0", "--screenshots",
+                          str(tmp_path / "missing")], capture_output=True, text=True,
+                         timeout=120, cwd=tmp_path)
+    assert res.returncode == 2, res.stderr
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and "screenshots:" in lines[0] and "missing" in lines[0], lines
+    assert "Traceback" not in res.stderr and list(tmp_path.iterdir()) == []
 
 
 def test_the_served_viewer_reloads_its_file_when_it_changes(tmp_path):

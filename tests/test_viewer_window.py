@@ -80,12 +80,16 @@ def _shot_and_headless(path, msaa=0, **render_kwargs):
 
 
 def test_screenshot_matches_the_headless_render(window, tmp_path):
-    """`s` saves the window's picture and its camera; a headless render through that camera
-    gives the same image (edge pixels may differ by rasterisation order)."""
-    w = window()
+    """`s` saves the window's picture and its camera into the --screenshots folder (nothing
+    in the working one); a headless render through that camera gives the same image (edge
+    pixels may differ by rasterisation order)."""
+    folder = tmp_path / "shots"
+    folder.mkdir()
+    w = window("--screenshots", str(folder))
     w.key("s")
-    shots = files(tmp_path, "facet-*.png")
+    shots = files(folder, "facet-*.png")
     assert w.quit() == 0
+    assert not list(tmp_path.glob("facet-*"))
     shot, ref = _shot_and_headless(shots[0], msaa=4)
     from test_golden import CHANNEL_TOL, MAX_DIFFERING  # the one tolerance table
 

@@ -22,6 +22,9 @@ def add_parser(sub) -> None:
     A.add_model_options(v)
     A.add_confine_option(v)
     A.add_shader_options(v)
+    v.add_argument("--screenshots", metavar="DIR",
+                   help="the folder the s, S and t keys write pictures into (default: the "
+                   "working directory)")
     v.add_argument("--serve", metavar="[HOST:]PORT",
                    help="serve the viewer to a web page instead of opening a window (for "
                    "machines without a display): binds 127.0.0.1 unless HOST is given, "
@@ -37,7 +40,7 @@ def run(args) -> None:
     model = args.model or default_model()
     settings = dict(shader=user_shader(args), options=A.render_layer(args),
                     crease=args.crease, time_end=A.time_range(args)[1],
-                    sizes=A.sprite_sizes(args))
+                    sizes=A.sprite_sizes(args), screenshots=args.screenshots)
     if args.serve is not None:
         from ..serve.server import serve
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import Any
 
 
-def show(source=None, size=None, **options) -> Any:
+def show(source=None, size=None, screenshots=None, **options) -> Any:
     """Show ``source`` interactively.
 
     Parameters
@@ -15,6 +15,9 @@ def show(source=None, size=None, **options) -> Any:
         A scene, or a mesh or scene file (default: the bundled torus knot).
     size : (int, int), optional
         The view's size (CSS pixels in a notebook, pixels in a window).
+    screenshots : str or Path, optional
+        The folder the ``s``, ``S`` and ``t`` keys write into (default: the working
+        directory, the notebook's own in Jupyter).
     **options
         Render options over the scene's (``engine="path"``, ``shading="pbr"``, ...).
 
@@ -31,8 +34,8 @@ def show(source=None, size=None, **options) -> Any:
     if in_jupyter():
         from .widget import widget_class
 
-        return widget_class()(source, size=size, **options)
+        return widget_class()(source, size=size, screenshots=screenshots, **options)
     from ..window.viewer import view
 
-    view(source, size=size, options=options)
+    view(source, size=size, options=options, screenshots=screenshots)
     return None

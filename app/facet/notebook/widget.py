@@ -59,6 +59,9 @@ class _WidgetMixin:
         The widget's size in CSS pixels (default: the scene file's, else 640x480).
     quality : int
         JPEG quality (1-100) while the view moves; 100 sends PNG always.
+    screenshots : str or Path, optional
+        The folder the ``s``, ``S`` and ``t`` keys write into (default: the kernel's working
+        directory).
     **options
         Render options over the scene's (``engine="path"``, ``shading="pbr"``, ...).
     """
@@ -76,13 +79,15 @@ class _WidgetMixin:
         css_width: str
         css_height: str
 
-    def __init__(self, source, size=None, quality: int = QUALITY, **options):
+    def __init__(self, source, size=None, quality: int = QUALITY, screenshots=None,
+                 **options):
         # The session's GL work runs in a thread of its own, one call at a time (ipykernel 7
         # delivers a widget's messages and timers on several threads: two frames drawn at
         # once on one context corrupted the sum of a refining view).
         gl = Owner("facet-widget")
         try:
-            session = gl.call(Session, source, size=size, options=options)
+            session = gl.call(Session, source, size=size, options=options,
+                              screenshots=screenshots)
         except BaseException:
             gl.close()
             raise

@@ -1,8 +1,9 @@
 // facet's served viewer page: sends pointer, wheel, key and resize events (jupyter_rfb's
 // vocabulary) over a WebSocket and draws each picture the server sends onto the canvas.
 // The canvas carries data-frame (the last picture's index), data-lossless ("1" when it
-// is the still view's PNG) and data-camera (its camera, facet.Camera.describe), which
-// tests and benchmarks wait on.
+// is the still view's PNG), data-camera (its camera, facet.Camera.describe) and data-state
+// (the status line as data: engine, samples drawn, of how many, error;
+// facet.viewing.core.ViewerCore.state), which tests and benchmarks wait on.
 (() => {
   'use strict'
   const canvas = document.getElementById('canvas')
@@ -54,6 +55,7 @@
     canvas.dataset.frame = String(m.index)
     canvas.dataset.lossless = m.lossless ? '1' : '0'
     canvas.dataset.camera = JSON.stringify(m.camera)
+    canvas.dataset.state = JSON.stringify(m.state)
     status.className = m.status.includes(' - error: ') ? 'error' : ''
     status.textContent = m.status
     if (m.notices && m.notices.length) { // a key's result, the key map, a warning: shown a while

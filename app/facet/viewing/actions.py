@@ -27,12 +27,13 @@ def _next(options, current):
 class ViewerActions:
     def save(self, path=None, scale: int = 1) -> Path:
         """Save what the viewer shows as a PNG (``scale`` 2: an offscreen render at twice the
-        size), with the camera as JSON beside it; returns the PNG's path."""
+        size), with the camera as JSON beside it; returns the PNG's path (default: a
+        time-stamped name in the viewer's screenshots folder)."""
         from ..image.outputs import write_camera_json
         from ..image.writers import save_image
 
-        path = Path(path or time.strftime(f"facet-%Y%m%d-%H%M%S{'-2x' if scale > 1 else ''}"
-                                          ".png"))
+        path = Path(path) if path else self.screenshots / time.strftime(
+            f"facet-%Y%m%d-%H%M%S{'-2x' if scale > 1 else ''}.png")
         camera = self.camera()
         w, h = self.surface_size
         if scale == 1:
@@ -120,7 +121,7 @@ class ViewerActions:
         from ..image.sequence import BackgroundWriter, SequenceSink
         from ..render.turntable import turntable
 
-        path = Path(time.strftime("facet-turntable-%Y%m%d-%H%M%S.gif"))
+        path = self.screenshots / time.strftime("facet-turntable-%Y%m%d-%H%M%S.gif")
         self.show_status(f"facet - recording {path.name}")
         writer = BackgroundWriter()
         sink = SequenceSink(path, 30.0, writer)

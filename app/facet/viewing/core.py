@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import FacetError
+from ..errors import FacetError, InputError
 from ..gl.glsl_source import file_digest
 from ..options.render import options_for, parse_layer
 from ..scene.pbr import as_phong
@@ -35,6 +35,18 @@ def explicit_layer(options=None, size=None, msaa=None):
     return parse_layer({**(options or {}), **{k: v for k, v in given.items() if v is not None}})
 
 
+def screenshot_folder(folder) -> Path:
+    """The folder the viewer's keys write pictures into: ``folder``, an existing directory
+    (else one InputError saying so), or the working directory when None."""
+    if folder is None:
+        return Path(".")
+    path = Path(folder)
+    if not path.is_dir():
+        raise InputError(f"screenshots: {path} is not a folder (create it, or leave the option "
+                         "out to write into the working directory)")
+    return path
+
+
 class ViewerCore(ViewerActions):
     """The viewer's state and controls over ``source`` (a Scene, or a mesh or scene file).
 
@@ -42,14 +54,16 @@ class ViewerCore(ViewerActions):
     ``msaa``, when given, join them; ``shader``: a UserShader replacing the file's
     materials' shaders; ``crease``: how files without normals are read; ``time_end``: the
     animations loop from the options' time to it; ``sizes``: point and line sizes over the
-    file's. A subclass calls ``start(renderer)`` once its surface exists.
+    file's; ``screenshots``: the folder the ``s``, ``S`` and ``t`` keys write into (default:
+    the working directory). A subclass calls ``start(renderer)`` once its surface exists.
     """
 
     status_name = "facet view"  # how errors printed to stderr begin
 
     def __init__(self, source, size=None, msaa: int | None = None, shader=None, options=None,
                  crease: float | None = None, time_end: float | None = None,
-                 sizes: dict | None = None):
+                 sizes: dict | None = None, screenshots=None):
+        self.screenshots = screenshot_folder(screenshots)
         self.path = Path(source) if isinstance(source, (str, Path)) else None
         self.crease = crease
         self.user_shader = shader
@@ -217,6 +231,12 @@ class ViewerCore(ViewerActions):
             self.renderer.present(scene, camera, framebuffer, opts)
             self._samples = 0
         self._dirty = False
+
+    def state(self) -> dict:
+        """What the status line says, as data for pages and tests to wait on: the engine,
+        the supersamples drawn of those the view refines to (0 of 0: none) and the error."""
+        return {"engine": self.options().engine, "samples": self._samples,
+                "of": self._sample_count, "error": self.error}
 
     def status(self, fps: float | None = None) -> str:
         """One line: the file, triangles, engine, clock, refinement and any error."""

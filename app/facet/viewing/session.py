@@ -42,9 +42,9 @@ class Session(ViewerCore):
 
     def __init__(self, source, size=None, msaa: int | None = None, shader=None, options=None,
                  crease: float | None = None, time_end: float | None = None,
-                 sizes: dict | None = None, renderer=None):
+                 sizes: dict | None = None, renderer=None, screenshots=None):
         super().__init__(source, size, msaa, shader=shader, options=options, crease=crease,
-                         time_end=time_end, sizes=sizes)
+                         time_end=time_end, sizes=sizes, screenshots=screenshots)
         from ..render.renderer import Renderer
 
         w, h = self.initial_size

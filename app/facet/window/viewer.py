@@ -53,6 +53,9 @@ class Viewer(ViewerCore):
     sizes : dict, optional
         Point and line sizes over the file's (``point_size``, ``point_radius``,
         ``line_width``).
+    screenshots : str or Path, optional
+        The folder the ``s``, ``S`` and ``t`` keys write into (default: the working
+        directory).
 
     Raises
     ------
@@ -62,9 +65,9 @@ class Viewer(ViewerCore):
 
     def __init__(self, source, size=None, msaa: int | None = None, title: str = "facet",
                  shader=None, options=None, crease: float | None = None,
-                 time_end: float | None = None, sizes: dict | None = None):
+                 time_end: float | None = None, sizes: dict | None = None, screenshots=None):
         super().__init__(source, size, msaa, shader=shader, options=options, crease=crease,
-                         time_end=time_end, sizes=sizes)
+                         time_end=time_end, sizes=sizes, screenshots=screenshots)
         self.win = GLWindow(self.initial_size, title)
         self.glfw, self.window, self.ctx = self.win.glfw, self.win.handle, self.win.ctx
         from ..render.renderer import Renderer
@@ -188,7 +191,7 @@ class Viewer(ViewerCore):
 
 def view(scene, size=None, msaa: int | None = None, shader=None, options=None,
          crease: float | None = None, time_end: float | None = None,
-         sizes: dict | None = None) -> None:
+         sizes: dict | None = None, screenshots=None) -> None:
     """Open a window on a scene and block until it closes (``facet view``).
 
     Parameters
@@ -210,7 +213,10 @@ def view(scene, size=None, msaa: int | None = None, shader=None, options=None,
     sizes : dict, optional
         Point and line sizes over the file's (``point_size``, ``point_radius``,
         ``line_width``).
+    screenshots : str or Path, optional
+        The folder the ``s``, ``S`` and ``t`` keys write into (default: the working
+        directory).
     """
     with Viewer(scene, size, msaa, shader=shader, options=options, crease=crease,
-                time_end=time_end, sizes=sizes) as v:
+                time_end=time_end, sizes=sizes, screenshots=screenshots) as v:
         v.run()
