@@ -160,7 +160,8 @@ class Worker(threading.Thread):
         meta = {"type": "frame", "index": self.index, "lossless": lossless,
                 "mime": "image/png" if lossless else "image/jpeg",
                 "width": int(picture.shape[1]), "height": int(picture.shape[0]),
-                "status": session.status(), "state": session.state(), "notices": session.take_notices(),
+                "status": session.status(), "state": session.state(),
+                "notices": session.take_notices(),
                 "camera": camera.describe(
                     int(picture.shape[1]), int(picture.shape[0]))}
         self.send(meta, png(picture) if lossless else jpeg(picture, self.quality))
