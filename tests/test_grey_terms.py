@@ -1,5 +1,6 @@
 """Grey material-light terms (facet.render.raster.variant.grey_terms): the program that reads one
-channel of each gives the very picture of the one that reads three."""
+channel of each product (formed from the material record in glsl/lib/lights.glsl) gives the
+very picture of the one that reads three."""
 
 import numpy as np
 import pytest

@@ -6,6 +6,21 @@
 // in the Fresnel terms; KHR_materials_sheen over them; and KHR_materials_clearcoat over all.
 #include "lib/pbr.glsl"
 
+// The roughness light through the surface is spread by: the surface's, scaled by how much
+// its index bends (none at 1, full from 1.5; as the Khronos Sample Viewer's
+// applyIorToRoughness).
+float ior_roughness(float roughness, float ior) {
+    return roughness * clamp(2.0 * ior - 2.0, 0.0, 1.0);
+}
+
+// What of light passing through the base is left by the layers the light also crosses: the
+// dielectric's Fresnel at the viewer's angle (the thin film's with iridescence), the coat's
+// and the sheen's.
+vec3 kept_through_layers(PbrSurface s) {
+    vec3 F_d = pbr_fresnel_d(s, schlick_weight(s.n_dot_v));
+    return (1.0 - F_d) * (1.0 - s.cc * s.cc_fresnel) * (1.0 - s.sheen_dim);
+}
+
 // What a light of intensity 1 from direction L behind the surface adds through it, towards
 // V: glTF's transmission lobe for a thin wall (KHR_materials_transmission), GGX about the
 // mirrored direction at the roughness the ior scales (as the Khronos Sample Viewer's
@@ -15,14 +30,12 @@
 vec3 pbr_light_through(PbrSurface s, vec3 c_trans, vec3 N, vec3 V, vec3 L, float roughness,
                        float ior) {
     if (dot(N, L) >= 0.0 || c_trans == vec3(0.0)) return vec3(0.0);
-    float rough = roughness * clamp(2.0 * ior - 2.0, 0.0, 1.0);
+    float rough = ior_roughness(roughness, ior);
     float alpha = max(rough * rough, MIN_ALPHA);
     vec3 L_m = normalize(L - 2.0 * N * dot(N, L));  // mirrored to the viewer's side
     float n_dot_l = max(dot(N, L_m), 0.0);
     vec3 H = normalize(L_m + V);
-    vec3 F_d = pbr_fresnel_d(s, schlick_weight(s.n_dot_v));
-    vec3 kept = (1.0 - F_d) * (1.0 - s.cc * s.cc_fresnel) * (1.0 - s.sheen_dim);
-    return kept * c_trans * PI * n_dot_l * ggx_d(max(dot(N, H), 0.0), alpha)
+    return kept_through_layers(s) * c_trans * PI * n_dot_l * ggx_d(max(dot(N, H), 0.0), alpha)
          * smith_vis(n_dot_l, s.n_dot_v, alpha);
 }
 

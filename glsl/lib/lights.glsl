@@ -1,9 +1,10 @@
 // The scene's lights as a uniform block, and the whole shading equation over them.
 // World space throughout. Filled by facet.render.state.pack_lights (std140, 4 vec4 per
 // light); MAX_LIGHTS is facet.scene.scene.MAX_LIGHTS, defined by facet when it compiles.
-// Per draw, facet also sets the products of each light with the object's material, so the
-// per-fragment work is only what varies per fragment:
-//   u_ambient_term = I_a k_a C, u_light_diffuse[i] = I_i k_d C, u_light_specular[i] = I_i k_s.
+// The shading equation takes the material's products with each light:
+//   AMBIENT_TERM = I_a k_a C, LIGHT_DIFFUSE(i) = I_i k_d C, LIGHT_SPECULAR(i) = I_i k_s,
+// from the material record (the rasterizer's: mesh/record.glsl; the tracers define them
+// from the record of the surface they hit).
 #include "lib/lighting.glsl"
 
 #ifndef MAX_LIGHTS
@@ -38,31 +39,27 @@ const int LIGHT_KINDS[LIGHT_COUNT] = LIGHT_KIND_LIST;
 #define LIGHTS_IN_USE u_light_count.x
 #endif
 
-// The material's products with the lights. The rasterizer sets them per draw as uniforms;
-// the ray tracer, whose material changes from hit to hit, defines these four macros
-// before including this file (glsl/trace/shade.glsl).
+// The material's products with the lights. The rasterizer (and a user's mesh shader) reads
+// the drawn object's record; the ray tracer, whose material changes from hit to hit,
+// defines these four macros before including this file (glsl/trace/shade.glsl).
+// (record.glsl is included here whatever the macros: facet includes each file once per
+// stage, ahead of the preprocessor, so an include inside an #if block would hide it from a
+// later one outside; the tracers' stages define RECORD_PER_HIT and get none of it.)
+#include "mesh/record.glsl"
 #ifndef LIGHT_DIFFUSE
-#ifdef LIGHT_COUNT
-#define LIGHT_ARRAY_SIZE (LIGHT_COUNT > 0 ? LIGHT_COUNT : 1)
-#else
-#define LIGHT_ARRAY_SIZE MAX_LIGHTS
-#endif
-uniform vec3 u_ambient_term;                     // I_a k_a C
-uniform vec3 u_light_diffuse[LIGHT_ARRAY_SIZE];  // I_i k_d C
-uniform vec3 u_light_specular[LIGHT_ARRAY_SIZE]; // I_i k_s
-uniform float u_shininess;                       // n
 #ifdef GREY_TERMS
 // Every term is grey (facet checks per draw): one channel is read and spread, so the
 // compiler computes one colour channel where it would compute three; the same picture.
-#define AMBIENT_TERM vec3(u_ambient_term.x)
-#define LIGHT_DIFFUSE(i) vec3(u_light_diffuse[i].x)
-#define LIGHT_SPECULAR(i) vec3(u_light_specular[i].x)
+// (the products associated as below, so both give the same bits)
+#define AMBIENT_TERM vec3(u_ambient.x * (phong_ka() * phong_c().x))
+#define LIGHT_DIFFUSE(i) vec3(u_lights[i].color.x * (phong_kd() * phong_c().x))
+#define LIGHT_SPECULAR(i) vec3(u_lights[i].color.x * phong_ks())
 #else
-#define AMBIENT_TERM u_ambient_term
-#define LIGHT_DIFFUSE(i) u_light_diffuse[i]
-#define LIGHT_SPECULAR(i) u_light_specular[i]
+#define AMBIENT_TERM (u_ambient.rgb * (phong_ka() * phong_c()))
+#define LIGHT_DIFFUSE(i) (u_lights[i].color.rgb * (phong_kd() * phong_c()))
+#define LIGHT_SPECULAR(i) (u_lights[i].color.rgb * phong_ks())
 #endif
-#define SHININESS u_shininess
+#define SHININESS phong_shininess()
 #endif
 
 // Unit vector from p towards light i, and the fraction of the light's intensity that

@@ -73,8 +73,7 @@ vec3 transmitted(PbrSurface s, Material m, vec3 c_trans, vec3 N, vec3 V) {
     vec3 ray = normalize(refract(-V, N, 1.0 / ior)) * m.thickness * scale;
     vec4 clip = u_view_projection * vec4(v_pos_world + ray, 1.0);
     vec2 uv = clamp(clip.xy / clip.w * 0.5 + 0.5, 0.0, 1.0);
-    float rough = m.roughness * clamp(2.0 * ior - 2.0, 0.0, 1.0);  // rougher, bigger ior
-    float lod = log2(u_behind_width) * rough;
+    float lod = log2(u_behind_width) * ior_roughness(m.roughness, ior);
     vec3 behind = textureLod(u_behind, uv, lod).rgb;
 #ifndef NO_DISPERSION
     // KHR_materials_dispersion, as the Khronos Sample Viewer approximates it: red and
@@ -92,9 +91,7 @@ vec3 transmitted(PbrSurface s, Material m, vec3 c_trans, vec3 N, vec3 V) {
 #if !defined(COLOR_SRGB) && !defined(LINEAR_OUT)
     behind = srgb_to_linear(max(behind, 0.0));  // the picture holds display values then
 #endif
-    vec3 F_d = s.f0_d + (s.f90_d - s.f0_d) * schlick_weight(s.n_dot_v);
-    vec3 kept = (1.0 - F_d) * (1.0 - s.cc * s.cc_fresnel) * (1.0 - s.sheen_dim);
-    vec3 rgb = kept * c_trans * behind;
+    vec3 rgb = kept_through_layers(s) * c_trans * behind;
     // Lights behind the surface, seen through it (lib/layers.glsl: every engine's).
     for (int i = 0; i < LIGHTS_IN_USE; ++i) {
         vec3 L;

@@ -20,50 +20,42 @@ uniform sampler2D u_edl_shade;  // eye-dome lighting per pixel (glsl/post/edl_sh
 #ifdef HAS_TEXTURE
 // The material's texture. Uploaded as sRGB (decoded to linear when sampled) in the sRGB
 // colour mode, as plain RGBA8 (bytes / 255) otherwise; mipmapped, trilinear.
+// Its uv through the base-colour slot's glTF texture transform (the identity for a Phong
+// material's image: mesh/record.glsl).
 uniform sampler2D u_texture;
-uniform mat3 u_uv_transform;  // on (u, v, 1): a glTF texture transform, else identity
 #endif
-#ifdef ALPHA_MASK
-// glTF alphaMode MASK (a PbrMaterial drawn by these models, and the exact channels):
-// fragments whose alpha (factor x texture x vertex colour) is below the cutoff are cut out.
-uniform float u_base_alpha;
-uniform float u_alpha_cutoff;
-#endif
+// glTF alphaMode MASK (a PbrMaterial drawn by these models, and the exact channels, with
+// ALPHA_MASK): fragments whose alpha (factor x texture x vertex colour) is below the
+// cutoff are cut out.
 #ifdef SHADE_GOURAUD
 in vec3 v_color_front;
 in vec3 v_color_back;
 #endif
 
+// The material: the drawn object's record (mesh/record.glsl), through which the lights'
+// products are read too.
 #include "lib/lights.glsl"
 
 // Eye position in world space; with VIEW_ORTHOGRAPHIC, the unit direction towards the viewer.
 uniform vec3 u_eye_world;
-uniform vec3 u_color;      // material C, linear [0, 1] (unlit)
 #ifdef HAS_ENVIRONMENT
 // Reflection and refraction of the environment (facet.scene.environment): the colour is
-// mixed towards the environment by u_reflectivity; with u_ior > 0 the environment colour is
-// the refraction and reflection weighted by Schlick's Fresnel term; glossy (u_gloss) by
-// accumulation (lib/gloss.glsl).
+// mixed towards the environment by the reflectivity; with an ior > 0 the environment
+// colour is the refraction and reflection weighted by Schlick's Fresnel term; glossy by
+// accumulation (lib/gloss.glsl; u_gloss_jitter is the frame's sample).
 #include "lib/gloss.glsl"
 uniform samplerCube u_environment;
-uniform float u_reflectivity;
-uniform float u_ior;
-uniform float u_gloss;
 uniform vec2 u_gloss_jitter;
 #endif
 #ifdef HAS_MIRROR
 // A planar mirror (facet.render.raster.mirror): the scene mirrored in its plane, drawn at this
-// target's size, fetched at this fragment's own pixel and mixed in by u_mirror_weight.
+// target's size, fetched at this fragment's own pixel and mixed in by the reflectivity.
 uniform sampler2D u_mirror;
-uniform float u_mirror_weight;
 #endif
 #ifdef CLIP_PLANE
 // The reflection pass of a mirror: world-space plane n.x + d = 0, n towards the viewer;
 // what lies behind the mirror is not in its reflection.
 uniform vec4 u_clip_plane;
-#endif
-#ifdef OIT
-uniform float u_opacity;  // weighted blended transparency (mesh/outputs.glsl)
 #endif
 #ifdef INSTANCED
 flat in int v_object_id;  // the instance's (glsl/mesh/phong.vert)
@@ -87,17 +79,17 @@ void main() {
     if (dot(u_clip_plane, vec4(v_pos_world, 1.0)) < 0.0) discard;
 #endif
 #ifdef HAS_TEXTURE
-    vec4 tex = texture(u_texture, (u_uv_transform * vec3(v_uv, 1.0)).xy);
+    vec4 tex = texture(u_texture, base_color_uv(v_uv));
 #endif
 #ifdef ALPHA_MASK
-    float alpha = u_base_alpha;
+    float alpha = base_alpha();
 #ifdef HAS_TEXTURE
     alpha *= tex.a;
 #endif
 #ifdef HAS_VERTEX_COLORS
     alpha *= v_color.a;
 #endif
-    if (alpha < u_alpha_cutoff) discard;
+    if (alpha < alpha_cutoff()) discard;
 #endif
     write_exact();
 #ifdef VIEW_ORTHOGRAPHIC
@@ -136,7 +128,7 @@ void main() {
 #if defined(SHADE_GOURAUD)
     vec3 rgb = (gl_FrontFacing ? v_color_front : v_color_back) * albedo;
 #elif defined(SHADE_UNLIT)
-    vec3 rgb = u_color * albedo;
+    vec3 rgb = phong_c() * albedo;
 #elif defined(SHADE_NORMALS)
     vec3 rgb = normalize(v_normal_world) * 0.5 + 0.5;  // world-space normal as colour
 #elif defined(SHADE_BLINN)
@@ -148,26 +140,28 @@ void main() {
     rgb *= texelFetch(u_edl_shade, ivec2(gl_FragCoord.xy), 0).r;
 #endif
 #ifdef HAS_ENVIRONMENT
-    vec3 R = gloss_tilt(reflect(-V, N), u_gloss, u_gloss_jitter);
+    vec3 R = gloss_tilt(reflect(-V, N), phong_gloss(), u_gloss_jitter);
     vec3 reflected = texture(u_environment, R).rgb;
     vec3 env = reflected;
-    if (u_ior > 0.0) {
-        float f0 = pow((u_ior - 1.0) / (u_ior + 1.0), 2.0);
+    float ior = phong_ior(), reflectivity = phong_reflectivity();
+    if (ior > 0.0) {
+        float f0 = pow((ior - 1.0) / (ior + 1.0), 2.0);
         float fresnel = f0 + (1.0 - f0) * pow(1.0 - max(dot(N, V), 0.0), 5.0);
-        vec3 refracted = texture(u_environment, refract(-V, N, 1.0 / u_ior)).rgb;
+        vec3 refracted = texture(u_environment, refract(-V, N, 1.0 / ior)).rgb;
         env = mix(refracted, reflected, fresnel);
     }
     // The local colour's share is clamped as a pixel is, not the local colour before
     // it is shared: a highlight brighter than 1 still shows through (1 - reflectivity).
-    rgb = clamp((1.0 - u_reflectivity) * rgb, 0.0, 1.0) + u_reflectivity * env;
+    rgb = clamp((1.0 - reflectivity) * rgb, 0.0, 1.0) + reflectivity * env;
 #elif defined(HAS_MIRROR)
-    rgb = clamp((1.0 - u_mirror_weight) * rgb, 0.0, 1.0)
-        + u_mirror_weight * texelFetch(u_mirror, ivec2(gl_FragCoord.xy), 0).rgb;
+    float reflectivity = phong_reflectivity();
+    rgb = clamp((1.0 - reflectivity) * rgb, 0.0, 1.0)
+        + reflectivity * texelFetch(u_mirror, ivec2(gl_FragCoord.xy), 0).rgb;
 #else
     rgb = clamp(rgb, 0.0, 1.0);
 #endif
 #ifdef OIT
-    write_color(rgb, u_opacity);
+    write_color(rgb, phong_opacity());
 #else
     write_color(rgb, 1.0);
 #endif

@@ -1,18 +1,14 @@
 // The rasterizer's side of the material record (facet.render.material_record): the record
-// of the object being drawn as one uniform array, and a sampler per texture slot (the
-// slot's repeat and clamp are its sampler's, facet.render.materials.SlotSamplers), each
-// enabled by its TEX_<SLOT> define; then the shared accessor, lib/material.glsl.
-uniform vec4 u_material[RECORD_TEXELS];
+// of the object being drawn (mesh/record.glsl), and a sampler per texture slot (the slot's
+// repeat and clamp are its sampler's, facet.render.materials.SlotSamplers), each enabled by
+// its TEX_<SLOT> define; then the shared accessor, lib/material.glsl.
+#include "mesh/record.glsl"
 uniform sampler2D u_tex_base, u_tex_mr, u_tex_normal, u_tex_occlusion, u_tex_emissive,
                   u_tex_specular, u_tex_specular_color, u_tex_transmission, u_tex_thickness,
                   u_tex_clearcoat, u_tex_clearcoat_roughness, u_tex_clearcoat_normal,
                   u_tex_sheen_color, u_tex_sheen_roughness, u_tex_iridescence,
                   u_tex_iridescence_thickness, u_tex_anisotropy,
                   u_tex_diffuse_transmission, u_tex_diffuse_transmission_color;
-
-vec4 record_texel(int rec, int k) {
-    return u_material[k];
-}
 
 vec4 slot_image(int rec, int k, vec2 uv) {
 #define SLOT_IMAGE(NAME, SAMPLER) if (k == NAME) return texture(SAMPLER, uv);

@@ -11,6 +11,7 @@ float g_shininess;
 vec3 g_ng;  // its geometric normal, for the shadow rays' offset
 float light_visibility(int i, vec3 p, vec3 N, vec3 L, float falloff);
 float through_surfaces(vec3 o, vec3 d, float t_max, int passes, bool refracting);
+#define RECORD_PER_HIT  // (lib/lights.glsl: no per-draw record, mesh/record.glsl)
 #define AMBIENT_TERM g_ambient_term
 #define LIGHT_DIFFUSE(i) (u_lights[i].color.rgb * g_kd_c)
 #define LIGHT_SPECULAR(i) (u_lights[i].color.rgb * g_ks)

@@ -27,7 +27,8 @@ Texels (``TEXELS``; GLSL reads them as REC_<NAME>, the alpha modes as ALPHA_MODE
     dispersion   (the ior's half spread over R, G, B: (ior - 1) 0.025 dispersion, -, -, -)
     flags        (an emitter's light-sampling density (the path tracer's, per instance),
                   unlit, 1 for a metallic-roughness material, clear coat normal scale)
-    occlusion    (occlusion strength, -, -, -)
+    occlusion    (occlusion strength, the share of light it stops for shadow maps
+                  (facet.render.materials.shadow_opacity), -, -)
 
 then ``SLOT_TEXELS`` per texture slot in facet.scene.pbr.SLOTS order (SLOT_<NAME>):
 (the uv transform's first row, the image or -1 without one), (its second row, coordinate set
@@ -41,7 +42,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..scene.pbr import SLOTS, PbrMaterial
-from .materials import as_pbr
+from .materials import as_pbr, shadow_opacity
 
 TEXELS = {"color": 0, "phong": 1, "effects": 2, "base": 3, "emission": 4, "alpha": 5,
           "specular": 6, "transmission": 7, "absorption": 8, "sheen": 9, "flags": 10,
@@ -103,7 +104,7 @@ def material_record(material, color, image, phong_image: float = -1.0) -> np.nda
     out[t["dispersion"], 0] = (max(pbr.ior, 1.0) - 1.0) * 0.025 * pbr.dispersion
     out[t["flags"]] = (0.0, float(pbr.unlit), float(isinstance(m, PbrMaterial)),
                        pbr.clearcoat_normal_scale)
-    out[t["occlusion"]] = (pbr.occlusion_strength, 0.0, 0.0, 0.0)
+    out[t["occlusion"]] = (pbr.occlusion_strength, shadow_opacity(m), 0.0, 0.0)
     for k, name in enumerate(SLOTS):
         slot = getattr(pbr, f"{name}_texture")
         at = SLOT_ROW + SLOT_TEXELS * k

@@ -13,16 +13,15 @@ import numpy as np
 
 from ...geometry import transforms as T
 from ...gl.bindings import unit
-from ...scene.pbr import as_phong
 from ..materials import as_pbr, model_for, slot_defines
 from ..state import FrameState
 from .culling import det3
 from .ibl import PREFILTER_LEVELS
 from .skinning import gpu_pose
-from .slots import set_pbr_material
+from .slots import phong_record, set_pbr_material
 from .sprites import set_sprite_uniforms, sprite_variant, uses_edl
 from .transmission import transmits
-from .variant import LIT, Variant, grey_terms, phong_terms
+from .variant import LIT, Variant, grey_terms, light_products
 
 
 @dataclass
@@ -57,69 +56,55 @@ def material_model(obj, fp: FramePass) -> str:
 
 
 def draw_phong(fwd, fp: FramePass, item, obj) -> None:
-    """A mesh by a Phong model (glsl/mesh/phong.frag): its material's products with the
-    lights, its image, its mirror's reflection or the environment it reflects."""
+    """A mesh by a Phong model (glsl/mesh/phong.frag): its material record, its image, its
+    mirror's reflection or the environment it reflects."""
     m, state = obj.material, fp.state
     model = model_for(state.shading, m)
     mirror = id(obj) in fp.reflections
     reflects = (fp.environment is not None and m.reflectivity > 0 and fp.colour_pass
                 and not mirror)
     exact_only = bool(fp.aux) and not fp.colour_pass
-    terms = phong_terms(m, state, fp.ambient, fp.intensities)
+    grey = not exact_only and model in LIT and \
+        grey_terms(light_products(m, state, fp.ambient, fp.intensities))
     prog = fwd.program(fwd.phong_variant(
         fp.base, model, m.texture is not None, mirror, reflects, obj.mesh.colors is not None,
-        getattr(m, "alpha_mode", "") == "MASK", exact_only,
-        not exact_only and model in LIT and grey_terms(terms), isinstance(item, list),
+        getattr(m, "alpha_mode", "") == "MASK", exact_only, grey, isinstance(item, list),
         *gpu_pose(obj.mesh)))
     fwd.frame_uniforms(prog, fp, False)
-    _phong_material(fwd, fp, prog, item, obj, terms, True)
+    _phong_material(fwd, fp, prog, item, obj, True)
     if mirror:
         fp.reflections[id(obj)].use(location=unit("u_mirror"))
-        prog.set("u_mirror_weight", m.reflectivity)
     elif reflects:
         fwd.cache.cube(fp.environment).use(location=unit("u_environment"))
-        prog.set("u_reflectivity", m.reflectivity)
-        prog.set("u_ior", m.ior)
-        prog.set("u_gloss", m.gloss)
         prog.set("u_gloss_jitter", tuple(float(v) for v in state.gloss_jitter))
     fwd.render(prog, item, fp)
 
 
 def draw_user(fwd, fp: FramePass, item, obj) -> None:
-    """A mesh by its user's shader (facet.render.raster.user_shaders), given the Phong
-    model's uniforms (those it does not declare skipped)."""
+    """A mesh by its user's shader (facet.render.raster.user_shaders), given the matrices,
+    ``u_color`` and the material record (lib/lights.glsl's shade_scene reads it), each
+    where the shader declares it."""
     prog = fwd.user.program(obj.material.shader, fp.base.defines())
     fwd.frame_uniforms(prog, fp, True)
-    terms = phong_terms(obj.material, fp.state, fp.ambient, fp.intensities)
-    _phong_material(fwd, fp, prog, item, obj, terms, False)
+    _phong_material(fwd, fp, prog, item, obj, False)
     fwd.render(prog, item, fp)
 
 
-def _phong_material(fwd, fp: FramePass, prog, item, obj, terms, strict: bool) -> None:
-    """The Phong uniforms of one object (or batch): placement, material products, opacity
-    in the transparent pass, its image and cut-outs."""
+def _phong_material(fwd, fp: FramePass, prog, item, obj, strict: bool) -> None:
+    """One object's (or batch's) placement, its material record (glsl/mesh/record.glsl:
+    C, the Phong terms, opacity, reflectivity, cut-outs) and its image."""
     m = obj.material
-    color, ambient_term, diffuse, specular = terms
     if not isinstance(item, list):
         prog.set("u_model", obj.transform, strict)
         prog.set("u_mvp", fp.view_projection @ obj.transform, strict)
         prog.set("u_normal_matrix", T.normal_matrix(obj.transform), strict)
         prog.set("u_object_id", obj.id + 1, strict)  # 0: "nothing" in the id target
-    prog.set("u_color", tuple(color.tolist()), strict)
-    prog.set("u_ambient_term", tuple(ambient_term.tolist()), strict)
-    prog.set_array("u_light_diffuse", diffuse, strict)
-    prog.set_array("u_light_specular", specular, strict)
-    prog.set("u_shininess", m.shininess, strict)
-    if fp.oit:
-        prog.set("u_opacity", m.opacity, strict)
+    record = phong_record(m, fp.state)
+    prog.set_array("u_material", record, strict=False)
+    if not strict:  # a user's shader: C as a uniform of its own (facet.scene.shader)
+        prog.set("u_color", tuple(record[0, :3].tolist()), strict=False)
     if m.texture is not None:
         fwd.cache.texture(m.texture, fp.state.srgb).use(location=unit("u_texture"))
-        slot = getattr(m, "base_color_texture", None)
-        prog.set("u_uv_transform", np.eye(3) if slot is None else slot.transform,
-                 strict=False)
-    if getattr(m, "alpha_mode", "") == "MASK":
-        prog.set("u_base_alpha", float(m.base_color[3]), strict=False)
-        prog.set("u_alpha_cutoff", m.alpha_cutoff, strict=False)
 
 
 def draw_pbr(fwd, fp: FramePass, item, obj) -> None:
@@ -165,7 +150,6 @@ def draw_sprites(fwd, fp: FramePass, item, obj) -> None:
     """Points or lines (facet.render.raster.sprites): quads per point or segment, an unlit
     cloud shaded by eye-dome lighting from its own depth pass first."""
     state = fp.state
-    terms = phong_terms(as_phong(obj.material), state, fp.ambient, fp.intensities)
     variant = sprite_variant(fp.base, obj, state.shading, bool(fp.aux) and not fp.colour_pass)
     buffers = fwd.cache.buffers(obj.mesh)
     fwd.cull(False)
@@ -173,7 +157,7 @@ def draw_sprites(fwd, fp: FramePass, item, obj) -> None:
     def program(v):
         prog = fwd.program(v)
         fwd.frame_uniforms(prog, fp, False)
-        set_sprite_uniforms(prog, obj, state, fp.view_projection, terms)
+        set_sprite_uniforms(prog, obj, state, fp.view_projection)
         return prog
 
     if uses_edl(obj, variant):  # its depth first, read around each fragment after

@@ -29,9 +29,10 @@ from ...gl.shaders import compile_program
 from ...options.render import PCF_CHOICES
 from ...scene.light import DirectionalLight, PointLight, SpotLight
 from ...scene.scene import Scene
-from ..materials import shadow_opacity
+from ..material_record import record_defines
 from .instancing import batches
 from .skinning import POSE_DEFINES, JointRows, bind_pose, gpu_pose, pose_buffers
+from .slots import record_of
 
 TILE = 1024  # shadow map resolution per tile
 ATLAS_COLUMNS = 8  # tiles per atlas row (TILE x 8 = 8192 px wide, within GL limits)
@@ -168,6 +169,13 @@ class ShadowMaps:
             prog.set("u_dither_shift", shift)
         # Points and lines cast no shadow maps (RasterEngine.unsupported says so).
         items = batches([o for o in scene.objects if o.mesh.kind == "mesh"], lambda o: False)
+        records: dict[int, np.ndarray] = {}  # per material: its record, packed once a pass
+
+        def record(m):
+            if id(m) not in records:
+                records[id(m)] = record_of(m)
+            return records[id(m)]
+
         self.fbo.use()
         self.fbo.clear(depth=1.0)
         self.ctx.enable_only(self.ctx.DEPTH_TEST)
@@ -183,7 +191,7 @@ class ShadowMaps:
                     obj = item if group is None else item[0]
                     pose = (0, False) if group is not None else gpu_pose(obj.mesh)
                     prog = self._program_for(obj, group is not None, shift, *pose)
-                    prog.set("u_opacity", shadow_opacity(obj.material))
+                    prog.set_array("u_material", record(obj.material))
                     if any(pose):  # deformed on the GPU, from the rest mesh
                         buffers = pose_buffers(self.cache, obj.mesh, self.ctx)
                         bind_pose(prog, obj.mesh, buffers, self.joints)
@@ -222,6 +230,7 @@ class ShadowMaps:
             root = glsl_root()
             names = ("ALPHA_MASK", "INSTANCED", "SKINNED", "SKIN_8", "MORPHED")
             defines = {name: None for name, on in zip(names, key, strict=True) if on}
+            defines.update(record_defines())  # (glsl/mesh/record.glsl)
             if skin or morph:
                 defines.update(POSE_DEFINES)
             prog = self._programs[key] = compile_program(
@@ -230,12 +239,8 @@ class ShadowMaps:
             prog.set("u_dither_shift", shift)
         if not key[0]:
             return prog
-        m = obj.material
-        slot = m.base_color_texture
+        slot = obj.material.base_color_texture
         self.cache.texture(slot.texture, False).use(location=unit("u_texture"))
-        prog.set("u_uv_transform", slot.transform)
-        prog.set("u_base_alpha", float(m.base_color[3]))
-        prog.set("u_alpha_cutoff", m.alpha_cutoff)
         return prog
 
     def release(self) -> None:

@@ -1,14 +1,15 @@
-"""The metallic-roughness model's material in a rasterizer draw: its record
-(facet.render.material_record) as the uniform array ``u_material``, and each texture slot's
-image at its sampler's unit (facet.gl.bindings) with the glTF sampler settings of the slot.
-Mirrored axes clamp here and are folded in glsl/lib/material.glsl."""
+"""A material in a rasterizer draw: its record (facet.render.material_record) as the
+uniform array ``u_material`` of glsl/mesh/record.glsl (every mesh program's, the Phong
+family's and the shadow pass's too: ``phong_record``), and for the metallic-roughness model
+each texture slot's image at its sampler's unit (facet.gl.bindings) with the glTF sampler
+settings of the slot. Mirrored axes clamp here and are folded in glsl/lib/material.glsl."""
 
 from __future__ import annotations
 
 from ...gl.bindings import SLOT_SAMPLERS, unit
 from ...scene.pbr import PbrMaterial
 from ..material_record import material_record
-from ..materials import SRGB_SLOTS
+from ..materials import SRGB_SLOTS, phong_color
 
 
 class SlotSamplers:
@@ -47,6 +48,17 @@ def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> lis
         cache.texture(slot.texture, slot_name in SRGB_SLOTS, slot.mipmaps).use(location=at)
         samplers.get(slot).use(location=at)
         bound.append(at)
-    prog.set_array("u_material", material_record(m, m.color, lambda name, slot: 0.0),
-                   strict=False)
+    prog.set_array("u_material", record_of(m, m.color), strict=False)
     return bound
+
+
+def phong_record(m, state):
+    """(RECORD_TEXELS, 4) float32: ``m``'s record for the Phong family, its C in the space
+    lighting happens in (facet.render.materials.phong_color)."""
+    return record_of(m, phong_color(m, state))
+
+
+def record_of(m, color=(0.0, 0.0, 0.0)):
+    """(RECORD_TEXELS, 4) float32: ``m``'s record with C = ``color`` (the shadow pass
+    reads no colour); each slot's image is at its sampler's own unit."""
+    return material_record(m, color, lambda name, slot: 0.0)  # (>= 0: "has an image")

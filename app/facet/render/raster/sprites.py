@@ -12,6 +12,7 @@ import numpy as np
 from ...geometry import transforms as T
 from ...scene.pbr import as_phong
 from ..materials import model_for
+from .slots import phong_record
 
 LIT_SPRITES = ("phong", "blinn", "normals", "unlit")  # models a lit point keeps as they are
 
@@ -37,19 +38,15 @@ def uses_edl(obj, variant) -> bool:
             and not variant.exact_only and not variant.oit)
 
 
-def set_sprite_uniforms(prog, obj, state, view_projection, terms) -> None:
-    """Matrices, material terms and sizes of one points or lines object."""
-    sprites, m = obj.mesh, as_phong(obj.material)
+def set_sprite_uniforms(prog, obj, state, view_projection) -> None:
+    """Matrices, the material record (its Phong stand-in's: facet.scene.pbr.as_phong) and
+    sizes of one points or lines object."""
+    sprites = obj.mesh
     prog.set("u_model", obj.transform)
     prog.set("u_mvp", view_projection @ obj.transform)
     prog.set("u_normal_matrix", T.normal_matrix(obj.transform), strict=False)
     prog.set("u_object_id", obj.id + 1, strict=False)
-    color, ambient_term, diffuse, specular = terms
-    prog.set("u_color", tuple(color.tolist()), strict=False)
-    prog.set("u_ambient_term", tuple(ambient_term.tolist()), strict=False)
-    prog.set_array("u_light_diffuse", diffuse, strict=False)
-    prog.set_array("u_light_specular", specular, strict=False)
-    prog.set("u_shininess", m.shininess, strict=False)
+    prog.set_array("u_material", phong_record(as_phong(obj.material), state), strict=False)
     prog.set("u_viewport", (float(state.width), float(state.height)), strict=False)
     radius = getattr(sprites, "radius", None)
     pixels = sprites.width if sprites.kind == "lines" else (0.0 if radius else sprites.size)

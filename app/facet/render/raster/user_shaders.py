@@ -11,10 +11,10 @@ from ...gl.uniforms import check_uniform, write_uniform
 from ...scene.shader import UserShader
 
 DEFAULT_VERTEX = "mesh/phong.vert"
-# Uniforms facet fills for user mesh shaders (facet.scene.shader lists them).
+# Uniforms facet fills for user mesh shaders (facet.scene.shader lists them; u_material is
+# the material record lib/lights.glsl's shade_scene reads).
 STANDARD = {"u_model", "u_view", "u_projection", "u_mvp", "u_normal_matrix", "u_eye_world",
-            "u_time", "u_resolution", "u_color", "u_object_id", "u_ambient_term",
-            "u_light_diffuse", "u_light_specular", "u_shininess"}
+            "u_time", "u_resolution", "u_color", "u_object_id", "u_material"}
 
 
 def compile_mesh_shader(ctx, shader: UserShader, defines: dict) -> Program:

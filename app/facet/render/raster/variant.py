@@ -1,5 +1,6 @@
 """What a mesh program is specialised on (``Variant``: each field a define of glsl/mesh),
-and the Phong models' per-draw material terms (``phong_terms``, ``grey_terms``)."""
+and whether a Phong draw's material-light products are grey (``light_products``,
+``grey_terms``: the GREY_TERMS variant)."""
 
 from __future__ import annotations
 
@@ -75,9 +76,9 @@ class Variant:
             d["SHADOW_TILES"] = max(self.shadow_tiles, 1)
             d["SHADOW_PCF"] = self.shadow_pcf
         d.update({s: None for s in self.slots})
+        d.update(record_defines())  # the material record's layout (glsl/mesh/record.glsl)
         if self.shading == "pbr":
             d["LUT_SIZE"] = float(LUT_SIZE)  # the split-sum table's (facet.render.raster.ibl)
-            d.update(record_defines())  # the material record's layout
         flags = {"VIEW_ORTHOGRAPHIC": self.orthographic, "HAS_TEXTURE": self.texture,
                  "HAS_UV1": self.uv1, "HAS_TANGENTS": self.tangents,
                  "ALPHA_MASK": self.alpha_mask, "EXACT_ONLY": self.exact_only,
@@ -99,18 +100,18 @@ class Variant:
 LIT = ("phong", "blinn", "flat", "gouraud")  # the models that evaluate shade_scene
 
 
-def phong_terms(m, state: FrameState, ambient, intensities) -> tuple:
-    """C and the material's products with each light (glsl/lib/lights.glsl: I_a k_a C,
-    I_i k_d C, I_i k_s), computed once per draw instead of once per fragment."""
+def light_products(m, state: FrameState, ambient, intensities) -> tuple:
+    """C and the material's products with each light, as glsl/lib/lights.glsl forms them
+    from the material record (I_a k_a C, I_i k_d C, I_i k_s): what ``grey_terms`` asks."""
     color = np.asarray(phong_color(m, state), dtype=np.float64)
     return color, ambient * m.ka * color, intensities * (m.kd * color), intensities * m.ks
 
 
 def grey_terms(terms) -> bool:
-    """Whether every product is grey (equal channels), as an untextured grey material
-    under white lights gives: then the program reads one channel of each (GREY_TERMS),
-    and the compiler computes one colour channel where it would compute three. The
-    picture is the same; a software rasteriser shades ~5% faster."""
+    """Whether every product of ``light_products`` is grey (equal channels), as an
+    untextured grey material under white lights gives: then the program reads one channel
+    of each (GREY_TERMS), and the compiler computes one colour channel where it would
+    compute three. The picture is the same; a software rasteriser shades ~5% faster."""
     _, *products = terms
     return all(r == r[:1] * 3 for t in products for r in np.reshape(t, (-1, 3)).tolist())
 
