@@ -92,6 +92,29 @@ def renderer(_renderer_pool):
         assert r.gl_error() == "GL_NO_ERROR"
 
 
+RAY_STARTS = 3  # tries at starting the local Ray cluster (each bounded by Ray at 30 s)
+
+
+@pytest.fixture(scope="session")
+def ray_cluster():
+    """A local Ray cluster, started once per test process and shut down at its end; the
+    batch runner uses the running one (facet.batch.ray_runner). Ray gives its raylet 30 s
+    to register, which a loaded 2-core machine can miss: a start that timed out is tried
+    again, RAY_STARTS times at most."""
+    ray = pytest.importorskip("ray", reason="the ray extra is not installed")
+    for attempt in range(RAY_STARTS):
+        try:
+            ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False,
+                     configure_logging=False)
+            break
+        except Exception as exc:  # (Ray raises a bare Exception for this one)
+            ray.shutdown()
+            if "timed out during startup" not in str(exc) or attempt == RAY_STARTS - 1:
+                raise
+    yield ray
+    ray.shutdown()
+
+
 def sphere_mesh(subdivisions: int = 6, radius: float = 1.0):
     """A fine icosphere with exact sphere normals (positions / radius)."""
     import trimesh

@@ -78,8 +78,7 @@ def test_a_run_stopped_from_outside_resumes(tmp_path):
 
 
 @pytest.mark.slow
-def test_a_local_ray_cluster_writes_the_same_files(tmp_path):
-    pytest.importorskip("ray", reason="the ray extra is not installed")
+def test_a_local_ray_cluster_writes_the_same_files(tmp_path, ray_cluster):
     models = make_models(tmp_path / "models", 5)
     manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
                               {"size": [48, 48], "views": {"plan": "random", "count": 3,
@@ -127,16 +126,17 @@ def test_a_worker_killed_mid_run_does_not_stop_or_hang_the_run(tmp_path):
 
 
 @pytest.mark.slow
-def test_ray_actors_that_cannot_render_stop_the_run_with_their_error(tmp_path, monkeypatch):
+def test_ray_actors_that_cannot_render_stop_the_run_with_their_error(tmp_path, monkeypatch,
+                                                                   ray_cluster):
     """An actor whose renderer cannot be made (here: a wrong backend name, as a bad GPU or
     a node without GL would) stops the run with that error, not retries and a vague
-    "lost its worker"; more GPU actors than the cluster has GPUs is one error up front."""
-    pytest.importorskip("ray", reason="the ray extra is not installed")
+    "lost its worker"; more GPU actors than the cluster has GPUs is one error up front. The
+    cluster was started before the setting: it reaches the actors from the driver."""
     make_models(tmp_path / "models", 2)
     manifest = write_manifest(tmp_path, [{"model": "models/m00.ply"}, {"model": "models/m01.ply"}])
     with pytest.raises(InputError, match=r"the Ray cluster has \d+ GPU"):
         render_dataset(manifest, tmp_path / "gpu", ray=True, gpus=[0], workers=64)
-    monkeypatch.setenv("FACET_GL_BACKEND", "vulkan")  # the actors inherit it
+    monkeypatch.setenv("FACET_GL_BACKEND", "vulkan")  # (sent to the actors by the runner)
     with pytest.raises(InputError, match="unknown OpenGL backend 'vulkan'"):
         render_dataset(manifest, tmp_path / "out", ray=True)
 

@@ -5,11 +5,14 @@ loads the next model while it renders one), files written by the actors to ``out
 folder every node sees), the index written by the driver. A run whose actor is lost is
 retried on another (``RETRIES`` times; its finished jobs are skipped then) before its
 jobs count as failed. Files are the same as a local
-run's: jobs do not depend on where they ran.
+run's: jobs do not depend on where they ran. The driver's ``FACET_*`` settings (the GL
+backend, budgets, ...) travel to the actors in their runtime environment, as they reach a
+local run's workers, whether the cluster was started here or earlier.
 """
 
 from __future__ import annotations
 
+import os
 import time
 from pathlib import Path
 
@@ -56,8 +59,11 @@ def _run(ray, jobs, out: Path, gpus: int, actors, quiet: bool, confine) -> dict:
                          f"{have_cpus} CPUs; leave --gpus out to render on CPU slots")
     count = actors or (have_gpus if gpus else max(1, have_cpus))
     cpus = max(1, have_cpus // count)
-    actor_class = ray.remote(num_cpus=cpus, num_gpus=1 if gpus else 0, max_restarts=1)(
-        _RenderActor)
+    options = {"num_cpus": cpus, "num_gpus": 1 if gpus else 0, "max_restarts": 1}
+    settings = {k: v for k, v in os.environ.items() if k.startswith("FACET_")}
+    if settings:
+        options["runtime_env"] = {"env_vars": settings}
+    actor_class = ray.remote(**options)(_RenderActor)
     pool = [actor_class.remote(cpus, None if confine is None else
                                (str(confine[0]), bool(confine[1])))
             for _ in range(count)]
@@ -112,8 +118,6 @@ class _RenderActor:
     """One renderer per actor, for its whole life."""
 
     def __init__(self, threads: int, confine):
-        import os
-
         os.environ.setdefault("LP_NUM_THREADS", str(threads))
         from ..errors import FacetError
         from ..render.renderer import Renderer
