@@ -24,7 +24,8 @@ SYNC   := $(UV) sync --frozen --quiet
 JOBS   ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$n)
 PYTEST := $(BIN)/python -m pytest -n $(JOBS) --dist worksteal
 
-.PHONY: render test test-all test-latest bench lint docs lock lock-uv check-gl sync-dev clean
+.PHONY: render test test-all test-latest tiers bench lint docs lock lock-uv check-gl sync-dev \
+        clean
 
 check-gl:
 	@sh tools/check-gl.sh
@@ -50,6 +51,13 @@ test: check-gl sync-dev
 
 test-all: check-gl sync-dev
 	$(PYTEST)
+
+# The tiers anew from measured durations: the whole suite with --durations=0, then
+# tests/slow_tests.txt from it (tools/tiers.py).
+tiers: check-gl sync-dev
+	@mkdir -p build
+	$(PYTEST) --durations=0 -q | tee build/durations.txt
+	$(BIN)/python tools/tiers.py build/durations.txt
 
 bench: check-gl $(UV)
 	@$(SYNC) --extra dev --extra bench

@@ -40,6 +40,19 @@ def _hypothesis_profile() -> None:
 _hypothesis_profile()
 
 
+SLOW_TESTS = Path(__file__).with_name("slow_tests.txt")  # the slow tier (tools/tiers.py)
+
+
+@pytest.hookimpl(tryfirst=True)  # (before -m "not slow" deselects)
+def pytest_collection_modifyitems(config, items):
+    """Mark the slow tier's tests (tests/slow_tests.txt, made from measured durations)."""
+    listed = {line.strip() for line in SLOW_TESTS.read_text().splitlines()
+              if line.strip() and not line.startswith("#")}
+    for item in items:
+        if item.nodeid in listed:
+            item.add_marker(pytest.mark.slow)
+
+
 def pytest_addoption(parser):
     parser.addoption("--regen-golden", action="store_true",
                      help="rewrite tests/golden/*.png from the current renderer (llvmpipe only)")
