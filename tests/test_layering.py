@@ -129,6 +129,22 @@ def test_the_scene_model_reads_no_files():
     assert out.strip() == "True"
 
 
+def test_options_read_no_files_and_the_sequence_keeps_out_of_the_engines():
+    """options/ imports nothing of formats/ (an environment file is named by the options,
+    read by facet.formats.environment_files.resolve); the renderer and its destinations
+    reach no engine's modules (engines are found through facet.render.engine's table and
+    answer through its interface)."""
+    graph = _imports()
+    into_formats = [(a, b) for a, targets in graph.items() if a.startswith("facet.options")
+                    for b in targets if b.startswith("facet.formats")]
+    assert not into_formats, into_formats
+    engines = ("facet.render.raster", "facet.render.trace", "facet.render.path")
+    for module in ("facet.render.renderer", "facet.render.destination",
+                   "facet.render.sequence"):
+        reached = [b for b in graph[module] if b.startswith(engines)]
+        assert not reached, (module, reached)
+
+
 def test_imports_point_down_the_layers():
     upward = [(a, b) for a, targets in _imports().items() for b in targets
               if _layer(b) > _layer(a)]
@@ -176,7 +192,7 @@ def test_the_layer_and_circle_checks_can_fail():
     forward pass, which imports users' mesh shaders, below the lab), and a circle fed to
     the check is found."""
     graph = _imports()
-    assert "facet.render.engine" in graph["facet.render.renderer"]
+    assert "facet.render.engine" in graph["facet.render.sequence"]
     assert "facet.render.raster.forward" in graph["facet.render.raster.engine"]
     assert "facet.render.raster.user_shaders" in graph["facet.render.raster.forward"]
     assert not any(m.startswith("facet.lab") for m in graph["facet.render.raster.forward"])

@@ -38,7 +38,7 @@ _EXPORTS = {
     "open_scene": "formats",
     "load": "formats",
     "PbrMaterial": "scene.pbr",
-    "TextureSlot": "scene.pbr",
+    "TextureSlot": "scene.texture_slot",
     "primitives": "scene",
     "shapes": "scene",
     "Texture": "scene.texture",

@@ -52,6 +52,16 @@ _LOADED: dict = {}  # (path, size, mtime) -> Environment: the last few image fil
 _KEEP = 2  # a 2K HDR sky is about 40 MB with its cube and light grid
 
 
+def resolve(value):
+    """``value`` as an Environment: an option's ``EnvironmentFile`` read (load_environment),
+    anything else as it is (an Environment, None)."""
+    from ..options.values import EnvironmentFile
+
+    if isinstance(value, EnvironmentFile):
+        return load_environment(value.spec, value.base)
+    return value
+
+
 def load_environment(spec: str, base: Path | None = None) -> Environment:
     """``sky``, an equirectangular image file, or a folder with px/nx/py/ny/pz/nz images.
 

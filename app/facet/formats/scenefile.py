@@ -25,6 +25,7 @@ from ..scene.pbr import PbrMaterial
 from ..scene.primitives import PRIMITIVE_PARAMS, PRIMITIVES
 from ..scene.scene import Scene
 from ..scene.shapes import SHAPES
+from .environment_files import resolve as resolve_environment
 from .loading import read_parts
 from .scenefile_lights import read_camera, read_lights
 from .scenefile_materials import MaterialTables
@@ -93,8 +94,8 @@ class _SceneBuilder(MaterialTables):
         read_lights(self.r, scene, data.get("lights", []))
         if "environment" in data:  # one parser for here and [render] environment
             try:
-                scene.environment = parse_option("environment", data["environment"],
-                                                 self.base)
+                scene.environment = resolve_environment(
+                    parse_option("environment", data["environment"], self.base))
             except FacetError as exc:
                 r.fail("environment", str(exc).removeprefix("environment: "))
         cameras = r.table(data.get("cameras", {}), "cameras", _Any())
@@ -270,6 +271,8 @@ class _SceneBuilder(MaterialTables):
         return self.material(value, where)
 
     def geometry(self, t: dict, where: str) -> tuple[list, Any]:
+        """An object's parts (name, mesh or shape, transform) and its rig: a file's
+        (``mesh``), a primitive's, or none (a group node)."""
         r = self.r
         if "mesh" in t and "primitive" in t:
             r.fail(where, "give either 'mesh' (a file) or 'primitive', not both")
@@ -279,55 +282,73 @@ class _SceneBuilder(MaterialTables):
             r.fail(f"{where}.{params[0]}", "size parameters belong to a 'primitive'")
         if "mesh" in t:
             path = self.base / r.string(t["mesh"], f"{where}.mesh")
-            from .splat_files import is_splat_file, read_splats
+            from .splat_files import is_splat_file
 
             if is_splat_file(path):  # Gaussian splats (3DGS PLY, .splat): one cloud
-                extra = [k for k in ("crease", "flat", "point_size", "point_radius",
-                                     "line_width") if k in t]
-                if extra:
-                    r.fail(f"{where}.{extra[0]}", "a file of Gaussian splats takes no "
-                           f"{extra[0]} (splats keep their own sizes and colours)")
-                if (path, "splats") not in self.parts_cache:
-                    try:
-                        cloud = [(None, read_splats(path), np.eye(4))]
-                    except FacetError as exc:
-                        r.fail(f"{where}.mesh", str(exc))
-                    self.parts_cache[path, "splats"] = cloud, None
-                return self.parts_cache[path, "splats"]
-            crease = self.crease
-            if "crease" in t:
-                crease = r.number(t["crease"], f"{where}.crease", minimum=0)
-                if crease > 180:
-                    r.fail(f"{where}.crease", f"expected degrees in [0, 180] (180: fully "
-                           f"smooth), got {_show(t['crease'])}")
-            if (path, crease) not in self.parts_cache:
-                try:
-                    parts, _, _, rig = read_parts(path, crease)
-                except FacetError as exc:
-                    r.fail(f"{where}.mesh", str(exc))
-                self.parts_cache[path, crease] = parts, rig
-            parts, rig = self.parts_cache[path, crease]
-            if t.get("flat"):
-                if rig is not None:  # one vertex per face corner: the skin data follows
-                    rig = rig.with_corners([m.faces.reshape(-1) for _, m, _ in parts])
-                if (path, crease, "flat") not in self.parts_cache:  # made once per file
-                    self.parts_cache[path, crease, "flat"] = [
-                        (n, m.flat_shaded() if m.kind == "mesh" else m, x)
-                        for n, m, x in parts], None
-                parts = self.parts_cache[path, crease, "flat"][0]
-            sizes = {k: r.number(t[k], f"{where}.{k}", above=0) if k in t else None
-                     for k in ("point_size", "point_radius", "line_width")}
-            if any(v is not None for v in sizes.values()):
-                from ..scene.points import resize_sprites
-
-                try:
-                    parts = [(n, resize_sprites(m, **sizes), x) for n, m, x in parts]
-                except FacetError as exc:
-                    r.fail(where, str(exc))
-            return [(n if len(parts) > 1 else None, m, x) for n, m, x in parts], rig
+                return self._splat_file(t, where, path)
+            return self._mesh_file(t, where, path)
         if kind is None:
             return [], None  # a group node: only a transform for its children
-        kind = r.choice(kind, f"{where}.primitive", tuple(PRIMITIVES))
+        return self._primitive(t, where, r.choice(kind, f"{where}.primitive",
+                                                  tuple(PRIMITIVES)), params)
+
+    def _splat_file(self, t: dict, where: str, path: Path) -> tuple[list, Any]:
+        from .splat_files import read_splats
+
+        r = self.r
+        extra = [k for k in ("crease", "flat", "point_size", "point_radius", "line_width")
+                 if k in t]
+        if extra:
+            r.fail(f"{where}.{extra[0]}", "a file of Gaussian splats takes no "
+                   f"{extra[0]} (splats keep their own sizes and colours)")
+        if (path, "splats") not in self.parts_cache:
+            try:
+                cloud = [(None, read_splats(path), np.eye(4))]
+            except FacetError as exc:
+                r.fail(f"{where}.mesh", str(exc))
+            self.parts_cache[path, "splats"] = cloud, None
+        return self.parts_cache[path, "splats"]
+
+    def _mesh_file(self, t: dict, where: str, path: Path) -> tuple[list, Any]:
+        """A mesh file's parts (read once per file and crease), flat-shaded and with its
+        sprites resized as the object asks."""
+        r = self.r
+        crease = self.crease
+        if "crease" in t:
+            crease = r.number(t["crease"], f"{where}.crease", minimum=0)
+            if crease > 180:
+                r.fail(f"{where}.crease", f"expected degrees in [0, 180] (180: fully "
+                       f"smooth), got {_show(t['crease'])}")
+        if (path, crease) not in self.parts_cache:
+            try:
+                parts, _, _, rig = read_parts(path, crease)
+            except FacetError as exc:
+                r.fail(f"{where}.mesh", str(exc))
+            self.parts_cache[path, crease] = parts, rig
+        parts, rig = self.parts_cache[path, crease]
+        if t.get("flat"):
+            if rig is not None:  # one vertex per face corner: the skin data follows
+                rig = rig.with_corners([m.faces.reshape(-1) for _, m, _ in parts])
+            if (path, crease, "flat") not in self.parts_cache:  # made once per file
+                self.parts_cache[path, crease, "flat"] = [
+                    (n, m.flat_shaded() if m.kind == "mesh" else m, x)
+                    for n, m, x in parts], None
+            parts = self.parts_cache[path, crease, "flat"][0]
+        sizes = {k: r.number(t[k], f"{where}.{k}", above=0) if k in t else None
+                 for k in ("point_size", "point_radius", "line_width")}
+        if any(v is not None for v in sizes.values()):
+            from ..scene.points import resize_sprites
+
+            try:
+                parts = [(n, resize_sprites(m, **sizes), x) for n, m, x in parts]
+            except FacetError as exc:
+                r.fail(where, str(exc))
+        return [(n if len(parts) > 1 else None, m, x) for n, m, x in parts], rig
+
+    def _primitive(self, t: dict, where: str, kind: str, params: list) -> tuple[list, Any]:
+        """A primitive's one part: an exact shape, or its tessellation (flat = true, or
+        no shape of that kind); objects of one primitive and size share it."""
+        r = self.r
         for p in params:
             if p not in PRIMITIVE_PARAMS[kind]:
                 r.fail(f"{where}.{p}", f"{kind} takes {', '.join(PRIMITIVE_PARAMS[kind])}")
@@ -339,8 +360,7 @@ class _SceneBuilder(MaterialTables):
                 continue
             kwargs[p] = r.vector(v, f"{where}.{p}", len(v)) if isinstance(v, list) else \
                 r.number(v, f"{where}.{p}", above=0)
-        # Objects of one primitive and size share its geometry (a scene of 30,000 equal
-        # spheres tessellates, checks and uploads one).
+        # (a scene of 30,000 equal spheres tessellates, checks and uploads one)
         key = (kind, bool(t.get("flat")),
                tuple((k, None if v is None else tuple(np.ravel(v).tolist()))
                      for k, v in sorted(kwargs.items())))

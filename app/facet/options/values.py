@@ -14,6 +14,7 @@ import numbers
 import warnings
 from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 
 from ..errors import FacetWarning, InputError
 from ..scene.constants import DEFAULT_CREASE  # noqa: F401 - the crease option's default
@@ -281,10 +282,20 @@ def _integer(choices=None, minimum=None, maximum=None):
     return parse
 
 
+@dataclass(frozen=True)
+class EnvironmentFile:
+    """An environment named by its file: an image or a folder of cube faces, ``spec``
+    relative to ``base`` (the folder of the file that names it). Options read no file: it
+    is read where a scene or a render takes it (facet.formats.environment_files.resolve)."""
+
+    spec: str
+    base: Path | None = None
+
+
 def _environment(value, key, base=None):
     """'sky', an image or a folder of cube faces (a relative path: from ``base``, the
-    folder of the file that names it), or ``{color = [r, g, b]}``: a constant radiance."""
-    from ..formats.environment_files import load_environment
+    folder of the file that names it: an ``EnvironmentFile``), or ``{color = [r, g, b]}``:
+    a constant radiance."""
     from ..scene.environment import Environment
 
     if isinstance(value, Environment):
@@ -297,7 +308,9 @@ def _environment(value, key, base=None):
     if not isinstance(value, str):
         raise InputError(f"{key}: expected 'sky', an image, a folder of cube faces or "
                          f"{{color = [r, g, b]}}, got {value!r}")
-    return load_environment(value, base)
+    if value == "sky":
+        return Environment.sky()
+    return EnvironmentFile(value, None if base is None else Path(base))
 
 
 def _msaa(value, key):

@@ -2,9 +2,9 @@
 
 ``Destination``: offscreen (drawn upside down so readback lands row 0 on top, facet.gl.
 targets; every channel read back) or a window's framebuffer (bottom-up like GL, colour only,
-supersamples added one per frame while the view is still). ``Surfaces``: the targets,
-supersampling and OIT buffers of one image size, made on first use and replaced together
-when the size changes.
+supersamples added one per frame while the view is still). ``Surfaces``: the targets and
+supersampling buffers of one image size, and any engine's own buffers of that size (the
+rasterizer's OIT sums), made on first use and replaced together when the size changes.
 """
 
 from __future__ import annotations
@@ -14,17 +14,17 @@ from dataclasses import dataclass
 from ..gl.targets import Targets
 from ..options.render import RenderOptions
 from .antialias import Accumulator
-from .raster.transparency import Transparency
 
 
 class Surfaces:
-    """What depends on the image size: the targets, and the supersampling and OIT buffers
-    (made on first use)."""
+    """What depends on the image size: the targets, the supersampling buffers and an
+    engine's own (``part``), each made on first use."""
 
     def __init__(self, ctx, size: tuple[int, int]):
         self.ctx, self.size = ctx, size
         self.targets = Targets(ctx, *size)
-        self._accumulator = self._oit = None
+        self._accumulator = None
+        self._parts: dict[str, object] = {}
 
     @property
     def accumulator(self) -> Accumulator:
@@ -32,14 +32,15 @@ class Surfaces:
             self._accumulator = Accumulator(self.ctx, *self.size)
         return self._accumulator
 
-    @property
-    def oit(self) -> Transparency:
-        if self._oit is None:
-            self._oit = Transparency(self.ctx, *self.size)
-        return self._oit
+    def part(self, name: str, make):
+        """An engine's buffers of this size called ``name``: ``make(ctx, width, height)``
+        the first time (an object with ``release()``), released with the rest."""
+        if name not in self._parts:
+            self._parts[name] = make(self.ctx, *self.size)
+        return self._parts[name]
 
     def release(self) -> None:
-        for part in (self._accumulator, self._oit, self.targets):
+        for part in (self._accumulator, *self._parts.values(), self.targets):
             if part is not None:
                 part.release()
 

@@ -32,6 +32,7 @@ first use; a new engine is a new module and a row here.
 from __future__ import annotations
 
 from importlib import import_module
+from typing import Any, Protocol
 
 from ..options.render import AntiAliasing, parse_aa
 from .antialias import accumulation
@@ -42,6 +43,18 @@ ENGINE_CLASSES = {
     "trace": ("facet.render.trace.engine", "TraceEngine"),
     "path": ("facet.render.path.engine", "PathEngine"),
 }
+
+
+class UserShaderPrograms(Protocol):
+    """What a front asks of the users' mesh shaders' programs an engine keeps
+    (facet.render.raster.user_shaders.UserPrograms is one): whether a file changed,
+    reloading them (a ReloadResult), and whether one reads ``u_time``."""
+
+    def changed(self) -> bool: ...
+
+    def reload(self) -> Any: ...
+
+    def reads_time(self) -> bool: ...
 
 
 def engine_for(name: str):
@@ -111,6 +124,11 @@ class Engine:
     def more_lines(self, opts, scene) -> list[str]:
         """Lines of what this engine does not honour beyond its table's (scene-dependent)."""
         return []
+
+    def user_programs(self) -> UserShaderPrograms | None:
+        """Users' mesh shaders' programs this engine keeps, or None (the tracers draw no
+        user shader)."""
+        return None
 
     def release(self) -> None:
         pass

@@ -10,6 +10,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..formats.environment_files import resolve as resolve_environment
 from ..geometry.lens import with_lens
 from ..scene.light import active_lights
 from .antialias import point_lights_for
@@ -36,8 +37,8 @@ def prepare_frame(scene, camera, opts, window: bool):
     if window:
         background[3] = 1.0
     view.background = background
-    if opts.environment is not None:
-        view.environment = opts.environment
+    if opts.environment is not None:  # (a file the options name is read here, once: the
+        view.environment = resolve_environment(opts.environment)  # loader keeps it)
     # The ambient light no one declared lights only engines with the notes' ambient term.
     ambient = view.ambient if view.ambient_declared or \
         CAPABILITIES[opts.engine].implied_ambient else np.zeros(3)
@@ -62,3 +63,28 @@ def frozen(scene):
     return scene.view(objects=[
         replace(o, transform=np.array(o.transform, dtype=np.float64),
                 material=material(o.material)) for o in scene.objects])
+
+
+def say_if_nothing_in_view(scene, camera, opts) -> None:
+    """One warning line when no object of the scene can show in the camera's view (the
+    picture would be empty with no word): its likely causes named."""
+    import warnings
+
+    from ..errors import FacetWarning
+    from ..geometry.framing import boxes_in_view
+
+    finite = [o for o in scene.objects if not o.infinite]
+    if not finite or len(finite) < len(scene.objects) or \
+            any(getattr(o.mesh, "rest", None) is not None for o in finite):
+        return  # (nothing to see, an infinite plane, which nearly any view meets, or a
+        #          skinned or morphed pose, whose box would cost posing it on the CPU)
+    boxes = [o.shape.bounds if o.shape is not None else o.mesh.bounds for o in finite]
+    w, h = opts.size
+    view_projection = camera.projection(w, h) @ camera.view
+    if boxes_in_view(view_projection, boxes, [o.transform for o in finite]).any():
+        return
+    warnings.warn(f"nothing of the scene ({len(finite)} objects) is in the camera's view: "
+                  "is its pose in the other convention (Camera.from_intrinsics takes "
+                  "OpenCV's, x right, y down, z forward; an OpenGL camera looks down -z), "
+                  "does it look away, or is the scene beyond near / far "
+                  f"({camera.near:g} / {camera.far:g})?", FacetWarning, stacklevel=3)

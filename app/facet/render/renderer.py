@@ -30,7 +30,6 @@ import contextlib
 import weakref
 from collections.abc import Iterator
 from dataclasses import replace
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -51,14 +50,11 @@ from ..scene.staging import staged
 from .antialias import point_lights_for
 from .denoise import denoise_lines
 from .destination import Destination, Surfaces
-from .engine import engine_for
+from .engine import UserShaderPrograms
 from .finish import Finisher
 from .frame import Frame
-from .prepare import prepare_frame
+from .prepare import prepare_frame, say_if_nothing_in_view
 from .sequence import PassSequence
-
-if TYPE_CHECKING:
-    from .raster.user_shaders import UserPrograms
 
 
 class Renderer(PassSequence):
@@ -206,7 +202,7 @@ class Renderer(PassSequence):
         scene = staged(scene, opts)
         with self.current():  # several renderers (contexts) may live in one thread
             camera = camera or self.camera(scene, opts)
-            _say_if_nothing_in_view(scene, camera, opts)
+            say_if_nothing_in_view(scene, camera, opts)
             return self._sequence(scene, camera, opts, Destination())
 
     def present(self, scene: Scene, camera: Camera, framebuffer, options=None, *,
@@ -333,41 +329,17 @@ class Renderer(PassSequence):
         return frame
 
     # -- resources -----------------------------------------------------------------------
-    def _engine(self, name: str):
-        """The engine called ``name`` (facet.render.engine), made on first use."""
-        if name not in self._engines:
-            self._engines[name] = engine_for(name)(self.ctx, self.cache)
-        return self._engines[name]
-
-    def user_programs(self) -> UserPrograms | None:
-        """Users' mesh shaders' programs, if a rasterizer exists (nothing builds one to ask).
+    def user_programs(self) -> UserShaderPrograms | None:
+        """Users' mesh shaders' programs, of the engine that keeps them (nothing is made to
+        ask: None while no such engine has drawn).
 
         Returns
         -------
-        UserPrograms or None
-            The rasterizer's (facet.render.raster.user_shaders), or None while no
-            rasterizer has drawn.
+        UserShaderPrograms or None
+            Those of the first engine that has any (facet.render.engine.Engine.user_programs).
         """
-        raster = self._engines.get("raster")
-        return raster.forward.user if raster is not None else None
-
-    @property
-    def finisher(self) -> Finisher:
-        if self._finisher is None:
-            self._finisher = Finisher(self.ctx)
-        return self._finisher
-
-    def _surfaces_for(self, size) -> Surfaces:
-        """The size-dependent targets, made anew when the size changes."""
-        if self._surfaces is None or self._surfaces.size != tuple(size):
-            new = Surfaces(self.ctx, tuple(size))
-            # moderngl re-binds the bound framebuffer after making one: bind a live one
-            # before releasing the old (a released one there is GL_INVALID_OPERATION).
-            new.targets.color().use()
-            if self._surfaces is not None:
-                self._surfaces.release()
-            self._surfaces = new
-        return self._surfaces
+        kept = (e.user_programs() for e in self._engines.values())
+        return next((programs for programs in kept if programs is not None), None)
 
     def resize(self, width: int, height: int) -> None:
         """A new default size for later calls (a window was resized).
@@ -415,28 +387,3 @@ class Renderer(PassSequence):
 
     def __exit__(self, *exc) -> None:
         self.close()
-
-
-def _say_if_nothing_in_view(scene, camera, opts) -> None:
-    """One warning line when no object of the scene can show in the camera's view (the
-    picture would be empty with no word): its likely causes named."""
-    import warnings
-
-    from ..errors import FacetWarning
-    from ..geometry.framing import boxes_in_view
-
-    finite = [o for o in scene.objects if not o.infinite]
-    if not finite or len(finite) < len(scene.objects) or \
-            any(getattr(o.mesh, "rest", None) is not None for o in finite):
-        return  # (nothing to see, an infinite plane, which nearly any view meets, or a
-        #          skinned or morphed pose, whose box would cost posing it on the CPU)
-    boxes = [o.shape.bounds if o.shape is not None else o.mesh.bounds for o in finite]
-    w, h = opts.size
-    view_projection = camera.projection(w, h) @ camera.view
-    if boxes_in_view(view_projection, boxes, [o.transform for o in finite]).any():
-        return
-    warnings.warn(f"nothing of the scene ({len(finite)} objects) is in the camera's view: "
-                  "is its pose in the other convention (Camera.from_intrinsics takes "
-                  "OpenCV's, x right, y down, z forward; an OpenGL camera looks down -z), "
-                  "does it look away, or is the scene beyond near / far "
-                  f"({camera.near:g} / {camera.far:g})?", FacetWarning, stacklevel=3)

@@ -1,7 +1,8 @@
 """The steps of facet.render.renderer's pass sequence after the frame is prepared: the exact
 channels (drawn now, or when first read), colour (one picture, or a sum of supersamples with
 their distributed effects, denoised when asked), finishing into the destination, and the
-reads back to numpy. ``PassSequence`` is the Renderer's base: it holds no state of its own
+reads back to numpy; and what the sequence makes on first use (engines, the finisher, the
+targets of a size). ``PassSequence`` is the Renderer's base: it holds no state of its own
 (the Renderer's context, engines, surfaces and finisher)."""
 
 from __future__ import annotations
@@ -18,7 +19,9 @@ from ..geometry.sampling import pattern
 from ..gl.targets import writing
 from .antialias import distributed_sample, gloss_jitter, jitter_matrix, point_lights_for
 from .budget import SampleBudget
-from .finish import finish_for
+from .destination import Surfaces
+from .engine import engine_for
+from .finish import Finisher, finish_for
 from .prepare import frozen
 from .state import FrameState
 
@@ -31,6 +34,34 @@ class PassSequence:
     _inside: bool  # the context is current
     progress = None  # progress(done, total, seconds) -> False to stop: after each sample
     _spp = None  # the last sum's paths per pixel (facet.render.budget)
+    _engines: dict  # name -> engine (facet.render.engine), made on first use
+    _finisher: Finisher | None  # the finishing pass, made on first use
+    _surfaces: Surfaces | None  # the targets of the last size
+
+    # -- what the sequence makes on first use and keeps ---------------------------------
+    def _engine(self, name: str):
+        """The engine called ``name`` (facet.render.engine), made on first use."""
+        if name not in self._engines:
+            self._engines[name] = engine_for(name)(self.ctx, self.cache)
+        return self._engines[name]
+
+    @property
+    def finisher(self) -> Finisher:
+        if self._finisher is None:
+            self._finisher = Finisher(self.ctx)
+        return self._finisher
+
+    def _surfaces_for(self, size) -> Surfaces:
+        """The size-dependent targets, made anew when the size changes."""
+        if self._surfaces is None or self._surfaces.size != tuple(size):
+            new = Surfaces(self.ctx, tuple(size))
+            # moderngl re-binds the bound framebuffer after making one: bind a live one
+            # before releasing the old (a released one there is GL_INVALID_OPERATION).
+            new.targets.color().use()
+            if self._surfaces is not None:
+                self._surfaces.release()
+            self._surfaces = new
+        return self._surfaces
 
     def _warn(self, lines) -> None:
         """What an engine cannot honour: each line once per renderer (facet.render.engine)."""

@@ -14,7 +14,7 @@ from .forward import ForwardPass
 from .overlay import wireframe_overlay
 from .shadow import ShadowMaps
 from .splats import SplatPass, scene_splats
-from .transparency import split_transparent
+from .transparency import Transparency, split_transparent
 
 
 class RasterEngine(Engine):
@@ -80,9 +80,9 @@ class RasterEngine(Engine):
         if transparent is not None:
             # Layers tested against the opaque depth (multisampled with MSAA: anti-aliased
             # edges), composited over the resolved opaque colour.
-            oit = surf.oit.begin(zbuffer)
+            oit = _oit(surf).begin(zbuffer)
             self.forward.draw(transparent, state, oit=True)
-            surf.oit.end(oit, result)
+            _oit(surf).end(oit, result)
         if splats:  # over everything, tested against the opaque depth (MSAA's resolved)
             self.splats.draw(scene, state, t.zbuffer, result)
         return result
@@ -100,9 +100,9 @@ class RasterEngine(Engine):
         if opts.wireframe:
             wireframe_overlay(self.forward, scene, state)
         if transparent is not None:
-            oit = surf.oit.begin(acc.sample_depth)
+            oit = _oit(surf).begin(acc.sample_depth)
             self.forward.draw(transparent, state, oit=True)
-            surf.oit.end(oit, acc.sample)
+            _oit(surf).end(oit, acc.sample)
         if scene_splats(scene):
             self.splats.draw(scene, state, acc.sample_depth, acc.sample)
 
@@ -137,6 +137,9 @@ class RasterEngine(Engine):
                          "their own colours")
         return lines
 
+    def user_programs(self):
+        return self.forward.user  # (facet.render.raster.user_shaders)
+
     def release(self) -> None:
         if self._shadows is not None:
             self._shadows.release()
@@ -144,3 +147,7 @@ class RasterEngine(Engine):
             self._splats.release()
         self.forward.release()
 
+
+def _oit(surf) -> Transparency:
+    """The order-independent transparency sums of the surfaces' size (made once a size)."""
+    return surf.part("oit", Transparency)
