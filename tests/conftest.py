@@ -16,12 +16,16 @@ SHARED_MODELS = ROOT.parent / "shared" / "models"
 SHARED_GLTF = ROOT.parent / "shared" / "gltf"  # Khronos glTF samples
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # tests/reference.py
 
-# Caches that outlive a run live in the environment (.venv), never in the home folder:
-# Mesa's compiled shaders (a warm cache halves the suite's time on llvmpipe) and
-# Hypothesis's failing examples. Set before any GL context, and inherited by every process
-# the tests start (the CLI, servers, JupyterLab's kernel).
+# Caches that outlive a run live in the environment (.venv), never in the home folder nor
+# the checkout: Mesa's compiled shaders (a warm cache halves the suite's time on llvmpipe)
+# and Hypothesis's examples and tables. Set before any GL context, and inherited by every
+# process the tests start (the CLI, servers, JupyterLab's kernel). Mesa makes no parent
+# folder (it says so on stderr, once per process, and caches nothing).
 CACHES = Path(sys.prefix) / "cache"
 os.environ.setdefault("MESA_SHADER_CACHE_DIR", str(CACHES / "mesa-shader-cache"))
+os.environ.setdefault("HYPOTHESIS_STORAGE_DIRECTORY", str(CACHES / "hypothesis"))
+for _folder in (os.environ["MESA_SHADER_CACHE_DIR"], os.environ["HYPOTHESIS_STORAGE_DIRECTORY"]):
+    Path(_folder).mkdir(parents=True, exist_ok=True)
 
 from hermetic import hermetic_test, pytest_sessionfinish, pytest_sessionstart  # noqa: E402, F401
 
@@ -29,11 +33,14 @@ from hermetic import hermetic_test, pytest_sessionfinish, pytest_sessionstart  #
 def _hypothesis_profile() -> None:
     try:
         from hypothesis import settings
+        from hypothesis.configuration import set_hypothesis_home_dir
         from hypothesis.database import DirectoryBasedExampleDatabase
     except ImportError:
         return
+    home = Path(os.environ["HYPOTHESIS_STORAGE_DIRECTORY"])
+    set_hypothesis_home_dir(home)  # (its tables: constants, unicode data)
     settings.register_profile("facet", database=DirectoryBasedExampleDatabase(
-        str(CACHES / "hypothesis")))
+        str(home / "examples")))
     settings.load_profile("facet")
 
 

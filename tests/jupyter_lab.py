@@ -1,6 +1,7 @@
 """A JupyterLab server for the notebook browser tests: started on 127.0.0.1 with a token in a
-folder of its own (its settings, runtime files and the kernel's IPython folder there too, none
-in the user's home), its kernel in this interpreter's environment, stopped afterwards.
+folder of its own, which is its home too (its settings, runtime files, the kernel's IPython
+folder, npm's logs: none in the user's home), its kernel in this interpreter's environment,
+stopped afterwards.
 
 Tests wait on the server's REST API (jupyter_server's ``/api/sessions``: a session's kernel,
 its ``execution_state`` and its ``connections``), never on the page's text, which each
@@ -40,7 +41,7 @@ def notebook(path: Path, cells: list[str]) -> None:
 class JupyterLab:
     def __init__(self, root: Path):
         self.root, self.port, self.token = root, free_port(), secrets.token_hex(16)
-        env = {**os.environ, "JUPYTER_CONFIG_DIR": str(root / ".jupyter-config"),
+        env = {**os.environ, "HOME": str(root), "JUPYTER_CONFIG_DIR": str(root / ".jupyter-config"),
                "JUPYTER_RUNTIME_DIR": str(root / ".jupyter-runtime"),
                "JUPYTERLAB_SETTINGS_DIR": str(root / ".jupyterlab-settings"),
                "JUPYTERLAB_WORKSPACES_DIR": str(root / ".jupyterlab-workspaces"),
