@@ -24,8 +24,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))  # tests/reference.py
 CACHES = Path(sys.prefix) / "cache"
 os.environ.setdefault("MESA_SHADER_CACHE_DIR", str(CACHES / "mesa-shader-cache"))
 os.environ.setdefault("HYPOTHESIS_STORAGE_DIRECTORY", str(CACHES / "hypothesis"))
-for _folder in (os.environ["MESA_SHADER_CACHE_DIR"], os.environ["HYPOTHESIS_STORAGE_DIRECTORY"]):
-    Path(_folder).mkdir(parents=True, exist_ok=True)
+# The tools the tests drive write into $HOME whatever they are told (Dr.Jit's kernel cache
+# under Mitsuba, Ray's token, Chromium's crash folder, IPython's profile): the tests run with
+# a home of their own in the environment (kept: Dr.Jit's cache stays warm); tests/hermetic.py
+# watches the user's real one (FACET_USER_HOME, set by the first process, inherited).
+os.environ.setdefault("FACET_USER_HOME", str(Path.home()))
+os.environ["HOME"] = str(CACHES / "home")
+for _folder in ("MESA_SHADER_CACHE_DIR", "HYPOTHESIS_STORAGE_DIRECTORY", "HOME"):
+    Path(os.environ[_folder]).mkdir(parents=True, exist_ok=True)
 
 from hermetic import hermetic_test, pytest_sessionfinish, pytest_sessionstart  # noqa: E402, F401
 

@@ -10,9 +10,9 @@ Two checks (tests/conftest.py installs both):
   taken at its start and fails the run on any new file (what the shallow check cannot see).
 
 Allowed: the virtual environments (``.venv*``, where the persistent caches live: Mesa's
-shader cache, pytest's, Hypothesis's examples) and Python's own ``__pycache__`` folders
-beside its sources. Everything else a test writes goes under its ``tmp_path`` or the
-system's temporary folder.
+shader cache, pytest's, Hypothesis's examples, and the home the tests run with) and
+Python's own ``__pycache__`` folders beside its sources. Everything else a test writes goes
+under its ``tmp_path`` or the system's temporary folder.
 """
 
 from __future__ import annotations
@@ -24,7 +24,8 @@ from pathlib import Path
 import pytest
 
 CHECKOUT = Path(__file__).resolve().parents[1]
-HOME = Path.home()
+# The user's home: the tests run with one of their own (tests/conftest.py), which is not it.
+HOME = Path(os.environ.get("FACET_USER_HOME") or Path.home())
 # Entries no check descends into or reports: the environments and Python's bytecode.
 ALLOWED = ("__pycache__",)
 SHALLOW = 3  # levels the per-test listing reads
