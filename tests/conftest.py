@@ -118,6 +118,16 @@ def renderer(_renderer_pool):
         assert r.gl_error() == "GL_NO_ERROR"
 
 
+def bare_env(**extra) -> dict:
+    """A child's environment as a user's clean shell gives it (PATH, facet's source on
+    PYTHONPATH) with the test session's home and caches (a child given no HOME finds the
+    user's through the password file, and Mesa would cache there: tests/hermetic.py)."""
+    session = ("HOME", "FACET_USER_HOME", "MESA_SHADER_CACHE_DIR",
+               "HYPOTHESIS_STORAGE_DIRECTORY")
+    return {"PYTHONPATH": str(ROOT / "app"), "PATH": "/usr/bin:/bin",
+            **{k: os.environ[k] for k in session}, **extra}
+
+
 RAY_STARTS = 3  # tries at starting the local Ray cluster (each bounded by Ray at 30 s)
 
 

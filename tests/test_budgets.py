@@ -8,6 +8,8 @@ from pathlib import Path
 from facet.budgets import BUDGETS
 from hostile import facet, refused
 
+from conftest import bare_env
+
 ROOT = Path(__file__).resolve().parents[1]
 CUBE = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 
@@ -20,8 +22,7 @@ def test_info_prints_every_budget(tmp_path):
 
     out = subprocess.run([sys.executable, "-m", "facet", "--budget", "objects=7", "info"],
                          capture_output=True, text=True, check=True,
-                         env={"PYTHONPATH": str(ROOT / "app"), "PATH": "/usr/bin:/bin"}
-                         ).stdout
+                         env=bare_env()).stdout
     printed = dict(re.findall(r"^budget\.(\w+)\s+(\d+)", out, re.M))
     assert printed == {name: str(7 if name == "objects" else default)
                        for name, (default, _) in BUDGETS.items()}

@@ -17,7 +17,7 @@ from facet.scene import DirectionalLight, Material, Scene, Texture
 from facet.scene.pbr import PbrMaterial, TextureSlot, texture_transform
 from facet.scene.shader import UserShader
 
-from conftest import ROOT, sphere_mesh
+from conftest import ROOT, bare_env, sphere_mesh
 
 CAMERA = Camera.look_at((0.5, 1.0, 3.5), (0, 0, 0), fov_y=40, near=0.5, far=10)
 
@@ -72,7 +72,7 @@ def test_one_warning_line_on_the_command_line(tmp_path):
     out = subprocess.run([sys.executable, "-m", "facet", "render", "--engine", "trace",
                           "--wireframe", "--size", "24x24", "-o", str(tmp_path / "w.png")],
                          capture_output=True, text=True, cwd=tmp_path, timeout=120,
-                         env={"PYTHONPATH": str(ROOT / "app"), "PATH": "/usr/bin:/bin"})
+                         env=bare_env())
     assert out.returncode == 0, out.stderr
     assert out.stderr.splitlines() == [
         "facet: warning: the ray tracer draws no wireframe overlay"]
