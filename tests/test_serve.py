@@ -184,7 +184,7 @@ def test_the_served_viewer_reloads_its_file_when_it_changes(tmp_path):
 
     async def react(meta, pixels, ws):
         statuses.append(meta["status"])
-        if meta["lossless"] and "1,280 triangles" in meta["status"]:
+        if meta["lossless"] and meta["state"]["triangles"] == 1280:
             return statuses  # the new model, drawn and still
         if meta["lossless"] and not changed:  # the box shown: now change the file
             trimesh.creation.icosphere(subdivisions=3).export(path)
@@ -207,7 +207,7 @@ def test_the_served_viewer_reloads_the_users_shader_when_it_changes(tmp_path):
     changed = []
 
     async def react(meta, pixels, ws):
-        assert "error" not in meta["status"], meta["status"]
+        assert not meta["state"]["error"], meta["status"]
         if not meta["lossless"]:
             return None
         if changed and (pixels[..., 1] - pixels[..., 0]).max() > 200:

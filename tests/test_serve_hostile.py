@@ -70,7 +70,7 @@ def test_a_served_file_replaced_by_a_link_leading_out_is_not_reloaded(tmp_path):
     replaced = []
 
     async def react(meta, pixels, ws):
-        if "error:" in meta["status"] or "1,280 triangles" in meta["status"]:
+        if meta["state"]["error"] or meta["state"]["triangles"] == 1280:
             return meta["status"]
         if meta["lossless"] and not replaced:
             served.unlink()

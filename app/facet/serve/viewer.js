@@ -2,7 +2,7 @@
 // vocabulary) over a WebSocket and draws each picture the server sends onto the canvas.
 // The canvas carries data-frame (the last picture's index), data-lossless ("1" when it
 // is the still view's PNG), data-camera (its camera, facet.Camera.describe) and data-state
-// (the status line as data: engine, samples drawn, of how many, error;
+// (the status line as data: engine, samples drawn, of how many, triangles, error;
 // facet.viewing.core.ViewerCore.state), which tests and benchmarks wait on.
 (() => {
   'use strict'

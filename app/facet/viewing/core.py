@@ -234,9 +234,10 @@ class ViewerCore(ViewerActions):
 
     def state(self) -> dict:
         """What the status line says, as data for pages and tests to wait on: the engine,
-        the supersamples drawn of those the view refines to (0 of 0: none) and the error."""
+        the supersamples drawn of those the view refines to (0 of 0: none), the triangles
+        shown and the error ("" without one)."""
         return {"engine": self.options().engine, "samples": self._samples,
-                "of": self._sample_count, "error": self.error}
+                "of": self._sample_count, "triangles": self.triangles, "error": self.error}
 
     def status(self, fps: float | None = None) -> str:
         """One line: the file, triangles, engine, clock, refinement and any error."""
