@@ -19,6 +19,9 @@ BIN    := $(VENV)/bin
 UV     := $(VENV)/.uv/bin/uv
 # uv never downloads a Python of its own: .venv's (made from $(PYTHON)) is the one.
 export UV_PYTHON_DOWNLOADS := never
+# Mesa's compiled shaders are kept in the environment, not the home folder (a warm cache
+# halves the suite's time on llvmpipe; tests/conftest.py sets the same for pytest alone).
+export MESA_SHADER_CACHE_DIR ?= $(CURDIR)/$(VENV)/cache/mesa-shader-cache
 SYNC   := $(UV) sync --frozen --quiet
 # Test processes side by side: one per core, at most 4 (llvmpipe renders on every core).
 JOBS   ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ $$n -gt 4 ] && n=4; echo $$n)
@@ -34,6 +37,7 @@ check-gl:
 # lock does not name from site-packages; .venv/.uv is outside it).
 $(UV): tools/uv-bootstrap.txt
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	@mkdir -p $(MESA_SHADER_CACHE_DIR)
 	$(BIN)/python -m pip --disable-pip-version-check -q install --require-hashes \
 	    --no-deps --upgrade --target $(VENV)/.uv -r tools/uv-bootstrap.txt
 	@touch $@
