@@ -32,12 +32,12 @@ PYTEST := $(BIN)/python -m pytest -n $(JOBS) --dist worksteal
 
 check-gl:
 	@sh tools/check-gl.sh
+	@mkdir -p $(MESA_SHADER_CACHE_DIR)
 
 # uv itself, pinned by hash, beside the environment it manages (uv sync removes what the
 # lock does not name from site-packages; .venv/.uv is outside it).
 $(UV): tools/uv-bootstrap.txt
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	@mkdir -p $(MESA_SHADER_CACHE_DIR)
 	$(BIN)/python -m pip --disable-pip-version-check -q install --require-hashes \
 	    --no-deps --upgrade --target $(VENV)/.uv -r tools/uv-bootstrap.txt
 	@touch $@
