@@ -117,7 +117,8 @@ def test_videos_patterns_and_shader_sequences_stopped_from_outside(tmp_path, kin
                     "32x32", "-o", str(target)]
         started = lambda: len(list((tmp_path / "frames").glob("*.png"))) >= 3  # noqa: E731
     code, err = _run(args, sig, tmp_path, started)
-    assert code == (-9 if sig == signal.SIGKILL else 128 + sig) and "Traceback" not in err
+    assert code == (-9 if sig == signal.SIGKILL else 128 + sig), err
+    assert "Traceback" not in err, err
     if sig != signal.SIGKILL:
         assert not _temps(tmp_path)
         if kind == "gif":

@@ -174,14 +174,16 @@ def regular_file(path, what: str = "file", error=InputError, missing: str | None
     return p
 
 
-def read_bytes(path, what: str = "file", error=InputError, missing: str | None = None,
-               confine: bool = True) -> bytes:
-    """The content of ``path``, read through the one guarded opener: checked first
-    (``regular_file``: confinement, a regular file, the size budget, no LFS pointer), then
-    opened without waiting (O_NONBLOCK: a file swapped for a FIFO in between does not hang)
-    at its resolved path, confined again, without following a link there (a link swapped
-    in between does not lead out), and checked again on the open file before a byte is
-    read."""
+@contextlib.contextmanager
+def opened(path, what: str = "file", error=InputError, missing: str | None = None,
+           confine: bool = True):
+    """``(file, size)``: ``path`` open for binary reading through the one guarded opener,
+    and its size from ``fstat``. Checked first (``regular_file``: confinement, a regular
+    file, the size budget, no LFS pointer), then opened without waiting (O_NONBLOCK: a
+    file swapped for a FIFO in between does not hang) at its resolved path, confined
+    again, without following a link there (a link swapped in between does not lead out),
+    and checked again on the open file before a byte is read. Every byte facet reads on a
+    user's behalf comes through here (tests/test_guard_mechanism.py walks the code)."""
     p = regular_file(path, what, error, missing, confine)
     try:
         target = p.resolve()
@@ -189,18 +191,52 @@ def read_bytes(path, what: str = "file", error=InputError, missing: str | None =
         raise error(f"{p}: cannot be read as {_a(what)} (a loop of links)") from None
     if confine:
         check_confined(target, what, error)  # the file about to be opened, links resolved
-    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | \
-        getattr(os, "O_NOFOLLOW", 0)
-    try:
-        fd = os.open(target, flags)
-    except OSError as exc:
-        raise error(f"{p}: cannot be read as {_a(what)} ({exc.strerror or exc})") from None
+    fd = _open_fd(target, p, what, error)
     with os.fdopen(fd, "rb") as f:
         info = os.fstat(f.fileno())
         if not stat.S_ISREG(info.st_mode) or info.st_size > budget("file_bytes"):
             raise error(f"{p}: changed while it was read (no longer a regular file within "
                         "the budget); facet reads regular files only")
-        return f.read(budget("file_bytes") + 1)[:budget("file_bytes")]
+        yield f, info.st_size
+
+
+def _open_fd(target: Path, shown, what: str, error) -> int:
+    """A descriptor of ``target`` opened read-only, without waiting and without following
+    a final link; ``error`` naming ``shown`` when it cannot be opened."""
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | \
+        getattr(os, "O_NOFOLLOW", 0)
+    try:
+        return os.open(target, flags)
+    except OSError as exc:
+        raise error(f"{shown}: cannot be read as {_a(what)} ({exc.strerror or exc})") from None
+
+
+@contextlib.contextmanager
+def opened_name(path, what: str = "file", error=InputError, missing: str | None = None,
+                confine: bool = True):
+    """A file name for a library that reads only by name (OpenEXR): ``path`` opened and
+    checked by ``opened``, named by its descriptor (``/proc/self/fd/N``: the library reads
+    the file that was checked, not whatever the name leads to a moment later); where there
+    is no /proc, the checked path itself."""
+    with opened(path, what, error, missing, confine) as (f, _size):
+        by_fd = f"/proc/self/fd/{f.fileno()}"
+        yield by_fd if os.path.exists(by_fd) else str(Path(path).resolve())
+
+
+def read_bytes(path, what: str = "file", error=InputError, missing: str | None = None,
+               confine: bool = True, limit: int | None = None) -> bytes:
+    """The content of ``path`` (its first ``limit`` bytes, when given), read through
+    ``opened``: by the size ``fstat`` gives, never by the budget (a read of the budget
+    would reserve gigabytes for every small file)."""
+    with opened(path, what, error, missing, confine) as (f, size):
+        return f.read(size if limit is None else min(size, limit))
+
+
+def read_head(path, count: int, what: str = "file", error=InputError,
+              confine: bool = True) -> bytes:
+    """The first ``count`` bytes of ``path`` (fewer when it is shorter), through the
+    guarded opener: how formats are sniffed (is this PLY a splat file?)."""
+    return read_bytes(path, what, error, confine=confine, limit=count)
 
 
 def read_text(path, what: str = "file", error=InputError, missing: str | None = None,
@@ -217,12 +253,16 @@ def _a(noun: str) -> str:
 
 
 def lfs_pointer(path) -> bool:
-    """Whether ``path`` (a regular file) is a Git LFS pointer file."""
+    """Whether ``path`` (a regular file) is a Git LFS pointer file (opened as ``opened``
+    opens: without waiting, no final link followed)."""
     try:
-        with open(path, "rb") as f:
-            return f.read(len(LFS_POINTER)) == LFS_POINTER
-    except OSError:
+        fd = _open_fd(Path(path).resolve(), path, "file", InputError)
+    except (InputError, OSError, RuntimeError):
         return False
+    with os.fdopen(fd, "rb") as f:
+        if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+            return False
+        return f.read(len(LFS_POINTER)) == LFS_POINTER
 
 
 def open_image(source, name: str):

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..guard import check_output
+from ..guard import check_output, parse_json, read_bytes
 from ..image.writers import save_array, save_exr, save_image, to_uint8, write_atomic
 
 CHANNEL_DIRS = {"depth": "depth", "normals": "normals", "position": "position", "uv": "uv"}
@@ -44,8 +44,8 @@ def finished(folder: Path, digest: str) -> bool:
         path = check_output(folder / "transforms.json")
         if not path.is_file():
             return False
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError):
+        data = parse_json(read_bytes(path, "dataset record", confine=False), str(path))
+    except (OSError, ValueError, RecursionError):  # (InputError is a ValueError)
         return False
     return isinstance(data, dict) and isinstance(data.get("facet"), dict) and \
         data["facet"].get("digest") == digest
@@ -115,8 +115,9 @@ def compact_index(path: Path) -> None:
     try:
         if not check_output(path).is_file():
             return
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except OSError:
+        lines = read_bytes(path, "dataset index", confine=False).decode(
+            "utf-8", "replace").splitlines()
+    except (OSError, ValueError):  # (InputError is a ValueError)
         return
     latest: dict = {}
     for line in lines:

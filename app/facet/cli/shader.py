@@ -208,6 +208,8 @@ def run(args) -> list[Path]:
         except BaseException:
             try:
                 writer.close()
+            except Exception:  # noqa: S110 - what stopped the loop is what is raised: a
+                pass  # writer's error after Ctrl-C / SIGTERM must not turn it into exit 1
             finally:
                 sink.abort()
             raise

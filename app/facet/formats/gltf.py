@@ -59,7 +59,10 @@ def read_gltf(path: Path, check_mesh) -> tuple[list, dict, list, object]:
     The document is checked (facet.formats.gltf_check) as JSON, before pygltflib builds it."""
     from pygltflib import GLTF2
 
-    document = _document(path)
+    from ..guard import read_bytes
+
+    raw = read_bytes(path, "glTF file", MeshError)  # once, through the guard
+    document = _document(path, raw)
     version = str((document.get("asset") or {}).get("version", "") if isinstance(
         document.get("asset"), dict) else "")
     if not version.startswith("2."):
@@ -67,7 +70,9 @@ def read_gltf(path: Path, check_mesh) -> tuple[list, dict, list, object]:
                         "glTF 2.0 (convert 1.0 files with the Khronos glTF-Pipeline)")
     check_gltf(document, path.name)
     try:
-        gltf = GLTF2().load(str(path))
+        gltf = GLTF2.load_from_bytes(raw) if raw[:4] == b"glTF" else \
+            GLTF2.gltf_from_json(raw.decode("utf-8"))
+        gltf._path, gltf._name = path.parent, path.name
     except Exception as exc:  # pygltflib raises what json/struct raise on bad files
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise MeshError(f"{path}: cannot read the file as glTF ({detail}); is it truncated "
@@ -77,30 +82,29 @@ def read_gltf(path: Path, check_mesh) -> tuple[list, dict, list, object]:
     return _Reader(gltf, path, check_mesh, document).read()
 
 
-def _document(path: Path) -> dict:
-    """The file's JSON document: a .gltf's text, or a GLB's JSON chunk (its header checked:
-    magic "glTF", container version 2, chunk lengths within the file)."""
+def _document(path: Path, raw: bytes) -> dict:
+    """The JSON document of the file ``path`` whose bytes are ``raw``: a .gltf's text, or
+    a GLB's JSON chunk (its header checked: magic "glTF", container version 2, chunk
+    lengths within the file)."""
     import json
     import struct
 
-    size = path.stat().st_size
-    with open(path, "rb") as f:
-        head = f.read(20)
-        if head[:4] == b"glTF":
-            version = struct.unpack("<I", head[4:8])[0] if len(head) >= 8 else None
-            if version != 2:
-                raise MeshError(f"{path}: binary glTF version {version}; facet reads version "
-                                "2 (glTF 2.0)")
-            length, kind = struct.unpack("<II", head[12:20]) if len(head) >= 20 else (0, 0)
-            if kind != 0x4E4F534A or 20 + length > size:
-                raise MeshError(f"{path}: its JSON chunk (of {length:,} bytes) does not fit in "
-                                f"the file's {size:,}; is it truncated?")
-            text = f.read(length)
-        elif path.suffix.lower() == ".glb":
-            raise MeshError(f"{path}: not a binary glTF file (it does not start with 'glTF'); "
-                            "is it truncated or in another format?")
-        else:
-            text = head + f.read()
+    size, head = len(raw), raw[:20]
+    if head[:4] == b"glTF":
+        version = struct.unpack("<I", head[4:8])[0] if len(head) >= 8 else None
+        if version != 2:
+            raise MeshError(f"{path}: binary glTF version {version}; facet reads version "
+                            "2 (glTF 2.0)")
+        length, kind = struct.unpack("<II", head[12:20]) if len(head) >= 20 else (0, 0)
+        if kind != 0x4E4F534A or 20 + length > size:
+            raise MeshError(f"{path}: its JSON chunk (of {length:,} bytes) does not fit in "
+                            f"the file's {size:,}; is it truncated?")
+        text = raw[20:20 + length]
+    elif path.suffix.lower() == ".glb":
+        raise MeshError(f"{path}: not a binary glTF file (it does not start with 'glTF'); "
+                        "is it truncated or in another format?")
+    else:
+        text = raw
     from ..guard import json_depth
 
     limit = budget("depth")
@@ -294,7 +298,7 @@ class _Reader(MaterialReading, VariantReading):
         attrs = {k: v for k, v in vars(prim.attributes).items() if v is not None}
         draco = (prim.extensions or {}).get("KHR_draco_mesh_compression")
         if draco is not None:
-            decoded = self.data.draco(draco)
+            decoded = self.data.draco(draco, where, mode == 0)  # 0: POINTS
             indices = decoded.pop("indices")
             values = {}
             for name, array in decoded.items():

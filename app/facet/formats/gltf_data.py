@@ -275,9 +275,10 @@ class GltfData:
             return None, f"{self.path.name}: {exc}; drawn without it"
 
     # -- Draco -------------------------------------------------------------------------
-    def draco(self, ext: dict) -> dict[str, np.ndarray]:
+    def draco(self, ext: dict, where: str, points: bool) -> dict[str, np.ndarray]:
         """The attributes (by glTF name) and "indices" of a KHR_draco_mesh_compression
-        primitive, decoded with DracoPy."""
+        primitive (``where``), decoded with DracoPy; ``points``: the primitive draws
+        points (a Draco point cloud has no faces: its indices are its points in order)."""
         try:
             import DracoPy
         except ImportError:
@@ -289,8 +290,18 @@ class GltfData:
             mesh = DracoPy.decode(data[start:start + length])
         except Exception as exc:  # DracoPy raises its own types for corrupt data
             self.fail(f"cannot decode its Draco data ({exc})")
-        out = {"indices": np.asarray(mesh.faces, dtype=np.uint32).reshape(-1)}
-        for name, uid in ext.get("attributes", {}).items():
+        attributes = ext.get("attributes") or {}
+        if "POSITION" not in attributes:
+            self.fail(f"{where}: its Draco extension maps no POSITION attribute "
+                      "(KHR_draco_mesh_compression.attributes)")
+        faces = getattr(mesh, "faces", None)
+        if faces is None and not points:
+            self.fail(f"{where}: its Draco data is a point cloud (no faces), but the "
+                      "primitive draws triangles or lines (set its mode to 0, POINTS)")
+        out = {"indices": np.arange(len(np.asarray(mesh.points).reshape(-1, 3)),
+                                    dtype=np.uint32) if faces is None or points else
+               np.asarray(faces, dtype=np.uint32).reshape(-1)}
+        for name, uid in attributes.items():
             attr = mesh.get_attribute_by_unique_id(uid)
             if attr is None:
                 self.fail(f"its Draco data has no attribute {uid} for {name}")

@@ -65,6 +65,8 @@ def _decode_rgbe(data: bytes, name: str = "HDR image") -> np.ndarray:
     if "FORMAT=" in header and "32-bit_rle_rgbe" not in header:
         raise ValueError("only 32-bit_rle_rgbe is supported (not XYZE)")
     line_end = data.find(b"\n", end + 2)
+    if line_end < 0:
+        raise ValueError("no pixel data (the size line has no end)")
     size = data[end + 2:line_end].decode("ascii", "replace").split()
     if len(size) != 4 or size[0] != "-Y" or size[2] != "+X":
         raise ValueError(f"unsupported orientation {' '.join(size)!r} (expected -Y H +X W)")
@@ -114,10 +116,15 @@ def _read_exr(p: Path) -> np.ndarray:
     except ImportError:
         raise InputError(f"{p}: reading OpenEXR needs the OpenEXR package (pip install "
                          "'facet-render[exr]')") from None
+    from ..guard import opened_name
+
     try:
-        with OpenEXR.File(str(p), header_only=True) as f:  # the size, before any pixel
+        with opened_name(p, "environment file") as name, \
+                OpenEXR.File(name, header_only=True) as f:  # the size, before any pixel
             (x0, y0), (x1, y1) = (np.asarray(c).tolist() for c in
                                   f.header()["dataWindow"])
+    except InputError:  # the guard's refusal: its own line
+        raise
     except Exception as exc:  # OpenEXR raises plain exceptions on bad files
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise InputError(f"{p}: not a readable OpenEXR file ({first})") from None
@@ -125,7 +132,7 @@ def _read_exr(p: Path) -> np.ndarray:
 
     check_pixels(x1 - x0 + 1, y1 - y0 + 1, p.name)
     try:
-        with OpenEXR.File(str(p)) as f:
+        with opened_name(p, "environment file") as name, OpenEXR.File(name) as f:
             channels = f.channels()
             if "RGB" in channels:
                 rgb = np.asarray(channels["RGB"].pixels, dtype=np.float32)

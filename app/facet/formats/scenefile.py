@@ -284,7 +284,11 @@ class _SceneBuilder(MaterialTables):
             path = self.base / r.string(t["mesh"], f"{where}.mesh")
             from .splat_files import is_splat_file
 
-            if is_splat_file(path):  # Gaussian splats (3DGS PLY, .splat): one cloud
+            try:
+                splats = is_splat_file(path)  # its header read through facet.guard
+            except FacetError as exc:
+                r.fail(f"{where}.mesh", str(exc))
+            if splats:  # Gaussian splats (3DGS PLY, .splat): one cloud
                 return self._splat_file(t, where, path)
             return self._mesh_file(t, where, path)
         if kind is None:

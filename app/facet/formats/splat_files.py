@@ -29,16 +29,16 @@ _PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short":
               "float64": "f8"}
 NEEDED = ("x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity", "scale_0", "scale_1",
           "scale_2", "rot_0", "rot_1", "rot_2", "rot_3")
+SNIFFED = (b"f_dc_0", b"opacity", b"scale_0", b"rot_0")  # the properties that say "splats"
 SPLAT_BYTES = 32
 MAX_HEADER = 1 << 16
 
 
-def _header(path: Path) -> tuple[str, list, int]:
-    """(format, elements [(name, count, [(property, type)])], body offset) of a PLY."""
-    with open(path, "rb") as f:
-        head = f.read(MAX_HEADER)
+def _header(path, head: bytes) -> tuple[str, list, int]:
+    """(format, elements [(name, count, [(property, type)])], body offset) of a PLY whose
+    first bytes are ``head``; MeshError naming ``path`` when the header is not a PLY's."""
     end = head.find(b"end_header")
-    if not head.startswith(b"ply") or end < 0:
+    if not head.startswith(b"ply") or end < 0 or head.find(b"\n", end) < 0:
         raise MeshError(f"{path}: not a PLY file (no 'ply' ... 'end_header' header)")
     stop = head.index(b"\n", end) + 1
     fmt, elements = "", []
@@ -49,53 +49,69 @@ def _header(path: Path) -> tuple[str, list, int]:
         if words[0] == "format" and len(words) >= 2:
             fmt = words[1]
         elif words[0] == "element" and len(words) == 3:
+            if not words[2].isdigit():
+                raise MeshError(f"{path}: element {words[1]!r} has the count {words[2]!r}; "
+                                "a PLY's counts are whole numbers >= 0")
             elements.append((words[1], int(words[2]), []))
         elif words[0] == "property" and elements:
             if words[1] == "list":
                 elements[-1][2].append((words[-1], "list"))
-            elif words[1] in _PLY_TYPES:
+            elif words[1] in _PLY_TYPES and len(words) >= 3:
                 elements[-1][2].append((words[2], _PLY_TYPES[words[1]]))
             else:
                 raise MeshError(f"{path}: unknown PLY property type {words[1]!r}")
+            names = [name for name, _ in elements[-1][2]]
+            if names[-1] in names[:-1]:
+                raise MeshError(f"{path}: element {elements[-1][0]!r} names the property "
+                                f"{names[-1]!r} twice")
     return fmt, elements, stop
 
 
 def is_splat_file(path) -> bool:
-    """Whether ``path`` holds Gaussian splats: a ``.splat`` file, or a PLY of them."""
+    """Whether ``path`` holds Gaussian splats: a ``.splat`` file, or a PLY of them (its
+    header read through facet.guard: a FIFO, a device or a file outside the confinement
+    folder is refused, MeshError, before a byte is read)."""
     return Path(path).suffix.lower() == ".splat" or is_splat_ply(path)
 
 
 def is_splat_ply(path) -> bool:
     """Whether ``path`` is a PLY whose vertices are Gaussian splats (module docstring)."""
+    from ..guard import read_head
+
     p = Path(path)
     if p.suffix.lower() != ".ply":
         return False
+    head = read_head(p, MAX_HEADER, "model file", MeshError)
     try:
-        _, elements, _ = _header(p)
-    except (MeshError, OSError, ValueError):
-        return False
+        _, elements, _ = _header(p, head)
+    except MeshError:
+        if all(re.search(rb"^property\s+\S+\s+" + name + rb"\s*$", head, re.M)
+               for name in SNIFFED):
+            raise  # a splat file's header, broken: its own line
+        return False  # not a splat PLY's header: the mesh reader says what is wrong
     vertex = next((e for e in elements if e[0] == "vertex"), None)
     names = {name for name, _ in vertex[2]} if vertex else set()
-    return {"f_dc_0", "opacity", "scale_0", "rot_0"} <= names
+    return {name.decode() for name in SNIFFED} <= names
 
 
 def read_splats(path: Path) -> Splats:
     """The splats of a 3DGS PLY or a ``.splat`` file; MeshError naming the file."""
-    from ..guard import regular_file
+    from ..guard import read_bytes
 
-    p = regular_file(path, "splat file", MeshError, missing="file")
+    p = Path(path)
+    data = read_bytes(p, "splat file", MeshError, missing="file")
     try:
         if p.suffix.lower() == ".splat":
-            return _read_dot_splat(p)
-        return _read_ply(p)
+            return _read_dot_splat(p, data)
+        return _read_ply(p, data)
     except InputError as exc:
         if isinstance(exc, MeshError):
             raise
         raise MeshError(f"{p}: {exc}") from None
 
 
-def _read_ply(p: Path) -> Splats:
-    fmt, elements, offset = _header(p)
+def _read_ply(p: Path, raw: bytes) -> Splats:
+    fmt, elements, offset = _header(p, raw[:MAX_HEADER])
     if not elements or elements[0][0] != "vertex":
         raise MeshError(f"{p}: the splats' 'vertex' element must come first")
     _, count, props = elements[0]
@@ -108,7 +124,7 @@ def _read_ply(p: Path) -> Splats:
                         f"{', '.join(missing)} (the 3DGS layout: x y z, f_dc_0..2, "
                         "f_rest_*, opacity, scale_0..2, rot_0..3)")
     if fmt == "ascii":
-        body = p.read_bytes()[offset:].decode("ascii", "replace")
+        body = raw[offset:].decode("ascii", "replace")
         try:
             table = np.loadtxt(body.splitlines()[:count], dtype=np.float64, ndmin=2)
         except ValueError as exc:
@@ -120,11 +136,11 @@ def _read_ply(p: Path) -> Splats:
     elif fmt in ("binary_little_endian", "binary_big_endian"):
         order = "<" if fmt == "binary_little_endian" else ">"
         dtype = np.dtype([(name, order + kind) for name, kind in props])
-        size = p.stat().st_size - offset
+        size = len(raw) - offset
         if size < count * dtype.itemsize:
             raise MeshError(f"{p}: the header says {count} splats ({count * dtype.itemsize} "
                             f"bytes) but the body has {size} bytes: a truncated file")
-        data = np.fromfile(p, dtype=dtype, count=count, offset=offset)
+        data = np.frombuffer(raw, dtype=dtype, count=count, offset=offset)
         column = {name: data[name].astype(np.float64) for name in names}
     else:
         raise MeshError(f"{p}: unknown PLY format {fmt!r}")
@@ -148,12 +164,12 @@ def _read_ply(p: Path) -> Splats:
     return Splats(means, scales, rotations, opacity, sh, name=p.stem)
 
 
-def _read_dot_splat(p: Path) -> Splats:
-    size = p.stat().st_size
+def _read_dot_splat(p: Path, raw: bytes) -> Splats:
+    size = len(raw)
     if size == 0 or size % SPLAT_BYTES:
         raise MeshError(f"{p}: a .splat file is 32 bytes a splat; this one has {size} bytes")
-    data = np.fromfile(p, dtype=np.dtype([("position", "<f4", 3), ("scale", "<f4", 3),
-                                          ("rgba", "u1", 4), ("rot", "u1", 4)]))
+    data = np.frombuffer(raw, dtype=np.dtype([("position", "<f4", 3), ("scale", "<f4", 3),
+                                             ("rgba", "u1", 4), ("rot", "u1", 4)]))
     rgba = data["rgba"].astype(np.float64) / 255.0
     rotations = (data["rot"].astype(np.float64) - 128.0) / 128.0
     return Splats.from_colors(data["position"], data["scale"], rotations, rgba[:, 3],

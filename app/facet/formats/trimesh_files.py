@@ -63,10 +63,9 @@ IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tga", ".tif", ".tiff", ".gi
 _OBJ_ZERO_INDEX = re.compile(rb"^[ \t]*f[ \t][^\n]*?(?<![\w.+-])0+(?=[/ \t\r\n]|$)", re.M)
 
 
-def _check_obj_indices(p: Path) -> None:
+def _check_obj_indices(p: Path, data: bytes) -> None:
     """An OBJ face index 0 is invalid (indices count from 1); trimesh would read it as the
-    last vertex. One pass of a regular expression over the file's bytes."""
-    data = read_bytes(p, "mesh file", MeshError)
+    last vertex. One pass of a regular expression over the file's bytes ``data``."""
     m = _OBJ_ZERO_INDEX.search(data)
     if m is not None:
         line = data.count(b"\n", 0, m.start()) + 1
@@ -219,14 +218,17 @@ def material_from_trimesh(tm) -> Material | None:
 # -- trimesh formats ------------------------------------------------------------------------
 def _read(p: Path):
     """trimesh's object for a checked path (a Trimesh, a Scene, or something else)."""
+    import io
+
     import trimesh  # imported here: commands that load no mesh do not pay for it
 
+    data = read_bytes(p, "mesh file", MeshError)  # once, through the guard
     resolver = None
     if p.suffix.lower() == ".obj":
-        _check_obj_indices(p)
+        _check_obj_indices(p, data)
         resolver = _guarded_resolver(p)
     try:
-        loaded = trimesh.load(str(p), file_type=FORMATS[p.suffix.lower().lstrip(".")],
+        loaded = trimesh.load(io.BytesIO(data), file_type=FORMATS[p.suffix.lower().lstrip(".")],
                               process=False, resolver=resolver)
     except FacetError:
         raise

@@ -19,9 +19,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import os
 import re
-import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -44,16 +42,12 @@ def file_digest(path: Path) -> str | None:
     the file budget): reloads compare content, not timestamps, so touching a file or saving
     it unchanged reloads nothing. A watched FIFO or device is never opened, nor a file
     outside the confinement folder (facet.guard.confined; facet's own GLSL aside)."""
-    from ..guard import check_confined
+    from ..guard import read_bytes
 
     try:
-        if glsl_root().resolve() not in Path(path).resolve().parents:
-            check_confined(path)
-        info = os.stat(path)
-        if not stat.S_ISREG(info.st_mode) or info.st_size > budget("file_bytes"):
-            return None
-        return hashlib.sha1(Path(path).read_bytes()).hexdigest()
-    except (OSError, FacetError):
+        own = glsl_root().resolve() in Path(path).resolve().parents
+        return hashlib.sha1(read_bytes(path, "shader file", confine=not own)).hexdigest()
+    except (OSError, RuntimeError, FacetError):
         return None
 
 
@@ -130,12 +124,8 @@ class _Expansion:
         elif file in self.texts:
             body = self.texts[file]
         else:
-            from ..guard import regular_file
-
             try:
-                body = regular_file(file, "shader file", ShaderError,
-                                    confine=self.own not in file.parents
-                                    ).read_text(encoding="utf-8")
+                body = self._read(file, name)
             except UnicodeDecodeError:
                 raise ShaderError(f"{name}: error: not a text file (GLSL must be UTF-8)") \
                     from None
@@ -145,6 +135,22 @@ class _Expansion:
                               f"{self.size_limit:,} bytes, facet's budget (a GL compiler fed "
                               "that much can crash; raise it with --budget shader_bytes=N)")
         return body.splitlines()
+
+    def _read(self, file: Path, name: str) -> str:
+        """``file``'s text through facet.guard, its size checked against what is left of
+        the shader budget before a byte is read (a sparse 3 GiB include is refused, not
+        read)."""
+        from ..guard import opened
+
+        with opened(file, "shader file", ShaderError,
+                    confine=self.own not in file.parents) as (f, size):
+            if self.total + size > self.size_limit:
+                raise ShaderError(f"{name}: error: the shader and its includes pass "
+                                  f"{self.size_limit:,} bytes, facet's budget (a GL compiler "
+                                  "fed that much can crash; raise it with --budget "
+                                  "shader_bytes=N)")
+            text = f.read(size).decode("utf-8")
+        return text.replace("\r\n", "\n").replace("\r", "\n")
 
     def enter(self, file: Path, chain: list[Path], is_stage: bool):
         """A frame for ``file`` (None when it was included already)."""

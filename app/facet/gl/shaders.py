@@ -16,7 +16,7 @@ from pathlib import Path
 import moderngl
 import numpy as np
 
-from ..errors import ShaderError
+from ..errors import FacetError, ShaderError
 from . import bindings
 from .glsl_source import ExpandedSource, display_path, expand, glsl_root
 
@@ -75,9 +75,13 @@ def _context_lines(path: str, line: int, column: int, files: list[Path],
     if body is None and source.suffix.lower() not in GLSL_SUFFIXES:
         return []  # never quote a file that is not shader source (an include of anything)
     if body is None:
-        if not source.is_file():
+        from ..guard import read_text
+
+        try:  # the file the resolver read (facet's own GLSL is not confined)
+            body = read_text(source, "shader file",
+                             confine=glsl_root().resolve() not in source.resolve().parents)
+        except (FacetError, OSError, RuntimeError, UnicodeDecodeError):
             return []
-        body = source.read_text(encoding="utf-8")
     text = body.splitlines()
     out = [f"{n:5d} | {text[n - 1]}" for n in range(max(1, line - 2), line + 1)
            if n <= len(text)]
