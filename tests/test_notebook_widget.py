@@ -288,3 +288,27 @@ def test_a_session_can_be_asked_whether_it_refines_before_any_frame():
         s.request_frame()
         picture = s.frame()
         assert picture is not None and picture.std() > 10 and " samples" in s.status()
+
+
+@pytest.mark.parametrize("event", [
+    {"type": "wheel", "x": 80, "y": 60, "dx": 0, "dy": float("nan")},
+    {"type": "wheel", "x": float("inf"), "y": 60, "dx": 0, "dy": 1},
+    {"type": "pointer_move", "x": "a", "y": 0}, {"type": "resize", "width": -4, "height": 3},
+])
+def test_a_malformed_browser_event_is_dropped_with_one_line(widget, event):
+    """Input from a browser: an event the served page would drop (NaN, inf, text, a
+    negative size) is dropped by the widget too, with one warning line, and the view is
+    as it was."""
+    import warnings
+
+    from facet.errors import FacetWarning
+
+    widget.get_frame()
+    view = widget.camera().view.copy()
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        message(widget, **event)
+    lines = [str(w.message) for w in said if issubclass(w.category, FacetWarning)]
+    assert len(lines) == 1 and "dropped" in lines[0], lines
+    assert np.array_equal(widget.camera().view, view) and np.isfinite(view).all()
+    assert widget.get_frame() is None or widget.get_frame().std() > 10

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import os
 import shutil
 import socket
 import subprocess
@@ -89,13 +90,16 @@ def test_host_and_origin_are_checked_against_the_served_address(tmp_path):
         port = s.url.split(":")[2].split("/")[0]
         good = urllib.request.Request(s.url, headers={"Host": f"localhost:{port}"})
         assert _status(good) == 200
-        for host in (f"rebound.example.com:{port}", "127.0.0.1:1", "", "[::1"):
+        for host in (f"rebound.example.com:{port}", "127.0.0.1:1", "", "[::1",
+                     f"evil.example@127.0.0.1:{port}", f"203.0.113.7:{port}",
+                     f"127.0.0.1:{port}/x", f"127.0.0.1:{port}?x"):
             assert _status(urllib.request.Request(
                 s.url, headers={"Host": host})) == 403, host
         meta = asyncio.run(_picture(s.ws, origin=f"http://127.0.0.1:{port}"))
         assert meta["type"] == "frame"
         for origin in ("https://evil.example.com", f"http://evil.example.com:{port}",
-                       "null"):
+                       "null", f"http://203.0.113.7:{port}", f"http://10.0.0.1:{port}",
+                       f"http://evil.example@127.0.0.1:{port}"):
             with pytest.raises(Exception, match="403"):
                 asyncio.run(_picture(s.ws, origin=origin))
         s.stop()
@@ -143,6 +147,68 @@ def test_a_shader_that_fails_shows_its_error_in_the_page(tmp_path):
         assert "error:" in meta["status"] and "nothing" in meta["status"], meta["status"]
         s.stop()
         _facet_lines_only(s.proc.stderr.read())
+
+
+def test_a_viewer_started_on_a_broken_shader_draws_once_it_is_fixed(tmp_path):
+    """Started with a shader that does not compile: the error shows, the render thread
+    lives on past the lossless picture (it once died sending a picture that was never
+    drawn), and the fixed file is drawn."""
+    shader = tmp_path / "s.frag"
+    shader.write_text("#version 330\nout vec4 frag;\nvoid main() { frag = vec4(nothing); }\n")
+
+    async def until_drawn(url):
+        from websockets.asyncio.client import connect
+
+        async with connect(url) as ws:
+            await ws.send(json.dumps({"type": "resize", "width": 32, "height": 24}))
+            fixed = False
+            while True:
+                meta = json.loads(await asyncio.wait_for(ws.recv(), 60))
+                await asyncio.wait_for(ws.recv(), 60)
+                await ws.send(json.dumps({"type": "frame_feedback", "index": meta["index"]}))
+                if "error:" in meta["status"]:
+                    if meta["lossless"] and not fixed:  # past the lossless picture
+                        shader.write_text("#version 330\nout vec4 frag;\n"
+                                          "void main() { frag = vec4(1.0, 0.0, 0.0, 1.0); }\n")
+                        fixed = True
+                elif fixed:
+                    return meta
+
+    with Served("--frag", str(shader)) as s:
+        meta = asyncio.run(asyncio.wait_for(until_drawn(s.ws), 120))
+        assert meta["type"] == "frame" and "error" not in meta["status"], meta
+        s.stop()
+        _facet_lines_only(s.proc.stderr.read().replace("shaders reloaded\n", ""))
+
+
+def test_a_fifo_named_as_a_model_is_refused_by_the_served_viewer(tmp_path):
+    fifo = tmp_path / "cloud.ply"
+    os.mkfifo(fifo)
+    run = subprocess.run([*FACET, "view", str(fifo), "--serve", "127.0.0.1:0"],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2 and "FIFO" in run.stderr, run.stderr
+    _facet_lines_only(run.stderr)
+
+
+def test_library_logs_are_one_line_a_kind_a_minute(capsys):
+    """asyncio's and the WebSocket library's records (a ping flood's "socket.send() raised
+    exception.", hundreds of times) are one facet line per kind per minute."""
+    import logging
+
+    from facet.serve.server import LOGGER, library_logs
+
+    with library_logs(LOGGER, "asyncio"):
+        for _ in range(300):
+            logging.getLogger("asyncio").warning("socket.send() raised exception.")
+            try:
+                raise ConnectionResetError("gone")
+            except ConnectionResetError:
+                logging.getLogger(LOGGER).error("connection handler failed", exc_info=True)
+    err = capsys.readouterr().err
+    lines = err.strip().splitlines()
+    assert len(lines) == 2, err
+    assert all(line.startswith("facet view: warning: ") for line in lines), err
+    assert "socket.send() raised exception." in lines[0] and "Traceback" not in err
 
 
 def test_an_unreadable_request_and_a_ping_flood_leave_no_traceback():

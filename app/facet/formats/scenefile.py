@@ -16,6 +16,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from ..boundary import Crease, FilePath, checked
 from ..budgets import budget
 from ..errors import FacetError, SceneError
 from ..geometry import transforms as T
@@ -42,7 +43,8 @@ OBJECT = ("name", "mesh", "primitive", "material", "transform", "transform_end",
 TRANSFORM_OPS = ("translate", "scale", "rotate", "shear", "matrix")
 
 
-def load_scene(path, *, crease: float | None = None) -> Scene:
+@checked
+def load_scene(path: FilePath, *, crease: Crease = None) -> Scene:
     """Read a TOML scene file (docs/scene-format.md).
 
     Parameters

@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import cast
 
+from ..boundary import Crease, FilePath, checked
 from ..scene.scene import Scene
 from .loading import read_parts
 
@@ -14,7 +15,9 @@ def is_scene_file(path) -> bool:
     return Path(path).suffix.lower() == ".toml"
 
 
-def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
+@checked
+def open_scene(path: FilePath, *, crease: Crease = None,
+               confine: FilePath | None = None) -> Scene:
     """A scene file read with its settings, or a mesh file as a scene of its parts.
 
     A model's parts keep their own materials and node transforms; a glTF's cameras become
@@ -72,7 +75,8 @@ def open_scene(path, *, crease: float | None = None, confine=None) -> Scene:
     return scene
 
 
-def load(path, *, crease: float | None = None, confine=None) -> Scene:
+@checked
+def load(path: FilePath, *, crease: Crease = None, confine: FilePath | None = None) -> Scene:
     """``open_scene`` under the short name: ``facet.load("truck.glb")``.
 
     Parameters

@@ -39,14 +39,22 @@ class WatchedPrograms:
         self._builders: dict[Hashable, Callable[[], Program]] = {}
         self._digests: dict[Path, str | None] = {}
         self._extra: tuple[Path, ...] = ()
+        self._failed: set[Path] = set()  # stages of first builds that failed (``get``)
         self._on_release = on_release
         self.labels: dict[Hashable, str] = {}  # key -> the name errors give it (passes)
 
-    def get(self, key: Hashable, build: Callable[[], Program]) -> Program:
-        """The program for ``key``, built on first use (errors raise)."""
+    def get(self, key: Hashable, build: Callable[[], Program], files=()) -> Program:
+        """The program for ``key``, built on first use (errors raise). When that first
+        build fails, ``files`` (its stages) are watched all the same: fixing them reloads
+        it (a viewer started on a broken shader draws once it is fixed)."""
         if key not in self.programs:
-            self.programs[key] = build()
             self._builders[key] = build
+            try:
+                self.programs[key] = build()
+            except FacetError:
+                self._failed |= {Path(f).resolve() for f in files if f is not None}
+                self._remember()
+                raise
             self._remember()
         return self.programs[key]
 
@@ -62,7 +70,7 @@ class WatchedPrograms:
     def files(self) -> list[Path]:
         """Every file the programs were built from (stages and includes), and the watched."""
         found = {f.resolve() for prog in self.programs.values() for f in prog.files}
-        return sorted(found | set(self._extra))
+        return sorted(found | set(self._extra) | self._failed)
 
     def _remember(self, extra=()) -> None:
         self._digests = {f: file_digest(f) for f in {*self.files(), *extra}}
@@ -97,7 +105,7 @@ class WatchedPrograms:
             return ReloadResult(False, errors="\n".join(errors), diagnostics=diagnostics)
         for prog in self.programs.values():
             self._release(prog)
-        self.programs = new
+        self.programs, self._failed = new, set()
         self._remember()
         return ReloadResult(True)
 

@@ -109,6 +109,17 @@ class _WidgetMixin:
     def handle_event(self, event: dict) -> None:
         """One browser event: applied to the session; a picture is asked for when it
         changed the view."""
+        from ..viewing.events import checked
+
+        try:  # input from a browser: checked as the served page's events are
+            event = checked(event)
+        except InputError as exc:
+            import warnings
+
+            from ..errors import FacetWarning
+
+            warnings.warn(FacetWarning(f"dropped an event ({exc})"), stacklevel=2)
+            return
         kind = event.get("event_type") or event.get("type")
         if kind == "close":
             self._gl.call(self.session.close)

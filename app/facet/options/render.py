@@ -278,10 +278,12 @@ def options_for(scene, *explicit, front: str | None = None) -> RenderOptions:
     ``scene.options``; then the image size of the intrinsics camera it renders through)
     < each ``explicit`` layer in order. The one place where the layers meet."""
     own = ParsedLayer(background=tuple(float(c) for c in scene.background))
-    if scene.environment is not None:
-        own["environment"] = scene.environment
+    # The scene's environment is parsed as the option is (an attribute a user set: an
+    # Environment, 'sky', a file's name, {color = ...}; anything else is one line).
+    environment = None if scene.environment is None else \
+        parse_layer({"environment": scene.environment})
     front_layer = FRONT_DEFAULTS[front] if front else None
-    opts = RenderOptions.build(front_layer, own, scene.options, *explicit)
+    opts = RenderOptions.build(front_layer, own, environment, scene.options, *explicit)
     sized = any(isinstance(layer, RenderOptions) or
                 (isinstance(layer, dict | Mapping) and layer.get("size") is not None)
                 for layer in explicit)

@@ -10,8 +10,12 @@ uploaded): texel (s, t) of a face, with sc = 2 s - 1 and tc = 2 t - 1, looks alo
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Annotated
+
 import numpy as np
 
+from ..boundary import Array, ArrayLike, Color, Count, FilePath, Items, PathArg, checked
 from ..errors import InputError
 from .readers import reader  # facet.formats.environment_files reads the files
 
@@ -88,6 +92,7 @@ def sky_color(directions, zenith, horizon, ground) -> np.ndarray:
     return np.where(y >= 0, horizon + (zenith - horizon) * up, horizon + (ground - horizon) * down)
 
 
+@checked
 class Environment:
     """Light from every direction around the scene, as a cube map (``Scene(environment=)``,
     the ``environment`` option): what mirrors and glass reflect, what the path tracer and
@@ -107,7 +112,10 @@ class Environment:
 
     SKY = ((0.25, 0.45, 0.85), (0.85, 0.9, 1.0), (0.3, 0.28, 0.25))
 
-    def __init__(self, faces, name: str = "environment", equirect=None):
+    def __init__(self, faces: Annotated[ArrayLike, Array("6,S,S,3", budget="pixels", unit=3)],
+                 name: str = "environment",
+                 equirect: Annotated[ArrayLike | None,
+                                     Array("H,W,3", budget="pixels", unit=3)] = None):
         f = np.asarray(faces, dtype=np.float32)
         if f.ndim != 4 or f.shape[0] != 6 or f.shape[1] != f.shape[2] or f.shape[3] != 3:
             raise InputError(f"{name}: a cube map needs 6 square RGB faces of one size, got "
@@ -146,7 +154,9 @@ class Environment:
         return cached
 
     @classmethod
-    def sky(cls, zenith=SKY[0], horizon=SKY[1], ground=SKY[2], size: int = 128) -> Environment:
+    @checked
+    def sky(cls, zenith: Color = SKY[0], horizon: Color = SKY[1], ground: Color = SKY[2],
+            size: Annotated[int, Count(1, per_pixels=6)] = 128) -> Environment:
         """A generated sky gradient.
 
         Parameters
@@ -165,7 +175,8 @@ class Environment:
         return cls(sky_color(face_directions(size), zenith, horizon, ground), "sky", grid)
 
     @classmethod
-    def constant(cls, color) -> Environment:
+    @checked
+    def constant(cls, color: Color) -> Environment:
         """The same radiance from every direction.
 
         Parameters
@@ -186,7 +197,8 @@ class Environment:
         return env
 
     @classmethod
-    def from_faces(cls, paths) -> Environment:
+    @checked
+    def from_faces(cls, paths: Annotated[Sequence, Items(6, PathArg())]) -> Environment:
         """A cube map of six images (read by facet.formats.environment_files).
 
         Parameters
@@ -202,7 +214,9 @@ class Environment:
         return reader("cube faces")(paths)
 
     @classmethod
-    def from_equirect(cls, path, size: int = 256) -> Environment:
+    @checked
+    def from_equirect(cls, path: FilePath,
+                      size: Annotated[int, Count(1, per_pixels=6)] = 256) -> Environment:
         """An equirectangular (latitude-longitude) image resampled onto the cube (read by
         facet.formats.environment_files).
 

@@ -16,9 +16,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
 
+from ..boundary import Array, ArrayLike, FilePath, checked
 from ..errors import InputError
 
 # The reference implementation's real spherical harmonics constants (degrees 0-3).
@@ -61,6 +63,7 @@ def quaternion_matrices(q: np.ndarray) -> np.ndarray:
     ], axis=1)
 
 
+@checked
 @dataclass(eq=False)
 class Splats:
     """A cloud of 3D Gaussians (module docstring).
@@ -82,11 +85,11 @@ class Splats:
         Label.
     """
 
-    means: np.ndarray
-    scales: np.ndarray
-    rotations: np.ndarray
-    opacities: np.ndarray
-    sh: np.ndarray
+    means: Annotated[ArrayLike, Array("N,3")]
+    scales: Annotated[ArrayLike, Array("N,3")]
+    rotations: Annotated[ArrayLike, Array("N,4")]
+    opacities: Annotated[ArrayLike, Array("N")]
+    sh: Annotated[ArrayLike, Array("N,K,3", "N,3")]
     name: str = "splats"
 
     def __post_init__(self) -> None:
@@ -123,7 +126,8 @@ class Splats:
 
     # -- reading ---------------------------------------------------------------------------
     @classmethod
-    def load(cls, path) -> Splats:
+    @checked
+    def load(cls, path: FilePath) -> Splats:
         """Read a 3DGS PLY (the reference implementation's layout, any SH degree) or a
         ``.splat`` file (the web viewers' 32 bytes a splat).
 
@@ -142,7 +146,12 @@ class Splats:
         return reader("splat file")(Path(path))
 
     @classmethod
-    def from_colors(cls, means, scales, rotations, opacities, colors,
+    @checked
+    def from_colors(cls, means: Annotated[ArrayLike, Array("N,3")],
+                    scales: Annotated[ArrayLike, Array("N,3")],
+                    rotations: Annotated[ArrayLike, Array("N,4")],
+                    opacities: Annotated[ArrayLike, Array("N")],
+                    colors: Annotated[ArrayLike, Array("N,3")],
                     name: str = "splats") -> Splats:
         """Splats of SH degree 0 seen in the same colour from everywhere.
 

@@ -17,7 +17,9 @@ stop any facet command (exit status 130 / 143).
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
+import logging
 import secrets
 import signal
 import sys
@@ -34,6 +36,7 @@ STATIC = {"/": ("page.html", "text/html; charset=utf-8"),
           "/viewer.js": ("viewer.js", "text/javascript; charset=utf-8")}
 DEFAULT_HOST = "127.0.0.1"
 LOCAL = ("127.0.0.1", "localhost", "::1")
+LOGGER = "facet.serve.websockets"  # the WebSocket library's records (OneLineLogs)
 NEEDS = "facet view --serve needs websockets: pip install 'facet-render[serve]'"
 
 
@@ -59,15 +62,19 @@ class Server:
         self.loop: asyncio.AbstractEventLoop | None = None
         self.worker = None
         self.last: tuple[str, bytes] | None = None  # the last picture (meta, data)
+        self._names: set[str] | None = None  # what Host and Origin may name (_our_names)
 
     # -- HTTP: the page, its script, and the token check -----------------------------------
     def _names_us(self, netloc: str | None) -> bool:
         """Whether ``netloc`` (a Host header, an Origin's host[:port]) names this server:
-        its port, and a host that is an IP address, localhost, this machine's name, or the
-        host it was told to bind. A domain that resolves here by a rebinding does not."""
-        import ipaddress
-        import socket
-
+        its port and the address it serves or the name the user gave (with the loopback
+        names when that is a loopback address; this machine's names and addresses when it
+        listens on every interface), as a bare ``host:port``: no user part
+        (``evil.example@127.0.0.1``), no other IP address, no domain that resolves here by
+        a rebinding."""
+        if not netloc or any(c in netloc for c in "@/\\?#%") or \
+                any(ord(c) <= 32 or ord(c) >= 127 for c in netloc):
+            return False
         try:
             parsed = urlsplit(f"//{netloc}")
             host, port = parsed.hostname, parsed.port
@@ -75,14 +82,32 @@ class Server:
             return False
         if not host or port != self.port:
             return False
-        try:
-            ipaddress.ip_address(host)
-            return True
-        except ValueError:
-            pass
-        names = {"localhost", self.host.lower(), socket.gethostname().lower(),
-                 socket.getfqdn().lower()}
-        return host.lower() in names
+        return host.lower() in self._our_names()
+
+    def _our_names(self) -> set[str]:
+        """The host names and addresses a request may give for this server (above)."""
+        if self._names is None:
+            import ipaddress
+            import socket
+
+            names = {self.host.lower().strip("[]")}
+            try:
+                address = ipaddress.ip_address(self.host.strip("[]"))
+            except ValueError:
+                address = None
+            if self.host.lower() == "localhost" or (address is not None and
+                                                   address.is_loopback):
+                names |= set(LOCAL)
+            elif address is not None and address.is_unspecified:  # every interface
+                names |= set(LOCAL) | {socket.gethostname().lower(),
+                                       socket.getfqdn().lower()}
+                try:
+                    names |= {info[4][0].lower() for info in socket.getaddrinfo(
+                        socket.gethostname(), None)}
+                except OSError:
+                    pass
+            self._names = names
+        return self._names
 
     def _process_request(self, connection, request):
         try:
@@ -188,7 +213,8 @@ class Server:
         try:
             async with serve(self._handler, self.host, self.port,
                              process_request=self._process_request, max_size=2 ** 16,
-                             compression=None, logger=_quiet_logger()) as server:
+                             compression=None,
+                             logger=logging.getLogger(LOGGER)) as server:
                 self.port = next(iter(server.sockets)).getsockname()[1]
                 ready(self)
                 return await stop
@@ -205,21 +231,55 @@ class Server:
         signal that stopped it is raised again once all is shut down, to the handlers
         that were there before (the command line's: exit status 128 + the signal)."""
         before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
-        stopped_by = asyncio.run(self._main(ready or announce))
+        with library_logs(LOGGER, "asyncio"):
+            stopped_by = asyncio.run(self._main(ready or announce))
         for sig, handler in before.items():
             signal.signal(sig, handler)
         signal.raise_signal(stopped_by)
 
 
-def _quiet_logger():
-    """The WebSocket library's logger, quiet: a connection that fails (a bad handshake, a
-    ping flood, a page gone) is the page's business, not a traceback on the server."""
-    import logging
+class OneLineLogs(logging.Handler):
+    """Library log records (the WebSocket library's, asyncio's) as facet's one-line
+    warnings, at most one line of a kind (logger and message) each ``every`` seconds: a
+    ping flood or fifty pages gone at once is a line, not hundreds, and never a
+    traceback (a record's exception is left out)."""
 
-    logger = logging.getLogger("facet.serve.websockets")
-    logger.propagate = False
-    logger.setLevel(logging.CRITICAL + 1)
-    return logger
+    def __init__(self, every: float = 60.0):
+        super().__init__(logging.WARNING)
+        self.every = every
+        self._said: dict = {}
+
+    def emit(self, record: logging.LogRecord) -> None:
+        import time
+
+        from ..errors import printable
+
+        key, now = (record.name, str(record.msg)), time.monotonic()
+        if now - self._said.get(key, -self.every) < self.every:
+            return
+        self._said[key] = now
+        text = record.getMessage().strip().splitlines()
+        print(f"facet view: warning: {printable(text[0] if text else record.name)} "
+              f"({record.name.split('.')[-1]}; said at most once a minute)",
+              file=sys.stderr, flush=True)
+
+
+@contextlib.contextmanager
+def library_logs(*names: str):
+    """Within this block, the loggers ``names`` go through ``OneLineLogs`` only."""
+    handler = OneLineLogs()
+    saved = []
+    for name in names:
+        logger = logging.getLogger(name)
+        saved.append((logger, logger.handlers[:], logger.propagate, logger.level))
+        logger.handlers, logger.propagate = [handler], False
+        logger.setLevel(logging.WARNING)
+    try:
+        yield
+    finally:
+        for logger, handlers, propagate, level in saved:
+            logger.handlers, logger.propagate = handlers, propagate
+            logger.setLevel(level)
 
 
 def announce(server: Server) -> None:

@@ -35,6 +35,7 @@ class Worker(threading.Thread):
         self.shown = 0  # the last picture a page said it showed
         self.pages = 0  # pages connected: none, nothing is drawn
         self.said_quit = False  # the line about q in a page was printed
+        self.sent = None  # the last picture sent
         self._carried = carried(self._serve)  # facet.guard: --confine holds here too
 
     def post(self, event: dict) -> None:
@@ -98,7 +99,7 @@ class Worker(threading.Thread):
                 self._send(session, picture, lossless=False)
                 lossless_due = time.monotonic() + LOSSLESS_AFTER if still else None
             elif lossless_due is not None and time.monotonic() >= lossless_due:
-                self._send(session, session.last, lossless=True)
+                self._send(session, self.sent, lossless=True)  # (what failed showed too)
                 lossless_due = None
 
     def _event(self, session, event: dict) -> None:
@@ -155,6 +156,7 @@ class Worker(threading.Thread):
         return None if None in out else out
 
     def _send(self, session, picture, lossless: bool) -> None:
+        self.sent = picture  # the picture pages show: drawn, or a failed draw's stand-in
         self.index += 1
         camera = session.camera()
         meta = {"type": "frame", "index": self.index, "lossless": lossless,

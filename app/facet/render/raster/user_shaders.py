@@ -43,7 +43,8 @@ class UserPrograms:
 
     def program(self, shader: UserShader, defines: dict) -> Program:
         key = (id(shader), tuple(sorted(defines.items())))
-        return self.watched.get(key, lambda: compile_mesh_shader(self.ctx, shader, defines))
+        return self.watched.get(key, lambda: compile_mesh_shader(self.ctx, shader, defines),
+                                files=(shader.fragment, shader.vertex))
 
     def changed(self) -> bool:
         return self.watched.changed()
