@@ -75,12 +75,12 @@ def test_render_arguments(renderer):
     (lambda: PointLight(attenuation=(0, 0, 0)), "attenuation"),
     (lambda: SpotLight(inner_angle=40, outer_angle=30), "inner_angle <= outer_angle"),
     (lambda: Scene(background=(1, 1)), "background"),
-    (lambda: Scene().add("bunny.obj"), "expects a facet.Mesh"),
+    (lambda: Scene().add("bunny.obj"), "mesh: expected a facet.Mesh"),
     (lambda: Scene().add(sphere_mesh(0), transform=np.zeros((4, 4))), "singular"),
     (lambda: Camera.look_at((0, 0, 1), (0, 0, 1)), "same point"),
     (lambda: Camera.look_at((0, 0, 1), (0, 0, 0), near=2, far=1), "near < far"),
     (lambda: Camera.look_at((0, 0, 1), (0, 0, 0), ortho_height=-1), "ortho_height"),
-    (lambda: Camera.from_intrinsics(-5, 5, 1, 1, 4, 4), "fx, fy > 0"),
+    (lambda: Camera.from_intrinsics(-5, 5, 1, 1, 4, 4), "fx: expected a finite number > 0"),
 ])
 def test_scene_and_camera_validation(make, message):
     with pytest.raises(FacetError, match=message):

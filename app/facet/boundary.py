@@ -97,8 +97,8 @@ class Array(Check):
         limit, count = budget(self.budget), size // self.unit
         if count > limit:
             noun = "pixels" if self.budget == "pixels" else "numbers"
-            raise InputError(f"{where}: {count:,} {noun}, more than facet's budget of "
-                             f"{limit:,} (--budget {self.budget}=N)")
+            raise InputError(f"{where}: expected at most {limit:,} {noun} (facet's budget; "
+                             f"--budget {self.budget}=N), got {count:,}")
 
     def __call__(self, value, where: str) -> None:
         import numpy as np
@@ -165,9 +165,9 @@ class Count(Check):
         if n < self.lo or (self.hi is not None and n > self.hi):
             self.fail(where, repr(value))
         if self.per_pixels and n * n * self.per_pixels > budget("pixels"):
-            raise InputError(f"{where}: {n} makes {n * n * self.per_pixels:,} pixels, more "
-                             f"than facet's budget of {budget('pixels'):,} (--budget "
-                             "pixels=N)")
+            raise InputError(f"{where}: expected at most {budget('pixels'):,} pixels "
+                             f"(facet's budget; --budget pixels=N), got {n}, which makes "
+                             f"{n * n * self.per_pixels:,}")
 
 
 class PathArg(Check):
@@ -200,9 +200,43 @@ class Items(Check):
                 self.each(item, f"{where}[{i}]")
 
 
+def reals(value, where: str, most: int | None = None):
+    """``value`` as a float64 array; ArgumentError naming ``where`` when numpy cannot make
+    real numbers of it (text, objects, a ragged list, complex numbers, ints too large for
+    a float), InputError when it holds more than ``most`` numbers (looked at before it is
+    converted: a broadcast view of trillions is not copied). For value checks of their own
+    (a dataclass's ``__post_init__``)."""
+    import numpy as np
+
+    size = getattr(value, "size", None) if hasattr(value, "dtype") else \
+        len(value) if isinstance(value, (list, tuple)) else None
+    if most is not None and size is not None and size > most:
+        raise InputError(f"{where}: expected at most {most} numbers, got {given(value)}")
+    try:
+        if np.iscomplexobj(value):
+            raise TypeError("complex")
+        return np.asarray(value, dtype=np.float64)
+    except (ValueError, TypeError, OverflowError):
+        raise ArgumentError(f"{where}: expected real numbers, got {given(value)}") from None
+
+
+def finite(value) -> bool:
+    """Whether ``value`` is one finite real number (an int too large for a float is not)."""
+    import math
+
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
+
+
 # The shapes of what the API takes, declared once.
 ArrayLike = object  # a numpy array or anything numpy makes one of (lists, tuples)
 Vec3 = Annotated[ArrayLike, Array("3")]
+Real = Annotated[numbers.Real, Number()]  # any finite number
+Positive = Annotated[numbers.Real, Number(0, open_lo=True)]  # a finite number > 0
 Color = Annotated[ArrayLike, Array("3", "4")]
 FilePath = Annotated[str | os.PathLike, PathArg()]
 Crease = Annotated[numbers.Real | None, Number(0, 180)]  # degrees: sharper is an edge

@@ -13,8 +13,11 @@ OpenGL's by a flip of y and z.
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import numpy as np
 
+from ..boundary import Array, ArrayLike, Count, Number, Positive, Real, Vec3, checked
 from ..errors import InputError
 from . import transforms as T
 from .framing import default_direction, depth_range
@@ -87,9 +90,12 @@ class Camera:
 
     # -- constructors ------------------------------------------------------------------------
     @classmethod
-    def look_at(cls, eye, target, up=(0.0, 1.0, 0.0), *, fov_y: float = 45.0,
-                ortho_height: float | None = None, near: float = 0.1,
-                far: float = 100.0) -> Camera:
+    @checked
+    def look_at(cls, eye: Vec3, target: Vec3, up: Vec3 = (0.0, 1.0, 0.0), *,
+                fov_y: Annotated[float, Number(0, 180, open_lo=True, open_hi=True)] = 45.0,
+                ortho_height: Annotated[float | None, Number(0, open_lo=True)] = None,
+                near: Annotated[float, Number(0, open_lo=True)] = 0.1,
+                far: Annotated[float, Number(0, open_lo=True)] = 100.0) -> Camera:
         """A camera at ``eye`` looking at ``target``; perspective unless ``ortho_height``
         is given.
 
@@ -115,9 +121,11 @@ class Camera:
                    near=near, far=far)
 
     @classmethod
-    def from_intrinsics(cls, fx: float, fy: float, cx: float, cy: float, width: int,
-                        height: int, pose=None, *, near: float = 0.01,
-                        far: float = 100.0) -> Camera:
+    @checked
+    def from_intrinsics(cls, fx: Positive, fy: Positive, cx: Real, cy: Real,
+                        width: Annotated[int, Count(1)], height: Annotated[int, Count(1)],
+                        pose: Annotated[ArrayLike | None, Array("4,4")] = None, *,
+                        near: Positive = 0.01, far: Positive = 100.0) -> Camera:
         """A camera from OpenCV intrinsics; reprojects to OpenCV's pixels exactly.
 
         Parameters
@@ -148,9 +156,13 @@ class Camera:
         return cls(view, intrinsics=k, near=near, far=far)
 
     @classmethod
-    def frame(cls, bounds, direction=None, up=(0.0, 1.0, 0.0), *,
-              fov_y: float = 40.0, aspect: float = 1.0, ortho: bool = False,
-              margin: float = FRAME_MARGIN) -> Camera:
+    @checked
+    def frame(cls, bounds: Annotated[ArrayLike, Array("2,3")],
+              direction: Annotated[ArrayLike | None, Array("3")] = None,
+              up: Vec3 = (0.0, 1.0, 0.0), *,
+              fov_y: Annotated[float, Number(0, 180, open_lo=True, open_hi=True)] = 40.0,
+              aspect: Annotated[float, Number(1e-6, 1e6)] = 1.0, ortho: bool = False,
+              margin: Annotated[float, Number(1e-3, 1e3)] = FRAME_MARGIN) -> Camera:
         """A camera looking along ``direction`` that fits the box ``bounds`` in view.
 
         The distance is the smallest for which all eight corners fall inside the frustum (for an

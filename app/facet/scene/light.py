@@ -17,12 +17,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..boundary import finite, reals
 from ..errors import InputError
 from .material import as_color
 
 
 def _vec3(v, name: str, nonzero: bool = False) -> np.ndarray:
-    a = np.asarray(v, dtype=np.float64).reshape(-1)
+    a = reals(v, name, most=3).reshape(-1)
     if a.shape != (3,) or not np.all(np.isfinite(a)):
         raise InputError(f"{name} must be 3 finite numbers, got {v!r}")
     if nonzero and not np.linalg.norm(a) > 0:
@@ -31,7 +32,7 @@ def _vec3(v, name: str, nonzero: bool = False) -> np.ndarray:
 
 
 def _intensity(v) -> float:
-    if not (np.isfinite(v) and v >= 0):
+    if not (finite(v) and v >= 0):
         raise InputError(f"light intensity must be a number >= 0, got {v!r}")
     return float(v)
 
@@ -181,7 +182,8 @@ class AreaLight:
         self.position = _vec3(self.position, "light position")
         n = _vec3(self.normal, "area light normal", nonzero=True)
         self.normal = n / np.linalg.norm(n)
-        w, h = (float(v) for v in self.size)
+        size = reals(self.size, "area light size", most=2).reshape(-1)
+        w, h = (float(v) for v in size) if size.shape == (2,) else (0.0, 0.0)
         if not (np.isfinite(w) and np.isfinite(h) and w > 0 and h > 0):
             raise InputError(f"area light size must be two numbers > 0, got {self.size!r}")
         self.size = (w, h)

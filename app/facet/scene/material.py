@@ -10,12 +10,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..boundary import finite, reals
 from ..errors import InputError
 
 
 def as_color(value, name: str, channels=(3,)) -> np.ndarray:
     """Validate a colour: a number (grey) or 3 (or 4, where allowed) floats in [0, 1]."""
-    a = np.asarray(value, dtype=np.float64).reshape(-1)
+    a = reals(value, name, most=max(channels)).reshape(-1)
     if a.size == 1:
         a = np.repeat(a, 3)
     if a.size not in channels or not np.all(np.isfinite(a)) or a.min() < 0 or a.max() > 1:
@@ -115,6 +116,6 @@ class Material:
         self.mirror = bool(self.mirror)
         for key in ("ka", "kd", "ks", "shininess"):
             v = getattr(self, key)
-            if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
+            if not (finite(v) and v >= 0):
                 raise InputError(f"material {key} must be a number >= 0, got {v!r}")
             setattr(self, key, float(v))

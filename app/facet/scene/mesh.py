@@ -11,9 +11,11 @@ renderer can cache their upload by object identity.
 from __future__ import annotations
 
 import warnings
+from typing import Annotated
 
 import numpy as np
 
+from ..boundary import Array, ArrayLike, Crease, FilePath, checked
 from ..errors import FacetWarning, InputError
 from ..geometry import transforms as T
 from .normals import (
@@ -56,8 +58,15 @@ class Mesh:
 
     kind = "mesh"
 
-    def __init__(self, positions, faces, normals=None, uvs=None, *, name: str = "mesh",
-                 material=None, colors=None, uvs1=None, tangents=None,
+    @checked
+    def __init__(self, positions: Annotated[ArrayLike, Array("N,3")],
+                 faces: Annotated[ArrayLike, Array("F,3", finite=False)],
+                 normals: Annotated[ArrayLike | None, Array("N,3", finite=False)] = None,
+                 uvs: Annotated[ArrayLike | None, Array("N,2")] = None, *,
+                 name: str = "mesh", material=None,
+                 colors: Annotated[ArrayLike | None, Array("N,3", "N,4")] = None,
+                 uvs1: Annotated[ArrayLike | None, Array("N,2")] = None,
+                 tangents: Annotated[ArrayLike | None, Array("N,4")] = None,
                  closed: bool | None = None, variants: dict | None = None,
                  checked: bool = False, scalars: dict | None = None):
         self.name = name
@@ -120,8 +129,8 @@ class Mesh:
     def _check(pos: np.ndarray, fac: np.ndarray, name: str) -> None:
         """Faces in range; positions finite and within float32's reach."""
         if fac.min() < 0 or fac.max() >= len(pos):
-            raise InputError(f"{name}: face indices must be in [0, {len(pos) - 1}], "
-                             f"got [{fac.min()}, {fac.max()}]")
+            raise InputError(f"{name}: face indices must be in [0, {len(pos) - 1}] (rows of "
+                             f"positions), got [{fac.min()}, {fac.max()}]")
         bad = ~np.isfinite(pos).all(axis=1)
         if bad.any():
             raise InputError(f"{name}: {int(bad.sum())} vertices are NaN or infinite "
@@ -156,7 +165,8 @@ class Mesh:
         return self._tangents
 
     @classmethod
-    def load(cls, path, *, flat: bool = False, crease: float | None = None) -> Mesh:
+    @checked
+    def load(cls, path: FilePath, *, flat: bool = False, crease: Crease = None) -> Mesh:
         """Read a mesh file (OBJ, STL, PLY, OFF, glTF/GLB) as one mesh.
 
         A file of several parts is merged, each placed by its node transform, with the first
@@ -270,7 +280,8 @@ class Mesh:
         return merge_parts(parts, type(tm).__name__)
 
     @classmethod
-    def load_parts(cls, path, *, crease: float | None = None) -> list[tuple[str, Mesh,
+    @checked
+    def load_parts(cls, path: FilePath, *, crease: Crease = None) -> list[tuple[str, Mesh,
                                                                              np.ndarray]]:
         """The parts of a mesh file, each with its own material: a glTF keeps its nodes and
         primitives (a mesh used by several nodes is made once), an OBJ one part per material,

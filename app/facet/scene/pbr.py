@@ -13,10 +13,12 @@ Lambertian surface to L.
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..boundary import finite, reals
 from ..errors import InputError
 from .material import as_color
 from .texture_slot import FILTERS, WRAP_MODES, TextureSlot, texture_transform  # noqa: F401
@@ -215,24 +217,24 @@ class PbrMaterial:
     ka = 1.0
 
     def __post_init__(self):
-        self.base_color = as_color(self.base_color, "base color", channels=(4,)) \
-            if np.size(self.base_color) == 4 else \
-            np.append(as_color(self.base_color, "base color"), 1.0)
+        base = reals(self.base_color, "material base_color", most=4)
+        self.base_color = as_color(base, "material base_color", channels=(4,)) \
+            if base.size == 4 else np.append(as_color(base, "material base_color"), 1.0)
         self.emissive = as_color(self.emissive, "emissive")
         for key in ("metallic", "roughness", "occlusion_strength", "alpha_cutoff", "specular",
                     "transmission", "clearcoat", "clearcoat_roughness", "sheen_roughness",
                     "iridescence", "anisotropy", "diffuse_transmission"):
             v = getattr(self, key)
-            if not (isinstance(v, (int, float, np.floating)) and 0.0 <= v <= 1.0):
+            if not (finite(v) and 0.0 <= v <= 1.0):
                 raise InputError(f"material {key} must be a number in [0, 1], got {v!r}")
             setattr(self, key, float(v))
-        c = np.asarray(self.specular_color, dtype=np.float64).reshape(-1)
+        c = reals(self.specular_color, "material specular_color", most=3).reshape(-1)
         if c.shape != (3,) or not np.all(np.isfinite(c)) or c.min() < 0:
             raise InputError(f"material specular_color must be 3 numbers >= 0, got "
                              f"{self.specular_color!r}")
         self.specular_color = c
         v = self.ior
-        if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and
+        if not (finite(v) and
                 (v == 0 or v >= 1)):
             raise InputError(f"material ior must be a number >= 1 (or 0: a perfect "
                              f"reflector, as glTF allows), got {v!r}")
@@ -242,23 +244,23 @@ class PbrMaterial:
         self.diffuse_transmission_color = as_color(self.diffuse_transmission_color,
                                                    "diffuse transmission color")
         d = self.attenuation_distance
-        if not (isinstance(d, (int, float, np.floating)) and d > 0):
+        if not (isinstance(d, numbers.Real) and not isinstance(d, bool) and d > 0):
             raise InputError(f"material attenuation_distance must be a number > 0 (inf: "
                              f"clear), got {d!r}")
         self.attenuation_distance = float(d)
         v = self.iridescence_ior
-        if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 1):
+        if not (finite(v) and v >= 1):
             raise InputError(f"material iridescence_ior must be a number >= 1, got {v!r}")
         self.iridescence_ior = float(v)
         v = self.anisotropy_rotation
-        if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v)):
+        if not (finite(v)):
             raise InputError(f"material anisotropy_rotation must be a number (radians), "
                              f"got {v!r}")
         self.anisotropy_rotation = float(v)
         for key in ("emissive_strength", "normal_scale", "thickness", "clearcoat_normal_scale",
                     "iridescence_thickness_min", "iridescence_thickness_max", "dispersion"):
             v = getattr(self, key)
-            if not (isinstance(v, (int, float, np.floating)) and np.isfinite(v) and v >= 0):
+            if not (finite(v) and v >= 0):
                 raise InputError(f"material {key} must be a number >= 0, got {v!r}")
             setattr(self, key, float(v))
         if self.alpha_mode not in ALPHA_MODES:

@@ -18,8 +18,11 @@ object identity).
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import numpy as np
 
+from ..boundary import Array, ArrayLike, Number, checked
 from ..errors import InputError
 
 DEFAULT_POINT_SIZE = 3.0  # pixels across
@@ -101,9 +104,14 @@ class Points:
 
     kind = "points"
 
-    def __init__(self, positions, colors=None, normals=None, *, size: float | None = None,
-                 radius: float | None = None, edl: bool | None = None,
-                 name: str = "points", material=None, scalars: dict | None = None):
+    @checked
+    def __init__(self, positions: Annotated[ArrayLike, Array("N,3")],
+                 colors: Annotated[ArrayLike | None, Array("N,3", "N,4")] = None,
+                 normals: Annotated[ArrayLike | None, Array("N,3", finite=False)] = None, *,
+                 size: Annotated[float | None, Number(0, open_lo=True)] = None,
+                 radius: Annotated[float | None, Number(0, open_lo=True)] = None,
+                 edl: bool | None = None, name: str = "points", material=None,
+                 scalars: dict | None = None):
         self.name = name
         self.scalars = scalars or {}  # {name: (N,) floats} per point (PLY properties)
         self.positions = _readonly(_positions(positions, name))
@@ -221,7 +229,11 @@ class Lines:
 
     kind = "lines"
 
-    def __init__(self, positions, segments=None, colors=None, *, width: float | None = None,
+    @checked
+    def __init__(self, positions: Annotated[ArrayLike, Array("N,3")],
+                 segments: Annotated[ArrayLike | None, Array("M,2", finite=False)] = None,
+                 colors: Annotated[ArrayLike | None, Array("N,3", "N,4")] = None, *,
+                 width: Annotated[float | None, Number(0, open_lo=True)] = None,
                  name: str = "lines", material=None):
         self.name = name
         self.positions = _readonly(_positions(positions, name))

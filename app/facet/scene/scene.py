@@ -6,10 +6,11 @@ No GL lives here; a ``Renderer`` caches GPU copies keyed by these objects.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING, Annotated, cast
 
 import numpy as np
 
+from ..boundary import Array, ArgumentError, ArrayLike, Color, checked
 from ..errors import InputError
 from ..geometry import transforms as T
 from ..geometry.camera import Camera
@@ -77,7 +78,9 @@ class Scene:
         ``lights`` is "scene".
     """
 
-    def __init__(self, ambient=None, background=(0.0, 0.0, 0.0, 1.0), options=None) -> None:
+    @checked
+    def __init__(self, ambient: Annotated[ArrayLike | None, Array("", "3")] = None,
+                 background: Color = (0.0, 0.0, 0.0, 1.0), options=None) -> None:
         self._ambient = as_color(DEFAULT_AMBIENT if ambient is None else ambient, "ambient")
         self.ambient_declared = ambient is not None
         bg = as_color(background, "background", channels=(3, 4))
@@ -109,8 +112,11 @@ class Scene:
         self._ambient = as_color(value, "ambient")
         self.ambient_declared = True
 
-    def add(self, mesh, material: Material | PbrMaterial | None = None, transform=None, *,
-            name: str = "", transform_end=None) -> int | list[int]:
+    @checked
+    def add(self, mesh, material: Material | PbrMaterial | None = None,
+            transform: Annotated[ArrayLike | None, Array("4,4")] = None, *,
+            name: str = "", transform_end: Annotated[ArrayLike | None, Array("4,4")] = None
+            ) -> int | list[int]:
         """Place a mesh, a cloud, lines, a shape or a trimesh geometry in the scene.
 
         Parameters
@@ -162,8 +168,9 @@ class Scene:
         if shape is not None:
             mesh = shape.mesh()
         if not isinstance(mesh, (Mesh, Points, Lines)):
-            raise InputError(f"Scene.add expects a facet.Mesh, facet.Points, facet.Lines or "
-                             f"a facet.shapes shape, got {type(mesh).__name__}")
+            raise ArgumentError(f"Scene.add: mesh: expected a facet.Mesh, facet.Points, "
+                                f"facet.Lines, facet.Splats, a facet.shapes shape or a trimesh "
+                                f"geometry, got {type(mesh).__name__}")
         m = np.eye(4) if transform is None else np.asarray(transform, dtype=np.float64)
         if m.shape != (4, 4) or not np.all(np.isfinite(m)):
             raise InputError(f"transform must be a finite 4x4 matrix, got shape {m.shape}")
@@ -182,6 +189,7 @@ class Scene:
     def _next_id(self) -> int:
         return len(self.objects) + len(getattr(self, "splats", ()))
 
+    @checked
     def add_light(self, light: Light) -> Light:
         """Add a light (at most ``MAX_LIGHTS``).
 
@@ -202,6 +210,7 @@ class Scene:
         self.lights.append(light)
         return light
 
+    @checked
     def add_camera(self, name: str, camera: Camera) -> Camera:
         """Name a camera (scene files and ``--camera`` select cameras by name).
 

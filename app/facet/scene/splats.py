@@ -121,7 +121,7 @@ class Splats:
         if sh.ndim != 3 or sh.shape[0] != n or sh.shape[2] != 3 or \
                 sh.shape[1] not in (1, 4, 9, 16):
             raise InputError(f"sh: expected (N, K, 3) coefficients with K 1, 4, 9 or 16 "
-                             f"(degree 0-3) for {n} splats, got shape {sh.shape}")
+                             f"(degree 0-3) for the {n} splats of means, got shape {sh.shape}")
         self.sh = _finite(sh, "sh", sh.shape).astype(np.float32)
 
     # -- reading ---------------------------------------------------------------------------
@@ -169,6 +169,9 @@ class Splats:
         Splats
             The cloud.
         """
+        if len(colors) != len(means):
+            raise InputError(f"Splats.from_colors: colors: {len(colors)} rows, one for each "
+                             f"of the {len(means)} rows of means expected")
         dc = (np.asarray(colors, np.float64) - 0.5) / SH_C0
         return cls(means, scales, rotations, opacities, dc[:, None, :], name)
 
@@ -272,7 +275,8 @@ def _rows(a, what: str, width: int) -> int:
 def _finite(a, what: str, shape) -> np.ndarray:
     arr = np.asarray(a, dtype=np.float64)
     if arr.shape != tuple(shape):
-        raise InputError(f"{what}: expected shape {tuple(shape)}, got {arr.shape}")
+        raise InputError(f"{what}: expected shape {tuple(shape)} (a row for each row of "
+                         f"means), got {arr.shape}")
     if not np.all(np.isfinite(arr)):
         bad = int(np.flatnonzero((~np.isfinite(arr.reshape(arr.shape[0], -1))).any(1))[0])
         raise InputError(f"splat {bad}: {what} is not finite (NaN or infinity)")

@@ -8,8 +8,11 @@ renderer's colour mode (see facet.render.colors).
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import numpy as np
 
+from ..boundary import Array, ArrayLike, FilePath, checked
 from ..errors import InputError
 from .readers import reader  # facet.formats.images reads the file
 
@@ -25,7 +28,10 @@ class Texture:
         Label used in messages.
     """
 
-    def __init__(self, pixels, name: str = "texture"):
+    @checked
+    def __init__(self, pixels: Annotated[ArrayLike, Array("H,W,3", "H,W,4", budget="pixels",
+                                                          unit=3)],
+                 name: str = "texture"):
         a = np.asarray(pixels)
         if a.dtype != np.uint8 or a.ndim != 3 or a.shape[2] not in (3, 4) or min(a.shape[:2]) < 1:
             raise InputError(f"texture {name}: expected (H, W, 3|4) uint8 pixels, got "
@@ -55,7 +61,8 @@ class Texture:
         return cls(np.asarray(image.convert("RGBA")), name)
 
     @classmethod
-    def load(cls, path) -> Texture:
+    @checked
+    def load(cls, path: FilePath) -> Texture:
         """Read an image file through Pillow.
 
         Parameters
