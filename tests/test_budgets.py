@@ -1,5 +1,5 @@
 """facet's resource budgets (facet.budgets): stated once, printed by `facet info`, listed
-in the docs (docs/guide/rendering.md), raised or lowered by `facet --budget NAME=VALUE`
+in the docs (docs/guide/untrusted-input.md), raised or lowered by `facet --budget NAME=VALUE`
 and FACET_BUDGET_NAME, and each one enforced where the input meets it."""
 
 import re
@@ -29,8 +29,8 @@ def test_info_prints_every_budget(tmp_path):
 
 
 def test_the_docs_list_the_budgets_as_they_are():
-    page = ROOT / "docs" / "guide" / "rendering.md"
-    text = page.read_text().split("## Reliability")[1].split("\n## ")[0]
+    page = ROOT / "docs" / "guide" / "untrusted-input.md"
+    text = page.read_text().split("## Budgets")[1].split("\n## ")[0]
     rows = dict(re.findall(r"^ *\| `(\w+)` \| ([^|]+) \|", text, re.M))
     assert set(rows) == set(BUDGETS)
     spelled = {"file_bytes": "2 GiB", "elements": "2^28", "shader_bytes": "1 MiB"}

@@ -14,7 +14,8 @@ PACKAGE = ROOT / "app" / "facet"
 EVERY_KEY = Path(__file__).resolve().parent / "data" / "every-key.toml"
 # Layers, lowest first (DESIGN.md): a module may import its own layer or lower ones.
 # DESIGN.md's layers, bottom up: imports point down only (the README lists them too).
-LAYERS = [{"errors", "paths", "srgb", "guard", "budgets", "lazy"}, {"geometry"}, {"scene"},
+LAYERS = [{"errors", "paths", "srgb", "guard", "budgets", "lazy", "boundary"}, {"geometry"},
+          {"scene"},
           {"formats", "options"}, {"gl"},
           {"render", "image"}, {"lab", "batch", "viewing"},
           {"cli", "window", "notebook", "serve"}, {"__init__", "__main__"}]

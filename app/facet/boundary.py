@@ -120,7 +120,7 @@ class Array(Check):
         if array.ndim and array.shape[0] < self.rows:
             self.fail(where, f"{array.shape[0]} rows (at least {self.rows} needed)")
         if self.finite and array.dtype.kind == "f" and not np.isfinite(array).all():
-            self.fail(where, "NaN or infinite values")
+            self.fail(where, "values that are not finite (NaN or infinity)")
 
 
 class Number(Check):
@@ -186,9 +186,9 @@ class PathArg(Check):
 class Items(Check):
     """A sequence (not text) of exactly ``count`` items, each passing ``each`` (if given)."""
 
-    def __init__(self, count: int, each: Check | None = None):
+    def __init__(self, count: int, each: Check | None = None, noun: str = "items"):
         self.count, self.each = count, each
-        self.expected = f"a sequence of {count} items"
+        self.expected = f"a sequence of {count} {noun}"
 
     def __call__(self, value, where: str) -> None:
         if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
