@@ -16,8 +16,9 @@ import textwrap
 import numpy as np
 import pytest
 
-from conftest import ROOT
 from hostile import facet, refused
+
+from conftest import ROOT
 
 MODEL = ROOT / "models" / "default.obj"
 SPLAT_HEAD = ("ply\nformat binary_little_endian 1.0\nelement vertex {count}\n"

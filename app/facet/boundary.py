@@ -120,7 +120,12 @@ class Array(Check):
         if array.ndim and array.shape[0] < self.rows:
             self.fail(where, f"{array.shape[0]} rows (at least {self.rows} needed)")
         if self.finite and array.dtype.kind == "f" and not np.isfinite(array).all():
-            self.fail(where, "values that are not finite (NaN or infinity)")
+            bad = ~np.isfinite(array.reshape(len(array), -1) if array.ndim else array)
+            rows = bad.any(axis=1) if bad.ndim == 2 else bad
+            place = "row" if array.ndim > 1 else "index"
+            first = f" (the first at {place} {int(np.argmax(rows))})" if array.ndim else ""
+            self.fail(where, f"{int(np.count_nonzero(bad))} values that are NaN or "
+                      f"infinite, not finite{first}")
 
 
 class Number(Check):

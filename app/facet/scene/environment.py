@@ -198,7 +198,8 @@ class Environment:
 
     @classmethod
     @checked
-    def from_faces(cls, paths: Annotated[Sequence, Items(6, PathArg(), "face images")]) -> Environment:
+    def from_faces(cls, paths: Annotated[Sequence, Items(6, PathArg(), "face images")]
+                   ) -> Environment:
         """A cube map of six images (read by facet.formats.environment_files).
 
         Parameters

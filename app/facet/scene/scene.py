@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Annotated, cast
 
 import numpy as np
 
-from ..boundary import Array, ArgumentError, ArrayLike, Color, checked
+from ..boundary import ArgumentError, Array, ArrayLike, Color, checked
 from ..errors import InputError
 from ..geometry import transforms as T
 from ..geometry.camera import Camera
