@@ -118,8 +118,118 @@ PUBLIC: dict[str, tuple] = {
         {"mesh": facet.Mesh(**TRIANGLE), "transform": np.eye(4), "name": "tri"}),
     "Scene.add_light": (lambda light: facet.Scene().add_light(light),
                         {"light": facet.PointLight()}),
+    "Intrinsics": (facet.Intrinsics, {"fx": 100.0, "fy": 100.0, "cx": 32.0, "cy": 24.0,
+                                      "width": 64, "height": 48}),
+    "TextureSlot": (facet.TextureSlot, {"texture": facet.Texture(np.zeros((2, 2, 3), np.uint8)),
+                                        "texcoord": 0,
+                                        "transform": np.eye(3), "wrap": ("repeat", "clamp"),
+                                        "filter": ("linear", "nearest")}),
+    "primitives.sphere": (facet.primitives.sphere, {"radius": 1.0, "segments": 16,
+                                                    "rings": 8}),
+    "primitives.cube": (facet.primitives.cube, {"size": 1.0}),
+    "primitives.cone": (facet.primitives.cone, {"radius": 0.5, "height": 1.0,
+                                                "segments": 16}),
+    "primitives.cylinder": (facet.primitives.cylinder, {"radius": 0.5, "height": 1.0,
+                                                        "segments": 16}),
+    "primitives.disk": (facet.primitives.disk, {"radius": 1.0, "segments": 16}),
+    "primitives.plane": (facet.primitives.plane, {"size": 1.0}),
+    "primitives.torus": (facet.primitives.torus, {"major_radius": 1.0, "minor_radius": 0.25,
+                                                  "segments": 16, "rings": 8}),
+    "shapes.Sphere": (facet.shapes.Sphere, {"radius": 1.0}),
+    "shapes.Box": (facet.shapes.Box, {"size": 1.0}),
+    "shapes.Cone": (facet.shapes.Cone, {"radius": 0.5, "height": 1.0}),
+    "shapes.Cylinder": (facet.shapes.Cylinder, {"radius": 0.5, "height": 1.0}),
+    "shapes.Disk": (facet.shapes.Disk, {"radius": 1.0}),
+    "shapes.Plane": (facet.shapes.Plane, {"size": 2.0}),
+    "transforms.translate": (facet.transforms.translate, {"offset": (1, 2, 3)}),
+    "transforms.scale": (facet.transforms.scale, {"factor": 2.0}),
+    "transforms.rotate": (facet.transforms.rotate, {"axis": (0, 1, 0), "degrees": 30.0}),
+    "transforms.rotate_x": (facet.transforms.rotate_x, {"degrees": 30.0}),
+    "transforms.look_at": (facet.transforms.look_at, {"eye": (0, 0, 5), "target": (0, 0, 0),
+                                                      "up": (0, 1, 0)}),
+    "transforms.perspective": (facet.transforms.perspective, {
+        "fov_y": 45.0, "aspect": 1.5, "near": 0.1, "far": 10.0}),
+    "transforms.orthographic": (facet.transforms.orthographic, {
+        "left": -1.0, "right": 1.0, "bottom": -1.0, "top": 1.0, "near": 0.1, "far": 10.0}),
+    "transforms.normal_matrix": (facet.transforms.normal_matrix, {"m": np.eye(4)}),
+    "transforms.transform_points": (facet.transforms.transform_points,
+                                    {"m": np.eye(4), "points": np.zeros((4, 3))}),
+    "Scene.at": (lambda time=0.0, animation=None: facet.Scene().at(time, animation),
+                 {"time": 1.0}),
+    "Camera.orbit": (lambda center, axis, degrees: facet.Camera.look_at(
+        (0, 0, 5), (0, 0, 0)).orbit(center, axis, degrees),
+        {"center": (0, 0, 0), "axis": (0, 1, 0), "degrees": 30.0}),
+    "Camera.projection": (lambda width, height: facet.Camera.look_at(
+        (0, 0, 5), (0, 0, 0)).projection(width, height), {"width": 64, "height": 48}),
+    "Mesh.colored_by": (lambda values, colormap="viridis", limits=None: facet.Mesh(
+        **TRIANGLE).colored_by(values, colormap, limits),
+        {"values": np.arange(3.0), "colormap": "viridis", "limits": (0.0, 2.0)}),
+    "Points.sized": (lambda size=None, radius=None: facet.Points(np.zeros((2, 3))).sized(
+        size, radius), {"size": 3.0}),
+    "Lines.widened": (lambda width: facet.Lines(np.zeros((2, 3))).widened(width),
+                      {"width": 3.0}),
+    "RenderOptions.build": (lambda **o: facet.RenderOptions.build(o),
+                            {"size": (32, 24), "spp": 4, "engine": "path",
+                             "background": (0, 0, 0, 1), "time": 1.0}),
 }
 PUBLIC["Texture.load"][1]["path"] = FILES["sky"]
+
+
+def _shader() -> str:
+    path = DATA / "toy.frag"
+    path.write_text("uniform float u_gain;\n"
+                    "void mainImage(out vec4 c, in vec2 p) { c = vec4(u_gain); }\n")
+    return str(path)
+
+
+def _manifest() -> str:
+    (DATA / "tri.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    path = DATA / "jobs.jsonl"
+    path.write_text('{"model": "tri.obj", "views": 1, "size": [8, 8], "outputs": "color"}\n')
+    return str(path)
+
+
+def _gl_calls() -> dict:
+    """The renderer's calls (one renderer, made once: a GL context in this process)."""
+    renderer = facet.Renderer(16, 12)
+    scene = facet.Scene()
+    scene.add(facet.Mesh(**TRIANGLE))
+    camera = facet.Camera.look_at((0.3, 0.3, 3), (0.3, 0.3, 0))
+
+    toy = facet.ShaderToy(_shader(), size=(16, 12))
+
+    def render(scene, camera, size, spp, engine, background, outputs, environment, time):
+        return renderer.render(scene, camera, size=size, spp=spp, engine=engine,
+                               background=background, outputs=outputs,
+                               environment=environment, time=time)
+
+    return {
+        "Renderer": (lambda width, height, msaa: facet.Renderer(width, height, msaa).close(),
+                     {"width": 16, "height": 12, "msaa": 4}),
+        "Renderer.render": (render, {"scene": scene, "camera": camera, "size": (16, 12),
+                                     "spp": 1, "engine": "raster",
+                                     "background": (0, 0, 0, 1), "outputs": ("color",),
+                                     "environment": "sky", "time": 0.0}),
+        "Renderer.samples": (lambda scene, camera, spp: renderer.samples(scene, camera,
+                                                                        spp=spp),
+                             {"scene": scene, "camera": camera, "spp": 4}),
+        "ShaderToy": (lambda image, size: facet.ShaderToy(image, size=size).close(),
+                      {"image": _shader(), "size": (16, 12)}),
+        "ShaderToy.render": (lambda time, fps, mouse: toy.render(time, fps=fps, mouse=mouse),
+                             {"time": 0.5, "fps": 30.0, "mouse": (0, 0, 0, 0)}),
+        "ShaderToy.set_uniform": (lambda name, value: toy.set_uniform(name, value),
+                                  {"name": "u_gain", "value": 0.5}),
+        "ShaderToy.resize": (lambda width, height: toy.resize(width, height),
+                             {"width": 16, "height": 12}),
+        "batch.render_dataset": (lambda manifest, out, workers: facet.batch.render_dataset(
+            manifest, out, workers=workers), {"manifest": _manifest(), "out": str(DATA / "ds"),
+                                              "workers": 1}),
+        "Frame.save": (lambda path: renderer.render(scene, camera, outputs=("color",)).save(
+            path), {"path": str(DATA / "frame.png")}),
+    }
+
+
+PUBLIC.update(_gl_calls())
 
 
 def bad_values(hint) -> list:

@@ -29,8 +29,19 @@ CHECKED = ["Splats", "Splats.from_colors", "Splats.load", "Environment", "Enviro
            "Environment.constant", "Environment.from_faces", "Environment.from_equirect",
            "load", "open_scene", "load_scene", "Mesh", "Mesh.load", "Mesh.load_parts",
            "Points", "Lines", "Texture", "Texture.load", "Camera.look_at", "Camera.frame",
-           "Camera.from_intrinsics", "Scene", "Scene.add", "Scene.add_light",
-           "Scene.add_camera"]
+           "Camera.from_intrinsics", "Camera.orbit", "Camera.projection", "Scene",
+           "Scene.add", "Scene.add_light", "Scene.add_camera", "Mesh.colored_by",
+           "Points.colored_by", "Points.sized", "Lines.widened", "Renderer", "Renderer.render",
+           "Renderer.samples", "Renderer.present", "Frame.save", "ShaderToy",
+           "ShaderToy.render", "ShaderToy.step", "ShaderToy.set_uniform", "ShaderToy.resize",
+           "batch.render_dataset", "view", "show", "primitives.sphere", "primitives.cube",
+           "primitives.cone", "primitives.cylinder", "primitives.disk", "primitives.plane",
+           "primitives.torus", "transforms.translate", "transforms.scale", "transforms.rotate",
+           "transforms.rotate_x", "transforms.rotate_y", "transforms.rotate_z",
+           "transforms.look_at", "transforms.perspective", "transforms.orthographic",
+           "transforms.normal_matrix", "transforms.transform_points"]
+# Checked in their own construction (dataclasses: facet.boundary.reals / finite), walked:
+# Material, PbrMaterial, TextureSlot, Intrinsics, the lights; shapes through their helpers.
 
 
 def _limit():

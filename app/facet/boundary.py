@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import functools
 import inspect
+import math
 import numbers
 import os
 import re
@@ -30,6 +31,8 @@ import typing
 from typing import Annotated
 
 from .errors import InputError
+
+SMALL = 1 << 16  # numbers below every budget: no budget is looked up for fewer
 
 
 class ArgumentError(InputError, TypeError):
@@ -82,6 +85,8 @@ class Array(Check):
         self.expected = f"{shown} {'finite ' if finite else ''}{what}".strip()
 
     def _fits(self, shape: tuple) -> bool:
+        if not self.shapes:
+            return True
         for pattern in self.shapes:
             if len(pattern) != len(shape):
                 continue
@@ -89,9 +94,11 @@ class Array(Check):
             if all(int(p) == n if p.isdigit() else bound.setdefault(p, n) == n
                    for p, n in zip(pattern, shape, strict=True)):
                 return True
-        return not self.shapes
+        return False
 
     def _within(self, size: int, where: str) -> None:
+        if size <= SMALL:  # below every budget: no lookup
+            return
         from .budgets import budget
 
         limit, count = budget(self.budget), size // self.unit
@@ -103,23 +110,28 @@ class Array(Check):
     def __call__(self, value, where: str) -> None:
         import numpy as np
 
-        if value is None or isinstance(value, (str, bytes, dict, set)):
-            self.fail(where, given(value), ArgumentError)
-        shape = getattr(value, "shape", None)
-        if shape is not None and hasattr(value, "dtype"):  # size first: a broadcast view
-            self._within(int(np.prod(shape, dtype=np.float64)), where)
-        try:
-            array = np.asarray(value)
-        except (ValueError, TypeError):
-            self.fail(where, f"a ragged or mixed {type(value).__name__}", ArgumentError)
-        if array.dtype.kind not in "biuf":
+        if isinstance(value, np.ndarray):  # the common case, without a copy
+            self._within(value.size, where)  # size first: a broadcast view
+            array = value
+        else:
+            if value is None or isinstance(value, (str, bytes, dict, set)):
+                self.fail(where, given(value), ArgumentError)
+            shape = getattr(value, "shape", None)
+            if shape is not None and hasattr(value, "dtype"):
+                self._within(math.prod(int(n) for n in shape), where)
+            try:
+                array = np.asarray(value)
+            except (ValueError, TypeError):
+                self.fail(where, f"a ragged or mixed {type(value).__name__}", ArgumentError)
+            self._within(array.size, where)
+        kind = array.dtype.kind
+        if kind not in "biuf":
             self.fail(where, given(array), ArgumentError)
-        self._within(array.size, where)
         if not self._fits(array.shape):
             self.fail(where, f"shape {array.shape}")
-        if array.ndim and array.shape[0] < self.rows:
+        if self.rows and array.ndim and array.shape[0] < self.rows:
             self.fail(where, f"{array.shape[0]} rows (at least {self.rows} needed)")
-        if self.finite and array.dtype.kind == "f" and not np.isfinite(array).all():
+        if self.finite and kind == "f" and not np.isfinite(array).all():
             bad = ~np.isfinite(array.reshape(len(array), -1) if array.ndim else array)
             rows = bad.any(axis=1) if bad.ndim == 2 else bad
             place = "row" if array.ndim > 1 else "index"
@@ -192,13 +204,13 @@ class Items(Check):
     """A sequence (not text) of exactly ``count`` items, each passing ``each`` (if given)."""
 
     def __init__(self, count: int, each: Check | None = None, noun: str = "items"):
-        self.count, self.each = count, each
-        self.expected = f"a sequence of {count} {noun}"
+        self.count, self.each = count, each  # count -1: any number of them
+        self.expected = f"a sequence of {count if count >= 0 else 'any number of'} {noun}"
 
     def __call__(self, value, where: str) -> None:
         if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
             self.fail(where, given(value), ArgumentError)
-        if len(value) != self.count:
+        if self.count >= 0 and len(value) != self.count:
             self.fail(where, f"{len(value)} items")
         if self.each is not None:
             for i, item in enumerate(value):
@@ -244,7 +256,9 @@ Real = Annotated[numbers.Real, Number()]  # any finite number
 Positive = Annotated[numbers.Real, Number(0, open_lo=True)]  # a finite number > 0
 Color = Annotated[ArrayLike, Array("3", "4")]
 FilePath = Annotated[str | os.PathLike, PathArg()]
-Crease = Annotated[numbers.Real | None, Number(0, 180)]  # degrees: sharper is an edge
+Crease = Annotated[numbers.Real | None, Number(0, 180)]
+Size = Annotated[typing.Sequence,  # (width, height) in pixels
+                 Items(2, Count(1, 1 << 16), "whole numbers >= 1")]  # degrees: sharper is an edge
 
 
 def _describe(hint) -> str:
@@ -321,17 +335,31 @@ def checked(target):
     qualname = target.__qualname__.removesuffix(".__init__")
     specs: dict | None = None
 
+    parameters = signature.parameters
+    names = list(parameters)
+    simple = all(p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+                 for p in parameters.values())
+    positional = [n for n in names if parameters[n].kind != inspect.Parameter.KEYWORD_ONLY]
+    required = {n for n in names if parameters[n].default is inspect.Parameter.empty}
+
+    def arguments(args, kwargs) -> dict:
+        """{parameter: value} of one call (a call that does not fit: ArgumentError)."""
+        if simple and len(args) <= len(positional):
+            given_ = {**dict(zip(positional, args, strict=False)), **kwargs}
+            if len(given_) == len(args) + len(kwargs) and given_.keys() <= parameters.keys() \
+                    and required <= given_.keys():
+                return given_
+        try:
+            return signature.bind(*args, **kwargs).arguments
+        except TypeError as exc:
+            raise ArgumentError(f"{qualname}: {exc}") from None
+
     @functools.wraps(target)
     def call(*args, **kwargs):
         nonlocal specs
         if specs is None:
             specs = _specs(target, signature)
-        try:
-            bound = signature.bind(*args, **kwargs)
-        except TypeError as exc:
-            raise ArgumentError(f"{qualname}: {exc}") from None
-        parameters = signature.parameters
-        for name, value in bound.arguments.items():
+        for name, value in arguments(args, kwargs).items():
             spec = specs.get(name)
             if spec is None or value is parameters[name].default:
                 continue
@@ -347,4 +375,5 @@ def checked(target):
         return target(*args, **kwargs)
 
     call.__facet_checked__ = True
+    call.unchecked = target  # for facet's own hot paths, whose values are checked already
     return call

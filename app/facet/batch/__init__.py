@@ -6,9 +6,17 @@ files the learning and reconstruction tools read (facet.batch.layout, colmap).
 
 from __future__ import annotations
 
+from typing import Annotated
 
-def render_dataset(manifest, out, *, defaults=None, workers=None, gpus=None, quiet=True,
-                   confine="manifest", ray=None) -> dict:
+from ..boundary import Count, FilePath, Items, checked
+
+
+@checked
+def render_dataset(manifest: FilePath | list, out: FilePath, *, defaults: dict | None = None,
+                   workers: Annotated[int | None, Count(1, 4096)] = None,
+                   gpus: Annotated[list | tuple | None, Items(-1, Count(0))] = None,
+                   quiet: bool = True, confine: FilePath | None = "manifest",
+                   ray: bool | str | None = None) -> dict:
     """Render every job of a manifest into a dataset folder, on every core (and GPU, or
     a Ray cluster), resuming what is already there.
 

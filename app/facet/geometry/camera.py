@@ -245,7 +245,9 @@ class Camera:
         return cls(view, fov_y=fov_y, ortho_height=ortho_height, near=near, far=far)
 
     # -- projection --------------------------------------------------------------------------
-    def projection(self, width: int, height: int) -> np.ndarray:
+    @checked
+    def projection(self, width: Annotated[int, Count(1)],
+                   height: Annotated[int, Count(1)]) -> np.ndarray:
         """The camera -> clip matrix for an image of ``width`` x ``height`` pixels.
 
         Parameters
@@ -308,7 +310,8 @@ class Camera:
         return np.array([[f, 0.0, (width - 1) / 2.0], [0.0, f, (height - 1) / 2.0],
                          [0.0, 0.0, 1.0]])
 
-    def orbit(self, center, axis, degrees: float) -> Camera:
+    @checked
+    def orbit(self, center: Vec3, axis: Vec3, degrees: Real) -> Camera:
         """This camera moved ``degrees`` around the line through ``center`` along
         ``axis`` (right-handed), looking the same way relative to the centre.
 

@@ -17,9 +17,14 @@ numpy arrays are row-major; uploading to GLSL (column-major) transposes them, in
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import numpy as np
 
+from ..boundary import Array, ArrayLike, Number, Positive, Real, Vec3, checked, finite
 from ..errors import InputError
+
+Matrix = Annotated[ArrayLike, Array("4,4")]  # a transform
 
 _AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -42,7 +47,8 @@ def identity() -> np.ndarray:
     return np.eye(4)
 
 
-def translate(offset) -> np.ndarray:
+@checked
+def translate(offset: Vec3) -> np.ndarray:
     """Translation by ``offset``: ``p' = p + offset``.
 
     Parameters
@@ -60,7 +66,8 @@ def translate(offset) -> np.ndarray:
     return m
 
 
-def scale(factor) -> np.ndarray:
+@checked
+def scale(factor: Annotated[ArrayLike, Array("", "1", "3")]) -> np.ndarray:
     """Scale about the origin.
 
     Parameters
@@ -79,7 +86,8 @@ def scale(factor) -> np.ndarray:
     return np.diag([*_vec3(f, "factor"), 1.0])
 
 
-def rotate(axis, degrees: float) -> np.ndarray:
+@checked
+def rotate(axis: Vec3, degrees: Real) -> np.ndarray:
     """Rotation by ``degrees`` about ``axis`` through the origin (right-handed:
     counter-clockwise looking down the axis towards the origin).
 
@@ -100,7 +108,7 @@ def rotate(axis, degrees: float) -> np.ndarray:
     if n == 0.0:
         raise InputError("rotation axis must not be the zero vector")
     a = a / n
-    t = np.radians(degrees)
+    t = np.radians(float(degrees))
     c, s = np.cos(t), np.sin(t)
     cross = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
     m = np.eye(4)
@@ -108,7 +116,8 @@ def rotate(axis, degrees: float) -> np.ndarray:
     return m
 
 
-def rotate_x(degrees: float) -> np.ndarray:
+@checked
+def rotate_x(degrees: Real) -> np.ndarray:
     """Rotation about +x (y towards z).
 
     Parameters
@@ -124,7 +133,8 @@ def rotate_x(degrees: float) -> np.ndarray:
     return rotate((1, 0, 0), degrees)
 
 
-def rotate_y(degrees: float) -> np.ndarray:
+@checked
+def rotate_y(degrees: Real) -> np.ndarray:
     """Rotation about +y (z towards x).
 
     Parameters
@@ -140,7 +150,8 @@ def rotate_y(degrees: float) -> np.ndarray:
     return rotate((0, 1, 0), degrees)
 
 
-def rotate_z(degrees: float) -> np.ndarray:
+@checked
+def rotate_z(degrees: Real) -> np.ndarray:
     """Rotation about +z (x towards y).
 
     Parameters
@@ -174,7 +185,7 @@ def shear(**amounts: float) -> np.ndarray:
     for key, value in amounts.items():
         if len(key) != 2 or key[0] not in _AXES or key[1] not in _AXES or key[0] == key[1]:
             raise InputError(f"shear key must be two different axes like 'xy', got {key!r}")
-        if not np.isfinite(value):
+        if not finite(value):
             raise InputError(f"shear amount {key}={value!r} must be finite")
         m[_AXES[key[0]], _AXES[key[1]]] = float(value)
     return m
@@ -200,7 +211,8 @@ def compose(*steps: np.ndarray) -> np.ndarray:
     return m
 
 
-def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
+@checked
+def look_at(eye: Vec3, target: Vec3, up: Vec3 = (0.0, 1.0, 0.0)) -> np.ndarray:
     """The viewing transformation: world space -> camera space (OpenGL axes: x right,
     y up, looking down -z).
 
@@ -234,7 +246,9 @@ def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
     return m
 
 
-def perspective(fov_y: float, aspect: float, near: float, far: float) -> np.ndarray:
+@checked
+def perspective(fov_y: Annotated[float, Number(0, 180, open_lo=True, open_hi=True)],
+                aspect: Positive, near: Positive, far: Positive) -> np.ndarray:
     """Perspective projection to OpenGL clip space.
 
     Parameters
@@ -256,7 +270,7 @@ def perspective(fov_y: float, aspect: float, near: float, far: float) -> np.ndar
     _check_depth_range(near, far, perspective=True)
     if aspect <= 0:
         raise InputError(f"aspect must be > 0, got {aspect}")
-    f = 1.0 / np.tan(np.radians(fov_y) / 2.0)
+    f = 1.0 / np.tan(np.radians(float(fov_y)) / 2.0)
     m = np.zeros((4, 4))
     m[0, 0] = f / aspect
     m[1, 1] = f
@@ -266,8 +280,9 @@ def perspective(fov_y: float, aspect: float, near: float, far: float) -> np.ndar
     return m
 
 
-def orthographic(left: float, right: float, bottom: float, top: float,
-                 near: float, far: float) -> np.ndarray:
+@checked
+def orthographic(left: Real, right: Real, bottom: Real, top: Real,
+                 near: Real, far: Real) -> np.ndarray:
     """Parallel projection of the camera-space box [left, right] x [bottom, top] x
     [-far, -near] to OpenGL clip space.
 
@@ -284,7 +299,8 @@ def orthographic(left: float, right: float, bottom: float, top: float,
         camera -> clip.
     """
     if right == left or top == bottom:
-        raise InputError("orthographic: the box has zero width or height")
+        raise InputError("orthographic: left == right or bottom == top: the box has zero "
+                         "width or height")
     _check_depth_range(near, far, perspective=False)
     m = np.eye(4)
     m[0, 0] = 2.0 / (right - left)
@@ -297,13 +313,14 @@ def orthographic(left: float, right: float, bottom: float, top: float,
 
 
 def _check_depth_range(near: float, far: float, perspective: bool) -> None:
-    if not (np.isfinite(near) and np.isfinite(far)) or far <= near:
+    if not (finite(near) and finite(far)) or far <= near:
         raise InputError(f"need near < far, got near={near}, far={far}")
     if perspective and near <= 0:
         raise InputError(f"perspective near must be > 0, got {near}")
 
 
-def normal_matrix(m) -> np.ndarray:
+@checked
+def normal_matrix(m: Annotated[ArrayLike, Array("4,4", "3,3")]) -> np.ndarray:
     """(M^-1)^T of the upper 3x3: transforms normals so they stay perpendicular to
     surfaces (never transform normals by M).
 
@@ -329,7 +346,8 @@ def normal_matrix(m) -> np.ndarray:
     return np.array([[x / det for x in row] for row in cof])
 
 
-def transform_points(m, points) -> np.ndarray:
+@checked
+def transform_points(m: Matrix, points: Annotated[ArrayLike, Array("N,3")]) -> np.ndarray:
     """Apply a 4x4 matrix to points, with the perspective divide.
 
     Parameters

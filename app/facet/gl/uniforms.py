@@ -8,6 +8,7 @@ import warnings
 
 import numpy as np
 
+from ..boundary import reals
 from ..errors import FacetWarning, InputError
 from .shaders import INT_TYPES, Program
 
@@ -35,12 +36,13 @@ def check_uniform(name: str, value, programs, filled, where: str) -> np.ndarray 
         raise InputError(f"{where}: no user uniform named {name!r}; it has: "
                          f"{', '.join(user) or 'none'}")
     gl_type, length = active[name]
-    values = np.atleast_1d(np.asarray(value, dtype=np.float64)).ravel()
     size = components(gl_type) * length
     shown = f"{gl_type}[{length}]" if length > 1 else gl_type
+    values = np.atleast_1d(reals(value, f"{where}: uniform {name}: value", most=size)).ravel()
     if values.size != size or not np.all(np.isfinite(values)):
-        raise InputError(f"{where}: uniform {name} is {shown}: expected {size} finite "
-                         f"number(s), got {values.size}")
+        raise InputError(f"{where}: uniform {name} is {shown}: its value must be {size} "
+                         f"finite number(s), got {values.size}"
+                         f"{'' if np.all(np.isfinite(values)) else ' not all finite'}")
     if gl_type in INT_TYPES and not np.all(values == np.round(values)):
         raise InputError(f"{where}: uniform {name} is {shown}: expected integers, got "
                          f"{values.tolist()}")

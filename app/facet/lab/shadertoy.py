@@ -26,9 +26,11 @@ import datetime
 import functools
 from collections.abc import Hashable
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
 
+from ..boundary import Array, ArrayLike, Count, FilePath, Positive, Real, Size, checked
 from ..errors import InputError, ShaderError
 from ..gl.reload import ReloadResult, WatchedPrograms
 from ..gl.shaders import Program
@@ -39,6 +41,8 @@ from .channels import ChannelResources
 from .pass_draw import PassDrawing
 from .passes import compile_pass
 from .targets import PassTargets
+
+Mouse = Annotated[ArrayLike, Array("2", "3", "4")]  # iMouse: x, y[, click x, click y]
 
 DEFAULT_DATE = datetime.datetime(2000, 1, 1)  # iDate of headless renders (deterministic)
 CUBE_SIZE = 512  # texels along a Cube A face
@@ -83,8 +87,10 @@ class ShaderToy(PassDrawing):
         ``iDate`` (default 2000-01-01 00:00:00; None: the wall clock).
     """
 
-    def __init__(self, image=None, *, buffers: dict | None = None, common=None,
-                 channels: dict | None = None, size=(640, 360), context=None,
+    @checked
+    def __init__(self, image: FilePath | None = None, *, buffers: dict | None = None,
+                 common: FilePath | None = None, channels: dict | None = None,
+                 size: Size = (640, 360), context=None,
                  project: P.Project | None = None, pass_channels: dict | None = None,
                  cube=None, cube_size: int = CUBE_SIZE, date=DEFAULT_DATE):
         from ..gl import context as glcontext
@@ -224,6 +230,7 @@ class ShaderToy(PassDrawing):
                 found[name] = (gl_type, length, name in FILLED)
         return dict(sorted(found.items()))
 
+    @checked
     def set_uniform(self, name: str, value) -> None:
         """Set a user uniform in every pass that uses it (kept across reloads).
 
@@ -244,8 +251,9 @@ class ShaderToy(PassDrawing):
                 write_uniform(prog, name, values)
 
     # -- rendering -----------------------------------------------------------------------
-    def step(self, time: float, time_delta: float, mouse=(0.0, 0.0, 0.0, 0.0),
-             date: datetime.datetime | None = None, fps: float = 60.0) -> None:
+    @checked
+    def step(self, time: Real, time_delta: Real, mouse: Mouse = (0.0, 0.0, 0.0, 0.0),
+             date: datetime.datetime | None = None, fps: Positive = 60.0) -> None:
         """Run every pass once: frame ``self.frame`` at ``time`` seconds.
 
         Parameters
@@ -280,8 +288,10 @@ class ShaderToy(PassDrawing):
         self.frame += 1
         self.time = time
 
-    def render(self, time: float = 0.0, *, fps: float = 60.0, mouse=(0.0, 0.0, 0.0, 0.0),
-               date=None) -> np.ndarray:
+    @checked
+    def render(self, time: Real = 0.0, *, fps: Positive = 60.0,
+               mouse: Mouse = (0.0, 0.0, 0.0, 0.0),
+               date: datetime.datetime | None = None) -> np.ndarray:
         """The image at ``time`` seconds. With buffers, frames run from 0 at a fixed step of
         1 / ``fps`` up to ``time`` (so feedback is deterministic); without, one frame is drawn.
 
@@ -312,7 +322,9 @@ class ShaderToy(PassDrawing):
                 self.step(self.frame / fps, 1.0 / fps, mouse, date, fps)
         return self.read()
 
-    def resize(self, width: int, height: int) -> None:
+    @checked
+    def resize(self, width: Annotated[int, Count(1, 1 << 16)],
+               height: Annotated[int, Count(1, 1 << 16)]) -> None:
         """A new output size (a window was resized): buffers start again from frame 0.
 
         Parameters

@@ -5,8 +5,13 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..boundary import FilePath, Size, checked
+from ..viewing.core import Source
 
-def show(source=None, size=None, screenshots=None, **options) -> Any:
+
+@checked
+def show(source: Source | None = None, size: Size | None = None,
+         screenshots: FilePath | None = None, **options) -> Any:
     """Show ``source`` interactively.
 
     Parameters

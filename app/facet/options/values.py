@@ -140,10 +140,11 @@ def _bool(value, key):
 
 def _choice(choices, what: str):
     def parse(value, key):
-        if value not in choices:
+        if not isinstance(value, str) or value not in choices:
             close = difflib.get_close_matches(str(value), choices, n=1)
             hint = f" (did you mean {close[0]!r}?)" if close else ""
-            raise InputError(f"unknown {what} {value!r}{hint}; choose one of "
+            shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:37] + "..."
+            raise InputError(f"{key}: unknown {what} {shown}{hint}; choose one of "
                              f"{', '.join(choices)}")
         return value
     return parse
@@ -240,6 +241,10 @@ def _background(value, key):
 
     if isinstance(value, str):  # "R,G,B[,A]" or a grey level, as a command line gives it
         value = [_float_text(t) for t in value.split(",")]
+    given = value
+    if np.size(value) > 4 if hasattr(value, "dtype") else \
+            isinstance(value, (list, tuple)) and len(value) > 4:
+        value = [np.nan]  # (a broadcast view of trillions is not copied)
     a = np.asarray(value, dtype=object).reshape(-1)
     try:
         a = a.astype(np.float64)
@@ -248,8 +253,9 @@ def _background(value, key):
     if a.size == 1:
         a = np.repeat(a, 3)
     if a.size not in (3, 4) or not np.all(np.isfinite(a)) or a.min() < 0 or a.max() > 1:
+        shown = f"shape {np.shape(given)}" if hasattr(given, "dtype") else repr(given)
         raise InputError(f"{key}: expected a grey level or 3 or 4 floats in [0, 1] (alpha 0: "
-                         f"transparent), got {value!r}")
+                         f"transparent), got {shown[:60]}")
     return tuple(float(c) for c in (a if a.size == 4 else np.append(a, 1.0)))
 
 
@@ -318,7 +324,10 @@ def _msaa(value, key):
 
 
 def _spp(value, key):
-    return spp_mode(value)
+    try:
+        return spp_mode(value)
+    except InputError as exc:
+        raise InputError(f"{key}: {exc}") from None
 
 
 _msaa.from_text = _spp.from_text = _int_text

@@ -24,9 +24,11 @@ never pays for it.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
 
+from ..boundary import Count, FilePath, checked
 from ..errors import InputError
 from ..geometry.camera import Camera
 
@@ -160,7 +162,9 @@ class Frame:
         return (f"<div style='display:flex;gap:1em;align-items:flex-start'>{image}"
                 f"<table>{table}</table></div>")
 
-    def save(self, path, quality: int | None = None) -> Path:
+    @checked
+    def save(self, path: FilePath,
+             quality: Annotated[int | None, Count(1, 100)] = None) -> Path:
         """Write the colour image, its format by the file's suffix.
 
         PNG (RGBA if the background is transparent), JPEG, WebP or TIFF; with float colour

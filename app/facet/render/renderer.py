@@ -30,9 +30,11 @@ import contextlib
 import weakref
 from collections.abc import Iterator
 from dataclasses import replace
+from typing import Annotated
 
 import numpy as np
 
+from ..boundary import Count, checked
 from ..errors import InputError
 from ..geometry.camera import Camera
 from ..geometry.lens import with_lens
@@ -86,8 +88,11 @@ class Renderer(PassSequence):
         When no OpenGL context can be made (says what was tried and what to install).
     """
 
-    def __init__(self, width: int | None = None, height: int | None = None,
-                 msaa: int | None = None, *, context=None, device: int | None = None,
+    @checked
+    def __init__(self, width: Annotated[int | None, Count(1, 1 << 16)] = None,
+                 height: Annotated[int | None, Count(1, 1 << 16)] = None,
+                 msaa: Annotated[int | None, Count(0, 64)] = None, *, context=None,
+                 device: Annotated[int | None, Count(0)] = None,
                  backend: str | None = None, **options):
         if (width is None) != (height is None):
             raise InputError("give both width and height (or neither: the scene's size)")
@@ -174,6 +179,7 @@ class Renderer(PassSequence):
         return scene.camera(opts.camera) or Camera.frame(scene.bounds, up=opts.up,
                                                          aspect=opts.width / opts.height)
 
+    @checked
     def render(self, scene: Scene, camera: Camera | None = None, options=None,
                **kwargs) -> Frame:
         """Render ``scene`` into numpy arrays.
@@ -205,6 +211,7 @@ class Renderer(PassSequence):
             say_if_nothing_in_view(scene, camera, opts)
             return self._sequence(scene, camera, opts, Destination())
 
+    @checked
     def present(self, scene: Scene, camera: Camera, framebuffer, options=None, *,
                 sample: int | None = None, **kwargs) -> int:
         """Draw into a window's framebuffer with ``render``'s sequence (call it with the
@@ -241,6 +248,7 @@ class Renderer(PassSequence):
         finally:
             self._inside = was
 
+    @checked
     def samples(self, scene: Scene, camera: Camera, options=None, **kwargs) -> int:
         """How many supersamples the colour of this render sums.
 

@@ -215,7 +215,9 @@ class Mesh:
             else merge_parts(parts, str(path))
         return mesh.flat_shaded() if flat else mesh
 
-    def colored_by(self, values, colormap: str = "viridis", limits=None) -> Mesh:
+    @checked
+    def colored_by(self, values: Annotated[ArrayLike, Array("N")], colormap: str = "viridis",
+                   limits: Annotated[ArrayLike | None, Array("2")] = None) -> Mesh:
         """A copy coloured by per-vertex scalars through a colormap.
 
         Its material turns white (its other properties kept), so the colours show as the
@@ -244,7 +246,8 @@ class Mesh:
 
         v = scalars(values, f"{self.name}: colored_by values")
         if len(v) != self.vertex_count:
-            raise InputError(f"{self.name}: {len(v)} scalars for {self.vertex_count} vertices")
+            raise InputError(f"{self.name}: values: {len(v)} scalars for {self.vertex_count} "
+                             "vertices")
         return Mesh(self.positions, self.faces, self.normals, self.uvs, name=self.name,
                     material=Material(color=np.ones(3)) if self.material is None else
                     replace(self.material, base_color=np.array(

@@ -143,7 +143,9 @@ class Points:
         self.material = material if material is not None else _default_material(self.colors)
         self._bounds: np.ndarray | None = None
 
-    def colored_by(self, values, colormap: str = "viridis", limits=None) -> Points:
+    @checked
+    def colored_by(self, values: Annotated[ArrayLike, Array("N")], colormap: str = "viridis",
+                   limits: Annotated[ArrayLike | None, Array("2")] = None) -> Points:
         """The same cloud coloured by per-point scalars through a colormap.
 
         Parameters
@@ -164,13 +166,15 @@ class Points:
 
         v = scalars(values, f"{self.name}: colored_by values")
         if len(v) != len(self.positions):
-            raise InputError(f"{self.name}: {len(v)} scalars for {len(self.positions)} "
+            raise InputError(f"{self.name}: values: {len(v)} scalars for {len(self.positions)} "
                              "points")
         return Points(self.positions, colors_for(v, colormap, limits), self.normals,
                       size=self.size, radius=self.radius, edl=self.edl, name=self.name,
                       scalars=self.scalars)
 
-    def sized(self, size: float | None = None, radius: float | None = None) -> Points:
+    @checked
+    def sized(self, size: Annotated[float | None, Number(0, open_lo=True)] = None,
+              radius: Annotated[float | None, Number(0, open_lo=True)] = None) -> Points:
         """The same cloud drawn at another size (one of ``size`` and ``radius``).
 
         Parameters
@@ -259,7 +263,8 @@ class Lines:
         self.normals = None
         self._bounds: np.ndarray | None = None
 
-    def widened(self, width: float) -> Lines:
+    @checked
+    def widened(self, width: Annotated[float, Number(0, open_lo=True)]) -> Lines:
         """The same lines at another width.
 
         Parameters

@@ -17,18 +17,22 @@ Object space, y up. Every size must be a finite number > 0.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Annotated
 
 import numpy as np
 
+from ..boundary import Count, checked, reals
 from ..errors import InputError
 from .mesh import Mesh
 
 SEGMENTS = 64  # around the axis
 RINGS = 32  # pole to pole / along the tube
+Segments = Annotated[int, Count(3, 1 << 14)]  # around an axis
+Rings = Annotated[int, Count(2, 1 << 14)]  # pole to pole, along a tube
 
 
 def _size(value, name: str, n: int = 1) -> np.ndarray:
-    a = np.asarray(value, dtype=np.float64).reshape(-1)
+    a = reals(value, name, most=n).reshape(-1)
     if a.size == 1 and n > 1:
         a = np.repeat(a, n)
     if a.size != n or not np.all(np.isfinite(a)) or np.any(a <= 0):
@@ -48,7 +52,8 @@ def _grid(rows: int, cols: int, wrap: bool = False) -> np.ndarray:
                            np.stack([a, c, d], -1).reshape(-1, 3)])
 
 
-def sphere(radius=1.0, segments: int = SEGMENTS, rings: int = RINGS) -> Mesh:
+@checked
+def sphere(radius=1.0, segments: Segments = SEGMENTS, rings: Rings = RINGS) -> Mesh:
     """A latitude-longitude sphere: u around (from +x towards -z), v from the south pole (0)
     to the north pole (1).
 
@@ -77,6 +82,7 @@ def sphere(radius=1.0, segments: int = SEGMENTS, rings: int = RINGS) -> Mesh:
                 name="sphere")
 
 
+@checked
 def plane(size=1.0) -> Mesh:
     """A square (or rectangle) in the xz plane facing +y; uv (0, 0) at (-x, +z).
 
@@ -96,6 +102,7 @@ def plane(size=1.0) -> Mesh:
     return Mesh(pos, [[0, 1, 2], [0, 2, 3]], [[0, 1, 0]] * 4, uv, name="plane")
 
 
+@checked
 def cube(size=1.0) -> Mesh:
     """A box of 24 vertices with flat face normals, each face mapped to the whole [0, 1]^2.
 
@@ -166,7 +173,8 @@ def _cap(radius: float, y: float, up: bool, segments: int):
     return _lathe(prof, n, np.array([0.0, 1.0]), segments)
 
 
-def disk(radius=1.0, segments: int = SEGMENTS) -> Mesh:
+@checked
+def disk(radius=1.0, segments: Segments = SEGMENTS) -> Mesh:
     """A disc in the xz plane facing +y.
 
     Parameters
@@ -186,7 +194,8 @@ def disk(radius=1.0, segments: int = SEGMENTS) -> Mesh:
     return Mesh(pos, faces, nrm, uv, name="disk")
 
 
-def cylinder(radius=0.5, height=1.0, segments: int = SEGMENTS) -> Mesh:
+@checked
+def cylinder(radius=0.5, height=1.0, segments: Segments = SEGMENTS) -> Mesh:
     """A capped cylinder, its axis along y, its base at -height / 2.
 
     Parameters
@@ -209,7 +218,8 @@ def cylinder(radius=0.5, height=1.0, segments: int = SEGMENTS) -> Mesh:
                   "cylinder")
 
 
-def cone(radius=0.5, height=1.0, segments: int = SEGMENTS) -> Mesh:
+@checked
+def cone(radius=0.5, height=1.0, segments: Segments = SEGMENTS) -> Mesh:
     """A capped cone, its axis along y, its base at -height / 2, its tip at +height / 2.
 
     Parameters
@@ -232,8 +242,9 @@ def cone(radius=0.5, height=1.0, segments: int = SEGMENTS) -> Mesh:
     return _merge([side, _cap(r, -h / 2, False, segments)], "cone")
 
 
-def torus(major_radius=1.0, minor_radius=0.25, segments: int = SEGMENTS,
-          rings: int = RINGS) -> Mesh:
+@checked
+def torus(major_radius=1.0, minor_radius=0.25, segments: Segments = SEGMENTS,
+          rings: Rings = RINGS) -> Mesh:
     """A torus in the xz plane around the y axis.
 
     Parameters

@@ -26,6 +26,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..boundary import reals
 from ..errors import InputError
 from . import primitives as P
 from .mesh import Mesh
@@ -66,14 +67,14 @@ class Shape:
 
 
 def _positive(value, name: str) -> float:
-    v = np.asarray(value, dtype=np.float64)
+    v = reals(value, name, most=1)
     if v.shape != () or not np.isfinite(v) or v <= 0:
         raise InputError(f"{name} must be a number > 0, got {value!r}")
     return float(v)
 
 
 def _sizes(value, name: str, n: int) -> tuple:
-    a = np.asarray(value, dtype=np.float64).reshape(-1)
+    a = reals(value, name, most=n).reshape(-1)
     if a.size == 1:
         a = np.repeat(a, n)
     if a.size != n or not np.all(np.isfinite(a)) or np.any(a <= 0):
@@ -113,7 +114,7 @@ def Plane(size=None) -> Shape:  # noqa: N802
         An exact shape: the tracers intersect its equation, the rasterizer draws a fine
         tessellation (``Shape.mesh``). Place it with the object's transform.
     """
-    if size is None or (np.ndim(size) == 0 and float(size) == np.inf):
+    if size is None or (isinstance(size, (int, float, np.floating)) and size == np.inf):
         return Shape("plane", (np.inf, np.inf))
     return Shape("plane", _sizes(size, "plane size", 2))
 

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..boundary import reals
 from ..errors import InputError
 
 WRAP_MODES = ("repeat", "clamp", "mirror")
@@ -48,13 +49,15 @@ class TextureSlot:
                              f"{type(self.texture).__name__}")
         if self.texcoord not in (0, 1):
             raise InputError(f"texture slot: texcoord must be 0 or 1, got {self.texcoord!r}")
-        t = np.asarray(self.transform, dtype=np.float64)
+        t = reals(self.transform, "texture slot: transform", most=9)
         if t.shape != (3, 3) or not np.all(np.isfinite(t)):
             raise InputError("texture slot: transform must be a finite 3x3 matrix")
         self.transform = t
         for value, allowed, what in ((self.wrap, WRAP_MODES, "wrap"),
                                      (self.filter, FILTERS, "filter")):
-            if len(value) != 2 or any(v not in allowed for v in value):
+            if isinstance(value, str) or not isinstance(value, (tuple, list)) or \
+                    len(value) != 2 or any(not isinstance(v, str) or v not in allowed
+                                           for v in value):
                 raise InputError(f"texture slot: {what} must be two of {', '.join(allowed)}, "
                                  f"got {value!r}")
         self.wrap, self.filter = tuple(self.wrap), tuple(self.filter)

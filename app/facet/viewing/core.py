@@ -14,16 +14,21 @@ from __future__ import annotations
 import sys
 from dataclasses import replace
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
 
+from ..boundary import Count, Crease, FilePath, Number, Size, checked
 from ..errors import FacetError, InputError
 from ..gl.glsl_source import file_digest
 from ..options.render import options_for, parse_layer
 from ..scene.pbr import as_phong
+from ..scene.scene import Scene
 from .actions import ViewerActions
 from .debounce import Debounce
 from .keys import KEYMAP
+
+Source = Scene | FilePath  # what a viewer shows: a scene, or a file (reloaded when it changes)
 
 FRONT = "view"  # the viewer's defaults (facet.options.render.FRONT_DEFAULTS)
 
@@ -60,9 +65,11 @@ class ViewerCore(ViewerActions):
 
     status_name = "facet view"  # how errors printed to stderr begin
 
-    def __init__(self, source, size=None, msaa: int | None = None, shader=None, options=None,
-                 crease: float | None = None, time_end: float | None = None,
-                 sizes: dict | None = None, screenshots=None):
+    @checked
+    def __init__(self, source: Source, size: Size | None = None,
+                 msaa: Annotated[int | None, Count(0, 64)] = None, shader=None, options=None,
+                 crease: Crease = None, time_end: Annotated[float | None, Number()] = None,
+                 sizes: dict | None = None, screenshots: FilePath | None = None):
         self.screenshots = screenshot_folder(screenshots)
         self.path = Path(source) if isinstance(source, (str, Path)) else None
         self.crease = crease

@@ -16,10 +16,12 @@ and the served page; this module adds the glfw window and its events.
 from __future__ import annotations
 
 import time
+from typing import Annotated
 
 import numpy as np
 
-from ..viewing.core import FRONT, ViewerCore, explicit_layer  # noqa: F401 (FRONT: tests)
+from ..boundary import Count, Crease, FilePath, Number, Size, checked
+from ..viewing.core import FRONT, Source, ViewerCore, explicit_layer  # noqa: F401 (FRONT)
 from .base import DEBOUNCE, POLL, GLWindow
 
 IDLE_WAIT = 0.5  # longest sleep between events when nothing happens
@@ -189,9 +191,11 @@ class Viewer(ViewerCore):
         self.close()
 
 
-def view(scene, size=None, msaa: int | None = None, shader=None, options=None,
-         crease: float | None = None, time_end: float | None = None,
-         sizes: dict | None = None, screenshots=None) -> None:
+@checked
+def view(scene: Source, size: Size | None = None,
+         msaa: Annotated[int | None, Count(0, 64)] = None, shader=None, options=None,
+         crease: Crease = None, time_end: Annotated[float | None, Number()] = None,
+         sizes: dict | None = None, screenshots: FilePath | None = None) -> None:
     """Open a window on a scene and block until it closes (``facet view``).
 
     Parameters

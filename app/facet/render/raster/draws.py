@@ -97,7 +97,7 @@ def _phong_material(fwd, fp: FramePass, prog, item, obj, strict: bool) -> None:
     if not isinstance(item, list):
         prog.set("u_model", obj.transform, strict)
         prog.set("u_mvp", fp.view_projection @ obj.transform, strict)
-        prog.set("u_normal_matrix", T.normal_matrix(obj.transform), strict)
+        prog.set("u_normal_matrix", T.normal_matrix.unchecked(obj.transform), strict)
         prog.set("u_object_id", obj.id + 1, strict)  # 0: "nothing" in the id target
     record = phong_record(m, fp.state)
     prog.set_array("u_material", record, strict=False)
@@ -126,7 +126,7 @@ def draw_pbr(fwd, fp: FramePass, item, obj) -> None:
     if not isinstance(item, list):
         prog.set("u_model", obj.transform)
         prog.set("u_mvp", fp.view_projection @ obj.transform)
-        prog.set("u_normal_matrix", T.normal_matrix(obj.transform))
+        prog.set("u_normal_matrix", T.normal_matrix.unchecked(obj.transform))
         prog.set("u_handedness", -1.0 if det3(obj.transform) < 0 else 1.0, strict=False)
         prog.set("u_object_id", obj.id + 1)
     bound = set_pbr_material(prog, m, fwd.cache, fwd.samplers)

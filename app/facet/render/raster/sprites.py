@@ -44,7 +44,7 @@ def set_sprite_uniforms(prog, obj, state, view_projection) -> None:
     sprites = obj.mesh
     prog.set("u_model", obj.transform)
     prog.set("u_mvp", view_projection @ obj.transform)
-    prog.set("u_normal_matrix", T.normal_matrix(obj.transform), strict=False)
+    prog.set("u_normal_matrix", T.normal_matrix.unchecked(obj.transform), strict=False)
     prog.set("u_object_id", obj.id + 1, strict=False)
     prog.set_array("u_material", phong_record(as_phong(obj.material), state), strict=False)
     prog.set("u_viewport", (float(state.width), float(state.height)), strict=False)
