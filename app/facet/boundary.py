@@ -250,15 +250,15 @@ def finite(value) -> bool:
 
 
 # The shapes of what the API takes, declared once.
-ArrayLike = object  # a numpy array or anything numpy makes one of (lists, tuples)
+ArrayLike = typing.Any  # a numpy array or anything numpy makes one of (lists, tuples)
 Vec3 = Annotated[ArrayLike, Array("3")]
-Real = Annotated[numbers.Real, Number()]  # any finite number
-Positive = Annotated[numbers.Real, Number(0, open_lo=True)]  # a finite number > 0
+Real = Annotated[float, Number()]  # any finite number (checked as numbers.Real: _runtime)
+Positive = Annotated[float, Number(0, open_lo=True)]  # a finite number > 0
 Color = Annotated[ArrayLike, Array("3", "4")]
 FilePath = Annotated[str | os.PathLike, PathArg()]
-Crease = Annotated[numbers.Real | None, Number(0, 180)]
+Crease = Annotated[float | None, Number(0, 180)]  # degrees: sharper is an edge
 Size = Annotated[typing.Sequence,  # (width, height) in pixels
-                 Items(2, Count(1, 1 << 16), "whole numbers >= 1")]  # degrees: sharper is an edge
+                 Items(2, Count(1, 1 << 16), "whole numbers >= 1")]
 
 
 def _describe(hint) -> str:
@@ -300,8 +300,23 @@ def _specs(func, signature: inspect.Signature) -> dict:
         if name not in hints or p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
             continue
         hint, checks = _split(hints[name])
-        out[name] = (None if hint is object else hint, checks)
+        out[name] = (None if hint in (object, typing.Any) else _runtime(hint), checks)
     return out
+
+
+def _runtime(hint):
+    """``hint`` as checked at run time: ``float`` as ``numbers.Real`` and ``int`` as
+    ``numbers.Integral`` (a numpy scalar is a fine number; annotations keep the builtins
+    for type checkers), in unions too."""
+    if hint is float:
+        return numbers.Real
+    if hint is int:
+        return numbers.Integral
+    args = typing.get_args(hint)
+    if args and (typing.get_origin(hint) is typing.Union or
+                 type(hint).__name__ == "UnionType"):
+        return functools.reduce(lambda a, b: a | b, [_runtime(a) for a in args])
+    return hint
 
 
 def _split(hint) -> tuple:

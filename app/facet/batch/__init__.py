@@ -54,19 +54,19 @@ def render_dataset(manifest: FilePath | list, out: FilePath, *, defaults: dict |
         from ..errors import InputError
 
         raise InputError(f"--workers must be at least 1, got {workers}")
+    held: tuple[Path, bool] | None = None  # (folder, per job) of the confinement
     if confine == "manifest":
         path = Path(str(manifest)) if not isinstance(manifest, list) else None
-        confine = ((path.resolve().parent, True) if path is not None and path.is_file()
-                   else None)
+        held = (path.resolve().parent, True) if path is not None and path.is_file() else None
     elif confine is not None:
-        confine = (Path(confine).resolve(), False)
+        held = (Path(confine).resolve(), False)
     # Confinement first: a job's cameras file is checked against it before it is read.
     jobs = manifest if isinstance(manifest, list) else load_manifest(manifest, defaults,
-                                                                     confine)
+                                                                     held)
     if ray:
         from .ray_runner import render_dataset_ray
 
         return render_dataset_ray(jobs, out, address=None if ray is True else str(ray),
                                   gpus=len(gpus or []), actors=workers, quiet=quiet,
-                                  confine=confine)
-    return run(jobs, out, workers=workers, gpus=gpus, quiet=quiet, confine=confine)
+                                  confine=held)
+    return run(jobs, out, workers=workers, gpus=gpus, quiet=quiet, confine=held)
