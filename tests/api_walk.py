@@ -232,6 +232,11 @@ def _gl_calls() -> dict:
 PUBLIC.update(_gl_calls())
 
 
+# Arguments an error names by another name: the Renderer's width and height are its size
+# option, checked by the one options parser, which names the option.
+ALIASES = {("Renderer", "width"): "size", ("Renderer", "height"): "size"}
+
+
 def bad_values(hint) -> list:
     """Bad values for a parameter annotated ``hint`` (and the ones any parameter gets)."""
     text = str(hint)
@@ -279,7 +284,8 @@ def findings(examples: int) -> list[dict]:
             try:
                 fn(**{**valid, argument: value})
             except FacetError as exc:
-                named = argument in str(exc) or (  # a file's error names the file
+                said = ALIASES.get((name, argument), argument)
+                named = said in str(exc) or (  # a file's error names the file
                     isinstance(value, (str, Path)) and str(value) and str(value) in str(exc))
                 if not named:
                     found.append(_finding(name, argument, value, exc, "not named"))

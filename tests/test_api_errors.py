@@ -128,10 +128,10 @@ def test_bad_arguments_from_python_are_facets_errors_naming_them(renderer):
         with pytest.raises(InputError, match="quality"):
             frame.save("/tmp/never-written.jpg", quality=quality)
     mesh = facet.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
-    with pytest.raises(InputError, match="colored_by values"):
+    with pytest.raises(InputError, match="colored_by: values"):
         mesh.colored_by(["a", "b", "c"])
     points = facet.Points(np.zeros((2, 3)))
-    with pytest.raises(InputError, match="colored_by values"):
+    with pytest.raises(InputError, match="colored_by: values"):
         points.colored_by([{"x": 1}, None])
     from facet.viewing.session import Session
 

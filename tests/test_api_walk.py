@@ -31,7 +31,7 @@ CHECKED = ["Splats", "Splats.from_colors", "Splats.load", "Environment", "Enviro
            "Points", "Lines", "Texture", "Texture.load", "Camera.look_at", "Camera.frame",
            "Camera.from_intrinsics", "Camera.orbit", "Camera.projection", "Scene",
            "Scene.add", "Scene.add_light", "Scene.add_camera", "Mesh.colored_by",
-           "Points.colored_by", "Points.sized", "Lines.widened", "Renderer", "Renderer.render",
+           "Points.colored_by", "Points.sized", "Lines.widened", "Renderer.render",
            "Renderer.samples", "Renderer.present", "Frame.save", "ShaderToy",
            "ShaderToy.render", "ShaderToy.step", "ShaderToy.set_uniform", "ShaderToy.resize",
            "batch.render_dataset", "view", "show", "primitives.sphere", "primitives.cube",

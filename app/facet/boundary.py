@@ -28,6 +28,7 @@ import numbers
 import os
 import re
 import typing
+from collections.abc import Sequence
 from typing import Annotated
 
 from .errors import InputError
@@ -257,7 +258,7 @@ Positive = Annotated[float, Number(0, open_lo=True)]  # a finite number > 0
 Color = Annotated[ArrayLike, Array("3", "4")]
 FilePath = Annotated[str | os.PathLike, PathArg()]
 Crease = Annotated[float | None, Number(0, 180)]  # degrees: sharper is an edge
-Size = Annotated[typing.Sequence,  # (width, height) in pixels
+Size = Annotated[Sequence,  # (width, height) in pixels
                  Items(2, Count(1, 1 << 16), "whole numbers >= 1")]
 
 
@@ -320,17 +321,18 @@ def _runtime(hint):
 
 
 def _split(hint) -> tuple:
-    """(the type, [its checks]) of ``hint``: ``Annotated[T, checks]``, or an optional one
-    (``Annotated[T, checks] | None``: the checks hold for a value that is not None)."""
+    """(the type, [(member, check)]) of ``hint``: ``Annotated[T, checks]``, or a union with
+    such members (``FilePath | Scene``, ``Annotated[T, checks] | None``): a member's checks
+    hold for a value of that member's type (member None: for every value)."""
     if typing.get_origin(hint) is Annotated:
-        return hint.__origin__, [m for m in hint.__metadata__ if isinstance(m, Check)]
+        return hint.__origin__, [(None, m) for m in hint.__metadata__ if isinstance(m, Check)]
     args = typing.get_args(hint)
     if args and (typing.get_origin(hint) is typing.Union or
                  type(hint).__name__ == "UnionType") and \
             any(typing.get_origin(a) is Annotated for a in args):
         parts = [_split(a) for a in args]
         bare = functools.reduce(lambda a, b: a | b, [t for t, _ in parts])
-        return bare, [c for _, cs in parts for c in cs]
+        return bare, [(_runtime(t), c) for t, cs in parts for _, c in cs]
     return hint, []
 
 
@@ -385,8 +387,10 @@ def checked(target):
                                     f"{given(value)}")
             if value is None and hint is not None:
                 continue  # None where the type admits it: nothing to check
-            for check in checks:
-                check(value, where)
+            for member, check in checks:
+                if member is None or member in (object, typing.Any) or \
+                        is_bearable(value, member, conf=conf):
+                    check(value, where)
         return target(*args, **kwargs)
 
     call.__facet_checked__ = True

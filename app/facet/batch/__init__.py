@@ -47,7 +47,14 @@ def render_dataset(manifest: FilePath | list, out: FilePath, *, defaults: dict |
     """
     from pathlib import Path
 
-    from .manifest import load_manifest
+    from .manifest import Job, load_manifest
+
+    if isinstance(manifest, list) and not all(isinstance(j, Job) for j in manifest):
+        from ..boundary import ArgumentError
+
+        raise ArgumentError("render_dataset: manifest: expected a manifest file, a glob or a "
+                            "list of facet.batch.manifest.Job, got a list of "
+                            f"{', '.join(sorted({type(j).__name__ for j in manifest}))}")
     from .pool import render_dataset as run
 
     if workers is not None and workers < 1:

@@ -87,6 +87,8 @@ def run(args) -> int:
                 from None
         if any(g < 0 for g in gpus):
             raise InputError(f"--gpus {args.gpus!r}: device numbers are >= 0")
+    if args.workers is not None and args.workers < 1:  # (the flag's name, not the API's)
+        raise InputError(f"--workers must be at least 1, got {args.workers}")
     counts = render_dataset(args.manifest, args.output, defaults=defaults,
                             workers=args.workers, gpus=gpus, quiet=args.quiet,
                             confine=args.confine or "manifest", ray=args.ray)

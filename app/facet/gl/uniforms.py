@@ -38,11 +38,12 @@ def check_uniform(name: str, value, programs, filled, where: str) -> np.ndarray 
     gl_type, length = active[name]
     size = components(gl_type) * length
     shown = f"{gl_type}[{length}]" if length > 1 else gl_type
-    values = np.atleast_1d(reals(value, f"{where}: uniform {name}: value", most=size)).ravel()
+    values = np.atleast_1d(reals(value, f"{where}: uniform {name}: value",
+                                 most=1 << 20)).ravel()
     if values.size != size or not np.all(np.isfinite(values)):
-        raise InputError(f"{where}: uniform {name} is {shown}: its value must be {size} "
-                         f"finite number(s), got {values.size}"
-                         f"{'' if np.all(np.isfinite(values)) else ' not all finite'}")
+        raise InputError(f"{where}: uniform {name} is {shown}: expected {size} finite "
+                         f"number(s) as its value, got {values.size}"
+                         f"{'' if np.all(np.isfinite(values)) else ', not all finite'}")
     if gl_type in INT_TYPES and not np.all(values == np.round(values)):
         raise InputError(f"{where}: uniform {name} is {shown}: expected integers, got "
                          f"{values.tolist()}")

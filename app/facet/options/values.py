@@ -101,9 +101,11 @@ def parse_aa(text) -> AntiAliasing:
 
 def msaa_mode(samples, where: str = "") -> AntiAliasing:
     """The AntiAliasing of ``msaa=samples`` (0: none)."""
-    if isinstance(samples, bool) or samples not in MSAA_CHOICES:
+    if isinstance(samples, bool) or not isinstance(samples, numbers.Integral) or \
+            samples not in MSAA_CHOICES:
+        shown = repr(samples) if len(repr(samples)) <= 40 else repr(samples)[:37] + "..."
         raise InputError(f"{where}msaa must be one of {', '.join(map(str, MSAA_CHOICES))}, "
-                         f"got {samples!r}")
+                         f"got {shown}")
     return AntiAliasing("msaa", int(samples)) if samples else AntiAliasing("none")
 
 

@@ -30,11 +30,10 @@ import contextlib
 import weakref
 from collections.abc import Iterator
 from dataclasses import replace
-from typing import Annotated
 
 import numpy as np
 
-from ..boundary import Count, checked
+from ..boundary import checked
 from ..errors import InputError
 from ..geometry.camera import Camera
 from ..geometry.lens import with_lens
@@ -88,12 +87,11 @@ class Renderer(PassSequence):
         When no OpenGL context can be made (says what was tried and what to install).
     """
 
-    @checked
-    def __init__(self, width: Annotated[int | None, Count(1, 1 << 16)] = None,
-                 height: Annotated[int | None, Count(1, 1 << 16)] = None,
-                 msaa: Annotated[int | None, Count(0, 64)] = None, *, context=None,
-                 device: Annotated[int | None, Count(0)] = None,
+    def __init__(self, width: int | None = None, height: int | None = None,
+                 msaa: int | None = None, *, context=None, device: int | None = None,
                  backend: str | None = None, **options):
+        # (width, height and msaa are the size and msaa options: the one options parser
+        # checks them, as every other option, and names them)
         if (width is None) != (height is None):
             raise InputError("give both width and height (or neither: the scene's size)")
         layer = {"size": (width, height) if width is not None else None, "msaa": msaa,
