@@ -20,6 +20,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+import tempfile
 import typing
 from pathlib import Path
 
@@ -45,7 +46,9 @@ def _faces() -> np.ndarray:
     return np.full((6, 4, 4, 3), 0.5, np.float32)
 
 
-DATA = Path(os.environ.get("FACET_WALK_DATA", "/tmp"))  # valid files for the valid calls
+# The walk's working folder: the valid calls' files, and whatever a bad output path makes.
+DATA = Path(os.environ.get("FACET_WALK_DATA") or tempfile.mkdtemp(prefix="facet-walk-"))
+os.environ.setdefault("HYPOTHESIS_STORAGE_DIRECTORY", str(DATA / ".hypothesis"))
 
 
 def _files() -> dict:
@@ -54,7 +57,7 @@ def _files() -> dict:
 
     from facet.formats.splat_files import write_ply
 
-    DATA.mkdir(parents=True, exist_ok=True)
+    (DATA / "folder").mkdir(parents=True, exist_ok=True)
     write_ply(facet.Splats(**_splats()), DATA / "cloud.ply")
     Image.fromarray(np.full((8, 16, 3), 128, np.uint8)).save(DATA / "sky.png")
     Image.fromarray(np.full((4, 4, 3), 128, np.uint8)).save(DATA / "face.png")
@@ -246,8 +249,9 @@ def bad_values(hint) -> list:
     arrays = [np.zeros(0), np.zeros((0, 3)), np.zeros((2, 2, 2, 2)), np.full(3, np.nan),
               np.zeros((2, 3), complex), np.array([None, 1, 2], object), ["a", "b", "c"],
               [[0, 0], [0]], np.zeros((1, 3)) + np.inf, HUGE_VIEW, np.zeros(3, "U1"), 7.0]
-    paths = ["", "\0", "x\0y", 3, b"bytes", ROOT, ROOT / "tests", "/dev/zero",
-             "/nonexistent/file.obj"]
+    paths = ["", "\0", "x\0y", 3, b"bytes", DATA, DATA / "folder", "/dev/zero",
+             "/nonexistent/file.obj"]  # (relative names land in DATA, the working folder:
+    # an output argument given one writes there, never into the checkout)
     out = list(common)
     if "Real" in text or "float" in text or "int" in text or "Integral" in text:
         out += numbers
@@ -310,7 +314,7 @@ if __name__ == "__main__":
     import warnings
 
     warnings.simplefilter("ignore")
-    os.chdir(ROOT / "models")
+    os.chdir(DATA)  # what a bad output path writes lands here
     for item in findings(int(sys.argv[1]) if len(sys.argv) > 1 else 40):
         print(json.dumps(item))
     print("walked", flush=True)
