@@ -6,6 +6,7 @@ writes the picture reached)."""
 
 import os
 import pty
+import re
 import select
 import signal
 import subprocess
@@ -182,6 +183,10 @@ def test_a_signal_stops_a_render_within_a_second(tmp_path, sig, keep):
     else:
         assert written == [], written
         assert "Traceback" not in rest
+        shown = re.sub(r"\x1b\[[0-9;]*[A-Za-z]|\r", "\n", rest)  # the line's clearing
+        said = [line for line in shown.splitlines() if line.startswith("facet:")]
+        assert len(said) == 1 and f"stopped by {sig.name}" in said[0] and \
+            "nothing was written" in said[0] and "--keep-partial" in said[0], rest
 
 
 def test_quiet_renders_show_no_progress(tmp_path):

@@ -147,10 +147,17 @@ class SampleProgress:
                 break
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, kind, *exc) -> None:
         for sig, handler in self._before.items():
             signal.signal(sig, handler)
         self.line.close()
+        if kind is KeyboardInterrupt and not self.keep_partial and self.total > 1:
+            from . import _STOPPED_BY
+
+            name = signal.Signals(_STOPPED_BY[0]).name
+            print(f"facet: stopped by {name} after {self.done} of {self.total} samples; "
+                  "nothing was written (--keep-partial writes the picture so far)",
+                  file=sys.stderr)
 
     def after_writing(self, written) -> None:
         """Once the picture is written: a stopped sum ends the run as stopped (a line says
