@@ -17,6 +17,12 @@ from .keys import AA_CYCLE, TURNTABLE_FRAMES, help_text
 from .playback import FRAME_STEP, SECOND_STEP
 
 BACKGROUNDS = ((1.0, 1.0, 1.0, 1.0), (0.35, 0.37, 0.4, 1.0), (0.0, 0.0, 0.0, 1.0))
+BACKGROUND_NAMES = ("the scene's", "white", "grey", "black")  # (None, *BACKGROUNDS)
+# What r undoes: every key's change to how the scene is drawn but the engine (a tracer
+# chosen with e stays chosen); and the camera (RESET_SAID says so).
+RESET_KEYS = ("shading", "wireframe", "background", "shadows", "aa", "lights")
+RESET_SAID = ("reset: the camera, shading, wireframe, background, shadows, anti-aliasing "
+              "and lights as the view opened (the engine stays)")
 
 
 def _next(options, current):
@@ -50,18 +56,27 @@ class ViewerActions:
         return path  # (said by the key's action, not by this library call)
 
     # -- actions (KEYMAP) ----------------------------------------------------------------
-    def frame(self):
+    def frame_model(self):
+        """(Not ``frame``: a Session's ``frame()`` is its next picture, and the served page's
+        and the widget's f key drew a picture instead of framing.)"""
         opts = self.options()
         self.control.bounds = np.asarray(self.scene.at(opts.time, opts.animation).bounds)
         self.control.frame(self.aspect)
+        self.say("framed the model")
 
     def reset(self):
-        self.frame()
-        for key in ("shading", "wireframe", "background"):
+        """The view as it opened (RESET_SAID): the camera (the scene's own, else framed, in
+        perspective) and every key's change but the engine's undone."""
+        for key in RESET_KEYS:
             self.keys.pop(key, None)
+        self.fixed_rig = None
+        self._samples = 0
+        self._set_scene(self.scene, frame=True)
+        self.say(RESET_SAID)
 
     def toggle_projection(self):
         self.control.toggle_projection()
+        self.say(f"projection: {'orthographic' if self.control.orthographic else 'perspective'}")
 
     def cycle_shading(self):
         from ..options.render import SHADING
@@ -71,6 +86,7 @@ class ViewerActions:
 
     def toggle_wireframe(self):
         self.keys["wireframe"] = not self.options().wireframe
+        self.say(f"wireframe: {'on' if self.keys['wireframe'] else 'off'}")
 
     def cycle_aa(self):
         """Next anti-aliasing mode: MSAA, none, or progressive supersampling."""
@@ -80,6 +96,7 @@ class ViewerActions:
 
     def toggle_shadows(self):
         self.keys["shadows"] = not decided(self.options()).shadows
+        self.say(f"shadows: {'on' if self.keys['shadows'] else 'off'}")
 
     def cycle_engine(self):
         from ..options.render import ENGINES
@@ -110,6 +127,7 @@ class ViewerActions:
         options = (None, *BACKGROUNDS)
         self.keys["background"] = options[(options.index(current) + 1) % len(options)] \
             if current in options else None
+        self.say(f"background: {BACKGROUND_NAMES[options.index(self.keys['background'])]}")
 
     def screenshot(self):
         self.say(str(self.save()))

@@ -22,8 +22,9 @@ class Action:
 
 # Key -> action; ``h`` prints this table. Later features add rows here.
 KEYMAP: dict[str, Action] = {
-    "f": Action("frame", "frame the model"),
-    "r": Action("reset", "reset the camera"),
+    "f": Action("frame_model", "frame the model"),
+    "r": Action("reset", "reset the view: the camera, shading, wireframe, background, "
+                "shadows, anti-aliasing and lights as it opened (the engine stays)"),
     "o": Action("toggle_projection", "perspective / orthographic"),
     "m": Action("cycle_shading", f"shading model: {', '.join(SHADING)}"),
     "w": Action("toggle_wireframe", "wireframe overlay"),
