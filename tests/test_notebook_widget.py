@@ -312,3 +312,17 @@ def test_a_malformed_browser_event_is_dropped_with_one_line(widget, event):
     assert len(lines) == 1 and "dropped" in lines[0], lines
     assert np.array_equal(widget.camera().view, view) and np.isfinite(view).all()
     assert widget.get_frame() is None or widget.get_frame().std() > 10
+
+
+def test_a_keys_result_is_printed_in_the_widgets_cell(widget, capsys):
+    """A key pressed in the browser: its result (and h's key map) goes to the widget's
+    output area, shown under it in the cell that made it; a plain print() from the comm's
+    callback reached no cell."""
+    widget.get_frame()
+    message(widget, type="key_down", key="w")
+    widget.get_frame()
+    message(widget, type="key_down", key="h")
+    widget.get_frame()
+    shown = "".join(o.get("text", "") for o in widget._output_context.outputs)
+    assert "wireframe: on" in shown and "facet view keys:" in shown, shown
+    assert "wireframe" not in capsys.readouterr().out

@@ -160,8 +160,8 @@ class _WidgetMixin:
         picture, status, notices, again = self._gl.call(self._next_frame)
         if status is not None and status != self.title:
             self.title = status
-        for text in notices:  # (a key's result, the key map: the cell's)
-            print(text)
+        for text in notices:  # a key's result, the key map: into the widget's output area,
+            self.print(text)  # under it in its cell (print() from a comm's callback is lost)
         if again:
             self.request_draw()
         return picture
