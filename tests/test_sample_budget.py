@@ -184,7 +184,8 @@ def test_a_signal_stops_a_render_within_a_second(tmp_path, sig, keep):
         assert written == [], written
         assert "Traceback" not in rest
         shown = re.sub(r"\x1b\[[0-9;]*[A-Za-z]|\r", "\n", rest)  # the line's clearing
-        said = [line for line in shown.splitlines() if line.startswith("facet:")]
+        said = [line for line in shown.splitlines()  # (not the progress line's updates)
+                if line.startswith("facet:") and "samples," not in line]
         assert len(said) == 1 and f"stopped by {sig.name}" in said[0] and \
             "nothing was written" in said[0] and "--keep-partial" in said[0], rest
 
@@ -209,3 +210,40 @@ def test_a_time_limit_on_a_single_pass_picture_says_so():
     with facet.Renderer(16, 16) as r, pytest.warns(facet.FacetWarning,
                                                    match="time_limit stops sums of samples"):
         r.render(scene, camera, time_limit=5.0, lights="scene")
+
+
+def test_the_time_left_comes_from_the_measured_rate_and_only_once_stable():
+    """The first sample carries compiling and uploading (4.6 s here), the rest take 0.6 s:
+    the old estimate said about 2350 s left for a 305 s render; the time left is now said
+    from the rate after the first sample, and only once two rates agree."""
+    from facet.cli.progress import TimeLeft
+
+    left = TimeLeft()
+    times = [4.6 + 0.6 * k for k in range(6)]  # samples 1..6 done at these seconds
+    said = [left.update(k + 1, 512, t) for k, t in enumerate(times)]
+    assert said[:2] == [None, None]  # the first sample, then one rate: not yet
+    assert said[2] == pytest.approx(0.6 * (512 - 3), rel=0.01)
+    assert said[-1] == pytest.approx(0.6 * (512 - 6), rel=0.01)
+    erratic = TimeLeft()  # rates that do not settle: nothing said
+    assert [erratic.update(k, 100, t) for k, t in ((1, 1.0), (2, 1.5), (3, 4.0))] == \
+        [None, None, None]
+
+
+def test_the_seconds_shown_never_go_back_between_stages(monkeypatch, capsys):
+    """The preparing stage showed "rendering ..., 4.7 s"; the sum then showed the
+    renderer's own seconds (counted after its preparation, "1/512 samples, 4.6 s"): the
+    line's seconds are now the stage's."""
+    import time as clock
+
+    from facet.cli import progress
+
+    monkeypatch.setattr(progress, "DELAY", 0.0)
+    monkeypatch.setattr(progress, "REFRESH", 0.0)
+    line = progress.Ticker(True)
+    with progress.SampleProgress(False, False, line=line) as watch:
+        watch._start = clock.monotonic() - 4.7  # the stage began 4.7 s ago
+        watch(1, 512, 0.1)  # the renderer's clock: 0.1 s into the sum
+    shown = capsys.readouterr().err
+    seconds = [float(s) for s in re.findall(r"samples, ([\d.]+) s", shown)]
+    assert seconds and min(seconds) >= 4.7, shown
+    assert "estimating the time left" in shown, shown

@@ -21,6 +21,7 @@ import warnings
 
 DELAY = float(os.environ.get("FACET_PROGRESS_DELAY", "2.0"))  # seconds before a line shows
 REFRESH = 0.25  # seconds between two updates of it
+STABLE = 0.25  # two measured rates this close (relative) make the time left worth saying
 
 
 class Ticker:
@@ -105,6 +106,32 @@ def ticker(quiet: bool) -> Ticker:
     return Ticker(not quiet and sys.stderr.isatty())
 
 
+class TimeLeft:
+    """The seconds left of a sum of samples, from the rate measured since the first sample
+    (which carries compiling shaders and uploading the scene, and would inflate every
+    estimate), said only once two rates in a row agree within STABLE (then from there on):
+    None until then."""
+
+    def __init__(self):
+        self._first: tuple[float, int] | None = None  # (time, samples) at the first sample
+        self._rate: float | None = None  # seconds a sample, at the last update
+        self.stable = False
+
+    def update(self, done: int, total: int, now: float) -> float | None:
+        if self._first is None:
+            if done >= 1:
+                self._first = (now, done)
+            return None
+        t0, d0 = self._first
+        if done - d0 < 1 or now <= t0:
+            return None
+        rate = (now - t0) / (done - d0)
+        if not self.stable and self._rate is not None and done - d0 >= 2:
+            self.stable = abs(rate - self._rate) <= STABLE * self._rate
+        self._rate = rate
+        return rate * max(total - done, 0) if self.stable else None
+
+
 class SampleProgress:
     """A ``Renderer.progress`` callback and the signal handlers of one render (module
     docstring); a context manager (the handlers are put back on exit)."""
@@ -119,15 +146,20 @@ class SampleProgress:
         self.done = self.total = 0
         self._shown_at = 0.0
         self._before = {}
+        self._start = time.monotonic()  # the stage's start: its seconds never go back
+        self._left = TimeLeft()
 
     def __call__(self, done: int, total: int, seconds: float) -> bool:
         self.done, self.total = done, total
-        if self.show and seconds >= DELAY and time.monotonic() - self._shown_at >= REFRESH:
-            self._shown_at = time.monotonic()
-            left = seconds / max(done, 1) * (total - done)
-            if self.time_limit is not None:
+        now = time.monotonic()
+        left = self._left.update(done, total, now)
+        elapsed = now - self._start  # (the renderer's seconds start after its preparation)
+        if self.show and elapsed >= DELAY and now - self._shown_at >= REFRESH:
+            self._shown_at = now
+            if left is not None and self.time_limit is not None:
                 left = min(left, max(self.time_limit - seconds, 0.0))
-            self.line.set(f"{done}/{total} samples, {seconds:.1f} s, about {left:.0f} s left")
+            said = "estimating the time left" if left is None else f"about {left:.0f} s left"
+            self.line.set(f"{done}/{total} samples, {elapsed:.1f} s, {said}")
         return self.stopped_by is None
 
     def _stop(self, signum, _frame) -> None:
@@ -140,6 +172,7 @@ class SampleProgress:
         raise KeyboardInterrupt
 
     def __enter__(self) -> SampleProgress:
+        self._start = time.monotonic()
         for sig in (signal.SIGINT, signal.SIGTERM):
             try:
                 self._before[sig] = signal.signal(sig, self._stop)
