@@ -323,12 +323,11 @@ class _Reader(MaterialReading, VariantReading):
             indices = indices.astype(np.int64)
         faces = _triangles(indices, mode, where, self.data.fail)
         prim_json = self.document["meshes"][mesh]["primitives"][p]
-        deform = None
-        if draco is None:
-            deform = vertex_deformation(prim_json, self.data, len(values["POSITION"]), where)
-        elif prim_json.get("targets") or "JOINTS_0" in attrs:
-            self.skipped.add("the skins and morph targets of Draco-compressed primitives "
-                             "(drawn at rest)")
+        # A Draco primitive's joints and weights come from its stream (decoded above by
+        # their unique ids); its morph targets stay in plain accessors, in the stream's
+        # vertex order (the extension has encoders keep it when there are targets).
+        deform = vertex_deformation(prim_json, self.data, len(values["POSITION"]), where,
+                                    decoded=values if draco is not None else None)
         colors = values.get("COLOR_0")
         if colors is not None:  # linear -> sRGB-encoded, alpha kept (module docstring)
             colors = np.concatenate([linear_to_srgb(np.clip(colors[:, :3], 0, 1)),

@@ -27,10 +27,22 @@ PATH_WIDTH = {"translation": 3, "rotation": 4, "scale": 3}
 TARGET_KEYS = {"POSITION": "positions", "NORMAL": "normals", "TANGENT": "tangents"}
 
 
-def vertex_deformation(prim: dict, data, count: int, where: str) -> Deformation | None:
+def vertex_deformation(prim: dict, data, count: int, where: str,
+                       decoded: dict | None = None) -> Deformation | None:
     """The skin (JOINTS_0/1, WEIGHTS_0/1) and morph-target (targets) data of primitive
-    ``prim`` (its JSON) of ``count`` vertices, or None when it has neither."""
+    ``prim`` (its JSON) of ``count`` vertices, or None when it has neither; ``decoded``:
+    the attributes a Draco stream held ({name: array}), read instead of their accessors."""
     attrs = prim.get("attributes") or {}
+
+    def per_vertex(name: str, accessor, normalize: bool = True):
+        if decoded is not None and name in decoded:
+            values = np.asarray(decoded[name]).reshape(len(decoded[name]), -1)
+            if len(values) != count:
+                data.fail(f"{where}: {name} has {len(values):,} values in its Draco stream "
+                          f"for {count:,} vertices")
+            return values
+        return _per_vertex(data, accessor, count, f"{where}: {name}", normalize=normalize)
+
     joints, weights = [], []
     for k in (0, 1):
         j, w = attrs.get(f"JOINTS_{k}"), attrs.get(f"WEIGHTS_{k}")
@@ -39,8 +51,8 @@ def vertex_deformation(prim: dict, data, count: int, where: str) -> Deformation 
         if j is None or w is None:
             data.fail(f"{where}: JOINTS_{k} and WEIGHTS_{k} come in pairs; it has only "
                       f"{'JOINTS' if w is None else 'WEIGHTS'}_{k}")
-        joints.append(_per_vertex(data, j, count, f"{where}: JOINTS_{k}", normalize=False))
-        weights.append(_per_vertex(data, w, count, f"{where}: WEIGHTS_{k}"))
+        joints.append(per_vertex(f"JOINTS_{k}", j, normalize=False))
+        weights.append(per_vertex(f"WEIGHTS_{k}", w))
     targets: dict = {}
     for t, target in enumerate(prim.get("targets") or []):
         for key, name in TARGET_KEYS.items():
