@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import facet
+from draco_twin import draco_twin
 from facet.errors import FacetWarning
 
 from conftest import SHARED_GLTF, shared_model
-from draco_twin import draco_twin
 
 MOVING = ["RiggedSimple", "RiggedFigure", "AnimatedMorphCube", "BoxAnimated"]
 TIMES = (0.0, 0.4, 1.1)
