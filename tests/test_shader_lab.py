@@ -178,8 +178,6 @@ def test_glslviewer_and_book_of_shaders_files_run(tmp_path):
     ("float f(float x) { return x; }\n", "no mainImage(...) and no main(): is this a "
      "Shadertoy or a glslViewer shader?"),
     ("void mainImage(out vec4 c, in vec2 p) {\n  c = vec4(\n", "toy.frag:"),
-    ("void main() {}\nvoid mainImage(out vec4 c, in vec2 p) { c = vec4(1); }\n",
-     "toy.frag:1: error: defines main() as well as mainImage()"),
     ("void mainImage(out vec4 c, in vec2 p) {\n  c =\u00a0vec4(1);\n}\n",
      "toy.frag:2:6: error: a no-break space (U+00A0)"),
     ("void main() { float x = 1.0; }\n", "has its own main() but neither gl_FragColor"),

@@ -16,9 +16,10 @@ virtual desktop.
 
 Accepted and handled: a UTF-8 byte-order mark (dropped), a ``#version`` line (blanked: the
 wrapper brings its own, and lines keep their numbers), ``precision`` lines and ``#ifdef
-GL_ES`` blocks (valid GLSL 3.3). Refused with a sentence of their own: an empty file,
-invisible characters pasted from web pages (no-break and zero-width spaces), a file with
-both ``mainImage`` and ``main()``, and a file that follows neither convention.
+GL_ES`` blocks (valid GLSL 3.3), and a ``main()`` beside ``mainImage`` (renamed, as
+Shadertoy's wrapper renames it: exported buffer passes have one). Refused with a sentence
+of their own: an empty file, invisible characters pasted from web pages (no-break and
+zero-width spaces), and a file that follows neither convention.
 """
 
 from __future__ import annotations
@@ -59,6 +60,7 @@ class Prepared:
     text: str
     frag_color: bool = False
     defines: tuple[str, ...] = ()
+    rename_main: bool = False  # a main() beside mainImage: renamed, as Shadertoy's wrapper does
 
 
 def declared_inputs(code: str) -> set[str]:
@@ -112,11 +114,8 @@ def prepare(text: str, name: str, cube: bool = False, common: bool = False) -> P
         return Prepared(SHADERTOY, text, defines=defines)
     has_image = bool(_MAIN_IMAGE.search(code)) or "mainImage" in pre.macros
     has_main = bool(_MAIN.search(code))
-    if has_image and has_main:
-        line = code[:_MAIN.search(code).start()].count("\n") + 1
-        raise ShaderError(f"{name}:{line}: error: defines main() as well as mainImage(): "
-                          "facet supplies main() for Shadertoy shaders; remove yours (or "
-                          "remove mainImage to run it glslViewer-style)")
+    if has_image and has_main:  # Shadertoy's wrapper renames the file's own main(): so here
+        return Prepared(SHADERTOY, text, defines=defines, rename_main=True)
     if has_image:
         return Prepared(SHADERTOY, text, defines=defines)
     if has_main and _VIEWER_NAMES.search(code):

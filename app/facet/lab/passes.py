@@ -43,7 +43,11 @@ def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, st
         wanted -= {f"FACET_DECLARE_{n}" for n in declared_inputs(code) |
                    declared_inputs(prepared.text)}
         includes.append(f'#include "{common.resolve()}"')
+    if prepared.rename_main:  # (the file's main() beside mainImage: not facet's)
+        includes.append("#define main facet_users_main")
     includes.append(f'#include "{p.path.resolve()}"')
+    if prepared.rename_main:
+        includes.append("#undef main")
     host = "viewer.frag" if prepared.kind == GLSLVIEWER else "host.frag"
     host_path = glsl_root() / "shadertoy" / host
     stage = host_path.read_text().replace("\nFACET_USER_CODE\n",
