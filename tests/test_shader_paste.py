@@ -12,7 +12,7 @@ import pytest
 from PIL import Image
 
 from facet.cli import main
-from facet.errors import FacetWarning, ShaderError
+from facet.errors import FacetWarning
 from facet.lab.shadertoy import ShaderToy
 from facet.lab.shadertoy_json import load_shadertoy_json
 
