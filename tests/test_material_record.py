@@ -203,3 +203,35 @@ def test_a_light_behind_a_thin_rough_wall_shines_through_it_in_every_engine(rend
     assert raster.mean() > 0.05  # the rasterizer shows the light through the wall
     assert traced.mean() == pytest.approx(raster.mean(), rel=0.1), (traced.mean(),
                                                                    raster.mean())
+
+
+def _glass_ball_scene(double_sided: bool):
+    """A clear single- or double-sided glass ball (and a mesh one) before a red wall."""
+    T = facet.transforms
+    glass = facet.PbrMaterial(base_color=(1, 1, 1, 1), metallic=0.0, roughness=0.0,
+                              transmission=1.0, ior=1.5, double_sided=double_sided)
+    scene = facet.Scene()
+    scene.add(facet.primitives.plane(8), facet.Material(color=(1, 0, 0)),
+              T.compose(T.rotate_x(90), T.translate((0, 0, -3))))
+    scene.add(facet.shapes.Sphere(0.8), glass)
+    scene.add(facet.primitives.sphere(0.5), glass, T.translate((1.2, 0, 0)))
+    scene.add_light(facet.PointLight(position=(0, 0, 5)))
+    return scene
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("engine", ["trace", "path"])
+def test_a_single_sided_glass_ball_lets_the_light_out_of_its_far_side(renderer, engine):
+    """glTF's glass is single-sided (doubleSided false): the tracers treated the far side
+    of its volume, seen from inside, as a one-sided back (black, opaque), so a glass ball
+    drew black (IridescentDishWithOlives' cover, the showcase's ball as a glTF material).
+    Now single- and double-sided glass draw alike, the wall seen through the ball."""
+    cam = facet.Camera.look_at((0, 0, 5), (0, 0, 0), fov_y=30)
+    opts = dict(engine=engine, outputs=("color",), float_color=True,
+                **({"spp": 16, "seed": 3} if engine == "path" else {"aa": "none"}))
+    one, two = (renderer(32, 32).render(_glass_ball_scene(d), cam, **opts).color[..., :3]
+                for d in (False, True))
+    for x in (16, 24):  # the shape's centre, the mesh ball's
+        red, green = one[16, x, 0], one[16, x, 1]
+        assert red > 0.3 and red > 2.5 * green, (x, one[16, x])  # the red wall, through it
+    np.testing.assert_allclose(one, two, atol=1e-4)

@@ -171,7 +171,11 @@ void main() {
                 // its BSDF.
                 bool one_sided = (int(instance_texel(h.inst * INSTANCE_TEXELS + 6).w)
                                   & FLAG_ONE_SIDED) != 0;
-                going = s.front || !one_sided;  // a one-sided surface's back: opaque, black
+                // A one-sided surface's back: opaque, black; but a transmitting material's
+                // back is where light leaves the volume it bounds (glTF's glass is
+                // single-sided): paths go on through it.
+                going = s.front || !one_sided ||
+                        mat.transmission * (1.0 - mat.metallic) > 0.0;
                 if (going && mat.emission != vec3(0.0)) {
                     float w = 1.0;
 #ifndef NO_EMITTERS

@@ -104,6 +104,19 @@ void push_transmission(Surface s, vec3 d, float t, Material mat, inout vec3 w, i
 }
 #endif
 
+// A one-sided surface's back is black (its back emits and reflects nothing), except a
+// transmitting material's: there refraction rays leave the volume it bounds (glTF's glass
+// is single-sided; its far side, seen from inside, is where light comes out).
+bool passes_back(Surface s) {
+#ifdef PBR_SHADING
+    if (own_pbr(s)) {
+        Material m = material_of(s);
+        return m.transmission * (1.0 - m.metallic) > 0.0;
+    }
+#endif
+    return false;
+}
+
 void main() {
     vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
     vec4 near = u_inv_view_projection * vec4(ndc, -1.0, 1.0);
@@ -162,7 +175,8 @@ void main() {
         }
         Surface s = surface_at(h, o, d);
         if (!s.front && (int(instance_texel(h.inst * INSTANCE_TEXELS + 6).w)
-                         & FLAG_ONE_SIDED) != 0) continue;  // a one-sided back: black
+                         & FLAG_ONE_SIDED) != 0 && !passes_back(s))
+            continue;  // a one-sided back: black (passes_back)
 #ifdef PBR_SLOTS
         if (cut_out(s)) {  // a cut-out (alpha MASK): on through, unchanged
             push(offset_ray(s.p, -s.ng), d, kind, w, depth, eye ? end - h.t : INF);
