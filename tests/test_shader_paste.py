@@ -12,7 +12,7 @@ import pytest
 from PIL import Image
 
 from facet.cli import main
-from facet.errors import FacetWarning
+from facet.errors import FacetWarning, ShaderError
 from facet.lab.shadertoy import ShaderToy
 from facet.lab.shadertoy_json import load_shadertoy_json
 
@@ -244,3 +244,27 @@ def test_feedback_buffers_animate(tmp_path):
     image.write_text("void mainImage(out vec4 c, in vec2 p) { c = texture(iChannel0, p); }\n")
     with ShaderToy(image, buffers={"a": a}, channels={0: "buffer-a"}, size=(W, H)) as st:
         assert st.animated and not st.reads_mouse
+
+
+def test_a_channel_sampled_with_a_direction_is_bound_as_a_cube_map(tmp_path):
+    """A channel nothing was given for that the code samples with a vec3 (a cube map in
+    the original shader): bound as a (black) cube map, with one warning line naming it;
+    before, facet bound its 2D noise texture and the compiler refused texture(sampler2D,
+    vec3). A channel the user gave as an image stays an error (their choice)."""
+    import warnings
+
+    from facet.errors import FacetWarning
+
+    text = ("void mainImage(out vec4 O, in vec2 u) {\n"
+            "    vec3 d = normalize(vec3(u / 8.0 - 1.0, 1.0));\n"
+            "    O = vec4(texture(iChannel2, d).rgb + vec3(0.25, 0.5, 0.75), 1.0);\n}\n")
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        img = _run(tmp_path, text)
+    lines = [str(w.message) for w in said if issubclass(w.category, FacetWarning)]
+    assert len(lines) == 1 and "iChannel2" in lines[0] and "cube" in lines[0], lines
+    np.testing.assert_allclose(img[..., :3], np.broadcast_to([0.25, 0.5, 0.75], img[..., :3].shape),
+                               atol=1e-5)  # black + that
+    Image.fromarray(np.zeros((4, 4, 3), np.uint8)).save(tmp_path / "t.png")
+    with pytest.raises(ShaderError, match=r"texture\(sampler2D, vec3\)"):
+        _run(tmp_path, text, channels={2: str(tmp_path / "t.png")})

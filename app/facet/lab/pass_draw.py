@@ -44,6 +44,9 @@ class PassDrawing:
         if ch.kind == "cube":
             tex, size = self.resources.cube(ch.source)
             return (lambda: tex), sampler, size, True
+        if ch.kind == "black-cube":  # (a channel the code samples as a cube: nothing given)
+            cube = self.resources.black_cube
+            return (lambda: cube), sampler, (1, 1), True
         if ch.kind == "keyboard":
             kb = self.resources.keyboard
             return (lambda: kb), sampler, (256, 3), False

@@ -46,7 +46,8 @@ class Channel:
 
     @property
     def is_cube(self) -> bool:
-        return self.kind == "cube" or (self.kind == "buffer" and self.source == "cube")
+        return self.kind in ("cube", "black-cube") or \
+            (self.kind == "buffer" and self.source == "cube")
 
 
 NOISE = Channel("noise", None, "mipmap", "repeat", True)  # also what an unset channel reads

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import datetime
 import functools
+import warnings
 from collections.abc import Hashable
 from pathlib import Path
 from typing import Annotated
@@ -31,7 +32,8 @@ from typing import Annotated
 import numpy as np
 
 from ..boundary import Array, ArrayLike, Count, FilePath, Positive, Real, Size, checked
-from ..errors import InputError, ShaderError
+from ..errors import FacetWarning, InputError, ShaderError
+from ..gl.glsl_source import display_path
 from ..gl.reload import ReloadResult, WatchedPrograms
 from ..gl.shaders import Program
 from ..gl.uniforms import check_uniform, write_uniform
@@ -40,6 +42,7 @@ from .assemble import check_channels, from_arguments, with_glslviewer_buffers
 from .channels import ChannelResources
 from .pass_draw import PassDrawing
 from .passes import compile_pass
+from .passes import source as pass_source
 from .targets import PassTargets
 
 Mouse = Annotated[ArrayLike, Array("2", "3", "4")]  # iMouse: x, y[, click x, click y]
@@ -142,10 +145,46 @@ class ShaderToy(PassDrawing):
     # -- programs and reloading ------------------------------------------------------------
     def _compile(self, p: P.Pass) -> Program:
         cubes = [cube for _, _, _, cube in self._bindings[p.key]]
-        prog, self.dialects[p.key] = compile_pass(self.ctx, self.project, p, cubes)
+        try:
+            prog, self.dialects[p.key] = compile_pass(self.ctx, self.project, p, cubes)
+        except ShaderError as exc:
+            sampled = self._sampled_as_cubes(p, exc)
+            if not sampled:
+                raise
+            # Channels nothing was given for, which the code samples with a direction (a
+            # cube map in the original): bound as cube maps, black, and said.
+            for n in sampled:
+                p.channels[n] = P.Channel("black-cube")
+                where = f"{p.name} pass" if len(self.project.passes) > 1 else \
+                    display_path(p.path)
+                warnings.warn(f"{where} samples iChannel{n} with a direction (vec3): it is a "
+                              "cube map on Shadertoy; facet binds a black one; give "
+                              f"--channel{n} cube:FOLDER (six faces) or an equirectangular "
+                              "image", FacetWarning, stacklevel=4)
+            self._bindings[p.key] = self._bind_channels(p)
+            cubes = [cube for _, _, _, cube in self._bindings[p.key]]
+            prog, self.dialects[p.key] = compile_pass(self.ctx, self.project, p, cubes)
         for uniform, values in self.uniforms.items():  # user uniforms survive a reload
             write_uniform(prog, uniform, values)
         return prog
+
+    def _sampled_as_cubes(self, p: P.Pass, exc: ShaderError) -> list[int]:
+        """The channels of ``p`` that were given nothing (they read facet's noise, a 2D
+        texture) and that the failed compile ``exc`` says are sampled with a vec3: the
+        iChannelN named on each line where ``texture(sampler2D, vec3)`` matched nothing."""
+        import re
+
+        lines = {(path, line) for path, line, _col, _sev, message in exc.diagnostics
+                 if re.search(r"texture\w*\(sampler2D, vec3", message)}
+        if not lines:
+            return []
+        text = pass_source(self.project, p).splitlines()
+        found = set()
+        for path, line in lines:
+            if path != display_path(p.path) or not 0 < line <= len(text):
+                continue
+            found |= {int(n) for n in re.findall(r"\biChannel([0-3])\b", text[line - 1])}
+        return sorted(n for n in found if n not in p.channels)
 
     def _make_vaos(self) -> None:
         for vao in self.vaos.values():
