@@ -176,6 +176,25 @@ def test_zero_workers_is_an_error(tmp_path, capsys):
     assert "--workers must be at least 1, got 0" in capsys.readouterr().err
 
 
+_STARTED: list = []  # the batches a test started: stopped at its end, however it ended
+
+
+@pytest.fixture(autouse=True)
+def _stop_started_batches():
+    """A test that fails while its batch runs (a timeout) stops it and its workers: a
+    hung run once outlived its test by an hour."""
+    yield
+    while _STARTED:
+        proc = _STARTED.pop()
+        if proc.poll() is None:
+            for pid in [*child_pids(proc.pid), proc.pid]:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            proc.wait(timeout=30)
+
+
 def _start_batch(tmp_path, n: int, views: int, workers: int, own: dict | None = None):
     """(models, output folder, process) of `facet batch` started on ``n`` generated models
     with ``views`` views each at 96x96 and ``workers`` worker processes; ``own``: a job's
@@ -190,6 +209,7 @@ def _start_batch(tmp_path, n: int, views: int, workers: int, own: dict | None = 
     proc = subprocess.Popen([sys.executable, "-m", "facet", "batch", str(manifest), "-o",
                              str(out), "--workers", str(workers), "-q"], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    _STARTED.append(proc)
     return models, out, proc
 
 
