@@ -55,6 +55,11 @@ class PassDrawing:
         black = self.resources.black
         return (lambda: black), sampler, (1, 1), False
 
+    def _where(self, p: P.Pass) -> str:
+        """How a warning names pass ``p``: by its pass name when there are several, else
+        by its file."""
+        return f"{p.name} pass" if len(self.project.passes) > 1 else display_path(p.path)
+
     def _warn_unbound(self) -> None:
         """One warning line per channel a pass reads that nobody gave (it reads the noise
         texture, facet.lab.project): never a silent stand-in."""
@@ -65,12 +70,11 @@ class PassDrawing:
                     continue
                 for name in (f"iChannel{n}", f"u_tex{n}"):
                     if name in prog:
-                        where = f"{p.name} pass" if len(self.project.passes) > 1 else \
-                            display_path(p.path)
-                        warnings.warn(f"{where} reads {name}, which nothing is bound to: it "
-                                      "reads facet's noise texture (Shadertoy's RGBA Noise "
-                                      f"Medium stand-in); give --channel{n} SOURCE, or none "
-                                      "for black", FacetWarning, stacklevel=3)
+                        warnings.warn(f"{self._where(p)} reads {name}, which nothing is "
+                                      "bound to: it reads facet's noise texture (Shadertoy's "
+                                      "RGBA Noise Medium stand-in); give --channel"
+                                      f"{n} SOURCE, or none for black", FacetWarning,
+                                      stacklevel=3)
 
     def _draw_pass(self, p: P.Pass, shared: dict, time: float) -> None:
         prog: Any = self.programs[p.key].gl  # moderngl types a member as any kind of one

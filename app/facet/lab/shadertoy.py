@@ -155,12 +155,10 @@ class ShaderToy(PassDrawing):
             # cube map in the original): bound as cube maps, black, and said.
             for n in sampled:
                 p.channels[n] = P.Channel("black-cube")
-                where = f"{p.name} pass" if len(self.project.passes) > 1 else \
-                    display_path(p.path)
-                warnings.warn(f"{where} samples iChannel{n} with a direction (vec3): it is a "
-                              "cube map on Shadertoy; facet binds a black one; give "
-                              f"--channel{n} cube:FOLDER (six faces) or an equirectangular "
-                              "image", FacetWarning, stacklevel=4)
+                warnings.warn(f"{self._where(p)} samples iChannel{n} with a direction "
+                              "(vec3): it is a cube map on Shadertoy; facet binds a black "
+                              f"one; give --channel{n} cube:FOLDER (six faces) or an "
+                              "equirectangular image", FacetWarning, stacklevel=4)
             self._bindings[p.key] = self._bind_channels(p)
             cubes = [cube for _, _, _, cube in self._bindings[p.key]]
             prog, self.dialects[p.key] = compile_pass(self.ctx, self.project, p, cubes)
