@@ -527,14 +527,16 @@ def test_shader_window_opens_at_its_documented_size(display, tmp_path):
 
 
 def _refined_engine_view(window, tmp_path, engine: str, presses: int):
-    """`e` pressed ``presses`` times, the view refined (4 samples for the default msaa:4)
+    """`e` pressed ``presses`` times, the view refined (4 samples: the Whitted tracer's
+    default msaa:4; the path tracer given --spp 4, which otherwise refines to VIEW_PATHS)
     and screenshotted: (the screenshot, the headless render of ``engine`` from the same
-    camera, the rasterizer's)."""
+    camera and sample count, the rasterizer's)."""
     from facet.geometry.camera import Camera
     from facet.render.renderer import Renderer
     from facet.scene import Mesh, Scene
 
-    w = window()
+    given = {"spp": 4} if engine == "path" else {}
+    w = window(*(["--spp", "4"] if given else []))
     for _ in range(presses):
         w.key("e")
     w.wait_title(lambda t: "4/4 samples" in t and
@@ -548,7 +550,8 @@ def _refined_engine_view(window, tmp_path, engine: str, presses: int):
     scene = Scene()
     scene.add(Mesh.load(ROOT / "models" / "default.obj"))
     with Renderer(W, H) as r:
-        drawn = r.render(scene, camera, engine=engine, outputs=("color",)).color[..., :3]
+        drawn = r.render(scene, camera, engine=engine, outputs=("color",),
+                         **given).color[..., :3]
         raster = r.render(scene, camera, outputs=("color",)).color[..., :3]
     return np.asarray(Image.open(shots[0])).astype(int), drawn, raster
 
@@ -666,7 +669,7 @@ def test_a_refined_path_traced_view_is_the_offscreen_picture(display):
     import facet
 
     with facet.Viewer(ROOT / "models" / "default.obj", size=(W, H),
-                      options={"engine": "path"}) as v:
+                      options={"engine": "path", "spp": 4}) as v:
         for _ in range(9):  # a preview, 4 samples, then 4 frames of a refined view
             v.draw()
         shown = v.grab()[..., :3].astype(int)

@@ -45,9 +45,14 @@ class SampleBudget:
     progress : callable or None
         ``progress(done, total, seconds) -> bool``, called after each sample and each
         strip of one; False stops (a sample stopped halfway is dropped).
+    masked : bool
+        Stopped pixels are skipped (the mask texture); False: every pixel goes on being
+        drawn and the noise only says when the whole picture is done (a still view,
+        whose sum is shown as it grows: facet.render.sequence).
     """
 
-    def __init__(self, ctx, size, noise=None, time_limit=None, progress=None):
+    def __init__(self, ctx, size, noise=None, time_limit=None, progress=None,
+                 masked: bool = True):
         self.ctx, self.size = ctx, size
         self.noise, self.progress = noise, progress
         self.start = time.monotonic()
@@ -61,6 +66,7 @@ class SampleBudget:
         self._stats = None  # (rounds, sum of round means, sum of their squares)
         self._last = None  # the sum at the last look
         self.mask = None  # the active pixels' texture (R8: 255 active), adaptive only
+        self.masked = masked
 
     @property
     def adaptive(self) -> bool:
@@ -105,6 +111,8 @@ class SampleBudget:
         if self.adaptive:
             w, h = self.size
             self._active_now = np.ones((h, w), np.float32)
+            if not self.masked:
+                return
             self.mask = self.ctx.texture((w, h), 1, np.full((h, w), 255, np.uint8).tobytes())
             self.mask.filter = (self.ctx.NEAREST, self.ctx.NEAREST)
 
@@ -131,6 +139,8 @@ class SampleBudget:
         go_on = (error >= self.noise) | (self._count < MIN_ADAPTIVE)
         go_on = _dilated(go_on) & live  # a stopped pixel never restarts
         self._active_now = go_on.astype(np.float32)
+        if self.mask is None:  # (unmasked: every pixel is drawn on)
+            return bool(go_on.any())
         # (the sum is read back as it lies, row 0 first: the mask lies the same way)
         self.mask.write(np.where(go_on, 255, 0).astype(np.uint8).tobytes())
         return bool(go_on.any())

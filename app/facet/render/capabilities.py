@@ -46,6 +46,10 @@ class Capabilities:
     # drawing it: no warning, and no picture change expected when it is taken away)
     computes: dict[str, str] = field(default_factory=dict)
     draws_splats: bool = False  # Gaussian splats (facet.scene.splats): the rasterizer's
+    # the samples a still view (a window, the widget, the page) refines to when the options
+    # name no sample count (no spp); None: the options' own (their aa). Shown as it refines,
+    # a view costs nothing more to wait for, and stops at the first change of the view.
+    view_samples: int | None = None
 
     def decided(self, opts):
         """``opts`` with what was not given decided by this engine."""
@@ -126,6 +130,9 @@ def _object_features(obj) -> list[str]:
     return []
 
 
+VIEW_PATHS = 1024  # paths per pixel a still view of the path tracer refines to (no spp)
+
+
 def _given(key: str):
     return lambda opts: getattr(opts, key) is not None
 
@@ -140,11 +147,12 @@ _NO_CULL = OptionLimit(lambda o: o.cull == "on", "{noun} culls no back faces for
 
 
 def _row(noun: str, shadows: bool, max_depth, options=(), leaves_out=None,
-         implied_ambient: bool = True, computes=None, splats: bool = False) -> Capabilities:
+         implied_ambient: bool = True, computes=None, splats: bool = False,
+         view_samples: int | None = None) -> Capabilities:
     limits = tuple(OptionLimit(o.given, o.line.format(noun=noun)) for o in options)
     return Capabilities(noun, shadows, max_depth, implied_ambient, limits,
                         {NO_FRAME: _NO_FRAME_LINE, **(leaves_out or {})}, computes or {},
-                        splats)
+                        splats, view_samples)
 
 
 CAPABILITIES: dict[str, Capabilities] = {
@@ -175,7 +183,9 @@ CAPABILITIES: dict[str, Capabilities] = {
                      "light"}, implied_ambient=False,
         # (as Mitsuba and Cycles: the texture stands for the occlusion of indirect light,
         # which the bounces find; no baked occlusion is drawn over it)
-        computes={"occlusionTexture": "its bounces find the occlusion of indirect light"}),
+        computes={"occlusionTexture": "its bounces find the occlusion of indirect light"},
+        # (a 4-path picture keeps its fireflies; Blender's viewport refines to 1024 too)
+        view_samples=VIEW_PATHS),
 }
 
 
@@ -193,3 +203,30 @@ def decided(opts):
         ``shadows``, ``max_depth`` and ``pcf`` set.
     """
     return CAPABILITIES[opts.engine].decided(opts)
+
+
+def view_sampling(opts):
+    """The options a still view refines by (a window, the widget, the page): ``opts`` with
+    the engine's own view count (its row's ``view_samples``) when they name no sample
+    count (no spp: ``aa`` is msaa or none); with ``noise`` given, as many samples as a
+    render takes (facet.geometry.sampling.MAX_SAMPLES), the view stopping once its noise is
+    below it.
+
+    Parameters
+    ----------
+    opts : RenderOptions
+        The view's options, resolved.
+
+    Returns
+    -------
+    RenderOptions
+        ``opts``, or ``opts`` with ``aa`` jittered supersampling of that count.
+    """
+    n = CAPABILITIES[opts.engine].view_samples
+    if n is None or opts.aa.kind == "ssaa":
+        return opts
+    from ..geometry.sampling import MAX_SAMPLES
+    from ..options.values import AntiAliasing
+
+    count = MAX_SAMPLES if opts.noise is not None else n
+    return replace(opts, aa=AntiAliasing("ssaa", count, "jittered"))

@@ -37,6 +37,8 @@ class PassSequence:
     _engines: dict  # name -> engine (facet.render.engine), made on first use
     _finisher: Finisher | None  # the finishing pass, made on first use
     _surfaces: Surfaces | None  # the targets of the last size
+    _view_budget: SampleBudget | None = None  # a still view's noise watch (_view_watch)
+    view_settled = False  # a still view's noise is below the options' (it may stop)
 
     # -- what the sequence makes on first use and keeps ---------------------------------
     def _engine(self, name: str):
@@ -121,14 +123,19 @@ class PassSequence:
             source = surf.targets.color_texture(dtype)
             return self._finish(source, fbo, finish, opts, dest, surf), 1
         samples = dest.samples(aa.samples)
-        if dest.window is not None and (opts.noise is not None or opts.time_limit is not None):
-            self._warn(["a window refines its picture a sample per frame: noise and "
-                        "time_limit stop the sums of pictures rendered offscreen"])
+        if dest.window is not None and opts.time_limit is not None:
+            self._warn(["a window refines its picture a sample per frame: time_limit stops "
+                        "the sums of pictures rendered offscreen"])
         budget = SampleBudget(self.ctx, opts.size, opts.noise if engine.adaptive else None,
                               opts.time_limit, self.progress) if dest.window is None else None
+        watch = self._view_watch(engine, opts, dest)
         try:
+            began = time.monotonic()
             source, done = self._accumulate(engine, scene, state, opts, aa, samples, bg, surf,
                                             dest.preview, budget)
+            if watch is not None and len(samples) and \
+                    not watch.added(aa.samples, time.monotonic() - began, source):
+                self.view_settled = True
             if budget is not None:
                 budget.even_out(source)
                 self._spp = budget.counts()
@@ -147,6 +154,25 @@ class PassSequence:
         finish = finish_for(bg, encode, max(done, 1),
                             clamp=eight_bit or not engine.radiance)
         return self._finish(source, None, finish, opts, dest, surf), done
+
+    def _view_watch(self, engine, opts, dest) -> SampleBudget | None:
+        """A still view's noise (``noise`` given to an adaptive engine): a budget that
+        skips no pixel (the sum is shown as it grows), made at the view's first sample and
+        kept while it refines; ``view_settled`` turns True once no pixel's error is above
+        the noise (facet.render.budget's rule)."""
+        if dest.window is None:
+            return None
+        if dest.sample is None or dest.sample == 0 or opts.noise is None or \
+                not engine.adaptive or self._view_budget is None or \
+                self._view_budget.size != tuple(opts.size) or \
+                self._view_budget.noise != opts.noise:
+            self.view_settled = False
+            self._view_budget = None
+            if dest.sample == 0 and opts.noise is not None and engine.adaptive:
+                self._view_budget = SampleBudget(self.ctx, tuple(opts.size), opts.noise,
+                                                 masked=False)
+                self._view_budget.begin()
+        return self._view_budget
 
     def _exact(self, engine, scene, state: FrameState, aux, surf) -> dict:
         """The exact channels at pixel centres (step 3), in a single-sample pass of their

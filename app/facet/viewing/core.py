@@ -22,6 +22,7 @@ from ..boundary import Count, Crease, FilePath, Number, Size, checked
 from ..errors import FacetError, InputError
 from ..gl.glsl_source import file_digest
 from ..options.render import options_for, parse_layer
+from ..render.capabilities import view_sampling
 from ..scene.pbr import as_phong
 from ..scene.scene import Scene
 from .actions import ViewerActions
@@ -83,6 +84,7 @@ class ViewerCore(ViewerActions):
         self.error = ""
         self._samples = 0  # supersamples accumulated for the current view
         self._sample_count = 0  # supersamples the current view refines to (0: none)
+        self._settled = False  # the view's noise is below the options' (noise given)
         self._drag = None
         self._cursor = (0.0, 0.0)
         self._dirty = True
@@ -152,11 +154,21 @@ class ViewerCore(ViewerActions):
     def aa(self) -> str:
         return str(self.options().aa)
 
+    def view_options(self):
+        """The options a still view refines by: ``options()`` with the engine's own view
+        count when they name no sample count (the path tracer refines to
+        facet.render.capabilities.VIEW_PATHS, or until ``noise``; ``view_sampling``).
+        Screenshots at another scale and turntables render by ``options()``."""
+        return view_sampling(self.options())
+
     @property
     def refining(self) -> bool:
-        """Progressive supersampling still has samples to add."""
+        """Progressive supersampling still has samples to add (and, with ``noise``, the
+        picture is still noisier than that)."""
+        if self._settled:
+            return False
         return self._samples < self.renderer.samples(self.shown_scene(), self.camera(),
-                                                     self.options())
+                                                     self.view_options())
 
     @property
     def animated(self) -> bool:
@@ -226,7 +238,7 @@ class ViewerCore(ViewerActions):
         current): a moving or changed view gets one quick picture, a still one adds a
         supersample towards the headless picture."""
         camera, scene = self.camera(), self.shown_scene()
-        opts = self.options()
+        opts = self.view_options()
         moving = self._dirty or self.animated
         n = self._sample_count = self.renderer.samples(scene, camera, opts)
         if n and (opts.aa.supersampled or not moving):
@@ -234,17 +246,22 @@ class ViewerCore(ViewerActions):
             # sample (or, for the distributed effects, one plain picture): moving stays fast.
             self._samples = self.renderer.present(
                 scene, camera, framebuffer, opts, sample=0 if moving else self._samples)
+            # (with noise: the view is done once no pixel is noisier: facet.render.budget)
+            self._settled = opts.noise is not None and self.renderer.view_settled
         else:
             self.renderer.present(scene, camera, framebuffer, opts)
             self._samples = 0
+            self._settled = False
         self._dirty = False
 
     def state(self) -> dict:
         """What the status line says, as data for pages and tests to wait on: the engine,
-        the supersamples drawn of those the view refines to (0 of 0: none), the triangles
+        the supersamples drawn of those the view refines to (0 of 0: none), whether its noise
+        is below the options' (``settled``: noise given, the view done early), the triangles
         shown and the error ("" without one)."""
         return {"engine": self.options().engine, "samples": self._samples,
-                "of": self._sample_count, "triangles": self.triangles, "error": self.error}
+                "of": self._sample_count, "settled": self._settled,
+                "triangles": self.triangles, "error": self.error}
 
     def status(self, fps: float | None = None) -> str:
         """One line: the file, triangles, engine, clock, refinement and any error."""
@@ -262,6 +279,8 @@ class ViewerCore(ViewerActions):
                 "" if self.playback.playing else " (paused: p plays)")
         if self._sample_count:  # progressive supersampling: how far it has refined
             text += f" - {self._samples}/{self._sample_count} samples"
+            if self._settled:
+                text += f" (noise {self.options().noise:g} reached)"
         return f"{text} - error: {self.error}" if self.error else text
 
     # -- events (a front translates its own into these) -----------------------------------
