@@ -177,8 +177,29 @@ def test_the_path_tracer_shows_the_sky_the_rasterizer_shows(tmp_path, kind, srgb
         raster = r.render(scene, cam, engine="raster", **kw).color
         path = r.render(scene, cam, engine="path", **kw).color
     diff = np.abs(raster.astype(int) - path.astype(int)).max(axis=-1)
-    # (the path tracer's samples are spread over each pixel: the horizon's row differs)
-    assert np.percentile(diff, 90) <= 2, np.percentile(diff, 90)
+    if kind == "sky":
+        # The generated sky is known by its equation: the path tracer's eye ray through
+        # each pixel's centre sees it there (its grid filtered between texel centres). The
+        # rasterizer's mipmapped cube map averages each pixel's footprint, which rounds
+        # the horizon's steep gradient off by a few levels (3 at the 90th percentile here).
+        from facet.scene.environment import sky_color
+
+        n = raster.shape[0]
+        j, i = np.meshgrid(np.arange(n), np.arange(n))
+        d = np.stack([(j + 0.5) / n * 2 - 1, 1 - (i + 0.5) / n * 2, -np.ones((n, n))], -1)
+        d = d @ np.asarray(cam.view, np.float64)[:3, :3]
+        d /= np.linalg.norm(d, axis=-1, keepdims=True)
+        want = np.clip(sky_color(d, *facet.Environment.SKY), 0, 1)  # display values,
+        if srgb:  # or in the sRGB mode linear ones, encoded
+            from facet.srgb import linear_to_srgb
+
+            want = linear_to_srgb(want)
+        error = np.abs(path[..., :3].astype(int) - np.round(want * 255)).max(axis=-1)
+        assert np.percentile(error, 90) <= 1 and error.max() <= 3, (error.max(), error.mean())
+        assert np.percentile(diff, 90) <= 3, np.percentile(diff, 90)
+    else:
+        # (the path tracer's samples are spread over each pixel: the horizon's row differs)
+        assert np.percentile(diff, 90) <= 2, np.percentile(diff, 90)
 
 
 def _floor_and_mirror(scene):

@@ -18,10 +18,25 @@ uniform ivec2 u_sky_size;  // W, H
 #endif
 
 
-// The radiance of the sky in direction d: the environment, or without one the scene's
-// ambient light as a constant sky (the rasterizer's pbr model lights by it the same way).
+#ifdef SKY_DISTRIBUTION
+// Where direction d falls in the sky's latitude-longitude grid, (u, v) in [0, 1]^2 (row 0
+// at the zenith; facet.render.path.env_sampling).
+vec2 sky_uv(vec3 d) {
+    return vec2(0.5 + atan(d.x, -d.z) / TWO_PI, acos(clamp(d.y, -1.0, 1.0)) / PI);
+}
+#endif
+
+// The radiance of the sky seen in direction d (what the eye sees behind everything): the
+// environment, or without one the scene's ambient light as a constant sky (the
+// rasterizer's pbr model lights by it the same way). With the environment's grid at hand,
+// the grid itself, filtered between texel centres as Mitsuba's envmap is: a pixel then
+// sees the light the grid holds. The cube map (256 texels a face, resampled from a 2K
+// image) spread a small sun seen directly into a different amount of light (a 1-texel sun
+// 5x too bright, a 3 x 3 one 20% too dark: the picture's mean with it).
 vec3 escaped(vec3 d) {
-#ifdef HAS_ENVIRONMENT
+#if defined(SKY_DISTRIBUTION)
+    return textureLod(u_sky_radiance, sky_uv(d), 0.0).rgb;
+#elif defined(HAS_ENVIRONMENT)
     // The finest level: neighbouring pixels' random directions are no footprint (texture()
     // would pick a blurred level from their differences, dimming a small bright sun).
     return textureLod(u_environment, d, 0.0).rgb;
@@ -33,8 +48,7 @@ vec3 escaped(vec3 d) {
 #ifdef SKY_DISTRIBUTION
 // The texel of the sky's latitude-longitude grid that direction d falls in.
 ivec2 sky_texel(vec3 d) {
-    float u = 0.5 + atan(d.x, -d.z) / TWO_PI, v = acos(clamp(d.y, -1.0, 1.0)) / PI;
-    return clamp(ivec2(vec2(u, v) * vec2(u_sky_size)), ivec2(0), u_sky_size - 1);
+    return clamp(ivec2(sky_uv(d) * vec2(u_sky_size)), ivec2(0), u_sky_size - 1);
 }
 #endif
 

@@ -171,7 +171,9 @@ class Environment:
         Environment
             The sky.
         """
-        grid = sky_color(equirect_directions(256, 128), zenith, horizon, ground)
+        # (the grid the path tracer's eye sees and samples: as fine as the cube's texels,
+        # 4 x size across the horizon, so both engines show the same sky)
+        grid = sky_color(equirect_directions(4 * size, 2 * size), zenith, horizon, ground)
         return cls(sky_color(face_directions(size), zenith, horizon, ground), "sky", grid)
 
     @classmethod

@@ -4,7 +4,9 @@ made from, made once per environment.
 
 Light reaching surfaces from the sky is read from that radiance, texel for texel as the
 distribution has it: the cube map's filtered texels spread a small sun into neighbours the
-distribution gives little density, and each such sample was a firefly.
+distribution gives little density, and each such sample was a firefly. The eye sees the
+same radiance filtered between texel centres (the cube map held a different amount of a
+small sun's light).
 """
 
 from __future__ import annotations
@@ -39,6 +41,10 @@ class SkyLight:
                 cdf, pdf = made
                 radiance = np.ascontiguousarray(equirect[..., :3], np.float32)
                 textures = [self._texture(array) for array in (cdf, pdf, radiance)]
+                # (seen by the eye filtered between texel centres, round the u seam;
+                # surfaces' light fetches its texels: glsl/trace/sky.glsl)
+                textures[2].filter = (self.ctx.LINEAR, self.ctx.LINEAR)
+                textures[2].repeat_y = False
                 textures.append((pdf.shape[1], pdf.shape[0]))
             self._entry = (weakref.ref(environment), textures)
         return self._entry[1]
