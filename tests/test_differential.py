@@ -164,6 +164,86 @@ def test_direct_light_of_the_path_tracer_is_the_rasterizers(name):
     assert ok.all(axis=-1).mean() >= 0.9, (name, ok.all(axis=-1).mean())
 
 
+def dish_twin(folder):
+    """A file like the IridescentDishWithOlives sample, written here: a single-sided glass
+    dish (a sphere, KHR_materials_transmission and _volume, as glTF glass is) over an
+    alpha-masked gold leaf (a metal quad) on a plate; its path."""
+    from gltf_files import USHORT, GltfBuilder, quad
+
+    b = GltfBuilder()
+    b.doc["extensionsUsed"] = ["KHR_materials_transmission", "KHR_materials_volume"]
+    sphere = facet.primitives.sphere(0.5, segments=48, rings=24)
+    glass = b.material(pbrMetallicRoughness={"baseColorFactor": [1, 1, 1, 1],
+                                             "metallicFactor": 0.0, "roughnessFactor": 0.05},
+                       extensions={"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                                   "KHR_materials_volume": {"thicknessFactor": 0.1}})
+    gold = b.material(pbrMetallicRoughness={"baseColorFactor": [1.0, 0.77, 0.34, 1],
+                                            "metallicFactor": 1.0, "roughnessFactor": 0.3},
+                      alphaMode="MASK", doubleSided=True)
+    plate = b.material(pbrMetallicRoughness={"baseColorFactor": [0.8, 0.8, 0.75, 1],
+                                             "metallicFactor": 0.0, "roughnessFactor": 0.6})
+    b.node(mesh=b.mesh([{"attributes": {
+        "POSITION": b.accessor(sphere.positions, minmax=True),
+        "NORMAL": b.accessor(sphere.normals)},
+        "indices": b.accessor(sphere.faces.reshape(-1), USHORT), "material": glass}]),
+        translation=[0, 0.1, 0])
+    b.node(mesh=quad(b, gold), translation=[-0.35, -0.2, 0.1], scale=[0.7, 0.6, 1],
+           rotation=[-0.2588, 0, 0, 0.9659])
+    b.node(mesh=quad(b, plate), translation=[-1, -0.45, 1],
+           rotation=[-0.7071, 0, 0, 0.7071], scale=[2, 2, 1])
+    return b.write_glb(folder / "DishTwin.glb")
+
+
+TWINS = {"DishTwin": dish_twin}
+
+
+# Found by the check below and not fixed yet: a 20x-brighter anisotropic highlight in the
+# rasterizer than in the Whitted tracer on one sphere (and half as bright on two others).
+LIGHTS_DIFFER = {"AnisotropyStrengthTest": "the anisotropic lobe under a headlight: "
+                 "rasterizer 3.1, Whitted tracer 0.18 on material5 (open)"}
+
+
+@pytest.mark.parametrize("name", [
+    *TWINS, *(pytest.param(m, marks=pytest.mark.xfail(strict=True, reason=LIGHTS_DIFFER[m]))
+              if m in LIGHTS_DIFFER else m for m in MODELS if m not in REFUSED)])
+def test_every_surface_the_rasterizer_lights_the_whitted_tracer_lights(name, tmp_path):
+    """Under the default lights and the notes' ambient term (no environment, no shadows),
+    each object the rasterizer and the Whitted tracer both see, transmitting and masked
+    ones included, is lit alike within a factor of two on average (the two light a surface
+    by the same terms; refraction shows other things through glass, never black glass).
+    Why the first-hit and direct-light checks above let a black dish pass (issue 49, item 3):
+    they compare the unlit base colour, and the path tracer's direct light on opaque
+    surfaces only; the Whitted tracer's lit picture of glass and masked metal was compared
+    with nothing. The DishTwin written here (single-sided glass over masked gold) runs
+    too; the black dish itself came from the sample file, which ../shared does not hold,
+    and tests/test_material_record.py checks its cause (the glass's far side).)"""
+    if name in TWINS:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            scene = facet.load(TWINS[name](tmp_path))
+    else:
+        scene, _ = _load(name)
+    opts = dict(lights="camera", outputs=("color", "ids"), shadows=False, float_color=True)
+    with facet.Renderer(SIZE * 2, SIZE * 2) as r:
+        raster, _ = _render(r, scene, "raster", **opts)
+        trace, _ = _render(r, scene, "trace", **opts)
+    luminance = np.array([0.2126, 0.7152, 0.0722])
+    a = _blurred(raster.color[..., :3]) @ luminance
+    b = _blurred(trace.color[..., :3]) @ luminance
+    same = _same_ids(raster.object_ids, trace.object_ids) & (raster.object_ids >= 0)
+    caught = []
+    for oid in np.unique(raster.object_ids[same]):
+        where = same & (raster.object_ids == oid)
+        if where.sum() < 12:
+            continue
+        lit, traced = a[where].mean(), b[where].mean()
+        if lit > 0.02 and not 0.5 * lit <= traced <= 2.0 * lit:
+            material = next(o.material for o in scene.objects if o.id == oid)
+            caught.append(f"object {oid} ({getattr(material, 'name', '')}): rasterizer "
+                          f"{lit:.3f}, Whitted tracer {traced:.3f}")
+    assert not caught, (name, caught)
+
+
 # What taking a feature away means (the glTF default it falls back to).
 STRIP = {
     "baseColorTexture": dict(base_color_texture=None),
