@@ -97,6 +97,7 @@ def test_a_small_sun_seen_directly_is_the_light_its_texels_hold():
     (Mitsuba's envmap gives these pixels 2% less than the equations: its filtering places
     texels otherwise; the equations are the reference here.)"""
     from facet.formats.hdr_image import read_hdr_image
+    from facet.render.budget import _dilated  # (a mask and its eight neighbours)
 
     _, camera = M.sun_sky_scene()
     ours, ref = _sun_sky(in_view=True), np.load(M.SUN_IN_VIEW_REFERENCE)
@@ -105,24 +106,14 @@ def test_a_small_sun_seen_directly_is_the_light_its_texels_hold():
     assert 1 <= sun.sum() <= 4  # in view, a pixel or a few
     with tempfile.TemporaryDirectory() as tmp:
         sky = read_hdr_image(M.write_sun_sky(Path(tmp) / "sky.hdr", in_view=True))
-    around = np.argwhere(_dilate(sun))
+    around = np.argwhere(_dilated(sun))
     expected = _seen(sky[..., :3].astype(np.float64), camera, size, around)
     got = ours[tuple(around.T)]
     np.testing.assert_allclose(got.sum(axis=0), expected.sum(axis=0), rtol=0.01)
     rest = ours.copy(), ref.copy()
     for image in rest:
-        image[_dilate(sun)] = 0.0
+        image[_dilated(sun)] = 0.0
     _agree(*rest)
-
-
-def _dilate(mask: np.ndarray) -> np.ndarray:
-    out = mask.copy()
-    out[1:] |= mask[:-1]
-    out[:-1] |= mask[1:]
-    rows = out.copy()
-    out[:, 1:] |= rows[:, :-1]
-    out[:, :-1] |= rows[:, 1:]
-    return out
 
 
 def test_the_comparison_sees_a_biased_picture():
