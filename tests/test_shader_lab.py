@@ -181,6 +181,13 @@ def test_glslviewer_and_book_of_shaders_files_run(tmp_path):
     ("void mainImage(out vec4 c, in vec2 p) {\n  c =\u00a0vec4(1);\n}\n",
      "toy.frag:2:6: error: a no-break space (U+00A0)"),
     ("void main() { float x = 1.0; }\n", "has its own main() but neither gl_FragColor"),
+    # the preprocessor's errors (Mesa says "preprocessor error"): on the user's line
+    ("void mainImage(out vec4 c, in vec2 p) { c = vec4(1); }\n#if 0\nfoo\n",
+     "toy.frag:2:6: error: Unterminated #if"),
+    ("void mainImage(out vec4 c, in vec2 p) { c = vec4(1); }\n#endif\n",
+     "toy.frag:2:1: error: #endif without #if"),
+    ("void mainImage(out vec4 c, in vec2 p) { c = vec4(1); }\n/* never closed\n",
+     "it ends early: a /* comment with no */"),
 ])
 def test_errors_name_the_users_file(tmp_path, text, message):
     path = write(tmp_path / "toy.frag", text)
@@ -195,6 +202,12 @@ def test_errors_name_the_users_file(tmp_path, text, message):
     "#version 300 es\nvoid mainImage(out vec4 c, in vec2 p) { c = vec4(0.5); }\n",
     "#define color vec4(0.5)\n#define main_color color\n"
     "void mainImage(out vec4 c, in vec2 p) { c = main_color; }\n",  # wrapper-like names
+    # WebGL 1's extensions, core in GLSL 3.3: Mesa refuses #extension after declarations
+    "#extension GL_OES_standard_derivatives : enable\n"
+    "void mainImage(out vec4 c, in vec2 p) { c = vec4(0.5 + dFdx(p.x) - 1.0); }\n"
+    "#extension GL_EXT_shader_texture_lod : enable\n",
+    # an old Mac file's bare carriage returns
+    "#define HALF \\\r  0.5\rvoid mainImage(out vec4 c, in vec2 p) {\r c = vec4(HALF); }\r",
 ])
 def test_pasted_quirks_run(tmp_path, text):
     path = write(tmp_path / "toy.frag", text)
@@ -380,3 +393,111 @@ void mainImage(out vec4 c, in vec2 p) {
         out = toy.render(0.0)
     expected = np.array(list(colours.values())) / 255.0
     np.testing.assert_allclose(out[0, :, :3], expected, atol=1e-3)
+
+
+# -- volumes (sampler3D) -----------------------------------------------------------------------
+VOLUME_READER = """
+void mainImage(out vec4 c, in vec2 p) {
+    ivec3 t = ivec3(int(p.x), int(p.y), 1);  // texel (x, y, 1) of a 4 x 2 x 3 volume
+    vec4 fetched = texelFetch(iChannel0, t, 0);
+    vec4 sampled = texture(iChannel0, (vec3(t) + 0.5) / iChannelResolution[0]);
+    c = p.y < 1.0 ? vec4(fetched.rgb, iChannelResolution[0].z / 10.0) : sampled;
+}"""
+
+
+def _volume(tmp_path, channels, dtype=np.uint8):
+    from facet.lab.volumes import write_volume
+
+    rng = np.random.default_rng(3)
+    texels = rng.integers(0, 256, (3, 2, 4, channels)).astype(dtype)  # z, y, x, c
+    if dtype == np.float32:
+        texels /= 255
+    write_volume(tmp_path / "v.bin", texels)
+    return tmp_path / "v.bin", texels
+
+
+@pytest.mark.parametrize("channels,dtype", [(4, np.uint8), (1, np.uint8), (3, np.float32)])
+def test_a_volume_channel_is_a_sampler3d_holding_the_files_texels(tmp_path, channels, dtype):
+    """Shadertoy's .bin volumes: x fastest, then y, then z; one-channel volumes read (r, 0,
+    0, 1) as R8 textures do on Shadertoy; iChannelResolution holds the depth."""
+    path, texels = _volume(tmp_path, channels, dtype)
+    shader = write(tmp_path / "vol.frag", VOLUME_READER)
+    from facet.lab.project import channel
+
+    volume = channel(f"volume:{path}", "test", filter="nearest")
+    with ShaderToy(shader, channels={0: volume}, size=(4, 2)) as toy:
+        img = toy.render(0.0)[::-1]  # row 0: fragCoord.y = 0.5
+    scale = 255.0 if dtype == np.uint8 else 1.0
+    rgba = np.zeros((2, 4, 4))  # texels (x, y, 1) as GL reads them: missing g, b 0, a 1
+    rgba[..., 3] = 1.0
+    rgba[..., :channels] = texels[1] / scale
+    np.testing.assert_allclose(img[0, :, :3], rgba[0, :, :3], atol=1e-6)  # texelFetch
+    np.testing.assert_allclose(img[0, :, 3], 0.3, atol=1e-6)  # iChannelResolution[0].z
+    np.testing.assert_allclose(img[1], rgba[1], atol=1e-6)  # texture() at texel centres
+
+
+def test_an_exports_volume_inputs_read_the_file_or_facets_stand_in(tmp_path):
+    """ctype volume: the media file when it is there; Shadertoy's built-in noise volumes by
+    their ids, with one warning line that facet's numbers differ; a wrong file is one error."""
+    grey_id = "27012b4eadd0c3ce12498b867058e4f717ce79e5c91b6b2b1f3a2c0c1c6e8a9"
+    path, texels = _volume(tmp_path, 4)
+    code = ("void mainImage(out vec4 c, in vec2 p) { c = vec4(texelFetch(iChannel0, "
+            "ivec3(0), 0).r, texelFetch(iChannel1, ivec3(0), 0).gba); }")
+    rp = [{"type": "image", "name": "Image", "code": code,
+           "inputs": [{"id": "v1", "ctype": "volume", "channel": 0,
+                       "src": f"/media/a/{grey_id}.bin",
+                       "sampler": {"filter": "mipmap", "wrap": "repeat", "vflip": "true"}},
+                      {"id": "v2", "ctype": "volume", "channel": 1, "src": "/media/a/v.bin"}],
+           "outputs": [{"id": "4dfGRr", "channel": 0}]}]
+    export = tmp_path / "export.json"
+    export.write_text(json.dumps({"Shader": {"renderpass": rp}}))
+    with pytest.warns(FacetWarning) as caught:
+        project = load_shadertoy_json(export)
+    lines = [str(w.message) for w in caught]
+    assert len(lines) == 1 and "Image channel 0 is Shadertoy's grey noise volume" in lines[0]
+    from facet.lab.volumes import noise_volume
+
+    with ShaderToy(project=project, size=(1, 1)) as toy:
+        pixel = toy.render(0.0)[0, 0]
+    np.testing.assert_allclose(pixel, [noise_volume("grey")[0, 0, 0, 0] / 255,
+                                       *texels[0, 0, 0, 1:] / 255], atol=1e-6)
+    (tmp_path / "v.bin").write_bytes((tmp_path / "v.bin").read_bytes()[:-1])  # cut short
+    with pytest.raises(InputError, match=r"v\.bin: its header says 4 x 2 x 3 x 4 texels "
+                                         r"\(96 bytes\) but it holds 95"):
+        with pytest.warns(FacetWarning, match="stand-in"):
+            project = load_shadertoy_json(export)
+        with ShaderToy(project=project, size=(1, 1)):
+            pass
+    rp[0]["inputs"][1]["src"] = "/media/a/other.bin"
+    export.write_text(json.dumps({"Shader": {"renderpass": rp}}))
+    with pytest.raises(InputError, match=r"inputs\[1\]\.src: channel 1: a volume input needs "
+                                         r"the media file 'other\.bin'"):
+        load_shadertoy_json(export)
+
+
+def test_volume_files_from_the_command_line(tmp_path, capsys):
+    path, _ = _volume(tmp_path, 1)
+    shader = write(tmp_path / "vol.frag", VOLUME_READER)
+    out = tmp_path / "v.png"
+    assert main(["shader", str(shader), "--channel", f"image:0=volume:{path}:nearest",
+                 "--size", "4x2", "-o", str(out), "-q"]) == 0
+    assert out.exists()
+    (tmp_path / "bad.bin").write_bytes(b"PNG" + bytes(40))
+    assert main(["shader", str(shader), "--channel0", f"volume:{tmp_path / 'bad.bin'}",
+                 "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert "bad.bin: not a Shadertoy volume file" in err and "Traceback" not in err
+    assert not (tmp_path / "x.png").exists()
+    assert main(["shader", str(shader), "--channel0", "grey-noise3d", "--size", "4x2",
+                 "-o", str(out), "-q"]) == 0
+
+
+def test_an_export_whose_code_has_bare_carriage_returns_runs(tmp_path):
+    """Code in an export keeps the newlines it was typed with: an old Mac's bare CRs are
+    newlines, as in a file read as text (they were one line: no mainImage was found)."""
+    code = "#define HALF \\\r  0.5\rvoid mainImage(out vec4 c, in vec2 p) {\r c = vec4(HALF); }\r"
+    rp = [{"type": "image", "name": "Image", "code": code, "inputs": [],
+           "outputs": [{"id": "4dfGRr", "channel": 0}]}]
+    export = write(tmp_path / "cr.json", json.dumps({"Shader": {"renderpass": rp}}))
+    with ShaderToy(project=load_shadertoy_json(export), size=(2, 2)) as toy:
+        assert np.allclose(toy.render(0.0)[..., :3], 0.5)

@@ -59,6 +59,39 @@ void mainImage(out vec4 c, in vec2 p) { c = texture(iChannel0, p / iResolution.x
         assert np.allclose(out, 10 / 255, atol=1e-5)
 
 
+def test_passes_that_feed_no_later_frame_are_drawn_on_the_frame_shown_only(tmp_path):
+    """A headless frame at t runs every frame before it for a buffer that feeds back (A
+    reads itself), but buffers that read only this frame's inputs (B: this frame's A; C:
+    iTime and iFrame) and the Image pass are drawn once: the picture is the same, the work
+    of a slow shader up to 31 times less."""
+    a = write(tmp_path / "a.frag", """
+void mainImage(out vec4 c, in vec2 p) {
+    c = texelFetch(iChannel0, ivec2(p), 0) + vec4(1.0 / 255.0);
+}""")
+    b = write(tmp_path / "b.frag", """
+void mainImage(out vec4 c, in vec2 p) { c = 2.0 * texelFetch(iChannel0, ivec2(p), 0); }""")
+    c = write(tmp_path / "c.frag", """
+void mainImage(out vec4 c, in vec2 p) { c = vec4(iTime, float(iFrame) / 100.0, 0.0, 1.0); }""")
+    image = write(tmp_path / "image.frag", """
+void mainImage(out vec4 c, in vec2 p) {
+    c = vec4(texelFetch(iChannel0, ivec2(p), 0).x, texelFetch(iChannel1, ivec2(p), 0).xy,
+             1.0);
+}""")
+    with ShaderToy(image, buffers={"a": a, "b": b, "c": c},
+                   channels={0: "buffer-b", 1: "buffer-c"},
+                   pass_channels={"a": {0: "buffer-a"}, "b": {0: "buffer-a"}},
+                   size=(4, 4)) as st:
+        out = st.render(1.0, fps=30)  # frames 0..30
+        assert st.draws == 31 + 3  # A every frame; B, C and the image once
+        assert np.allclose(out[..., 0], 2 * 31 / 255, atol=1e-5)  # A's 31 frames
+        assert np.allclose(out[..., 1:3], [1.0, 0.30], atol=1e-5)  # C at frame 30, t = 1
+        st.restart()
+        st.draws = 0
+        for frame in range(31):  # a window's frames: every pass, every frame
+            st.step(frame / 30, 1 / 30, fps=30)
+        assert st.draws == 31 * 4 and np.allclose(st.read(), out, atol=1e-6)
+
+
 def test_common_file_and_image_channel(tmp_path):
     common = write(tmp_path / "common.glsl", "vec3 tint(vec3 c) { return c * 0.5; }\n")
     shader = write(tmp_path / "s.frag", """

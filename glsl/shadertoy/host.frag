@@ -2,7 +2,7 @@
 // Shadertoy's inputs around a user's mainImage (facet.lab.shadertoy fills them). The
 // user's code (and common file) is included at the marker line below; fragCoord has its
 // origin at the bottom-left pixel corner, as on Shadertoy. Each channel's sampler type
-// (sampler2D, or samplerCube for cube maps and the Cube A pass) comes as FACET_CHANNELn.
+// (sampler2D, samplerCube for cube maps and the Cube A pass, sampler3D for volumes) comes as FACET_CHANNELn.
 // With FACET_CUBE_PASS this is the Cube A pass: mainCubemap for face u_face (OpenGL's
 // order +X, -X, +Y, -Y, +Z, -Z) with the ray through each texel centre.
 // The wrapper's own names all start with facet_ so a user's #define cannot reach them.

@@ -78,12 +78,12 @@ def check_channels(project: P.Project) -> None:
                 flag = "--cube-a" if ch.source == "cube" else f"--buffer-{ch.source}"
                 raise InputError(f"{p.name} channel {n} reads {src}, but no {src} was given "
                                  f"({flag} FILE)")
-            if ch.kind in ("texture", "cube") and isinstance(ch.source, Path):
+            if ch.kind in ("texture", "cube", "volume") and isinstance(ch.source, Path):
                 from ..guard import check_confined
 
                 check_confined(ch.source, "texture file")  # before asking whether it exists
-                if ch.kind == "texture" and not ch.source.is_file():
-                    raise InputError(f"{ch.source}: no such texture file ({p.name} channel "
+                if ch.kind in ("texture", "volume") and not ch.source.is_file():
+                    raise InputError(f"{ch.source}: no such {ch.kind} file ({p.name} channel "
                                      f"{n})")
 
 

@@ -1,6 +1,6 @@
-"""The GL side of Shadertoy channels (facet.lab.project.Channel): image and cube-map
-textures (loaded once per file and flip), the keyboard texture, the noise texture, black,
-and one sampler object per (filter, wrap) setting.
+"""The GL side of Shadertoy channels (facet.lab.project.Channel): image, cube-map and
+volume textures (loaded once per file and flip), the keyboard texture, the noise texture,
+black, and one sampler object per (filter, wrap) setting.
 
 The keyboard texture is Shadertoy's: 256 x 3 texels, x = the JavaScript key code; row 0:
 held down, row 1: pressed this frame, row 2: toggled by each press (values 0 or 1).
@@ -75,6 +75,22 @@ class ChannelResources:
             tex = self.ctx.texture_cube((s, s), 4, _rgba(env.faces).tobytes(), dtype="f4")
             tex.build_mipmaps()
             self._textures[key] = (tex, (s, s))
+        return self._textures[key]
+
+    def volume(self, source):
+        """(3D texture, (x, y, z)) of a ``.bin`` volume file, or of the noise volume
+        ``"grey"`` / ``"rgba"`` (facet.lab.volumes), mipmapped."""
+        from .volumes import noise_volume, read_volume
+
+        key = ("volume", str(source), False)
+        if key not in self._textures:
+            texels = noise_volume(source) if source in ("grey", "rgba") else \
+                read_volume(source)
+            z, y, x, channels = texels.shape
+            dtype = "f1" if texels.dtype == np.uint8 else "f4"
+            tex = self.ctx.texture3d((x, y, z), channels, texels.tobytes(), dtype=dtype)
+            tex.build_mipmaps()
+            self._textures[key] = (tex, (x, y, z))
         return self._textures[key]
 
     def sampler(self, filter_: str, wrap: str):

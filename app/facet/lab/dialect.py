@@ -15,7 +15,9 @@ shader uses one it does not declare, with a desktop of no windows, one screen an
 virtual desktop.
 
 Accepted and handled: a UTF-8 byte-order mark (dropped), a ``#version`` line (blanked: the
-wrapper brings its own, and lines keep their numbers), ``precision`` lines and ``#ifdef
+wrapper brings its own, and lines keep their numbers), ``#extension`` lines for WebGL 1's
+extensions that GLSL 3.3 has built in (blanked: Mesa refuses an ``#extension`` after the
+wrapper's declarations, where other compilers take it), ``precision`` lines and ``#ifdef
 GL_ES`` blocks (valid GLSL 3.3), and a ``main()`` beside ``mainImage`` (renamed, as
 Shadertoy's wrapper renames it: exported buffer passes have one). Refused with a sentence
 of their own: an empty file, invisible characters pasted from web pages (no-break and
@@ -45,6 +47,16 @@ _MAIN_CUBEMAP = re.compile(r"\bvoid\s+mainCubemap\s*\(")
 _MAIN = re.compile(r"\bvoid\s+main\s*\(\s*(void\s*)?\)")
 _VIEWER_NAMES = re.compile(r"\b(gl_FragColor|u_time|u_resolution|u_mouse)\b")
 _VERSION = re.compile(r"^\s*#\s*version\b.*$", re.M)
+# WebGL 1 / GLSL ES 1.00 extensions whose functions GLSL 3.30 has in core: their
+# #extension lines are blanked (module docstring).
+CORE_EXTENSIONS = ("GL_OES_standard_derivatives", "GL_EXT_shader_texture_lod",
+                   "GL_EXT_frag_depth", "GL_EXT_draw_buffers", "GL_OES_texture_3D",
+                   "GL_EXT_shadow_samplers", "GL_OES_texture_float",
+                   "GL_OES_texture_float_linear", "GL_OES_texture_half_float",
+                   "GL_OES_texture_half_float_linear", "GL_OES_element_index_uint",
+                   "GL_EXT_color_buffer_float")
+_CORE_EXTENSION = re.compile(r"^[ \t]*#[ \t]*extension[ \t]+(?:%s)\b[^\n]*$"
+                             % "|".join(CORE_EXTENSIONS), re.M)
 INVISIBLE = {"\u00a0": "a no-break space (U+00A0)", "\u200b": "a zero-width space (U+200B)",
              "\u2009": "a thin space (U+2009)", "\ufeff": "a byte-order mark (U+FEFF)",
              "\u202f": "a narrow no-break space (U+202F)"}
@@ -90,6 +102,7 @@ def prepare(text: str, name: str, cube: bool = False, common: bool = False) -> P
     file (no entry point needed)."""
     text = text.removeprefix("\ufeff")
     text = _VERSION.sub("", text)  # the line stays, empty: numbers keep their meaning
+    text = _CORE_EXTENSION.sub("", text)
     for number, line in enumerate(text.splitlines(), start=1):
         for char, what in INVISIBLE.items():
             if char in line:
@@ -144,6 +157,8 @@ def blame_user(exc: ShaderError, name: str, text: str) -> ShaderError:
     code = re.sub(r"//[^\n]*|/\*.*?\*/", " ", text, flags=re.S)
     unclosed = [f"{code.count(o) - code.count(c)} unclosed '{o}'"
                 for o, c in (("{", "}"), ("(", ")"), ("[", "]")) if code.count(o) > code.count(c)]
+    if "/*" in code:  # (complete comments are gone: this one never closes)
+        unclosed.insert(0, "a /* comment with no */")
     cause = ("; it ends early: " + ", ".join(unclosed)) if unclosed else \
         " (a #define in it that renames something Shadertoy declares, like iTime?)"
     last = max(len(text.splitlines()), 1)

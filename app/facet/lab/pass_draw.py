@@ -28,32 +28,37 @@ class PassDrawing:
                        for p in self.project.ordered()}
 
     def _bind_channels(self, p: P.Pass) -> list:
-        """Per channel 0-3: (texture getter, sampler, resolution, is cube)."""
+        """Per channel 0-3: (texture getter, sampler, resolution, GLSL sampler type)."""
         return [self._input(p.channels.get(n, P.NOISE)) for n in range(4)]
 
     def _input(self, ch: P.Channel) -> tuple:
-        """(texture getter, sampler, resolution or None for the output's, is cube)."""
+        """(texture getter, sampler, resolution or None for the output's, GLSL sampler
+        type)."""
         sampler = self.resources.sampler(ch.filter, ch.wrap)
+        kind = ch.sampler_type
         if ch.kind == "buffer":
             cube = ch.source == "cube"
             return (self.targets.latest(ch.source), sampler,
-                    (self.cube_size,) * 2 if cube else None, cube)
+                    (self.cube_size,) * 2 if cube else None, kind)
         if ch.kind == "texture":
             tex, size = self.resources.image(ch.source, ch.vflip)
-            return (lambda: tex), sampler, size, False
+            return (lambda: tex), sampler, size, kind
         if ch.kind == "cube":
             tex, size = self.resources.cube(ch.source)
-            return (lambda: tex), sampler, size, True
+            return (lambda: tex), sampler, size, kind
+        if ch.kind == "volume":
+            tex, size = self.resources.volume(ch.source)
+            return (lambda: tex), sampler, size, kind
         if ch.kind == "black-cube":  # (a channel the code samples as a cube: nothing given)
             cube = self.resources.black_cube
-            return (lambda: cube), sampler, (1, 1), True
+            return (lambda: cube), sampler, (1, 1), kind
         if ch.kind == "keyboard":
             kb = self.resources.keyboard
-            return (lambda: kb), sampler, (256, 3), False
+            return (lambda: kb), sampler, (256, 3), kind
         if ch.kind == "noise":  # made when first drawn with: its mipmaps cost a compile
-            return (lambda: self.resources.noise), sampler, (NOISE_SIZE,) * 2, False
+            return (lambda: self.resources.noise), sampler, (NOISE_SIZE,) * 2, kind
         black = self.resources.black
-        return (lambda: black), sampler, (1, 1), False
+        return (lambda: black), sampler, (1, 1), kind
 
     def _where(self, p: P.Pass) -> str:
         """How a warning names pass ``p``: by its pass name when there are several, else
@@ -85,7 +90,8 @@ class PassDrawing:
         resolutions = []
         for n, (texture, sampler, size, _) in enumerate(self._bindings[p.key]):
             size = size or (self.width, self.height)
-            resolutions.append((float(size[0]), float(size[1]), 1.0))
+            resolutions.append((float(size[0]), float(size[1]),
+                                float(size[2]) if len(size) > 2 else 1.0))
             read = [name for name in (f"iChannel{n}", f"u_tex{n}") if name in prog]
             if read:  # a channel the compiled pass does not read is not bound (nor made)
                 texture().use(location=n)

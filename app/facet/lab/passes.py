@@ -8,6 +8,8 @@ blamed on it.
 
 from __future__ import annotations
 
+import warnings
+
 from ..errors import InputError, ShaderError
 from ..gl.fullscreen import fullscreen_vertex
 from ..gl.glsl_source import display_path, glsl_root
@@ -17,9 +19,9 @@ from .dialect import GLSLVIEWER, blame_user, declared_inputs, prepare
 from .shadertoy_json import load_shadertoy_json
 
 
-def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, str]:
-    """(program, dialect) of pass ``p``; ``cubes``: per channel 0-3 whether it is a cube
-    map (its sampler type)."""
+def compile_pass(ctx, project: P.Project, p: P.Pass, types) -> tuple[Program, str]:
+    """(program, dialect) of pass ``p``; ``types``: per channel 0-3 its GLSL sampler type
+    (sampler2D, samplerCube or sampler3D)."""
     name = display_path(p.path)
     try:
         text = source(project, p)
@@ -55,8 +57,8 @@ def compile_pass(ctx, project: P.Project, p: P.Pass, cubes) -> tuple[Program, st
     defines = {"HW_PERFORMANCE": 1, **p.defines}
     if prepared.kind != GLSLVIEWER:
         defines.update(dict.fromkeys(sorted(wanted)))
-    for n, cube in enumerate(cubes):
-        defines[f"FACET_CHANNEL{n}"] = "samplerCube" if cube else "sampler2D"
+    for n, kind in enumerate(types):
+        defines[f"FACET_CHANNEL{n}"] = kind
     if p.key == "cube":
         defines["FACET_CUBE_PASS"] = None
     if prepared.frag_color:
@@ -77,7 +79,9 @@ def source(project: P.Project, p: P.Pass) -> str:
         return read_text(p.path, "shader file")
     origin = project.origin
     if origin is not None and origin.suffix.lower() == ".json" and origin.is_file():
-        fresh = load_shadertoy_json(origin, project.media).passes.get(p.key)
+        with warnings.catch_warnings():  # (said when the export was first read)
+            warnings.simplefilter("ignore")
+            fresh = load_shadertoy_json(origin, project.media).passes.get(p.key)
         if fresh is not None:
             return fresh.code
     return p.code

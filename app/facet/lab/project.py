@@ -5,12 +5,15 @@ TOML project file, or a Shadertoy JSON export (the format its API returns).
 
 Channel sources: ``buffer-a`` ... ``buffer-d``, ``cube-a`` (the Cube A pass), ``keyboard``,
 an image file, a cube map (a folder of six faces ``px nx py ny pz nz`` or an image of an
-environment, with ``cube:`` in front), ``noise`` (facet's stand-in for Shadertoy's "RGBA
-Noise Medium": 256 x 256 random bytes, the same every run), or ``none`` (black). A channel
+environment, with ``cube:`` in front), a volume (a Shadertoy ``.bin`` file with
+``volume:`` in front, or ``grey-noise3d`` / ``rgba-noise3d``: facet's stand-ins for its
+built-in noise volumes, facet.lab.volumes), ``noise`` (facet's stand-in for Shadertoy's
+"RGBA Noise Medium": 256 x 256 random bytes, the same every run), or ``none`` (black). A channel
 nobody gave that a shader reads gets the noise, with one warning line (most pasted shaders
 that read an unset iChannel want a noise texture; ``none`` asks for black). Sampler
 settings follow Shadertoy's defaults: images and noise mipmapped, repeating and flipped so
-that v = 0 is their bottom row; buffers linear and clamped; cube maps linear.
+that v = 0 is their bottom row; buffers linear and clamped; cube maps linear; volumes
+mipmapped and repeating.
 """
 
 from __future__ import annotations
@@ -30,13 +33,14 @@ BUFFER_SOURCES = {"buffer-a": "a", "buffer-b": "b", "buffer-c": "c", "buffer-d":
                   "cube-a": "cube"}
 FILTERS = ("nearest", "linear", "mipmap")
 WRAPS = ("clamp", "repeat")
-UNSUPPORTED = ("music", "musicstream", "mic", "webcam", "video", "volume")
+UNSUPPORTED = ("music", "musicstream", "mic", "webcam", "video")
 
 
 @dataclass(frozen=True)
 class Channel:
     """One iChannel input. ``kind``: "buffer" (``source`` a pass key), "texture" or "cube"
-    (``source`` a path), "keyboard", or "none" (black)."""
+    (``source`` a path), "volume" (a path, or "grey" / "rgba" for the noise volumes),
+    "keyboard", "noise", "black-cube" or "none" (black)."""
 
     kind: str = "none"
     source: object = None
@@ -48,6 +52,13 @@ class Channel:
     def is_cube(self) -> bool:
         return self.kind in ("cube", "black-cube") or \
             (self.kind == "buffer" and self.source == "cube")
+
+    @property
+    def sampler_type(self) -> str:
+        """The GLSL type the pass samples it through."""
+        if self.is_cube:
+            return "samplerCube"
+        return "sampler3D" if self.kind == "volume" else "sampler2D"
 
 
 NOISE = Channel("noise", None, "mipmap", "repeat", True)  # also what an unset channel reads
@@ -107,6 +118,11 @@ def channel(spec, where: str, base: Path | None = None, **settings) -> Channel:
         ch = NOISE
     elif text.startswith("cube:"):
         ch = Channel("cube", _resolve(text[5:], base), "linear", "clamp", False)
+    elif text in ("grey-noise3d", "rgba-noise3d", "noise3d"):
+        ch = Channel("volume", "grey" if text.startswith("grey") else "rgba", "mipmap",
+                     "repeat", False)
+    elif text.startswith("volume:"):
+        ch = Channel("volume", _resolve(text[7:], base), "mipmap", "repeat", False)
     else:
         from ..scene.texture import Texture
 
@@ -140,8 +156,8 @@ def parse_compact(text: str, where: str) -> tuple[str | None, int, Channel]:
     key = pass_key(target, where) if target else None
     parts = rest.split(":")
     source = parts.pop(0)
-    if source == "cube" and parts:  # cube:PATH keeps its own colon
-        source = f"cube:{parts.pop(0)}"
+    if source in ("cube", "volume") and parts:  # cube:PATH keeps its own colon
+        source = f"{source}:{parts.pop(0)}"
     settings = {}
     for opt in parts:
         if opt in FILTERS:

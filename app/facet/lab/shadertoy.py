@@ -109,6 +109,7 @@ class ShaderToy(PassDrawing):
         self.ctx = glcontext.create_headless() if context is None else context
         self.uniforms: dict[str, np.ndarray] = {}  # user uniforms, kept across reloads
         self.frame, self.time = 0, 0.0
+        self.draws = 0  # passes drawn so far (a cube pass counts once for its six faces)
         self.vaos: dict = {}
         self.dialects: dict[str, str] = {}
         self.watched = WatchedPrograms()
@@ -144,9 +145,9 @@ class ShaderToy(PassDrawing):
 
     # -- programs and reloading ------------------------------------------------------------
     def _compile(self, p: P.Pass) -> Program:
-        cubes = [cube for _, _, _, cube in self._bindings[p.key]]
+        types = [kind for _, _, _, kind in self._bindings[p.key]]
         try:
-            prog, self.dialects[p.key] = compile_pass(self.ctx, self.project, p, cubes)
+            prog, self.dialects[p.key] = compile_pass(self.ctx, self.project, p, types)
         except ShaderError as exc:
             sampled = self._sampled_as_cubes(p, exc)
             if not sampled:
@@ -160,8 +161,8 @@ class ShaderToy(PassDrawing):
                               f"one; give --channel{n} cube:FOLDER (six faces) or an "
                               "equirectangular image", FacetWarning, stacklevel=4)
             self._bindings[p.key] = self._bind_channels(p)
-            cubes = [cube for _, _, _, cube in self._bindings[p.key]]
-            prog, self.dialects[p.key] = compile_pass(self.ctx, self.project, p, cubes)
+            types = [kind for _, _, _, kind in self._bindings[p.key]]
+            prog, self.dialects[p.key] = compile_pass(self.ctx, self.project, p, types)
         for uniform, values in self.uniforms.items():  # user uniforms survive a reload
             write_uniform(prog, uniform, values)
         return prog
@@ -306,6 +307,10 @@ class ShaderToy(PassDrawing):
         fps : float
             ``iFrameRate``.
         """
+        self._step(time, time_delta, mouse, date, fps, None)
+
+    def _step(self, time, time_delta, mouse, date, fps, keys) -> None:
+        """``step``, drawing only the passes in ``keys`` (None: every one)."""
         date = date or self.date or datetime.datetime.now()
         seconds = date.hour * 3600 + date.minute * 60 + date.second + date.microsecond / 1e6
         day = (float(date.year), float(date.month - 1), float(date.day), seconds)
@@ -320,7 +325,9 @@ class ShaderToy(PassDrawing):
             self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND | self.ctx.CULL_FACE)
             self.resources.upload_keys()
             for p in self.project.ordered():
-                self._draw_pass(p, shared, time)
+                if keys is None or p.key in keys:
+                    self._draw_pass(p, shared, time)
+                    self.draws += 1
             self.ctx.clear_samplers(0, 4 + max(len(n) for n in self._named.values()))
         self.frame += 1
         self.time = time
@@ -330,7 +337,8 @@ class ShaderToy(PassDrawing):
                mouse: Mouse = (0.0, 0.0, 0.0, 0.0),
                date: datetime.datetime | None = None) -> np.ndarray:
         """The image at ``time`` seconds. With buffers, frames run from 0 at a fixed step of
-        1 / ``fps`` up to ``time`` (so feedback is deterministic); without, one frame is drawn.
+        1 / ``fps`` up to ``time`` (so feedback is deterministic), though a pass that does not
+        feed a later frame is drawn on the last one only; without buffers, one frame is drawn.
 
         Parameters
         ----------
@@ -355,9 +363,38 @@ class ShaderToy(PassDrawing):
         else:
             if target < self.frame:
                 self.restart()
-            while self.frame <= target:
-                self.step(self.frame / fps, 1.0 / fps, mouse, date, fps)
+            carried = self._carried()
+            while self.frame <= target:  # frames before the one shown: what feeds forward
+                self._step(self.frame / fps, 1.0 / fps, mouse, date, fps,
+                           None if self.frame == target else carried)
         return self.read()
+
+    def _pass_reads(self, key: str, name) -> bool:
+        """Whether pass ``key``'s compiled program reads input ``name`` (a channel number
+        or a sampler's name): the compiler drops what the code never samples."""
+        prog = self.programs[key].gl
+        names = (f"iChannel{name}", f"u_tex{name}") if isinstance(name, int) else (name,)
+        return any(n in prog for n in names)
+
+    def _carried(self) -> set[str]:
+        """The passes a frame needs from the frames before it: each pass some pass reads
+        last frame's picture of (itself, or one drawn later in the frame), and every pass
+        these read. The others (the Image pass always) depend on the frame's inputs and
+        this frame's buffers alone, so ``render`` draws them on the frame it shows only:
+        the same picture, without the work of every frame on the way."""
+        order = [p.key for p in self.project.ordered()]
+        reads = {p.key: {ch.source for name, ch in p.inputs().items()
+                         if ch.kind == "buffer" and ch.source in order
+                         and self._pass_reads(p.key, name)}
+                 for p in self.project.ordered()}
+        needed = {source for key in order for source in reads[key]
+                  if order.index(source) >= order.index(key)}
+        todo = list(needed)
+        while todo:
+            for source in reads[todo.pop()] - needed:
+                needed.add(source)
+                todo.append(source)
+        return needed
 
     @checked
     def resize(self, width: Annotated[int, Count(1, 1 << 16)],

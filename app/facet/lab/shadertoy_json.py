@@ -60,12 +60,14 @@ def load_shadertoy_json(path, media: Path | None = None) -> Project:
     passes, common_code, skipped = {}, None, set()
     for i, (rp, key) in enumerate(zip(renderpasses, keys, strict=True)):
         at = f"{passes_at}[{i}]"
-        code = _text(rp.get("code", ""), f"{at}.code")
+        # (newlines as a file read as text has them: an old Mac export's bare CRs too)
+        code = _text(rp.get("code", ""), f"{at}.code").replace("\r\n", "\n")
+        code = code.replace("\r", "\n")
         if key == "common":
             common_code = code
             continue
         if key == "sound":
-            skipped.add("the Sound pass")
+            skipped.add("not supported, left out: the Sound pass")
             continue
         where = f"{path.name}: {PASS_NAMES[key]}"
         chans = {}
@@ -75,21 +77,22 @@ def load_shadertoy_json(path, media: Path | None = None) -> Project:
             if n in chans:
                 raise InputError(f"{at}.inputs[{j}].channel: channel {n} is given twice")
             if what is not None:
-                skipped.add(f"{what} inputs ({PASS_NAMES[key]} channel {n}: black)")
+                skipped.add(what if " " in what else f"not supported, left out: {what} "
+                            f"inputs ({PASS_NAMES[key]} channel {n}: black)")
             chans[n] = ch
         passes[key] = Pass(key, path.with_name(f"{path.name}[{PASS_NAMES[key]}]"), code,
                            chans)
     if "image" not in passes:
         raise InputError(f"{path.name}: the export has no Image pass")
     for what in sorted(skipped):
-        warnings.warn(f"{path.name}: not supported, left out: {what}", FacetWarning,
-                      stacklevel=2)
+        warnings.warn(f"{path.name}: {what}", FacetWarning, stacklevel=2)
     common = path.with_name(f"{path.name}[Common]") if common_code is not None else None
     return Project(passes, common, common_code, origin=path, media=media)
 
 
 def _input(inp: dict, at: str, where: str, writers: dict, media: Path):
-    """(channel number, Channel, the unsupported kind it stands in for or None)."""
+    """(channel number, Channel, the unsupported kind it stands in for, or a warning
+    line about it, or None)."""
     n = inp.get("channel", 0)
     if isinstance(n, str) and re.fullmatch(r"[0-3]", n):
         n = int(n)
@@ -124,6 +127,18 @@ def _input(inp: dict, at: str, where: str, writers: dict, media: Path):
         file = _media(media, src, f"{at}.src: channel {n}")
         return n, channel(("cube:" if ctype == "cubemap" else "") + str(file), where,
                           **settings), None
+    if ctype == "volume":
+        from .volumes import export_volume
+
+        try:
+            source, stand_in = export_volume(src, media)
+        except InputError as exc:
+            raise InputError(f"{at}.src: channel {n}: {exc}") from None
+        spec = source if stand_in else f"volume:{source}"
+        return n, channel(spec, where, **settings), (
+            f"{where.partition(': ')[2]} is Shadertoy's {source.split('-')[0]} noise volume: it reads facet's "
+            "stand-in (the same size and channels, other random numbers)"
+            if stand_in else None)
     if ctype == "keyboard":
         return n, channel("keyboard", where), None
     if ctype in UNSUPPORTED:
