@@ -732,3 +732,42 @@ def test_the_window_shows_gaussian_splats_as_the_headless_render(window, tmp_pat
         ref = r.render(facet.load(tmp_path / "cloud.ply"), camera).color[..., :3]
     diff = np.abs(shot.astype(int) - ref).max(axis=2)
     assert shot.std() > 5 and np.median(diff) <= 1 and (diff > 3).mean() <= 0.01
+
+
+CHECKER = ("void mainImage(out vec4 c, in vec2 p) {{\n"
+           "  float s = 0.0;\n"
+           "  for (int i = 0; i < {loop}; i++) s += sin(s + {time} * float(i));\n"
+           "  c = vec4(vec3(mod(floor(p.x) + floor(p.y), 2.0)) + 1e-9 * s, 1.0);\n}}\n")
+
+
+def _crisp(img) -> float:
+    """The share of horizontal neighbours a 1-pixel checker keeps apart (1 at full size)."""
+    return (np.abs(np.diff(img[:, :, 0], axis=1)) > 200).mean()
+
+
+@pytest.mark.parametrize("animated", [False, True])
+def test_the_shader_window_previews_small_then_draws_the_size_it_can(window, tmp_path,
+                                                                     animated):
+    """The first frame is drawn at a quarter size; a still picture then refines to the
+    window's size (the 1-pixel checker exact), and an animation keeps the size whose frames
+    keep up, said in the title with what a full frame costs (on llvmpipe a 2000-step loop
+    a pixel: a preview; on a fast GPU the full size), and the picture agrees with the title;
+    f asks for the full size."""
+    path = tmp_path / "slow.frag"
+    path.write_text(CHECKER.format(loop=2000, time="iTime" if animated else "1.0"))
+    w = window(str(path), "--size", f"{W}x{H}", command="shader")
+    if not animated:
+        shot = w.screen(until_=lambda img: _crisp(img) > 0.99, timeout=60)
+        assert " at 1/" not in w.title()
+        assert w.quit() == 0
+        return
+    title = w.wait_title(lambda t: " at 1/" in t or "error" in t or
+                         (_crisp(w.grab()) > 0.99), timeout=60)
+    assert "error" not in title
+    if " at 1/" in title:  # a preview: it says so, and the picture is smaller than the window
+        assert "a full-size frame takes about" in title and "f: full size" in title
+        assert _crisp(w.grab()) < 0.5
+        w.key("f")
+        w.wait_title(lambda t: " at 1/" not in t)
+        until(lambda: _crisp(w.grab()) > 0.99, 60, "the full-size picture")
+    assert w.quit() == 0

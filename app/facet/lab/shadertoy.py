@@ -416,6 +416,11 @@ class ShaderToy(PassDrawing):
         self.frame = 0
 
     @property
+    def image_texture(self):
+        """The Image pass's picture as a texture (RGBA32F, bottom-up)."""
+        return self.targets["image"][0][0]
+
+    @property
     def image_framebuffer(self):
         """Where the image pass draws (bottom-up, like any GL framebuffer)."""
         return self.targets.image_framebuffer

@@ -7,9 +7,14 @@ frame, the error goes to the window title and to stderr as ``path:line:col: erro
 message``; fixing the file brings the picture back. Uniforms and textures survive a reload
 and iTime keeps running. Mouse: Shadertoy's iMouse (xy while a button is held, origin
 bottom-left; z/w the click, negative once released). Keys: q / Esc quit, space pauses,
-r restarts time and buffers; when a pass reads the keyboard channel every key but Esc goes
-to the shader (Shadertoy's keyboard texture, JavaScript key codes). iDate is the wall clock
-unless --date fixes it.
+r restarts time and buffers, f draws at the window's full size whatever a frame costs;
+when a pass reads the keyboard channel every key but Esc goes to the shader (Shadertoy's
+keyboard texture, JavaScript key codes). iDate is the wall clock unless --date fixes it.
+
+The first frame is drawn at a quarter of the window's width and height and its cost
+decides the size after it (facet.window.preview): a still picture refines to the full
+size; an animation keeps the largest size that draws at 15 frames a second or more, and
+the title says so (``drawn at 1/4 size: a full-size frame takes about 3.2 s``).
 
 It draws only when the picture can change: every frame while the program reads a time or
 frame input or a buffer feeds back on itself (ShaderToy.animated); otherwise once, and
@@ -23,6 +28,7 @@ import sys
 import time
 
 from .base import POLL, Debounce, GLWindow
+from .preview import PreviewSize
 
 HEADLESS_HINT = "render frames with -o, e.g. -o frame.png or --time 0:4 -o clip.mp4"
 # GLFW key -> the JavaScript key code Shadertoy's keyboard texture is indexed by (letters,
@@ -58,6 +64,8 @@ class ShaderWindow:
         self.start = self.last = time.perf_counter()
         self.mouse = [0.0, 0.0, 0.0, 0.0]
         self.debounce = Debounce()
+        self.preview = PreviewSize()
+        self._upscale = None  # the full-screen pass that stretches a smaller picture
         glfw.set_key_callback(self.win.handle, self._on_key)
         glfw.set_mouse_button_callback(self.win.handle, self._on_button)
         glfw.set_cursor_pos_callback(self.win.handle, self._on_cursor)
@@ -87,6 +95,10 @@ class ShaderWindow:
         elif key == glfw.KEY_R:
             self.toy.restart()
             self.start = time.perf_counter()
+            self.dirty = True
+        elif key == glfw.KEY_F:
+            self.preview.toggle_full()
+            self._set_title()
             self.dirty = True
 
     def _pixel(self, x, y):
@@ -118,28 +130,61 @@ class ShaderWindow:
         else:
             self.error = result.errors.splitlines()[0]
             print(result.errors, file=sys.stderr)
-        title = f"facet shader - {self.name}"
-        self.win.set_title(f"{title} - error: {self.error}" if self.error else title)
+        self._set_title()
         self.dirty = True
+
+    def _set_title(self, doing: str = "") -> None:
+        """The name, then what is being drawn, the preview's size, or the error."""
+        parts = [f"facet shader - {self.name}"]
+        if self.error:
+            parts.append(f"error: {self.error}")
+        elif doing or self.preview.status():
+            parts.append(doing or self.preview.status())
+        self.win.set_title(" - ".join(parts))
 
     def frame(self):
         fb = self.win.framebuffer_size
         if min(fb) < 1:
             return
-        self.toy.resize(*fb)
+        size = self.preview.size(fb)
+        self.toy.resize(*size)
+        cost = self.preview.full_cost
+        if size == tuple(fb) and cost is not None and cost > 1.0 and not self.toy.animated:
+            self._set_title(f"refining to full size, about {cost:.1f} s")  # (it blocks)
+            self.glfw.poll_events()
         now = time.perf_counter()
         if not self.paused:
             self.toy.step(now - self.start, now - self.last, tuple(self.mouse), fps=self.fps)
             self.mouse[3] = -abs(self.mouse[3])  # the click shows for one frame only
             self.toy.resources.keys[1] = 0  # "pressed" lasts one frame
+            if not self.preview.measured:
+                self.win.ctx.finish()  # (GL runs behind: wait for the frame to time it)
+                if self.preview.measure(time.perf_counter() - now, self.toy.animated):
+                    self.dirty = True  # drawn again at the size chosen
+                self._set_title()
         self.last = now
+        self._show(size, fb)
+        if size == tuple(fb) and cost is not None and cost > 1.0 and not self.toy.animated:
+            self._set_title()
+        self.win.swap()
+
+    def _show(self, size, fb) -> None:
+        """The toy's picture on the window: copied, or stretched when drawn smaller."""
         ctx = self.win.ctx
         with ctx:
+            ctx.screen.use()
             ctx.screen.viewport = (0, 0, *fb)
-            ctx.copy_framebuffer(ctx.screen, self.toy.image_framebuffer)
+            if size == tuple(fb):
+                ctx.copy_framebuffer(ctx.screen, self.toy.image_framebuffer)
+            else:
+                if self._upscale is None:
+                    from ..gl.fullscreen import FullScreenPass
+
+                    self._upscale = FullScreenPass(ctx, "post/upscale.frag")
+                self._upscale.draw({"u_source": self.toy.image_texture},
+                                   u_size=tuple(float(v) for v in fb))
             if self.error:
                 self.win.draw_error_frame()
-        self.win.swap()
 
     def run(self):
         while not self.win.should_close():
@@ -154,6 +199,9 @@ class ShaderWindow:
             self._check_reload()
 
     def close(self):
+        if self._upscale is not None:
+            with self.win.ctx:
+                self._upscale.release()
         self.toy.close()
         self.win.close()
 
