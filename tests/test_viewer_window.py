@@ -757,7 +757,7 @@ def test_the_shader_window_previews_small_then_draws_the_size_it_can(window, tmp
     path.write_text(CHECKER.format(loop=2000, time="iTime" if animated else "1.0"))
     w = window(str(path), "--size", f"{W}x{H}", command="shader")
     if not animated:
-        shot = w.screen(until_=lambda img: _crisp(img) > 0.99, timeout=60)
+        w.screen(until_=lambda img: _crisp(img) > 0.99, timeout=60)
         assert " at 1/" not in w.title()
         assert w.quit() == 0
         return

@@ -20,7 +20,8 @@ from ..errors import FacetError, ShaderError
 from . import bindings
 from .glsl_source import ExpandedSource, display_path, expand, glsl_root
 
-_MESA = re.compile(r"^\s*\d+:(\d+)\((\d+)\):\s*(?:preprocessor\s+)?(error|warning)\s*:?\s*(.*)$", re.I)
+_MESA = re.compile(r"^\s*\d+:(\d+)\((\d+)\):\s*(?:preprocessor\s+)?(error|warning)\s*:?\s*(.*)$",
+                   re.I)
 _NVIDIA = re.compile(r"^\s*\d+\((\d+)\)\s*:\s*(error|warning)\s*\w*\s*:?\s*(.*)$", re.I)
 _STAGE_HEADERS = {"vertex_shader": "vertex", "fragment_shader": "fragment",
                   "geometry_shader": "geometry", "compute_shader": "compute"}

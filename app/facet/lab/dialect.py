@@ -55,8 +55,8 @@ CORE_EXTENSIONS = ("GL_OES_standard_derivatives", "GL_EXT_shader_texture_lod",
                    "GL_OES_texture_float_linear", "GL_OES_texture_half_float",
                    "GL_OES_texture_half_float_linear", "GL_OES_element_index_uint",
                    "GL_EXT_color_buffer_float")
-_CORE_EXTENSION = re.compile(r"^[ \t]*#[ \t]*extension[ \t]+(?:%s)\b[^\n]*$"
-                             % "|".join(CORE_EXTENSIONS), re.M)
+_CORE_EXTENSION = re.compile(rf"^[ \t]*#[ \t]*extension[ \t]+(?:{'|'.join(CORE_EXTENSIONS)})"
+                             r"\b[^\n]*$", re.M)
 INVISIBLE = {"\u00a0": "a no-break space (U+00A0)", "\u200b": "a zero-width space (U+200B)",
              "\u2009": "a thin space (U+2009)", "\ufeff": "a byte-order mark (U+FEFF)",
              "\u202f": "a narrow no-break space (U+202F)"}

@@ -135,10 +135,10 @@ def _input(inp: dict, at: str, where: str, writers: dict, media: Path):
         except InputError as exc:
             raise InputError(f"{at}.src: channel {n}: {exc}") from None
         spec = source if stand_in else f"volume:{source}"
-        return n, channel(spec, where, **settings), (
-            f"{where.partition(': ')[2]} is Shadertoy's {source.split('-')[0]} noise volume: it reads facet's "
-            "stand-in (the same size and channels, other random numbers)"
-            if stand_in else None)
+        note = (f"{where.partition(': ')[2]} is Shadertoy's {source.split('-')[0]} noise "
+                "volume: it reads facet's stand-in (the same size and channels, other "
+                "random numbers)")
+        return n, channel(spec, where, **settings), note if stand_in else None
     if ctype == "keyboard":
         return n, channel("keyboard", where), None
     if ctype in UNSUPPORTED:
