@@ -135,10 +135,12 @@ def _input(inp: dict, at: str, where: str, writers: dict, media: Path):
         except InputError as exc:
             raise InputError(f"{at}.src: channel {n}: {exc}") from None
         spec = source if stand_in else f"volume:{source}"
+        if not stand_in:
+            return n, channel(spec, where, **settings), None
         note = (f"{where.partition(': ')[2]} is Shadertoy's {source.split('-')[0]} noise "
                 "volume: it reads facet's stand-in (the same size and channels, other "
                 "random numbers)")
-        return n, channel(spec, where, **settings), note if stand_in else None
+        return n, channel(spec, where, **settings), note
     if ctype == "keyboard":
         return n, channel("keyboard", where), None
     if ctype in UNSUPPORTED:
