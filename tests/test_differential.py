@@ -46,12 +46,12 @@ def _load(name):
     return scene, [str(w.message) for w in said]
 
 
-def _render(r, scene, engine, **opts):
+def _render(r, scene, engine, aa="none", **opts):
     """A render and the warning lines it said."""
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
         r._warned.clear()
-        frame = r.render(scene, engine=engine, aa="none", **opts)
+        frame = r.render(scene, engine=engine, aa=aa, **opts)
         frame.settle()
     return frame, [str(w.message) for w in said]
 
@@ -197,15 +197,7 @@ def dish_twin(folder):
 TWINS = {"DishTwin": dish_twin}
 
 
-# Found by the check below and not fixed yet: a 20x-brighter anisotropic highlight in the
-# rasterizer than in the Whitted tracer on one sphere (and half as bright on two others).
-LIGHTS_DIFFER = {"AnisotropyStrengthTest": "the anisotropic lobe under a headlight: "
-                 "rasterizer 3.1, Whitted tracer 0.18 on material5 (open)"}
-
-
-@pytest.mark.parametrize("name", [
-    *TWINS, *(pytest.param(m, marks=pytest.mark.xfail(strict=True, reason=LIGHTS_DIFFER[m]))
-              if m in LIGHTS_DIFFER else m for m in MODELS if m not in REFUSED)])
+@pytest.mark.parametrize("name", [*TWINS, *(m for m in MODELS if m not in REFUSED)])
 def test_every_surface_the_rasterizer_lights_the_whitted_tracer_lights(name, tmp_path):
     """Under the default lights and the notes' ambient term (no environment, no shadows),
     each object the rasterizer and the Whitted tracer both see, transmitting and masked
@@ -216,20 +208,29 @@ def test_every_surface_the_rasterizer_lights_the_whitted_tracer_lights(name, tmp
     surfaces only; the Whitted tracer's lit picture of glass and masked metal was compared
     with nothing. The DishTwin written here (single-sided glass over masked gold) runs
     too; the black dish itself came from the sample file, which ../shared does not hold,
-    and tests/test_material_record.py checks its cause (the glass's far side).)"""
+    and tests/test_material_record.py checks its cause (the glass's far side).) Both
+    engines take the same 2 x 2 grid of samples a pixel: AnisotropyStrengthTest's mirror
+    metals (roughness 0) have lobes a line thin, whose one-sample value swings by 100x with
+    the last bits of the normal (with 16 samples a pixel the two agree per object to 0.4%),
+    and each picture is compared as 8 bits show it, clipped at 1. (What this check first
+    found there was the Whitted tracer's float colour clamped to 1: a highlight of 3.1 read
+    0.18; tests/test_path.py checks every engine's float colour.)"""
     if name in TWINS:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             scene = facet.load(TWINS[name](tmp_path))
     else:
         scene, _ = _load(name)
-    opts = dict(lights="camera", outputs=("color", "ids"), shadows=False, float_color=True)
+    opts = dict(lights="camera", outputs=("color", "ids"), shadows=False, float_color=True,
+                aa="ssaa:grid:4")
     with facet.Renderer(SIZE * 2, SIZE * 2) as r:
         raster, _ = _render(r, scene, "raster", **opts)
         trace, _ = _render(r, scene, "trace", **opts)
     luminance = np.array([0.2126, 0.7152, 0.0722])
-    a = _blurred(raster.color[..., :3]) @ luminance
-    b = _blurred(trace.color[..., :3]) @ luminance
+    # As an 8-bit picture shows it (clipped at 1): a highlight's spike above 1 swings with
+    # where a sample lands on a line-thin lobe, and says nothing of a surface left dark.
+    a = _blurred(np.minimum(raster.color[..., :3], 1.0)) @ luminance
+    b = _blurred(np.minimum(trace.color[..., :3], 1.0)) @ luminance
     same = _same_ids(raster.object_ids, trace.object_ids) & (raster.object_ids >= 0)
     caught = []
     for oid in np.unique(raster.object_ids[same]):

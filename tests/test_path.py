@@ -199,6 +199,23 @@ def test_float_colour_is_radiance_unclamped_and_8_bit_is_clamped():
     assert tuple(ldr.color[8, 8]) == (255, 255, 255, 255)
 
 
+@pytest.mark.parametrize("engine,aa", [("raster", "none"), ("raster", "msaa:4"),
+                                       ("raster", "ssaa:grid:4"), ("trace", "none"),
+                                       ("trace", "ssaa:grid:4"), ("path", None)])
+def test_float_colour_is_unclamped_in_every_engine_and_every_anti_aliasing(engine, aa):
+    """The same emitter of radiance 4 reads 4 in float colour from every engine and every
+    kind of anti-aliasing (the Whitted tracer and the rasterizer's supersampling clamped it
+    to 1 in the finishing pass, while the one-sample rasterizer kept it: a highlight of 3.1
+    read 0.18, issue 49's AnisotropyStrengthTest difference)."""
+    mat = PbrMaterial(base_color=(0, 0, 0, 1), metallic=0.0, emissive=(1, 0.5, 0.25),
+                      emissive_strength=4.0)
+    sampling = dict(spp=2) if aa is None else dict(aa=aa)
+    with facet.Renderer(16, 16) as r:
+        hdr = r.render(_sphere_scene(mat), CAMERA, engine=engine, float_color=True,
+                       lights="scene", **sampling)
+    np.testing.assert_allclose(hdr.color[8, 8], (4.0, 2.0, 1.0, 1.0), rtol=1e-4)
+
+
 def test_the_rasterizer_keeps_a_rough_metals_energy_too():
     """The same lobe scale in the rasterizer's image-based light (split sum) and in its
     direct light: a white rough metal in a white constant environment reads 1."""

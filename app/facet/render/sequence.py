@@ -150,9 +150,9 @@ class PassSequence:
         eight_bit = not opts.float_color or dest.window is not None
         # Float colour is linear light in every engine: encoding is for 8-bit output only.
         encode = eight_bit if engine.radiance else opts.srgb and eight_bit
-        # Radiance into float output is kept as it is: unclamped (and untonemapped).
-        finish = finish_for(bg, encode, max(done, 1),
-                            clamp=eight_bit or not engine.radiance)
+        # Float output is linear light kept as it is, in every engine and every kind of
+        # anti-aliasing: unclamped (and untonemapped), as a single-sample raster writes it.
+        finish = finish_for(bg, encode, max(done, 1), clamp=eight_bit)
         return self._finish(source, None, finish, opts, dest, surf), done
 
     def _view_watch(self, engine, opts, dest) -> SampleBudget | None:
