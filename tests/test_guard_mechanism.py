@@ -39,7 +39,8 @@ _MODULE_READS = {  # (module alias as written, function)
     ("trimesh", "load_scene"), ("OpenEXR", "InputFile"), ("OpenEXR", "File"),
     ("json", "load"), ("tomllib", "load"), ("pickle", "load"), ("io", "open"),
     ("codecs", "open"), ("zipfile", "ZipFile"), ("tarfile", "open"), ("np", "load"),
-    ("os", "fdopen"),
+    ("os", "fdopen"), ("Sdf.Layer", "FindOrOpen"), ("Sdf.Layer", "OpenAsAnonymous"),
+    ("Usd.Stage", "Open"), ("yourdfpy.URDF", "load"), ("URDF", "load"),
 }
 
 

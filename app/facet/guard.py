@@ -352,3 +352,107 @@ def parse_toml(text: str, name: str, error=InputError) -> dict:
     except RecursionError:
         raise error(f"{name}: nested too deeply to read (tables or arrays inside one "
                     "another thousands of times)") from None
+
+
+# -- libraries that open files themselves, by name ------------------------------------------
+def library_path(path, what: str = "file", error=InputError) -> str:
+    """The resolved name of ``path`` for a library that opens files itself (pxr's layers,
+    URDF meshes): every check ``opened`` makes (confinement with links resolved, a regular
+    file within the size budget, no LFS pointer, readable) done on it first. The library
+    reads by name after that; facet reads nothing through it."""
+    with opened(path, what, error):
+        pass
+    return str(Path(path).resolve())
+
+
+def check_package(path, what: str = "USDZ package", error=InputError) -> list[str]:
+    """The member names of a zip package (a .usdz) after its table of contents is checked:
+    every member within the size budget and all of them together, at most the budget of
+    items, no absolute or parent-folder names, nothing compressed (USDZ stores members
+    as they are, so an archive that expands is not one)."""
+    import zipfile
+
+    limit = budget("file_bytes")
+    with opened(path, what, error) as (f, _size):
+        try:
+            archive = zipfile.ZipFile(f)
+        except (zipfile.BadZipFile, OSError) as exc:
+            raise error(f"{path}: not a readable {what} ({exc})") from None
+        with archive:
+            infos = archive.infolist()
+    if len(infos) > budget("gltf_items"):
+        raise error(f"{path}: {len(infos):,} members, more than facet's budget of "
+                    f"{budget('gltf_items'):,} (--budget gltf_items=N)")
+    total = 0
+    for info in infos:
+        name = info.filename
+        if name.startswith(("/", "\\")) or ".." in Path(name).parts:
+            raise error(f"{path}: member {name!r} names a place outside the package")
+        if info.compress_type != zipfile.ZIP_STORED:
+            raise error(f"{path}: member {name!r} is compressed; a {what} stores its files "
+                        "uncompressed (USDZ's rule), so facet does not expand it")
+        total += info.file_size
+        if info.file_size > limit or total > limit:
+            raise error(f"{path}: its members hold more than facet's budget of "
+                        f"{limit / 2**30:.1f} GiB (--budget file_bytes=N)")
+    return [info.filename for info in infos]
+
+
+def package_member(path, member: str, what: str = "file", error=InputError) -> bytes:
+    """The bytes of ``member`` of the zip package ``path`` (checked by ``check_package``)."""
+    import zipfile
+
+    check_package(path, error=error)
+    with opened(path, what, error) as (f, _size), zipfile.ZipFile(f) as archive:
+        try:
+            return archive.read(member)
+        except KeyError:
+            raise error(f"{path}: has no member {member!r} (the {what} it names)") from None
+
+
+def usd_layer(path, what: str = "USD layer", error=InputError):
+    """An Sdf layer of ``path`` opened by pxr after ``library_path``'s checks (a .usdz's
+    table of contents checked too); ``error`` when pxr cannot read it."""
+    text = str(path)
+    outer, bracket, member = text.partition("[")  # a package's member: pkg.usdz[a.usdc]
+    name = library_path(outer, what, error)
+    if name.lower().endswith(".usdz"):
+        check_package(name, error=error)
+    if bracket:
+        name = f"{name}[{member}"
+    from pxr import Sdf, Tf
+
+    try:
+        layer = Sdf.Layer.FindOrOpen(name)
+    except Tf.ErrorException as exc:
+        raise error(f"{path}: not a USD layer pxr can read ({pxr_message(exc)})") from None
+    if layer is None:
+        raise error(f"{path}: not a USD layer pxr can read")
+    return layer
+
+
+def usd_stage(root, session, load_payloads: bool, checked: set, error=InputError):
+    """The stage composed on the root layer ``root`` (opened by ``usd_layer``, as every
+    layer it reaches must have been: ``checked`` holds their real paths) with the session
+    layer ``session`` (variant selections); a layer the composition used that was not
+    checked is ``error`` (none should be: the walk opens each one first)."""
+    from pxr import Usd
+
+    load = Usd.Stage.LoadAll if load_payloads else Usd.Stage.LoadNone
+    stage = Usd.Stage.Open(root, session, load)
+    for layer in stage.GetUsedLayers():
+        real = layer.realPath
+        if layer.anonymous or not real:
+            continue
+        outer = real.split("[", 1)[0]  # a member of a package: the package was checked
+        if outer not in checked:
+            raise error(f"{real}: a layer the stage reads that facet did not check first")
+    return stage
+
+
+def pxr_message(exc) -> str:
+    """The last message of a pxr error, without its C++ location."""
+    block = str(exc).split("Error in")[-1]
+    at = block.find(" : '")
+    text = block[at + 4:] if at >= 0 else block
+    return text.strip().rstrip("'").strip() or "unreadable"

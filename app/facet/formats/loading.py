@@ -4,6 +4,9 @@ transform) and named cameras, used by every front (CLI, viewer, scene files, ``M
 
 * glTF / GLB: facet.formats.gltf (pygltflib + numpy): per-primitive parts with PbrMaterial,
   both uv sets, tangents, vertex colours, node transforms, cameras.
+* OpenUSD (.usd, .usda, .usdc, .usdz): facet.formats.usd (pxr, the ``usd`` extra): the
+  composed stage's meshes, gprims (exact shapes), points, curves, materials, lights and
+  cameras.
 * OBJ, STL, PLY, OFF: trimesh. An OBJ keeps one part per material (MTL: C = Kd, k_d = 1,
   k_s = mean(Ks), n = Ns, k_a = 1, map_Kd the texture); a missing .mtl or texture loads
   without it and says so in one warning line. PLY faces stored as triangle strips load.
@@ -29,6 +32,7 @@ from ..scene.mesh import Mesh
 from ..scene.normals import DEFAULT_CREASE, crease_normals, face_normals
 from ..scene.points import Lines, Points
 from .trimesh_files import FORMATS, trimesh_file_parts
+from .usd_stage import USD_SUFFIXES
 
 if TYPE_CHECKING:
     from ..scene.animation import Rig
@@ -43,8 +47,8 @@ def _check_path(path) -> Path:
 
     p = regular_file(path, "mesh file", MeshError, missing="file")
     ext = p.suffix.lower().lstrip(".")
-    if ext not in FORMATS:
-        known = ", ".join(f".{e}" for e in FORMATS)
+    if ext not in FORMATS and f".{ext}" not in USD_SUFFIXES:
+        known = ", ".join([*(f".{e}" for e in FORMATS), *USD_SUFFIXES])
         raise MeshError(f"{p}: unknown mesh format '{p.suffix or '(none)'}'; use one of {known}")
     if not os.access(p, os.R_OK):
         raise MeshError(f"{p}: permission denied")
@@ -53,11 +57,14 @@ def _check_path(path) -> Path:
     return p
 
 
-def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict, list, object]:
+def load_file(path, crease: float = DEFAULT_CREASE,
+              usd=None) -> tuple[list, dict, list, object]:
     """``(parts, cameras, lights, rig)`` of a mesh file: parts as (name, ``Mesh`` keyword
     arguments, 4x4 node -> file transform), a part's arguments shared by every node that
     uses the same mesh; cameras as {name: Camera}, lights and the Rig of its animations,
-    skins and morph targets (glTF only; facet.scene.animation; None when nothing moves)."""
+    skins and morph targets (glTF only; facet.scene.animation; None when nothing moves).
+    ``usd``: facet.formats.usd.UsdOptions for a stage (variants, payloads, purposes,
+    time); a stage's lights may hold its dome as an Environment."""
     p = _check_path(path)
     crease = _check_crease(crease)
 
@@ -68,6 +75,10 @@ def load_file(path, crease: float = DEFAULT_CREASE) -> tuple[list, dict, list, o
         from .gltf import read_gltf
 
         return read_gltf(p, finish)
+    if p.suffix.lower() in USD_SUFFIXES:
+        from .usd import read_usd
+
+        return read_usd(p, finish, usd)
     if p.suffix.lower() in POINT_FORMATS:
         from .point_files import read_pcd, read_text_points
 
@@ -169,14 +180,16 @@ def _finish_sprites(arrays: dict, vertices: np.ndarray, p: Path, where: str) -> 
     return dict(arrays, positions=vertices.astype(np.float32), path=str(p))
 
 
-def read_parts(path, crease: float | None = None) -> tuple[list, dict, list, Rig | None]:
+def read_parts(path, crease: float | None = None,
+               usd=None) -> tuple[list, dict, list, Rig | None]:
     """The parts of a mesh file as scene objects, its cameras, its lights (glTF's
     KHR_lights_punctual) and its rig: ([(name, Mesh | Points | Lines, (4, 4) part -> file)],
     {name: Camera}, [lights], facet.scene.animation.Rig or None when nothing in it moves,
     whose part ``i`` is ``parts[i]`` at rest). A glTF keeps its nodes and primitives (a mesh
     used by several nodes is made once), an OBJ one part per material, other formats one
     part. What ``Mesh.load`` and ``Mesh.load_parts`` read (facet.scene.readers)."""
-    raw, cameras, lights, rig = load_file(path, DEFAULT_CREASE if crease is None else crease)
+    raw, cameras, lights, rig = load_file(path, DEFAULT_CREASE if crease is None else crease,
+                                          usd)
     made: dict[int, object] = {}
     parts = []
     for name, data, matrix in raw:
@@ -193,9 +206,31 @@ def _part(data: dict):
     path = args.pop("path")
     args.pop("deform", None)  # the rig's (facet.scene.animation)
     kind = args.pop("kind", "mesh")
+    if kind == "shape":  # an exact shape (facet.scene.shapes; a capsule is a mesh)
+        return _shape(args, path)
     try:
         if kind != "mesh":  # a point cloud or lines (facet.scene.points)
             return (Points if kind == "points" else Lines)(**args)
         return Mesh(**args)
     except InputError as exc:
         raise MeshError(f"{path}: {exc}") from None
+
+
+def _shape(args: dict, path: str):
+    """A facet shape (or a capsule's mesh) of a reader's ``shape`` and ``params``."""
+    from ..scene import primitives as P
+    from ..scene import shapes as S
+
+    kind, params, material = args["shape"], tuple(args["params"]), args.get("material")
+    try:
+        if kind == "capsule":
+            mesh = P.capsule(*params)
+            mesh.material = material
+            return mesh
+        shape = {"box": lambda x, y, z: S.Box((x, y, z)), "sphere": S.Sphere,
+                 "cylinder": S.Cylinder, "cone": S.Cone,
+                 "plane": lambda w, d: S.Plane((w, d))}[kind](*params)
+    except InputError as exc:
+        raise MeshError(f"{path}: {args.get('name', kind)}: {exc}") from None
+    shape.material = material
+    return shape

@@ -17,7 +17,8 @@ def is_scene_file(path) -> bool:
 
 @checked
 def open_scene(path: FilePath, *, crease: Crease = None,
-               confine: FilePath | None = None) -> Scene:
+               confine: FilePath | None = None, variants: dict[str, str] | None = None,
+               payloads: bool = True, purposes: tuple[str, ...] | None = None) -> Scene:
     """A scene file read with its settings, or a mesh file as a scene of its parts.
 
     A model's parts keep their own materials and node transforms; a glTF's cameras become
@@ -27,11 +28,18 @@ def open_scene(path: FilePath, *, crease: Crease = None,
     Parameters
     ----------
     path : str or Path
-        A scene file (.toml) or a mesh file (OBJ, STL, PLY, OFF, glTF/GLB, point clouds).
+        A scene file (.toml), a mesh file (OBJ, STL, PLY, OFF, glTF/GLB, point clouds) or
+        an OpenUSD stage (.usd, .usda, .usdc, .usdz; the ``usd`` extra).
     crease : float, optional
         Where a file has no normals, split them at edges sharper than this many degrees.
     confine : str or Path, optional
         A folder outside which no file is read (facet.guard.confined).
+    variants : dict, optional
+        A USD stage's variant selections, ``{set: variant}`` (on every prim with that set).
+    payloads : bool
+        Whether a USD stage's payloads are loaded (default True).
+    purposes : tuple of str, optional
+        The USD purposes drawn (default ``("default", "render")``; add "proxy", "guide").
 
     Returns
     -------
@@ -47,7 +55,8 @@ def open_scene(path: FilePath, *, crease: Crease = None,
         from ..guard import confined
 
         with confined(confine):
-            return open_scene(path, crease=crease)
+            return open_scene(path, crease=crease, variants=variants, payloads=payloads,
+                              purposes=purposes)
     if is_scene_file(path):
         from .scenefile import load_scene
 
@@ -59,7 +68,20 @@ def open_scene(path: FilePath, *, crease: Crease = None,
         scene.add(read_splats(Path(path)))
         scene.frame_by_default = True
         return scene
-    parts, cameras, lights, rig = read_parts(path, crease)
+    usd = None
+    if variants or not payloads or purposes is not None:
+        from .usd_stage import USD_SUFFIXES
+
+        if Path(path).suffix.lower() not in USD_SUFFIXES:
+            from ..errors import InputError
+
+            raise InputError(f"{path}: variants, payloads and purposes choose what an "
+                             "OpenUSD stage composes; this is not one (a glTF's material "
+                             "variants are the 'variant' render option)")
+        from .usd import DRAWN_PURPOSES, UsdOptions
+
+        usd = UsdOptions(variants, payloads, purposes or DRAWN_PURPOSES)
+    parts, cameras, lights, rig = read_parts(path, crease, usd)
     scene = Scene()
     ids = [cast(int, scene.add(mesh, transform=matrix, name=name))  # one geometry: an id
            for name, mesh, matrix in parts]
@@ -67,8 +89,13 @@ def open_scene(path: FilePath, *, crease: Crease = None,
         from ..scene.animation import Animated
 
         scene.animated.append(Animated(rig, ids, cameras={n: n for n in rig.cameras}))
+    from ..scene.environment import Environment
+
     for light in lights:
-        scene.add_light(light)
+        if isinstance(light, Environment):  # a USD stage's dome
+            scene.environment = light
+        else:
+            scene.add_light(light)
     for name, camera in cameras.items():
         scene.add_camera(name, camera)
     scene.frame_by_default = True
@@ -76,17 +103,20 @@ def open_scene(path: FilePath, *, crease: Crease = None,
 
 
 @checked
-def load(path: FilePath, *, crease: Crease = None, confine: FilePath | None = None) -> Scene:
+def load(path: FilePath, *, crease: Crease = None, confine: FilePath | None = None,
+         variants: dict[str, str] | None = None, payloads: bool = True,
+         purposes: tuple[str, ...] | None = None) -> Scene:
     """``open_scene`` under the short name: ``facet.load("truck.glb")``.
 
     Parameters
     ----------
-    path, crease, confine
+    path, crease, confine, variants, payloads, purposes
         As ``open_scene``'s.
 
     Returns
     -------
     Scene
-        ``open_scene(path, crease=crease, confine=confine)``.
+        ``open_scene(path, ...)`` with the same arguments.
     """
-    return open_scene(path, crease=crease, confine=confine)
+    return open_scene(path, crease=crease, confine=confine, variants=variants,
+                      payloads=payloads, purposes=purposes)

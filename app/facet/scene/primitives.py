@@ -243,6 +243,39 @@ def cone(radius=0.5, height=1.0, segments: Segments = SEGMENTS) -> Mesh:
 
 
 @checked
+def capsule(radius=0.5, height=1.0, segments: Segments = SEGMENTS,
+            rings: Rings = RINGS) -> Mesh:
+    """A capsule: a cylinder of ``height`` along y, its ends closed by hemispheres of its
+    radius (USD's Capsule: the whole is height + 2 radius long).
+
+    Parameters
+    ----------
+    radius, height : float
+        > 0 (the cylinder part's length).
+    segments : int
+        Divisions around the axis.
+    rings : int
+        Divisions from pole to pole over both hemispheres.
+
+    Returns
+    -------
+    Mesh
+        With normals and texture coordinates, centred at the origin (y up).
+    """
+    r = _size(radius, "capsule radius")[0]
+    h = _size(height, "capsule height")[0]
+    half = max(rings // 2, 2)
+    phi = np.linspace(-np.pi / 2, 0.0, half + 1)  # south pole to the equator
+    low = np.stack([np.cos(phi), np.sin(phi)], -1)
+    normals = np.concatenate([low, low[::-1] * [1, -1]])  # then equator to north pole
+    profile = normals * r + np.concatenate([np.full((half + 1, 1), -h / 2),
+                                            np.full((half + 1, 1), h / 2)])[:, [0]] * [0, 1]
+    v = (profile[:, 1] - profile[0, 1]) / (profile[-1, 1] - profile[0, 1])
+    pos, nrm, uv, faces = _lathe(profile, normals, v, segments)
+    return Mesh(pos, faces, nrm, uv, name="capsule")
+
+
+@checked
 def torus(major_radius=1.0, minor_radius=0.25, segments: Segments = SEGMENTS,
           rings: Rings = RINGS) -> Mesh:
     """A torus in the xz plane around the y axis.

@@ -43,6 +43,7 @@ class Shape:
     kind: str
     params: tuple = ()
     _mesh: Mesh | None = field(default=None, repr=False)
+    material: object = field(default=None, repr=False)  # a file's own (Scene.add's default)
 
     @property
     def name(self) -> str:

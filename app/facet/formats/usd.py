@@ -1,0 +1,398 @@
+"""OpenUSD stages -> facet parts, cameras and lights (no GL), through pxr (the ``usd``
+extra): what ``facet render stage.usda`` and ``facet.load`` read.
+
+The stage is composed as USD defines it (facet.formats.usd_stage: every layer through the
+guard, variants, payloads). Prims are visited as USD's default predicate and instance
+proxies give them: ``active``, defined, not abstract; invisible ones (``ComputeVisibility``)
+and those whose ``purpose`` is not wanted (default and render drawn; proxy and guide on
+request) are left out. A native instance's prototype geometry is made once and placed by
+each instance (facet's instancing: the same Mesh object), as are a PointInstancer's
+prototypes at each of its instances.
+
+Transforms: ``UsdGeom.XformCache`` at the time code (USD's row vectors, transposed to
+facet's column vectors); the geometry stays in the file's coordinates. ``upAxis`` is
+given back for framing and turntables (``Stage.up``). Time: ``time`` seconds is time
+code ``start + time x timeCodesPerSecond``; transforms, points and visibility are read
+there.
+
+Lights (UsdLux): emission L = intensity x 2^exposure x colour (x the blackbody colour of
+colorTemperature when enabled); ``normalize`` divides an area light's by its area and
+makes a distant light's intensity its illuminance. facet's light of intensity I gives
+irradiance pi I (facet.scene.pbr), so: DistantLight -> DirectionalLight along its -z,
+I = E / pi with E = L x (the solid angle of its angular diameter ``angle``);
+SphereLight -> PointLight at its centre, I = L r^2 (the irradiance far from a sphere of
+radiance L); RectLight -> AreaLight facing its -z, I = L w h / pi; DiskLight -> AreaLight
+of the disk's area; DomeLight -> the environment (its texture times L, or a constant L).
+Cameras (UsdGeom.Camera): focal length and vertical aperture give the field of view,
+clipping range the near and far planes, an orthographic projection its height, f-stop and
+focus distance a thin lens. Each said-once approximation is one warning line.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import FacetWarning, MeshError
+from ..scene.light import AreaLight, DirectionalLight, PointLight
+from .usd_geometry import curve_arguments, display_color, gprim, mesh_arguments, points_arguments
+from .usd_shading import Shading, fallback_material
+from .usd_stage import open_stage
+
+GPRIMS = ("Cube", "Sphere", "Cylinder", "Cone", "Capsule", "Plane")
+LIGHTS = ("DistantLight", "SphereLight", "RectLight", "DiskLight", "DomeLight",
+          "CylinderLight")
+DRAWN_PURPOSES = ("default", "render")
+
+
+class UsdOptions:
+    """What to read of a stage: ``variants`` {set: name}, ``payloads``, ``purposes``
+    (default and render; proxy, guide on request), ``time`` seconds (None: the default
+    time code)."""
+
+    def __init__(self, variants=None, payloads: bool = True, purposes=DRAWN_PURPOSES,
+                 time: float | None = None):
+        self.variants = dict(variants or {})
+        self.payloads = bool(payloads)
+        self.purposes = tuple(purposes)
+        self.time = time
+
+
+def time_code(stage, seconds: float | None):
+    """The Usd.TimeCode of ``seconds`` (default: the stage's default time code, or its
+    start time code when it has time samples)."""
+    from pxr import Usd
+
+    if seconds is None:
+        return Usd.TimeCode.Default()
+    tcps = stage.GetTimeCodesPerSecond() or 24.0
+    return Usd.TimeCode(stage.GetStartTimeCode() + float(seconds) * tcps)
+
+
+def _matrix(gf) -> np.ndarray:
+    """A Gf.Matrix4d (row vectors) as facet's column-vector 4x4."""
+    return np.array(gf, dtype=np.float64).reshape(4, 4).T
+
+
+def read_usd(path: Path, finish, options: UsdOptions | None = None):
+    """``(parts, cameras, lights, rig)`` of a stage, as facet.formats.loading.load_file
+    returns them (lights may hold the environment: a facet Environment)."""
+
+    from .usd_stage import quiet_pxr
+
+    options = options or UsdOptions()
+    stage, notes = open_stage(path, options.variants, options.payloads)
+    with quiet_pxr() as said:  # (bad relationship targets are said while traversing)
+        found = _traverse(stage, path, options, finish, notes)
+    notes += [line.strip() for line in said
+              if line.strip() and "instantiating stage on stage" not in line]
+    for note in dict.fromkeys(notes):
+        warnings.warn(note if note.startswith(path.name) else f"{path.name}: {note}",
+                      FacetWarning, stacklevel=4)
+    return found
+
+
+def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
+    """The stage's parts, cameras and lights (``read_usd``'s, before its warnings)."""
+    from pxr import Usd, UsdGeom
+
+    time = time_code(stage, options.time)
+    cache = UsdGeom.XformCache(time)
+    shading = Shading(stage, time, notes)
+    parts: list = []
+    cameras: dict = {}
+    lights: list = []
+    made: dict[str, list] = {}  # prototype (or prim) path -> its [(name, args, local)]
+    predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
+    it = iter(Usd.PrimRange(stage.GetPseudoRoot(), predicate))
+    for prim in it:
+        if not prim.IsA(UsdGeom.Imageable):
+            continue
+        image = UsdGeom.Imageable(prim)
+        if image.ComputeVisibility(time) == UsdGeom.Tokens.invisible:
+            it.PruneChildren()
+            continue
+        purpose = image.ComputePurpose()
+        if purpose not in options.purposes:
+            it.PruneChildren()
+            continue
+        kind = prim.GetTypeName()
+        world = _matrix(cache.GetLocalToWorldTransform(prim))
+        where = str(prim.GetPath())
+        if kind == "Camera":
+            cameras[prim.GetName()] = usd_camera(prim, time, world, notes)
+            continue
+        if kind in LIGHTS:
+            light = usd_light(prim, time, world, notes)
+            if light is not None:
+                lights.append(light)
+            continue
+        if kind == "PointInstancer":
+            _instancer(prim, time, world, made, shading, finish, parts, notes, path)
+            it.PruneChildren()
+            continue
+        if not np.isfinite(world).all() or abs(np.linalg.det(world[:3, :3])) < 1e-12:
+            notes.append(f"{where}: its transform is singular (a zero scale) or not finite; "
+                         "left out")
+            it.PruneChildren()
+            continue
+        for name, args, local in _geometry(prim, time, made, shading, finish, notes, path,
+                                           where):
+            parts.append((name, args, world @ local))
+    return parts, cameras, lights, None
+
+
+def _geometry(prim, time, made, shading, finish, notes, path, where) -> list:
+    """[(name, args, 4x4 geometry -> prim)] of one prim (made once per prototype)."""
+    key = str(prim.GetPrimInPrototype().GetPath()) if prim.IsInstanceProxy() else where
+    if key not in made:
+        made[key] = _make(prim, time, shading, finish, notes, path, where)
+    return made[key]
+
+
+def _make(prim, time, shading, finish, notes, path, where) -> list:
+    from pxr import UsdGeom
+
+    kind = prim.GetTypeName()
+    rgb, alpha = display_color(prim, time)
+    double = bool(UsdGeom.Gprim(prim).GetDoubleSidedAttr().Get(time)) \
+        if prim.IsA(UsdGeom.Gprim) else False
+    if kind == "Mesh":
+        material, uv_name = shading.material_of(prim, (rgb, alpha))
+        args = mesh_arguments(prim, time, uv_name, notes, where)
+        if args is None:
+            return []
+        constant = args.pop("constant_color", None)
+        scheme = args.pop("subdivision")
+        if scheme not in ("none", "bilinear") and _has_creases(prim, time):
+            notes.append(f"{where}: subdivision creases and corners are not honoured (the "
+                         "control cage is drawn)")
+        if material is None:
+            c = constant or (rgb, alpha)
+            material = fallback_material(c[0], c[1], double)
+        elif double and not material.double_sided:
+            material = _copy(material, double_sided=True)
+        args["material"] = material
+        args["name"] = prim.GetName()
+        return [(prim.GetName(), finish(args, where), np.eye(4))]
+    if kind in GPRIMS:
+        shape = gprim(prim, time)
+        if shape is None:
+            return []
+        material, _ = shading.material_of(prim, (rgb, alpha))
+        material = material or fallback_material(rgb, alpha, double)
+        shape_kind, params, turn = shape
+        args = {"kind": "shape", "shape": shape_kind, "params": params,
+                "material": material, "name": prim.GetName(), "path": str(path)}
+        return [(prim.GetName(), args, turn)]
+    if kind == "Points":
+        args = points_arguments(prim, time)
+        return [] if args is None else [(prim.GetName(), _sprite(args, finish, where),
+                                         np.eye(4))]
+    if kind == "BasisCurves":
+        args = curve_arguments(prim, time)
+        return [] if args is None else [(prim.GetName(), _sprite(args, finish, where),
+                                         np.eye(4))]
+    if prim.IsA(UsdGeom.Gprim):
+        notes.append(f"{where}: a {kind} prim is not drawn (facet reads Mesh, Points, "
+                     "BasisCurves and the gprims)")
+    return []
+
+
+def _sprite(args: dict, finish, where: str) -> dict:
+    rgb = args.pop("rgb", None)
+    width = args.pop("width", None)
+    if width is not None and args["kind"] == "points":
+        args["radius"] = width / 2.0
+    if rgb is not None and "colors" not in args:
+        from ..srgb import linear_to_srgb
+
+        c = np.concatenate([linear_to_srgb(np.clip(np.asarray(rgb, float), 0, 1)), [1.0]])
+        args["colors"] = np.tile(c, (len(args["positions"]), 1)).astype(np.float32)
+    return finish(args, where)
+
+
+def _has_creases(prim, time) -> bool:
+    from pxr import UsdGeom
+
+    mesh = UsdGeom.Mesh(prim)
+    for attr in (mesh.GetCreaseIndicesAttr(), mesh.GetCornerIndicesAttr()):
+        value = attr.Get(time)
+        if value is not None and len(value):
+            return True
+    return False
+
+
+def _copy(material, **changes):
+    from dataclasses import replace
+
+    return replace(material, **changes)
+
+
+def _instancer(prim, time, world, made, shading, finish, parts, notes, path) -> None:
+    """A PointInstancer: each prototype's geometry made once, placed at each instance."""
+    from pxr import Usd, UsdGeom
+
+    inst = UsdGeom.PointInstancer(prim)
+    xforms = inst.ComputeInstanceTransformsAtTime(time, time)
+    indices = inst.GetProtoIndicesAttr().Get(time)
+    targets = inst.GetPrototypesRel().GetTargets()
+    if xforms is None or indices is None:
+        return
+    stage = prim.GetStage()
+    cache = UsdGeom.XformCache(time)
+    protos = []
+    for target in targets:
+        root = stage.GetPrimAtPath(target)
+        geo = []
+        if root:
+            root_world = _matrix(cache.GetLocalToWorldTransform(root))
+            to_root = np.linalg.inv(root_world)
+            for sub in Usd.PrimRange(root, Usd.TraverseInstanceProxies(
+                    Usd.PrimDefaultPredicate)):
+                where = str(sub.GetPath())
+                for name, args, local in _geometry(sub, time, made, shading, finish, notes,
+                                                   path, where):
+                    sub_world = _matrix(cache.GetLocalToWorldTransform(sub))
+                    geo.append((name, args, to_root @ sub_world @ local))
+        protos.append(geo)
+    for k, (proto, m) in enumerate(zip(indices, xforms, strict=False)):
+        if not 0 <= proto < len(protos):
+            continue
+        place = world @ _matrix(m)
+        for name, args, local in protos[proto]:
+            parts.append((f"{name}[{k}]", args, place @ local))
+
+
+# -- cameras and lights ----------------------------------------------------------------------
+def usd_camera(prim, time, world: np.ndarray, notes: list):
+    """A UsdGeom.Camera as a facet Camera (module docstring)."""
+    from pxr import UsdGeom
+
+    from ..geometry.camera import Camera
+
+    cam = UsdGeom.Camera(prim).GetCamera(time)
+    m = world.copy()
+    scale = np.linalg.norm(m[:3, :3], axis=0)
+    m[:3, :3] = m[:3, :3] / np.where(scale > 0, scale, 1)  # a camera looks; it has no size
+    view = np.linalg.inv(m)
+    near, far = cam.clippingRange.min, cam.clippingRange.max
+    near = max(float(near), 1e-4)
+    far = max(float(far), near * 10)
+    if cam.horizontalApertureOffset or cam.verticalApertureOffset:
+        notes.append(f"{prim.GetPath()}: aperture offsets (a shifted lens) are not honoured")
+    if str(cam.projection).endswith("Orthographic"):
+        # apertures are in tenths of a scene unit
+        return Camera(view, ortho_height=float(cam.verticalAperture) / 10.0, near=near,
+                      far=far)
+    fov_y = float(np.degrees(2 * np.arctan(cam.verticalAperture / (2 * cam.focalLength))))
+    camera = Camera(view, fov_y=fov_y, near=near, far=far)
+    if cam.fStop and cam.fStop > 0 and cam.focusDistance > 0:
+        # lens diameter = focal length / f-number (focal length in tenths of a unit)
+        camera.aperture = float(cam.focalLength / 10.0 / cam.fStop)
+        camera.focus_distance = float(cam.focusDistance)
+    return camera
+
+
+def _emission(light, time, prim) -> np.ndarray:
+    """L = intensity x 2^exposure x colour (x the colour temperature's), linear RGB."""
+    intensity = float(light.GetIntensityAttr().Get(time) or 0.0)
+    exposure = float(light.GetExposureAttr().Get(time) or 0.0)
+    colour = np.array(light.GetColorAttr().Get(time) or (1, 1, 1), float)
+    if light.GetEnableColorTemperatureAttr().Get(time):
+        from pxr import UsdLux
+
+        kelvin = float(light.GetColorTemperatureAttr().Get(time) or 6500.0)
+        colour = colour * np.array(UsdLux.BlackbodyTemperatureAsRgb(kelvin), float)
+    return intensity * 2.0 ** exposure * colour
+
+
+def usd_light(prim, time, world: np.ndarray, notes: list):
+    """A UsdLux light as a facet light or environment (module docstring), or None."""
+    from pxr import UsdLux
+
+    kind = prim.GetTypeName()
+    light = UsdLux.LightAPI(prim)
+    emission = _emission(light, time, prim)
+    scale = float(emission.max(initial=0.0))
+    colour = emission / scale if scale > 0 else np.ones(3)
+    normalize = bool(light.GetNormalizeAttr().Get(time))
+    origin = world[:3, 3]
+    minus_z = world[:3, :3] @ np.array([0.0, 0.0, -1.0])
+    axes = np.linalg.norm(world[:3, :3], axis=0)
+    where = str(prim.GetPath())
+    if kind == "DistantLight":
+        angle = float(UsdLux.DistantLight(prim).GetAngleAttr().Get(time) or 0.0)
+        half = np.radians(angle) / 2.0
+        solid = 2 * np.pi * (1 - np.cos(half))
+        irradiance = scale if normalize or solid <= 0 else scale * solid
+        return DirectionalLight(direction=minus_z, color=colour,
+                                intensity=irradiance / np.pi)
+    if kind == "SphereLight":
+        r = float(UsdLux.SphereLight(prim).GetRadiusAttr().Get(time) or 0.0) * axes.mean()
+        radiance = scale / (4 * np.pi * r * r) if normalize and r > 0 else scale
+        if r <= 0:
+            return PointLight(origin, colour, radiance / np.pi, (0.0, 0.0, 1.0))
+        return PointLight(origin, colour, radiance * r * r, (0.0, 0.0, 1.0))
+    if kind in ("RectLight", "DiskLight"):
+        if kind == "RectLight":
+            rect = UsdLux.RectLight(prim)
+            w = float(rect.GetWidthAttr().Get(time)) * axes[0]
+            h = float(rect.GetHeightAttr().Get(time)) * axes[1]
+            if rect.GetTextureFileAttr().Get(time):
+                notes.append(f"{where}: a RectLight's texture is drawn as its mean colour "
+                             "(white)")
+        else:
+            r = float(UsdLux.DiskLight(prim).GetRadiusAttr().Get(time)) * axes[:2].mean()
+            w = h = float(np.sqrt(np.pi) * r)  # a square of the disk's area
+        area = w * h
+        radiance = scale / area if normalize and area > 0 else scale
+        return AreaLight(position=origin, normal=minus_z, size=(max(w, 1e-6), max(h, 1e-6)),
+                         color=colour, intensity=radiance * area / np.pi,
+                         attenuation=(0.0, 0.0, 1.0))
+    if kind == "DomeLight":
+        return _dome(prim, time, world, emission, notes, where)
+    notes.append(f"{where}: a {kind} is not drawn (facet reads distant, sphere, rect, disk "
+                 "and dome lights)")
+    return None
+
+
+def _dome(prim, time, world, emission, notes, where):
+    from pxr import UsdLux
+
+    from ..scene.environment import Environment
+
+    asset = UsdLux.DomeLight(prim).GetTextureFileAttr().Get(time)
+    resolved = getattr(asset, "resolvedPath", "") if asset else ""
+    if not np.allclose(world[:3, :3] / np.linalg.norm(world[:3, :3], axis=0), np.eye(3),
+                       atol=1e-6):
+        notes.append(f"{where}: the dome light's rotation is not applied to its texture")
+    if not resolved:
+        if asset and getattr(asset, "path", ""):
+            notes.append(f"{where}: its texture {asset.path} cannot be found; a constant "
+                         "dome of its colour is used")
+        return Environment.constant(np.clip(emission, 0, None))
+    if "[" in resolved:
+        notes.append(f"{where}: a dome texture inside a package is not read; a constant "
+                     "dome of its colour is used")
+        return Environment.constant(np.clip(emission, 0, None))
+    try:
+        env = Environment.from_equirect(resolved)
+    except MeshError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - facet's readers raise FacetError subclasses
+        notes.append(f"{where}: its texture cannot be read ({exc}); a constant dome is used")
+        return Environment.constant(np.clip(emission, 0, None))
+    env.faces = env.faces * emission.astype(np.float32)
+    return env
+
+
+def stage_up(path: Path, options: UsdOptions | None = None) -> str:
+    """The stage's upAxis ("Y" or "Z")."""
+    from pxr import UsdGeom
+
+    options = options or UsdOptions()
+    stage, _ = open_stage(path, options.variants, options.payloads)
+    return str(UsdGeom.GetStageUpAxis(stage))
