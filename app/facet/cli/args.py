@@ -210,9 +210,10 @@ def _add_view_options(g) -> None:
     g.add_argument("--shutter", metavar="S",
                    help="motion blur: the shutter stays open S seconds from --time and the "
                    "animations blur as they move (supersampled; default 0)")
-    g.add_argument("--variant", metavar="NAME",
-                   help="a glTF material variant (KHR_materials_variants; 'facet info' "
-                   "lists them; default: the file's default materials)")
+    g.add_argument("--variant", metavar="NAME|SET=NAME,...",
+                   help="a glTF material variant (KHR_materials_variants), or an OpenUSD "
+                   "stage's variant selections SET=NAME[,SET=NAME] ('facet info' lists "
+                   "both; default: the file's own)")
     g.add_argument("--env", metavar="sky|IMAGE|DIR",
                    help="environment: a generated sky, an equirectangular image, or a folder "
                    "of six cube faces (px nx py ny pz nz); background and reflections")
@@ -233,6 +234,43 @@ def add_model_options(p) -> None:
                    "distance), instead of --point-size")
     p.add_argument("--line-width", type=float, metavar="PX",
                    help="lines (glTF LINES, OBJ l): PX pixels wide (default 1.5)")
+    p.add_argument("--no-payloads", action="store_true",
+                   help="OpenUSD: compose the stage without loading its payloads")
+    p.add_argument("--purpose", metavar="LIST",
+                   help="OpenUSD: the purposes drawn, from default, render, proxy, guide "
+                   "(default: default,render)")
+
+
+PURPOSES = ("default", "render", "proxy", "guide")
+
+
+def stage_options(args) -> dict:
+    """open_scene's OpenUSD arguments from the command line (variants given as
+    SET=NAME, --no-payloads, --purpose); empty when none is given."""
+    from ..errors import InputError
+
+    out: dict = {}
+    variant = getattr(args, "variant", None)
+    if variant and "=" in variant:
+        chosen = {}
+        for item in variant.split(","):
+            name, eq, value = item.partition("=")
+            if not eq or not name.strip() or not value.strip():
+                raise InputError(f"--variant {variant!r}: expected SET=NAME[,SET=NAME] for "
+                                 "an OpenUSD stage, or one glTF variant's name")
+            chosen[name.strip()] = value.strip()
+        out["variants"] = chosen
+    if getattr(args, "no_payloads", False):
+        out["payloads"] = False
+    purpose = getattr(args, "purpose", None)
+    if purpose:
+        names = tuple(p.strip() for p in purpose.split(",") if p.strip())
+        bad = [p for p in names if p not in PURPOSES]
+        if bad or not names:
+            raise InputError(f"--purpose {purpose!r}: expected purposes from "
+                             f"{', '.join(PURPOSES)}, separated by commas")
+        out["purposes"] = names
+    return out
 
 
 def sprite_sizes(args) -> dict:
@@ -277,7 +315,8 @@ def render_layer(args) -> dict:
     from ..options.render import text_layer
 
     return text_layer({
-            "time": time_range(args)[0], "animation": args.animation, "variant": args.variant,
+            "time": time_range(args)[0], "animation": args.animation,
+            "variant": None if args.variant and "=" in args.variant else args.variant,
             "shutter": args.shutter,
             "size": args.size, "shading": args.shading, "msaa": args.msaa, "aa": args.aa,
             "spp": args.spp, "engine": args.engine, "max_depth": args.max_depth,

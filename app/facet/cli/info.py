@@ -15,7 +15,8 @@ def add_parser(sub) -> None:
                        "NAME=VALUE or FACET_BUDGET_NAME raise them). With MODEL: its objects, "
                        "triangles, cameras, animations (for --animation, --time) and material "
                        "variants (for --variant).")
-    p.add_argument("model", nargs="?", help="a mesh or .toml scene file to describe")
+    p.add_argument("model", nargs="?", help="a mesh, OpenUSD stage or .toml scene file to "
+                   "describe")
 
 
 def describe_model(path) -> list[str]:
@@ -40,6 +41,14 @@ def describe_model(path) -> list[str]:
     lines.append(f"{'variants':22} {', '.join(variant_names(scene)) or 'none'}")
     scalars = sorted({k for o in scene.objects for k in getattr(o.mesh, "scalars", {})})
     lines.append(f"{'vertex scalars':22} {', '.join(scalars) or 'none'}")
+    from pathlib import Path
+
+    from ..formats.usd_stage import USD_SUFFIXES
+
+    if Path(path).suffix.lower() in USD_SUFFIXES:  # an OpenUSD stage: what composed it
+        from ..formats.usd import describe_stage
+
+        lines += describe_stage(Path(path))
     return lines
 
 

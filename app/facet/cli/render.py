@@ -202,7 +202,7 @@ def _scene(args):
         raise InputError("--color, --texture and --frag apply to a single model; set "
                          "materials in the scene file instead")
     texture = _texture(args.texture) if args.texture else None
-    scene = open_scene(model, crease=args.crease)
+    scene = open_scene(model, crease=args.crease, **A.stage_options(args))
     if scene.splats and (args.color is not None or texture is not None or shader is not None):
         raise InputError("--color, --texture and --frag apply to meshes; Gaussian splats "
                          "carry their own colours (their SH): leave them out")

@@ -38,6 +38,11 @@ def run(args) -> None:
     from .render import user_shader
 
     model = args.model or default_model()
+    stage = A.stage_options(args)
+    if stage:  # an OpenUSD stage composed as asked: the view holds the scene it made
+        from ..formats.source import open_scene
+
+        model = open_scene(model, crease=args.crease, **stage)
     settings = dict(shader=user_shader(args), options=A.render_layer(args),
                     crease=args.crease, time_end=A.time_range(args)[1],
                     sizes=A.sprite_sizes(args), screenshots=args.screenshots)

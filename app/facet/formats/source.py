@@ -94,6 +94,11 @@ def open_scene(path: FilePath, *, crease: Crease = None,
     for light in lights:
         if isinstance(light, Environment):  # a USD stage's dome
             scene.environment = light
+        elif hasattr(light, "up"):  # a USD stage's upAxis (facet.formats.usd)
+            if light.up != "y":
+                from ..scene.readers import reader
+
+                scene.options = reader("render options")({"up": light.up})
         else:
             scene.add_light(light)
     for name, camera in cameras.items():

@@ -47,6 +47,14 @@ LIGHTS = ("DistantLight", "SphereLight", "RectLight", "DiskLight", "DomeLight",
 DRAWN_PURPOSES = ("default", "render")
 
 
+class StageSettings:
+    """What a stage says of its world beyond its objects: ``up`` ("y" or "z", the
+    framing's and turntables' up axis)."""
+
+    def __init__(self, up: str):
+        self.up = up
+
+
 class UsdOptions:
     """What to read of a stage: ``variants`` {set: name}, ``payloads``, ``purposes``
     (default and render; proxy, guide on request), ``time`` seconds (None: the default
@@ -141,6 +149,10 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
         for name, args, local in _geometry(prim, time, made, shading, finish, notes, path,
                                            where):
             parts.append((name, args, world @ local))
+    up = str(UsdGeom.GetStageUpAxis(stage))
+    if up not in ("Y", "Z"):
+        notes.append(f"upAxis {up!r} is neither Y nor Z; Y is used")
+    lights.append(StageSettings("z" if up == "Z" else "y"))
     return parts, cameras, lights, None
 
 
@@ -396,3 +408,36 @@ def stage_up(path: Path, options: UsdOptions | None = None) -> str:
     options = options or UsdOptions()
     stage, _ = open_stage(path, options.variants, options.payloads)
     return str(UsdGeom.GetStageUpAxis(stage))
+
+
+def describe_stage(path: Path) -> list[str]:
+    """Lines for ``facet info``: the layers, prims by type, variant sets (with the
+    selection as composed), the time range and the stage's units."""
+    from collections import Counter
+
+    from pxr import Usd, UsdGeom
+
+    from .usd_stage import quiet_pxr, variant_sets
+
+    stage, _ = open_stage(path)
+    with quiet_pxr():
+        kinds = Counter(p.GetTypeName() or "(typeless)" for p in Usd.PrimRange(
+            stage.GetPseudoRoot(), Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate))
+            if not p.IsPseudoRoot())
+        layers = [layer.realPath or layer.identifier for layer in stage.GetUsedLayers()
+                  if not layer.anonymous]
+        sets = variant_sets(stage)
+        lights = [str(p.GetPath()) for p in stage.Traverse() if p.GetTypeName() in LIGHTS]
+    lines = [f"{'usd layers':22} {len(layers)}: " + ", ".join(Path(x).name for x in layers),
+             f"{'usd prims':22} " + ", ".join(f"{k} {n}" for k, n in sorted(kinds.items())),
+             f"{'usd variant sets':22} " + ("; ".join(
+                 f"{k} = {chosen or '(none)'} of {', '.join(names)}"
+                 for k, (names, chosen) in sorted(sets.items())) or "none"),
+             f"{'usd lights':22} " + (", ".join(lights) or "none"),
+             f"{'usd up axis':22} {UsdGeom.GetStageUpAxis(stage)}, "
+             f"{UsdGeom.GetStageMetersPerUnit(stage):g} m per unit"]
+    if stage.HasAuthoredTimeCodeRange():
+        lines.append(f"{'usd time codes':22} {stage.GetStartTimeCode():g} to "
+                     f"{stage.GetEndTimeCode():g} at {stage.GetTimeCodesPerSecond():g} per "
+                     "second")
+    return lines

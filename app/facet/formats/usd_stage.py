@@ -64,7 +64,7 @@ def open_stage(path: Path, variants: dict | None = None, payloads: bool = True):
     require_pxr(path)
     from pxr import Sdf
 
-    from ..guard import usd_layer, usd_stage
+    from ..guard import library_path, usd_layer, usd_stage
 
     with quiet_pxr() as said:
         root = usd_layer(path, "USD stage", MeshError)
@@ -79,8 +79,12 @@ def open_stage(path: Path, variants: dict | None = None, payloads: bool = True):
                 outer = _outer(resolved)
                 if not resolved or not Path(outer).exists() or resolved in checked:
                     continue  # (a missing file is pxr's composition error: said below)
-                if Sdf.FileFormat.FindByExtension(Path(outer).suffix.lstrip(".")) is None:
-                    continue  # (not a layer pxr reads: MaterialX without its plug-in)
+                ext = Path(outer).suffix.lstrip(".")
+                if not ext or Sdf.FileFormat.FindByExtension(ext) is None:
+                    # not a layer pxr reads (MaterialX without its plug-in, a device):
+                    # checked all the same, so that what the guard refuses says so
+                    library_path(outer, "USD layer", MeshError)
+                    continue
                 if depth + 1 > budget("depth"):
                     raise MeshError(f"{path}: layers nest more than {budget('depth'):,} "
                                     "levels deep, facet's budget (--budget depth=N)")

@@ -175,8 +175,9 @@ class Scene:
         if m.shape != (4, 4) or not np.all(np.isfinite(m)):
             raise InputError(f"transform must be a finite 4x4 matrix, got shape {m.shape}")
         T.normal_matrix(m)  # rejects singular transforms here rather than at draw time
-        material = material or (shape.material if shape is not None else None) or \
-            mesh.material or Material()
+        own = cast("Material | PbrMaterial | None", shape.material) if shape is not None \
+            else None
+        material = material or own or mesh.material or Material()
         end = None
         if transform_end is not None:
             end = np.asarray(transform_end, dtype=np.float64)
