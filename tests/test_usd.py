@@ -468,3 +468,35 @@ def test_every_shared_stage_opens_or_is_refused_in_one_line():
                 assert "\n" not in str(exc) and "Traceback" not in str(exc)
                 refused.append(p.name)
     assert refused == ["framesPerSecond_-1.usda", "framesPerSecond_0.usda"], refused
+
+
+def test_time_samples_move_parts_and_cameras_through_time(tmp_path):
+    """translate {0: 0, 48: 4} at 24 codes a second: 2 units at t = 1 s (``Scene.at``, the
+    renderers' ``time``); a camera's samples move it likewise; what does not move stays."""
+    stage = _stage(tmp_path / "t.usda")
+    stage.SetTimeCodesPerSecond(24)
+    stage.SetStartTimeCode(0)
+    stage.SetEndTimeCode(48)
+    box = UsdGeom.Cube.Define(stage, "/Box")
+    op = UsdGeom.Xformable(box).AddTranslateOp()
+    op.Set(Gf.Vec3d(0, 0, 0), 0)
+    op.Set(Gf.Vec3d(4, 0, 0), 48)
+    still = UsdGeom.Sphere.Define(stage, "/Still")
+    UsdGeom.Xformable(still).AddTranslateOp().Set(Gf.Vec3d(0, 3, 0))
+    cam = UsdGeom.Camera.Define(stage, "/Cam")
+    cop = UsdGeom.Xformable(cam).AddTranslateOp()
+    cop.Set(Gf.Vec3d(0, 0, 10), 0)
+    cop.Set(Gf.Vec3d(0, 0, 20), 48)
+    stage.Save()
+    scene = facet.load(tmp_path / "t.usda")
+    at = scene.at(1.0)
+    moved = {o.name: o.transform[:3, 3] for o in at.objects}
+    np.testing.assert_allclose(moved["Box"], [2, 0, 0], atol=1e-9)
+    np.testing.assert_allclose(moved["Still"], [0, 3, 0], atol=1e-9)
+    np.testing.assert_allclose(at.cameras["Cam"].eye, [0, 0, 15], atol=1e-9)
+    wide = Camera.look_at((2, 0, 12), (2, 0, 0), fov_y=50)
+    with facet.Renderer(32, 32) as r:  # the renderers pose it by their time option
+        a = r.render(scene, wide, time=0.0, outputs=("ids",)).object_ids
+        b = r.render(scene, wide, time=2.0, outputs=("ids",)).object_ids
+    box_id = next(o.id for o in scene.objects if o.name == "Box")
+    assert np.nonzero(b == box_id)[1].mean() > np.nonzero(a == box_id)[1].mean() + 4

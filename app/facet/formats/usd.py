@@ -11,9 +11,9 @@ prototypes at each of its instances.
 
 Transforms: ``UsdGeom.XformCache`` at the time code (USD's row vectors, transposed to
 facet's column vectors); the geometry stays in the file's coordinates. ``upAxis`` is
-given back for framing and turntables (``Stage.up``). Time: ``time`` seconds is time
-code ``start + time x timeCodesPerSecond``; transforms, points and visibility are read
-there.
+given back for framing and turntables (the scene's ``up`` option). Time: the stage is
+read at its default time code; time-sampled transforms (and cameras) move through
+``--time`` / ``Scene.at`` as glTF animations do (facet.formats.usd_time).
 
 Lights (UsdLux): emission L = intensity x 2^exposure x colour (x the blackbody colour of
 colorTemperature when enabled); ``normalize`` divides an area light's by its area and
@@ -57,26 +57,12 @@ class StageSettings:
 
 class UsdOptions:
     """What to read of a stage: ``variants`` {set: name}, ``payloads``, ``purposes``
-    (default and render; proxy, guide on request), ``time`` seconds (None: the default
-    time code)."""
+    (default and render; proxy, guide on request)."""
 
-    def __init__(self, variants=None, payloads: bool = True, purposes=DRAWN_PURPOSES,
-                 time: float | None = None):
+    def __init__(self, variants=None, payloads: bool = True, purposes=DRAWN_PURPOSES):
         self.variants = dict(variants or {})
         self.payloads = bool(payloads)
         self.purposes = tuple(purposes)
-        self.time = time
-
-
-def time_code(stage, seconds: float | None):
-    """The Usd.TimeCode of ``seconds`` (default: the stage's default time code, or its
-    start time code when it has time samples)."""
-    from pxr import Usd
-
-    if seconds is None:
-        return Usd.TimeCode.Default()
-    tcps = stage.GetTimeCodesPerSecond() or 24.0
-    return Usd.TimeCode(stage.GetStartTimeCode() + float(seconds) * tcps)
 
 
 def _matrix(gf) -> np.ndarray:
@@ -106,11 +92,13 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
     """The stage's parts, cameras and lights (``read_usd``'s, before its warnings)."""
     from pxr import Usd, UsdGeom
 
-    time = time_code(stage, options.time)
+    time = Usd.TimeCode.Default()  # (moving transforms: the time rig, facet.formats.usd_time)
     cache = UsdGeom.XformCache(time)
     shading = Shading(stage, time, notes)
     parts: list = []
+    placed: list = []  # per part: (its prim, 4x4 geometry -> prim) for the time rig
     cameras: dict = {}
+    camera_prims: dict = {}
     lights: list = []
     made: dict[str, list] = {}  # prototype (or prim) path -> its [(name, args, local)]
     predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
@@ -131,6 +119,7 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
         where = str(prim.GetPath())
         if kind == "Camera":
             cameras[prim.GetName()] = usd_camera(prim, time, world, notes)
+            camera_prims[prim.GetName()] = (prim, cameras[prim.GetName()])
             continue
         if kind in LIGHTS:
             light = usd_light(prim, time, world, notes)
@@ -138,7 +127,9 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
                 lights.append(light)
             continue
         if kind == "PointInstancer":
+            before = len(parts)
             _instancer(prim, time, world, made, shading, finish, parts, notes, path)
+            placed += [(None, m) for _, _, m in parts[before:]]
             it.PruneChildren()
             continue
         if not np.isfinite(world).all() or abs(np.linalg.det(world[:3, :3])) < 1e-12:
@@ -149,11 +140,15 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
         for name, args, local in _geometry(prim, time, made, shading, finish, notes, path,
                                            where):
             parts.append((name, args, world @ local))
+            placed.append((prim, local))
+    from .usd_time import time_rig
+
+    rig = time_rig(stage, placed, camera_prims, notes)
     up = str(UsdGeom.GetStageUpAxis(stage))
     if up not in ("Y", "Z"):
         notes.append(f"upAxis {up!r} is neither Y nor Z; Y is used")
     lights.append(StageSettings("z" if up == "Z" else "y"))
-    return parts, cameras, lights, None
+    return parts, cameras, lights, rig
 
 
 def _geometry(prim, time, made, shading, finish, notes, path, where) -> list:

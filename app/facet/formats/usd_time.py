@@ -1,0 +1,126 @@
+"""A stage's time-sampled transforms as a facet Rig (facet.scene.animation), so that
+``--time`` and ``Scene.at`` pose a USD stage as they pose a glTF animation (no GL).
+
+Every part hangs on a node of its own; a part whose prim (or an ancestor) has
+time-sampled xformOps gets one clip's channels, its full placement sampled at every time
+code any of them has and split into translation, rotation and scale (linear between codes,
+rotations along the shorter arc: where the file turns by an Euler op, the path between
+two codes can differ a little from USD's own interpolation of each op); the others stand
+fixed. Time ``t`` seconds is time code ``startTimeCode + t x timeCodesPerSecond``. A
+camera whose prim moves is posed the same way. Time-sampled points and visibility are read
+at the default time, said in one line.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..scene.animation import Binding, Channel, Clip, Rig, Sampler
+
+
+def _codes(prim) -> set[float]:
+    """The time codes of the xformOps of ``prim`` and its ancestors."""
+    from pxr import Sdf, UsdGeom
+
+    codes: set[float] = set()
+    stage, path = prim.GetStage(), prim.GetPath()
+    while path != Sdf.Path.absoluteRootPath and not path.isEmpty:  # up the path, so
+        at = stage.GetPrimAtPath(path)  # (an instance proxy's parents are proxies too)
+        if at and at.IsA(UsdGeom.Xformable):
+            for op in UsdGeom.Xformable(at).GetOrderedXformOps():
+                codes.update(op.GetTimeSamples())
+        path = path.GetParentPath()
+    return codes
+
+
+def _trs(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(translation, quaternion x y z w, scale) of an affine 4x4 without shear."""
+    a = m[:3, :3]
+    s = np.linalg.norm(a, axis=0)
+    if np.linalg.det(a) < 0:
+        s[0] = -s[0]
+    r = a / np.where(s != 0, s, 1)
+    w = np.sqrt(max(0.0, 1 + r[0, 0] + r[1, 1] + r[2, 2])) / 2
+    x = np.sqrt(max(0.0, 1 + r[0, 0] - r[1, 1] - r[2, 2])) / 2
+    y = np.sqrt(max(0.0, 1 - r[0, 0] + r[1, 1] - r[2, 2])) / 2
+    z = np.sqrt(max(0.0, 1 - r[0, 0] - r[1, 1] + r[2, 2])) / 2
+    x = np.copysign(x, r[2, 1] - r[1, 2])
+    y = np.copysign(y, r[0, 2] - r[2, 0])
+    z = np.copysign(z, r[1, 0] - r[0, 1])
+    return m[:3, 3].copy(), np.array([x, y, z, w]), s
+
+
+def time_rig(stage, placed: list, cameras: dict, notes: list) -> Rig | None:
+    """The Rig of a stage's moving parts, or None when nothing moves. ``placed``: per part
+    (its prim or None, 4x4 geometry -> prim); ``cameras``: {name: (prim, Camera)}."""
+    from pxr import Usd, UsdGeom
+
+    from .usd import _matrix
+
+    tcps = stage.GetTimeCodesPerSecond()
+    if not tcps > 0:  # (pxr's time sample queries do not return on such a stage)
+        notes.append(f"timeCodesPerSecond is {tcps:g}: the stage is drawn at its default "
+                     "time, its time samples not played")
+        return None
+    moving = [sorted(_codes(prim)) if prim is not None else [] for prim, _ in placed]
+    cam_codes = {name: sorted(_codes(prim)) for name, (prim, _) in cameras.items()}
+    if not any(moving) and not any(cam_codes.values()):
+        return None
+    start = stage.GetStartTimeCode()
+    caches: dict[float, object] = {}
+
+    def world(prim, code):
+        if code not in caches:
+            caches[code] = UsdGeom.XformCache(Usd.TimeCode(code))
+        return _matrix(caches[code].GetLocalToWorldTransform(prim))
+
+    n = len(placed) + len(cameras)
+    rest_t, rest_r, rest_s = np.zeros((n, 3)), np.tile([0, 0, 0, 1.0], (n, 1)), np.ones((n, 3))
+    fixed, channels, bindings = {}, [], []
+    default = UsdGeom.XformCache(Usd.TimeCode.Default())
+    for node, ((prim, local), codes) in enumerate(zip(placed, moving, strict=True)):
+        bindings.append(Binding(part=node, node=node, skin=None, deform=None))
+        if prim is None:
+            fixed[node] = local
+            continue
+        if not codes:
+            fixed[node] = _matrix(default.GetLocalToWorldTransform(prim)) @ local
+            continue
+        samples = [_trs(world(prim, c) @ local) for c in codes]
+        times = (np.array(codes) - start) / tcps
+        t, r, s = (np.array(x) for x in zip(*samples, strict=True))
+        rest_t[node], rest_r[node], rest_s[node] = t[0], r[0], s[0]
+        channels += [Channel(node, "translation", Sampler(times, t)),
+                     Channel(node, "rotation", Sampler(times, r)),
+                     Channel(node, "scale", Sampler(times, s))]
+    rig_cameras = {}
+    for k, (name, (prim, camera)) in enumerate(cameras.items()):
+        node = len(placed) + k
+        codes = cam_codes[name]
+        frame = _matrix(default.GetLocalToWorldTransform(prim))
+        rig_cameras[name] = (node, camera)
+        if not codes:
+            fixed[node] = _unscaled(frame)
+            continue
+        samples = [_trs(_unscaled(world(prim, c))) for c in codes]
+        times = (np.array(codes) - start) / tcps
+        t, r, s = (np.array(x) for x in zip(*samples, strict=True))
+        rest_t[node], rest_r[node], rest_s[node] = t[0], r[0], s[0]
+        channels += [Channel(node, "translation", Sampler(times, t)),
+                     Channel(node, "rotation", Sampler(times, r))]
+    for prim, _ in placed:
+        if prim is not None and prim.IsA(UsdGeom.PointBased):
+            points = UsdGeom.PointBased(prim).GetPointsAttr()
+            if points.GetNumTimeSamples() > 1:
+                notes.append("time-sampled points are read at the default time (transforms "
+                             "animate)")
+                break
+    return Rig(np.full(n, -1), range(n), (rest_t, rest_r, rest_s), fixed, {},
+               [Clip("stage", tuple(channels))], [], bindings, rig_cameras)
+
+
+def _unscaled(m: np.ndarray) -> np.ndarray:
+    out = m.copy()
+    norms = np.linalg.norm(out[:3, :3], axis=0)
+    out[:3, :3] /= np.where(norms > 0, norms, 1)
+    return out
