@@ -263,7 +263,7 @@ def test_composition_as_usd_defines_it(tmp_path):
     with pytest.raises(MeshError, match="variant set 'shape' has no variant 'cone'"):
         facet.load(path, variants={"shape": "cone"})
     with pytest.raises(facet.errors.InputError, match="not one"):
-        facet.load(tmp_path / "x.obj" if False else _obj(tmp_path), variants={"a": "b"})
+        facet.load(_obj(tmp_path), variants={"a": "b"})
 
 
 def _obj(tmp_path):

@@ -239,14 +239,23 @@ def add_model_options(p) -> None:
     p.add_argument("--purpose", metavar="LIST",
                    help="OpenUSD: the purposes drawn, from default, render, proxy, guide "
                    "(default: default,render)")
+    p.add_argument("--joints", metavar="NAME=VALUE,...",
+                   help="URDF: the joint configuration (radians, metres; within the limits; "
+                   "'facet info' lists the joints)")
+    p.add_argument("--package-path", action="append", metavar="DIR",
+                   help="URDF: where package:// names are found (repeatable; then "
+                   "ROS_PACKAGE_PATH)")
+    p.add_argument("--collision", action="store_true",
+                   help="URDF: draw the collision geometry instead of the visual")
 
 
 PURPOSES = ("default", "render", "proxy", "guide")
 
 
 def stage_options(args) -> dict:
-    """open_scene's OpenUSD arguments from the command line (variants given as
-    SET=NAME, --no-payloads, --purpose); empty when none is given."""
+    """open_scene's OpenUSD and URDF arguments from the command line (variants given as
+    SET=NAME, --no-payloads, --purpose; --joints, --package-path, --collision); empty when
+    none is given."""
     from ..errors import InputError
 
     out: dict = {}
@@ -270,6 +279,24 @@ def stage_options(args) -> dict:
             raise InputError(f"--purpose {purpose!r}: expected purposes from "
                              f"{', '.join(PURPOSES)}, separated by commas")
         out["purposes"] = names
+    joints = getattr(args, "joints", None)
+    if joints:
+        values = {}
+        for item in joints.split(","):
+            name, eq, value = item.partition("=")
+            try:
+                number = float(value)
+            except ValueError:
+                number = None
+            if not eq or not name.strip() or number is None or not math.isfinite(number):
+                raise InputError(f"--joints {joints!r}: expected NAME=VALUE[,NAME=VALUE] with "
+                                 "numbers (radians, metres)")
+            values[name.strip()] = number
+        out["joints"] = values
+    if getattr(args, "package_path", None):
+        out["package_path"] = tuple(args.package_path)
+    if getattr(args, "collision", False):
+        out["collision"] = True
     return out
 
 

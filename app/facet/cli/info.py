@@ -15,16 +15,18 @@ def add_parser(sub) -> None:
                        "NAME=VALUE or FACET_BUDGET_NAME raise them). With MODEL: its objects, "
                        "triangles, cameras, animations (for --animation, --time) and material "
                        "variants (for --variant).")
-    p.add_argument("model", nargs="?", help="a mesh, OpenUSD stage or .toml scene file to "
-                   "describe")
+    p.add_argument("model", nargs="?", help="a mesh, OpenUSD stage, URDF robot or .toml "
+                   "scene file to describe")
+    p.add_argument("--package-path", action="append", metavar="DIR",
+                   help="URDF: where package:// names are found (repeatable)")
 
 
-def describe_model(path) -> list[str]:
+def describe_model(path, package_path=None) -> list[str]:
     """Lines saying what the model or scene file at ``path`` holds."""
     from ..formats.source import open_scene
     from ..scene.staging import variant_names
 
-    scene = open_scene(path)
+    scene = open_scene(path, package_path=tuple(package_path) if package_path else None)
     lines = [f"{'objects':22} {len(scene.objects):,}",
              f"{'triangles':22} {sum(o.mesh.face_count for o in scene.objects):,}",
              f"{'splats':22} " + (", ".join(
@@ -49,12 +51,16 @@ def describe_model(path) -> list[str]:
         from ..formats.usd import describe_stage
 
         lines += describe_stage(Path(path))
+    if Path(path).suffix.lower() == ".urdf":  # a robot: its links and joints
+        from ..formats.urdf import describe_robot
+
+        lines += describe_robot(Path(path))
     return lines
 
 
 def run(args) -> None:
     if getattr(args, "model", None):
-        print("\n".join(describe_model(args.model)))
+        print("\n".join(describe_model(args.model, getattr(args, "package_path", None))))
         return
     from .. import budgets
     from ..gl.context import create_headless, describe

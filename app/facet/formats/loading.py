@@ -7,6 +7,8 @@ transform) and named cameras, used by every front (CLI, viewer, scene files, ``M
 * OpenUSD (.usd, .usda, .usdc, .usdz): facet.formats.usd (pxr, the ``usd`` extra): the
   composed stage's meshes, gprims (exact shapes), points, curves, materials, lights and
   cameras.
+* URDF robots (.urdf): facet.formats.urdf (yourdfpy, the ``urdf`` extra): each link's
+  visual (or collision) geometry placed by the joint configuration.
 * OBJ, STL, PLY, OFF: trimesh. An OBJ keeps one part per material (MTL: C = Kd, k_d = 1,
   k_s = mean(Ks), n = Ns, k_a = 1, map_Kd the texture); a missing .mtl or texture loads
   without it and says so in one warning line. PLY faces stored as triangle strips load.
@@ -47,8 +49,8 @@ def _check_path(path) -> Path:
 
     p = regular_file(path, "mesh file", MeshError, missing="file")
     ext = p.suffix.lower().lstrip(".")
-    if ext not in FORMATS and f".{ext}" not in USD_SUFFIXES:
-        known = ", ".join([*(f".{e}" for e in FORMATS), *USD_SUFFIXES])
+    if ext not in FORMATS and f".{ext}" not in USD_SUFFIXES and ext != "urdf":
+        known = ", ".join([*(f".{e}" for e in FORMATS), *USD_SUFFIXES, ".urdf"])
         raise MeshError(f"{p}: unknown mesh format '{p.suffix or '(none)'}'; use one of {known}")
     if not os.access(p, os.R_OK):
         raise MeshError(f"{p}: permission denied")
@@ -57,14 +59,15 @@ def _check_path(path) -> Path:
     return p
 
 
-def load_file(path, crease: float = DEFAULT_CREASE,
-              usd=None) -> tuple[list, dict, list, object]:
+def load_file(path, crease: float = DEFAULT_CREASE, usd=None,
+              urdf: dict | None = None) -> tuple[list, dict, list, object]:
     """``(parts, cameras, lights, rig)`` of a mesh file: parts as (name, ``Mesh`` keyword
     arguments, 4x4 node -> file transform), a part's arguments shared by every node that
     uses the same mesh; cameras as {name: Camera}, lights and the Rig of its animations,
     skins and morph targets (glTF only; facet.scene.animation; None when nothing moves).
     ``usd``: facet.formats.usd.UsdOptions for a stage (variants, payloads, purposes,
-    time); a stage's lights may hold its dome as an Environment."""
+    time); a stage's lights may hold its dome as an Environment. ``urdf``: a robot's
+    ``joints``, ``package_path`` and ``collision`` (facet.formats.urdf)."""
     p = _check_path(path)
     crease = _check_crease(crease)
 
@@ -79,6 +82,10 @@ def load_file(path, crease: float = DEFAULT_CREASE,
         from .usd import read_usd
 
         return read_usd(p, finish, usd)
+    if p.suffix.lower() == ".urdf":
+        from .urdf import read_urdf
+
+        return read_urdf(p, finish, crease, **(urdf or {}))
     if p.suffix.lower() in POINT_FORMATS:
         from .point_files import read_pcd, read_text_points
 
@@ -180,8 +187,8 @@ def _finish_sprites(arrays: dict, vertices: np.ndarray, p: Path, where: str) -> 
     return dict(arrays, positions=vertices.astype(np.float32), path=str(p))
 
 
-def read_parts(path, crease: float | None = None,
-               usd=None) -> tuple[list, dict, list, Rig | None]:
+def read_parts(path, crease: float | None = None, usd=None,
+               urdf: dict | None = None) -> tuple[list, dict, list, Rig | None]:
     """The parts of a mesh file as scene objects, its cameras, its lights (glTF's
     KHR_lights_punctual) and its rig: ([(name, Mesh | Points | Lines, (4, 4) part -> file)],
     {name: Camera}, [lights], facet.scene.animation.Rig or None when nothing in it moves,
@@ -189,7 +196,7 @@ def read_parts(path, crease: float | None = None,
     used by several nodes is made once), an OBJ one part per material, other formats one
     part. What ``Mesh.load`` and ``Mesh.load_parts`` read (facet.scene.readers)."""
     raw, cameras, lights, rig = load_file(path, DEFAULT_CREASE if crease is None else crease,
-                                          usd)
+                                          usd, urdf)
     made: dict[int, object] = {}
     parts = []
     for name, data, matrix in raw:

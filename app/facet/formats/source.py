@@ -18,7 +18,10 @@ def is_scene_file(path) -> bool:
 @checked
 def open_scene(path: FilePath, *, crease: Crease = None,
                confine: FilePath | None = None, variants: dict[str, str] | None = None,
-               payloads: bool = True, purposes: tuple[str, ...] | None = None) -> Scene:
+               payloads: bool = True, purposes: tuple[str, ...] | None = None,
+               joints: dict[str, float] | None = None,
+               package_path: tuple[FilePath, ...] | None = None,
+               collision: bool = False) -> Scene:
     """A scene file read with its settings, or a mesh file as a scene of its parts.
 
     A model's parts keep their own materials and node transforms; a glTF's cameras become
@@ -29,7 +32,8 @@ def open_scene(path: FilePath, *, crease: Crease = None,
     ----------
     path : str or Path
         A scene file (.toml), a mesh file (OBJ, STL, PLY, OFF, glTF/GLB, point clouds) or
-        an OpenUSD stage (.usd, .usda, .usdc, .usdz; the ``usd`` extra).
+        an OpenUSD stage (.usd, .usda, .usdc, .usdz; the ``usd`` extra) or a URDF robot
+        (.urdf; the ``urdf`` extra).
     crease : float, optional
         Where a file has no normals, split them at edges sharper than this many degrees.
     confine : str or Path, optional
@@ -40,6 +44,14 @@ def open_scene(path: FilePath, *, crease: Crease = None,
         Whether a USD stage's payloads are loaded (default True).
     purposes : tuple of str, optional
         The USD purposes drawn (default ``("default", "render")``; add "proxy", "guide").
+    joints : dict, optional
+        A URDF robot's configuration, ``{joint: value}`` (radians, metres; within the
+        joints' limits; mimic joints follow).
+    package_path : tuple of str or Path, optional
+        Folders where a URDF's ``package://`` names are looked for (before
+        ``ROS_PACKAGE_PATH`` and the folders above the file).
+    collision : bool
+        A URDF robot's collision geometry instead of its visual geometry.
 
     Returns
     -------
@@ -56,7 +68,8 @@ def open_scene(path: FilePath, *, crease: Crease = None,
 
         with confined(confine):
             return open_scene(path, crease=crease, variants=variants, payloads=payloads,
-                              purposes=purposes)
+                              purposes=purposes, joints=joints, package_path=package_path,
+                              collision=collision)
     if is_scene_file(path):
         from .scenefile import load_scene
 
@@ -81,7 +94,15 @@ def open_scene(path: FilePath, *, crease: Crease = None,
         from .usd import DRAWN_PURPOSES, UsdOptions
 
         usd = UsdOptions(variants, payloads, purposes or DRAWN_PURPOSES)
-    parts, cameras, lights, rig = read_parts(path, crease, usd)
+    urdf = None
+    if joints or package_path or collision:
+        if Path(path).suffix.lower() != ".urdf":
+            from ..errors import InputError
+
+            raise InputError(f"{path}: joints, package_path and collision pose and find a "
+                             "URDF robot; this is not one")
+        urdf = {"joints": joints, "package_path": package_path, "collision": collision}
+    parts, cameras, lights, rig = read_parts(path, crease, usd, urdf)
     scene = Scene()
     ids = [cast(int, scene.add(mesh, transform=matrix, name=name))  # one geometry: an id
            for name, mesh, matrix in parts]
@@ -110,12 +131,13 @@ def open_scene(path: FilePath, *, crease: Crease = None,
 @checked
 def load(path: FilePath, *, crease: Crease = None, confine: FilePath | None = None,
          variants: dict[str, str] | None = None, payloads: bool = True,
-         purposes: tuple[str, ...] | None = None) -> Scene:
+         purposes: tuple[str, ...] | None = None, joints: dict[str, float] | None = None,
+         package_path: tuple[FilePath, ...] | None = None, collision: bool = False) -> Scene:
     """``open_scene`` under the short name: ``facet.load("truck.glb")``.
 
     Parameters
     ----------
-    path, crease, confine, variants, payloads, purposes
+    path, crease, confine, variants, payloads, purposes, joints, package_path, collision
         As ``open_scene``'s.
 
     Returns
@@ -124,4 +146,5 @@ def load(path: FilePath, *, crease: Crease = None, confine: FilePath | None = No
         ``open_scene(path, ...)`` with the same arguments.
     """
     return open_scene(path, crease=crease, confine=confine, variants=variants,
-                      payloads=payloads, purposes=purposes)
+                      payloads=payloads, purposes=purposes, joints=joints,
+                      package_path=package_path, collision=collision)

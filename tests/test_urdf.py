@@ -1,0 +1,178 @@
+"""URDF robots (facet.formats.urdf): links placed exactly by the joint configuration
+(facet's depth against a ray caster over the shapes at the poses yourdfpy's own forward
+kinematics gives, through one explicit camera, in the rasterizer and the Whitted tracer),
+limits and mimic joints, package:// through the search path, the guard, collision
+geometry, and the command line. Robots are written here."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import facet
+from facet.errors import InputError, MeshError
+from facet.geometry.camera import Camera
+
+yourdfpy = pytest.importorskip("yourdfpy", reason="URDF needs yourdfpy (the urdf extra)")
+
+from test_usd import _box, _cylinder_x, _hit_object, _rays, _sphere  # noqa: E402
+
+ROBOT = """<?xml version="1.0"?>
+<robot name="arm">
+  <material name="blue"><color rgba="0.1 0.2 0.8 1"/></material>
+  <link name="base"><visual><geometry><box size="0.4 0.3 0.1"/></geometry>
+    <material name="blue"/></visual>
+    <collision><geometry><sphere radius="0.25"/></geometry></collision></link>
+  <link name="upper"><visual><origin xyz="0 0 0.25" rpy="0 1.5707963267948966 0"/>
+    <geometry><cylinder radius="0.05" length="0.5"/></geometry>
+    <material name="red"><color rgba="0.8 0.1 0.1 1"/></material></visual></link>
+  <link name="fore"><visual><origin xyz="0.2 0 0"/><geometry><box size="0.4 0.06 0.06"/>
+    </geometry></visual></link>
+  <link name="hand"><visual><geometry>{hand}</geometry></visual></link>
+  <link name="finger_a"><visual><geometry><sphere radius="0.03"/></geometry></visual></link>
+  <link name="finger_b"><visual><geometry><sphere radius="0.03"/></geometry></visual></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/>
+    <origin xyz="0 0 0.05"/><axis xyz="0 0 1"/>
+    <limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="fore"/>
+    <origin xyz="0 0 0.5"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="wrist" type="fixed"><parent link="fore"/><child link="hand"/>
+    <origin xyz="0.4 0 0" rpy="0.3 0 0"/></joint>
+  <joint name="slide" type="prismatic"><parent link="hand"/><child link="finger_a"/>
+    <origin xyz="0 0.05 0"/><axis xyz="0 1 0"/>
+    <limit lower="0" upper="0.05" effort="1" velocity="1"/></joint>
+  <joint name="slide_mimic" type="prismatic"><parent link="hand"/><child link="finger_b"/>
+    <origin xyz="0 -0.05 0"/><axis xyz="0 -1 0"/>
+    <limit lower="0" upper="0.05" effort="1" velocity="1"/>
+    <mimic joint="slide" multiplier="1" offset="0"/></joint>
+</robot>
+"""
+SPHERE_HAND = '<sphere radius="0.08"/>'
+
+
+def _robot(folder, hand=SPHERE_HAND):
+    path = folder / "arm.urdf"
+    path.write_text(ROBOT.format(hand=hand))
+    return path
+
+
+CONFIG = {"shoulder": 0.6, "elbow": -0.8, "slide": 0.04}
+CAMERA = Camera.look_at((0.9, -1.1, 0.9), (0.2, 0.0, 0.4), up=(0, 0, 1), fov_y=45, near=0.1,
+                        far=10)
+
+
+@pytest.mark.parametrize("engine", ["raster", "trace"])
+def test_links_land_where_yourdfpys_forward_kinematics_puts_them(tmp_path, engine):
+    path = _robot(tmp_path)
+    robot = yourdfpy.URDF.load(str(path), load_meshes=False)
+    robot.update_cfg(CONFIG)
+
+    def pose(link, xyz=(0, 0, 0), rpy=None):
+        m = robot.get_transform(frame_to=link, frame_from="base")
+        local = np.eye(4)
+        local[:3, 3] = xyz
+        if rpy is not None:  # a turn about y by rpy[1] (the upper arm's visual)
+            c, s = np.cos(rpy), np.sin(rpy)
+            local[:3, :3] = [[c, 0, s], [0, 1, 0], [-s, 0, c]]
+        return m @ local
+
+    def scaled_box(sx, sy, sz):  # a box of sides (sx, sy, sz) as a unit box, scaled
+        return np.diag([sx, sy, sz, 1.0])
+
+    o, d = _rays(CAMERA, 64, 48)
+    ys = np.array([[0, 1, 0, 0], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+    ts = [_hit_object(o, d, pose("base") @ scaled_box(0.4, 0.3, 0.1), _box(0.5)),
+          # the cylinder (along z in URDF) turned onto x by the visual's rpy: along x here
+          _hit_object(o, d, pose("upper", (0, 0, 0.25), np.pi / 2) @ ys @ ys,
+                      lambda oo, dd: _cylinder_x(0.05, 0.5)(oo[..., [2, 1, 0]],
+                                                            dd[..., [2, 1, 0]])),
+          _hit_object(o, d, pose("fore", (0.2, 0, 0)) @ scaled_box(0.4, 0.06, 0.06),
+                      _box(0.5)),
+          _hit_object(o, d, pose("hand"), _sphere(0.08)),
+          _hit_object(o, d, pose("finger_a"), _sphere(0.03)),
+          _hit_object(o, d, pose("finger_b"), _sphere(0.03))]
+    t = np.min(ts, axis=0)
+    which = np.argmin(ts, axis=0)
+    want = np.where(np.isfinite(t), t * (d @ -CAMERA.view[2, :3]), 0.0)
+    scene = facet.load(path, joints=CONFIG)
+    with facet.Renderer(64, 48) as r:
+        got = r.render(scene, CAMERA, engine=engine, outputs=("depth",), aa="none").depth
+    inside = (want > 0) & (got > 0)
+    for axis in (0, 1):
+        for s in (1, -1):
+            inside &= np.roll(want > 0, s, axis) & (np.roll(which, s, axis) == which)
+    assert ((want > 0) != (got > 0)).mean() < 0.03
+    err = np.abs(got - want)[inside] / want[inside]
+    tol = 2e-3 if engine == "raster" else 1e-4
+    assert inside.sum() > 150 and np.quantile(err, 0.99) < tol, err.max()
+    for k in (0, 1, 2, 3):
+        assert ((which == k) & inside).sum() > 3, k
+
+
+def test_limits_mimic_joints_and_unknown_names(tmp_path):
+    path = _robot(tmp_path)
+    with pytest.raises(InputError, match=r"joint 'elbow' = 2.5 rad is outside its limits "
+                                         r"\[-2, 2\] rad"):
+        facet.load(path, joints={"elbow": 2.5})
+    with pytest.raises(InputError, match=r"joint 'slide' = 0.1 m is outside its limits"):
+        facet.load(path, joints={"slide": 0.1})
+    with pytest.raises(InputError, match="no joint named 'knee'; its joints are shoulder"):
+        facet.load(path, joints={"knee": 0.1})
+    with pytest.raises(InputError, match="mimics 'slide'; set 'slide' instead"):
+        facet.load(path, joints={"slide_mimic": 0.01})
+    scene = facet.load(path, joints={"slide": 0.05})
+    centres = {o.name.split("/")[0]: o.transform[:3, 3] for o in scene.objects}
+    gap = np.linalg.norm(centres["finger_a"] - centres["finger_b"])
+    assert gap == pytest.approx(2 * (0.05 + 0.05), abs=1e-9)  # both fingers moved
+    base = next(o for o in scene.objects if o.name.startswith("base"))
+    assert np.allclose(base.material.base_color[:3], [0.1, 0.2, 0.8])  # the named material
+
+
+def test_package_paths_the_guard_and_collision_geometry(tmp_path, monkeypatch):
+    import trimesh
+
+    pkg = tmp_path / "ws" / "arm_pkg" / "meshes"
+    pkg.mkdir(parents=True)
+    trimesh.creation.icosphere(radius=0.08).export(pkg / "ball.stl")
+    robot_dir = tmp_path / "robot"
+    robot_dir.mkdir()
+    path = _robot(robot_dir, '<mesh filename="package://arm_pkg/meshes/ball.stl"/>')
+    with pytest.raises(MeshError, match="package://arm_pkg/meshes/ball.stl is in no folder"):
+        facet.load(path)
+    scene = facet.load(path, package_path=(tmp_path / "ws",))
+    assert any(o.name.startswith("hand/") for o in scene.objects)
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "ws"))
+    assert len(facet.load(path).objects) == len(scene.objects)
+    with pytest.raises(MeshError, match="ball.stl"):  # a mesh outside the confinement
+        facet.load(path, confine=robot_dir)
+    collision = facet.load(path, collision=True)
+    assert [o.name for o in collision.objects] == ["base/0"]  # the one collision element
+    (tmp_path / "evil.urdf").write_text(
+        '<?xml version="1.0"?><!DOCTYPE r [<!ENTITY x SYSTEM "file:///etc/passwd">]>'
+        '<robot name="r"><link name="&x;"/></robot>')
+    with pytest.raises(MeshError, match="declares a DTD or entities"):
+        facet.load(tmp_path / "evil.urdf")
+
+
+def test_the_command_line_poses_a_robot(tmp_path, capsys):
+    from facet.cli import main
+
+    path = _robot(tmp_path)
+    assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "slide_mimic (prismatic [0, 0.05] mimics slide)" in out
+    pictures = []
+    for joints in ("shoulder=0,elbow=0", "shoulder=1.2,elbow=-1.5"):
+        png = tmp_path / f"{joints}.png"
+        assert main(["render", str(path), "--joints", joints, "--size", "64x48",
+                     "-q", "-o", str(png)]) == 0
+        from PIL import Image
+
+        pictures.append(np.asarray(Image.open(png)).astype(int))
+    assert np.abs(pictures[0] - pictures[1]).mean() > 1  # the arm moved
+    assert main(["render", str(path), "--joints", "elbow=9", "-o",
+                 str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err
+    assert "outside its limits" in err and "Traceback" not in err
+    assert not (tmp_path / "x.png").exists()
