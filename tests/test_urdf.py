@@ -176,3 +176,31 @@ def test_the_command_line_poses_a_robot(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "outside its limits" in err and "Traceback" not in err
     assert not (tmp_path / "x.png").exists()
+
+
+def test_a_dataset_of_robot_poses_is_one_manifest(tmp_path):
+    """Each job a configuration of the same robot: the pictures follow the joints (the
+    view plan, each framed on its pose); a job whose joint is out of range fails alone, its reason in the index."""
+    import json
+
+    from batch_data import write_manifest
+    from PIL import Image
+
+    from facet.cli import main
+
+    path = _robot(tmp_path)
+    jobs = [{"model": str(path), "name": f"pose{k}", "joints": joints,
+             "views": {"plan": "turntable", "count": 1}, "size": [48, 48],
+             "outputs": ["color"]}
+            for k, joints in enumerate([{"shoulder": 0.0}, {"shoulder": 1.2, "elbow": -1.5}])]
+    manifest = write_manifest(tmp_path, jobs)
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"]) == 0
+    frames = [json.loads((tmp_path / "out" / f"pose{k}" / "transforms.json").read_text())
+              ["frames"][0] for k in range(2)]
+    images = [np.asarray(Image.open(tmp_path / "out" / f"pose{k}" / frames[k]["file_path"]))
+              .astype(int) for k in range(2)]
+    assert np.abs(images[0] - images[1]).mean() > 1
+    bad = write_manifest(tmp_path, [dict(jobs[0], joints={"elbow": 5.0})])
+    assert main(["batch", str(bad), "-o", str(tmp_path / "bad"), "-q"]) == 1
+    record = json.loads((tmp_path / "bad" / "index.jsonl").read_text().splitlines()[0])
+    assert record["status"] == "failed" and "outside its limits" in record["error"]

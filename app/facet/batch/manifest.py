@@ -51,7 +51,11 @@ from ..options.render import (
 )
 from .views import PLANS, ViewPlan
 
-JOB_KEYS = ("model", "name", "views", "seed", "float_files", "colmap")  # and render options
+JOB_KEYS = ("model", "name", "views", "seed", "float_files", "colmap",  # and render options
+            "joints", "variants", "payloads", "purposes", "package_path", "collision")
+# How a job's model is read (open_scene's arguments): a URDF robot's configuration, an
+# OpenUSD stage's variants, payloads and purposes.
+LOAD_KEYS = ("joints", "variants", "payloads", "purposes", "package_path", "collision")
 FLOAT_FILES = ("npy", "exr")
 VIEW_KEYS = ("plan", "count", "elevation", "elevations", "seed", "file", "times",
              "random_times")
@@ -73,11 +77,13 @@ class Job:
     given: dict = field(default_factory=dict)
     float_files: tuple[str, ...] = ("npy",)
     colmap: bool = False
+    load: dict = field(default_factory=dict)  # open_scene's arguments (LOAD_KEYS)
 
     def digest(self) -> str:
         """What the job's files depend on (a rerun skips a finished job with the same)."""
         text = json.dumps([str(self.model), self.views.__dict__, self.given,
-                           self.float_files, self.colmap], sort_keys=True)
+                           self.float_files, self.colmap, self.load], sort_keys=True,
+                          default=str)
         try:
             stamp = self.model.stat()
             text += f"{stamp.st_size}:{stamp.st_mtime_ns}"
@@ -257,7 +263,38 @@ def _job(where: str, t: dict, base: Path, confine=None) -> Job:
         views = ViewPlan(views.kind, count, views.elevation, views.elevations,
                          views.seed, str(file))
     return Job(name, model, views, options, given, _float_files(t, where),
-               _flag(t, "colmap", where))
+               _flag(t, "colmap", where), _load_arguments(t, where, base))
+
+
+def _load_arguments(t: dict, where: str, base: Path) -> dict:
+    """open_scene's arguments a job gives (LOAD_KEYS), checked."""
+    out: dict = {}
+    for key in ("joints", "variants"):
+        if key in t:
+            value = t[key]
+            if not isinstance(value, dict) or not all(isinstance(k, str) for k in value):
+                raise InputError(f"{where}.{key}: expected a table of names, got {value!r}")
+            if key == "joints" and not all(isinstance(v, (int, float)) and
+                                           not isinstance(v, bool) for v in value.values()):
+                raise InputError(f"{where}.joints: values must be numbers (radians, metres)")
+            if key == "variants" and not all(isinstance(v, str) for v in value.values()):
+                raise InputError(f"{where}.variants: values must be variant names")
+            out[key] = dict(value)
+    for key in ("payloads", "collision"):
+        if key in t:
+            out[key] = _flag(t, key, where)
+    if "purposes" in t:
+        value = t["purposes"]
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            raise InputError(f"{where}.purposes: expected a list of purposes")
+        out["purposes"] = tuple(value)
+    if "package_path" in t:
+        value = t["package_path"]
+        value = [value] if isinstance(value, str) else value
+        if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+            raise InputError(f"{where}.package_path: expected folder names")
+        out["package_path"] = tuple(str((base / v).resolve()) for v in value)
+    return out
 
 
 def job_root(confine, model) -> Path | None:

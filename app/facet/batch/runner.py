@@ -40,7 +40,7 @@ def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
     if finished(folder, digest):
         return {**record, "status": "skipped", "seconds": 0.0}
     try:
-        scene = load() if load is not None else open_scene(job.model)
+        scene = load() if load is not None else open_scene(job.model, **job.load)
         opts = job_options(job, scene, renderer)
         # transforms.json points at the colour images; COLMAP's point cloud is read from
         # depth and position, saved or not.
@@ -108,7 +108,7 @@ def render_jobs(jobs, out: Path, renderer, confine=None, on_view=None):
         def start(job):
             if finished(out / job.name, job.digest()):
                 return None
-            return loader.submit(_load, job.model, job_root(confine, job.model))
+            return loader.submit(_load, job.model, job_root(confine, job.model), job.load)
 
         ahead = start(jobs[0]) if jobs else None
         for k, job in enumerate(jobs):
@@ -129,11 +129,11 @@ def _confined(root):
     return confined(root)
 
 
-def _load(model, root):
+def _load(model, root, load=None):
     from ..formats.source import open_scene
 
     with _confined(root):
-        return open_scene(model)
+        return open_scene(model, **(load or {}))
 
 
 def chunks(jobs: list, workers: int) -> list[list]:
