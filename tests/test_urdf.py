@@ -183,10 +183,11 @@ def test_a_dataset_of_robot_poses_is_one_manifest(tmp_path):
     view plan, each framed on its pose); a job whose joint is out of range fails alone, its reason in the index."""
     import json
 
-    from batch_data import write_manifest
     from PIL import Image
 
     from facet.cli import main
+
+    from batch_data import write_manifest
 
     path = _robot(tmp_path)
     jobs = [{"model": str(path), "name": f"pose{k}", "joints": joints,
