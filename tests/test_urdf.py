@@ -180,7 +180,8 @@ def test_the_command_line_poses_a_robot(tmp_path, capsys):
 
 def test_a_dataset_of_robot_poses_is_one_manifest(tmp_path):
     """Each job a configuration of the same robot: the pictures follow the joints (the
-    view plan, each framed on its pose); a job whose joint is out of range fails alone, its reason in the index."""
+    view plan, each framed on its pose); a job whose joint is out of range fails alone,
+    its reason in the index."""
     import json
 
     from PIL import Image
