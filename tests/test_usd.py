@@ -500,3 +500,48 @@ def test_time_samples_move_parts_and_cameras_through_time(tmp_path):
         b = r.render(scene, wide, time=2.0, outputs=("ids",)).object_ids
     box_id = next(o.id for o in scene.objects if o.name == "Box")
     assert np.nonzero(b == box_id)[1].mean() > np.nonzero(a == box_id)[1].mean() + 4
+
+
+def test_planes_point_instancers_domes_and_cameras_by_name(tmp_path):
+    """A Plane gprim is a bounded plane facing its axis; a PointInstancer places one
+    prototype (made once) at each position; a DomeLight is the environment (a constant
+    dome of its emission, or its latitude-longitude texture times it); --camera picks a
+    stage camera by name."""
+    from PIL import Image
+
+    from facet.cli import main
+
+    stage = _stage(tmp_path / "p.usda")
+    plane = UsdGeom.Plane.Define(stage, "/Floor")
+    plane.CreateWidthAttr(4.0)
+    plane.CreateLengthAttr(2.0)
+    plane.CreateAxisAttr("Y")
+    inst = UsdGeom.PointInstancer.Define(stage, "/Many")
+    UsdGeom.Sphere.Define(stage, "/Many/Protos/Ball").CreateRadiusAttr(0.2)
+    inst.CreatePrototypesRel().SetTargets(["/Many/Protos/Ball"])
+    inst.CreateProtoIndicesAttr([0, 0, 0])
+    inst.CreatePositionsAttr([(-1, 0.5, 0), (0, 0.5, 0), (1, 0.5, 0)])
+    dome = UsdLux.DomeLight.Define(stage, "/Sky")
+    dome.CreateIntensityAttr(0.5)
+    dome.CreateColorAttr((1.0, 0.5, 0.25))
+    cam = UsdGeom.Camera.Define(stage, "/Top")
+    UsdGeom.Xformable(cam).AddTranslateOp().Set(Gf.Vec3d(0, 0, 6))
+    stage.Save()
+    scene = facet.load(tmp_path / "p.usda")
+    floor = next(o for o in scene.objects if o.name == "Floor")
+    lo, hi = floor.mesh.bounds
+    assert np.allclose(hi - lo, [4, 0, 2], atol=1e-6)  # width along x, length along z
+    balls = [o for o in scene.objects if o.name.startswith("Ball")]
+    assert len(balls) == 3 and balls[0].mesh is balls[2].mesh
+    assert sorted(round(b.transform[0, 3], 6) for b in balls) == [-1, 0, 1]
+    np.testing.assert_allclose(scene.environment.faces[0, 0, 0, :3], [0.5, 0.25, 0.125])
+    Image.fromarray(np.full((8, 16, 3), [255, 0, 0], np.uint8)).save(tmp_path / "red.png")
+    dome.CreateTextureFileAttr("red.png")
+    stage.Save()
+    textured = facet.load(tmp_path / "p.usda").environment
+    np.testing.assert_allclose(textured.faces[..., :3].mean(axis=(0, 1, 2)), [0.5, 0, 0],
+                               atol=1e-3)
+    png = tmp_path / "top.png"
+    assert main(["render", str(tmp_path / "p.usda"), "--camera", "Top", "--size", "32x32",
+                 "-q", "-o", str(png)]) == 0
+    assert png.exists()

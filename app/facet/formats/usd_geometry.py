@@ -230,7 +230,8 @@ def gprim(prim, time) -> tuple[str, tuple, np.ndarray] | None:
         turn = {"Z": np.array([[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1.0]]),
                 "Y": np.eye(4),
                 "X": np.array([[0, 1, 0, 0], [1, 0, 0, 0], [0, 0, -1, 0], [0, 0, 0, 1.0]])}
-        size = (w, length) if axis == "Z" else (length, w) if axis == "Y" else (length, w)
+        # (axis Z: width along x, length along y; Y: x and z; X: z and y)
+        size = (length, w) if axis == "X" else (w, length)
         return "plane", size, turn[axis]
     return None
 
