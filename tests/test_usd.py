@@ -545,3 +545,36 @@ def test_planes_point_instancers_domes_and_cameras_by_name(tmp_path):
     assert main(["render", str(tmp_path / "p.usda"), "--camera", "Top", "--size", "32x32",
                  "-q", "-o", str(png)]) == 0
     assert png.exists()
+
+
+def test_subdivision_surfaces_refine_on_request():
+    """Catmull-Clark's first level of a cube of side 2, by its rules: face points at the
+    faces' centres, edge point (0.75, 0.75, 0), corner (5/9, 5/9, 5/9); 24 quads. A stage's
+    catmullClark mesh is its cage by default and refined with subdivide=N (the Loop scheme
+    on triangles through trimesh)."""
+    from facet.formats.subdivide import catmull_clark
+
+    corners = np.array([(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1.0)])
+    quads = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4],
+             [1, 5, 7, 3]]
+    pts, out = catmull_clark(corners, np.full(6, 4), np.array(quads).reshape(-1))
+    assert out.shape == (24, 4) and len(pts) == 8 + 12 + 6
+    found = {tuple(np.round(p, 6)) for p in pts}
+    assert (1.0, 0.0, 0.0) in found and (0.75, 0.75, 0.0) in found
+    assert tuple(np.round([5 / 9] * 3, 6)) in found
+
+
+def test_a_stage_subdivides_its_catmull_clark_meshes_when_asked(tmp_path):
+    stage = _stage(tmp_path / "s.usda")
+    mesh = UsdGeom.Mesh.Define(stage, "/Box")
+    corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
+    mesh.CreatePointsAttr(corners)
+    mesh.CreateFaceVertexCountsAttr([4] * 6)
+    mesh.CreateFaceVertexIndicesAttr([0, 1, 3, 2, 4, 6, 7, 5, 0, 4, 5, 1, 2, 3, 7, 6,
+                                      0, 2, 6, 4, 1, 5, 7, 3])
+    stage.Save()
+    cage = facet.load(tmp_path / "s.usda").objects[0].mesh
+    smooth = facet.load(tmp_path / "s.usda", subdivide=3).objects[0].mesh
+    assert cage.face_count == 12 and smooth.face_count == 6 * 4 ** 3 * 2
+    r = np.linalg.norm(smooth.positions, axis=1)
+    assert r.max() < np.sqrt(3) - 0.3 and r.min() > 0.75  # rounder than the cage

@@ -239,6 +239,9 @@ def add_model_options(p) -> None:
     p.add_argument("--purpose", metavar="LIST",
                    help="OpenUSD: the purposes drawn, from default, render, proxy, guide "
                    "(default: default,render)")
+    p.add_argument("--subdivide", type=int, metavar="LEVEL",
+                   help="OpenUSD: refine subdivision surfaces LEVEL times (Catmull-Clark, "
+                   "Loop; default 0: the control cage, as usdview draws it)")
     p.add_argument("--joints", metavar="NAME=VALUE,...",
                    help="URDF: the joint configuration (radians, metres; within the limits; "
                    "'facet info' lists the joints)")
@@ -279,6 +282,14 @@ def stage_options(args) -> dict:
             raise InputError(f"--purpose {purpose!r}: expected purposes from "
                              f"{', '.join(PURPOSES)}, separated by commas")
         out["purposes"] = names
+    level = getattr(args, "subdivide", None)
+    if level is not None:
+        from ..formats.subdivide import MAX_LEVEL
+
+        if not 0 <= level <= MAX_LEVEL:
+            raise InputError(f"--subdivide {level}: expected a level from 0 to {MAX_LEVEL}")
+        if level:
+            out["subdivide"] = level
     joints = getattr(args, "joints", None)
     if joints:
         values = {}

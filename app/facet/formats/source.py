@@ -21,7 +21,7 @@ def open_scene(path: FilePath, *, crease: Crease = None,
                payloads: bool = True, purposes: tuple[str, ...] | None = None,
                joints: dict[str, float] | None = None,
                package_path: tuple[FilePath, ...] | None = None,
-               collision: bool = False) -> Scene:
+               collision: bool = False, subdivide: int = 0) -> Scene:
     """A scene file read with its settings, or a mesh file as a scene of its parts.
 
     A model's parts keep their own materials and node transforms; a glTF's cameras become
@@ -44,6 +44,9 @@ def open_scene(path: FilePath, *, crease: Crease = None,
         Whether a USD stage's payloads are loaded (default True).
     purposes : tuple of str, optional
         The USD purposes drawn (default ``("default", "render")``; add "proxy", "guide").
+    subdivide : int
+        Refine a USD stage's subdivision surfaces this many levels (Catmull-Clark, Loop;
+        default 0: the control cage, as usdview draws it by default).
     joints : dict, optional
         A URDF robot's configuration, ``{joint: value}`` (radians, metres; within the
         joints' limits; mimic joints follow).
@@ -69,7 +72,7 @@ def open_scene(path: FilePath, *, crease: Crease = None,
         with confined(confine):
             return open_scene(path, crease=crease, variants=variants, payloads=payloads,
                               purposes=purposes, joints=joints, package_path=package_path,
-                              collision=collision)
+                              collision=collision, subdivide=subdivide)
     if is_scene_file(path):
         from .scenefile import load_scene
 
@@ -82,18 +85,18 @@ def open_scene(path: FilePath, *, crease: Crease = None,
         scene.frame_by_default = True
         return scene
     usd = None
-    if variants or not payloads or purposes is not None:
+    if variants or not payloads or purposes is not None or subdivide:
         from .usd_stage import USD_SUFFIXES
 
         if Path(path).suffix.lower() not in USD_SUFFIXES:
             from ..errors import InputError
 
-            raise InputError(f"{path}: variants, payloads and purposes choose what an "
-                             "OpenUSD stage composes; this is not one (a glTF's material "
+            raise InputError(f"{path}: variants, payloads, purposes and subdivide choose what "
+                             "an OpenUSD stage composes; this is not one (a glTF's material "
                              "variants are the 'variant' render option)")
         from .usd import DRAWN_PURPOSES, UsdOptions
 
-        usd = UsdOptions(variants, payloads, purposes or DRAWN_PURPOSES)
+        usd = UsdOptions(variants, payloads, purposes or DRAWN_PURPOSES, subdivide)
     urdf = None
     if joints or package_path or collision:
         if Path(path).suffix.lower() != ".urdf":
@@ -132,12 +135,14 @@ def open_scene(path: FilePath, *, crease: Crease = None,
 def load(path: FilePath, *, crease: Crease = None, confine: FilePath | None = None,
          variants: dict[str, str] | None = None, payloads: bool = True,
          purposes: tuple[str, ...] | None = None, joints: dict[str, float] | None = None,
-         package_path: tuple[FilePath, ...] | None = None, collision: bool = False) -> Scene:
+         package_path: tuple[FilePath, ...] | None = None, collision: bool = False,
+         subdivide: int = 0) -> Scene:
     """``open_scene`` under the short name: ``facet.load("truck.glb")``.
 
     Parameters
     ----------
-    path, crease, confine, variants, payloads, purposes, joints, package_path, collision
+    path, crease, confine, variants, payloads, purposes, joints, package_path, collision,
+    subdivide
         As ``open_scene``'s.
 
     Returns
@@ -147,4 +152,4 @@ def load(path: FilePath, *, crease: Crease = None, confine: FilePath | None = No
     """
     return open_scene(path, crease=crease, confine=confine, variants=variants,
                       payloads=payloads, purposes=purposes, joints=joints,
-                      package_path=package_path, collision=collision)
+                      package_path=package_path, collision=collision, subdivide=subdivide)

@@ -59,10 +59,12 @@ class UsdOptions:
     """What to read of a stage: ``variants`` {set: name}, ``payloads``, ``purposes``
     (default and render; proxy, guide on request)."""
 
-    def __init__(self, variants=None, payloads: bool = True, purposes=DRAWN_PURPOSES):
+    def __init__(self, variants=None, payloads: bool = True, purposes=DRAWN_PURPOSES,
+                 subdivide: int = 0):
         self.variants = dict(variants or {})
         self.payloads = bool(payloads)
         self.purposes = tuple(purposes)
+        self.subdivide = int(subdivide)  # refinement levels of subdivision surfaces
 
 
 def _matrix(gf) -> np.ndarray:
@@ -95,6 +97,7 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
     time = Usd.TimeCode.Default()  # (moving transforms: the time rig, facet.formats.usd_time)
     cache = UsdGeom.XformCache(time)
     shading = Shading(stage, time, notes)
+    shading.subdivide = options.subdivide
     parts: list = []
     placed: list = []  # per part: (its prim, 4x4 geometry -> prim) for the time rig
     cameras: dict = {}
@@ -168,14 +171,14 @@ def _make(prim, time, shading, finish, notes, path, where) -> list:
         if prim.IsA(UsdGeom.Gprim) else False
     if kind == "Mesh":
         material, uv_name = shading.material_of(prim, (rgb, alpha))
-        args = mesh_arguments(prim, time, uv_name, notes, where)
+        args = mesh_arguments(prim, time, uv_name, notes, where,
+                              getattr(shading, "subdivide", 0))
         if args is None:
             return []
         constant = args.pop("constant_color", None)
         scheme = args.pop("subdivision")
         if scheme not in ("none", "bilinear") and _has_creases(prim, time):
-            notes.append(f"{where}: subdivision creases and corners are not honoured (the "
-                         "control cage is drawn)")
+            notes.append(f"{where}: subdivision creases and corners are not honoured")
         if material is None:
             c = constant or (rgb, alpha)
             material = fallback_material(c[0], c[1], double)

@@ -12,7 +12,9 @@ bottom-left as in OpenGL; ``displayColor`` / ``displayOpacity`` the vertex colou
 (linear in USD, sRGB-encoded as facet's vertex colours are).
 
 A mesh's ``subdivisionScheme`` (catmullClark unless authored) is drawn as its control cage,
-what usdview draws at its default complexity.
+what usdview draws at its default complexity; with a refinement ``level`` the cage is
+refined (facet.formats.subdivide) and drawn with its computed normals, its primvars left
+out (said).
 """
 
 from __future__ import annotations
@@ -73,7 +75,8 @@ def _per_corner(values: np.ndarray, interpolation: str, indices: np.ndarray,
     return None
 
 
-def mesh_arguments(prim, time, uv_name: str, notes: list, where: str) -> dict | None:
+def mesh_arguments(prim, time, uv_name: str, notes: list, where: str,
+                   level: int = 0) -> dict | None:
     """A UsdGeom.Mesh's facet Mesh arguments (positions, faces, normals, uvs, colors),
     or None when it has no faces; problems said into ``notes``."""
     from pxr import UsdGeom
@@ -90,12 +93,15 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str) -> dict | 
                      f"its {len(points):,} points; left out")
         return None
     holes = _array(mesh.GetHoleIndicesAttr().Get(time), np.int64)
+    scheme = mesh.GetSubdivisionSchemeAttr().Get(time)
+    if level > 0 and scheme in ("catmullClark", "loop"):
+        return _refined(points, counts, indices, holes, scheme, level, prim, time, notes,
+                        where, mesh.GetOrientationAttr().Get(time) == "leftHanded")
     corners, faces = triangulate(counts, () if holes is None else holes)
     if not len(corners):
         return None
     if mesh.GetOrientationAttr().Get(time) == "leftHanded":
         corners = corners[:, [0, 2, 1]]
-    scheme = mesh.GetSubdivisionSchemeAttr().Get(time)
     api = UsdGeom.PrimvarsAPI(prim)
     per_corner: dict[str, tuple] = {}  # name -> (values, interpolation)
     normals_pv = api.GetPrimvar("normals")
@@ -157,6 +163,42 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str) -> dict | 
             args["colors_alpha"] = np.asarray(got, np.float64)
     _vertex_colours(args)
     args["subdivision"] = scheme or "catmullClark"
+    return args
+
+
+def _refined(points, counts, indices, holes, scheme, level, prim, time, notes, where,
+             left) -> dict:
+    """A subdivision mesh refined ``level`` times: positions and faces (normals computed),
+    its constant display colour kept, other primvars said to be left out."""
+    from .subdivide import refine
+
+    if holes is not None and len(holes):
+        notes.append(f"{where}: holes are filled when the surface is subdivided")
+    keep = counts >= 3
+    if not keep.all():  # (faces of fewer corners: no surface)
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        flat = np.concatenate([np.arange(s, s + c) for s, c in zip(starts[keep],
+                                                                    counts[keep],
+                                                                    strict=True)])
+        counts, indices = counts[keep], indices[flat]
+    pts, counts, indices = refine(points, counts, indices, scheme, level)
+    corners, _ = triangulate(counts)
+    if left:
+        corners = corners[:, [0, 2, 1]]
+    from pxr import UsdGeom
+
+    api = UsdGeom.PrimvarsAPI(prim)
+    if any(api.GetPrimvar(n) and api.GetPrimvar(n).HasAuthoredValue() and
+           api.GetPrimvar(n).GetInterpolation() != "constant"
+           for n in ("st", "displayColor", "displayOpacity", "normals")):
+        notes.append(f"{where}: texture coordinates, normals and colours that vary over the "
+                     "surface are left out of its subdivided surface")
+    rgb, alpha = display_color(prim, time)
+    args = {"positions": np.asarray(pts, np.float32),
+            "faces": indices[corners.reshape(-1)].reshape(-1, 3).astype(np.uint32),
+            "subdivision": "none"}
+    if rgb is not None or alpha < 1:
+        args["constant_color"] = (rgb, alpha)
     return args
 
 
