@@ -578,3 +578,13 @@ def test_a_stage_subdivides_its_catmull_clark_meshes_when_asked(tmp_path):
     assert cage.face_count == 12 and smooth.face_count == 6 * 4 ** 3 * 2
     r = np.linalg.norm(smooth.positions, axis=1)
     assert r.max() < np.sqrt(3) - 0.3 and r.min() > 0.75  # rounder than the cage
+
+
+def test_mesh_load_merges_a_stages_meshes_and_shapes(tmp_path):
+    """Mesh.load of a stage: its meshes and its exact shapes (tessellated) in one mesh."""
+    path = geometry_stage(tmp_path / "geo.usda")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FacetWarning)  # (their materials differ: said)
+        mesh = facet.Mesh.load(path)
+    scene = facet.load(path)
+    assert mesh.face_count == sum(o.mesh.face_count for o in scene.objects)

@@ -201,6 +201,9 @@ class Mesh:
                 m.positions, m.faces, m.normals, m.uvs, name=m.name, material=m.material,
                 colors=m.colors, uvs1=m.uvs1, tangents=m._tangents, variants=m.variants),
                 x) for (n, _, _), (m, x) in zip(parts, placed, strict=True)]
+        from .shapes import Shape
+
+        parts = [(n, _tessellated(m) if isinstance(m, Shape) else m, x) for n, m, x in parts]
         meshes = [part for part in parts if part[1].kind == "mesh"]
         if not meshes:
             from ..errors import MeshError
@@ -362,6 +365,14 @@ class Mesh:
 
     def __repr__(self) -> str:
         return f"Mesh({self.name!r}, vertices={self.vertex_count}, faces={self.face_count})"
+
+
+def _tessellated(shape) -> Mesh:
+    """A file's exact shape (facet.scene.shapes: a USD gprim, a URDF box) as its own mesh,
+    with the shape's material."""
+    t = shape.mesh()
+    return Mesh(t.positions, t.faces, t.normals, t.uvs, name=shape.kind,
+                material=shape.material)
 
 
 def merge_parts(parts, label: str):
