@@ -85,7 +85,7 @@ def load_file(path, crease: float = DEFAULT_CREASE, usd=None,
     if p.suffix.lower() == ".urdf":
         from .urdf import read_urdf
 
-        return read_urdf(p, finish, crease, **(urdf or {}))
+        return read_urdf(p, load_file, crease, **(urdf or {}))
     if p.suffix.lower() in POINT_FORMATS:
         from .point_files import read_pcd, read_text_points
 

@@ -121,13 +121,11 @@ def resolve(filename: str, urdf: Path, package_path) -> Path:
     return p if p.is_absolute() else urdf.parent / p
 
 
-def read_urdf(path: Path, finish, crease: float, joints=None, package_path=None,
+def read_urdf(path: Path, load_file, crease: float, joints=None, package_path=None,
               collision: bool = False):
     """``(parts, cameras, lights, rig)`` as facet.formats.loading.load_file returns them
-    (lights hold the z-up setting)."""
-    from .loading import load_file
-    from .usd import StageSettings
-    from .usd_geometry import axis_turn
+    (lights hold the z-up setting); ``load_file`` reads the robot's mesh files."""
+    from .usd_geometry import StageSettings, axis_turn
 
     robot = parse_robot(path)
     configure(robot, joints, path)

@@ -37,7 +37,15 @@ import numpy as np
 
 from ..errors import FacetWarning, MeshError
 from ..scene.light import AreaLight, DirectionalLight, PointLight
-from .usd_geometry import curve_arguments, display_color, gprim, mesh_arguments, points_arguments
+from .usd_geometry import (
+    StageSettings,
+    curve_arguments,
+    display_color,
+    gprim,
+    mesh_arguments,
+    points_arguments,
+)
+from .usd_geometry import matrix as _matrix
 from .usd_shading import Shading, fallback_material
 from .usd_stage import open_stage
 
@@ -45,14 +53,6 @@ GPRIMS = ("Cube", "Sphere", "Cylinder", "Cone", "Capsule", "Plane")
 LIGHTS = ("DistantLight", "SphereLight", "RectLight", "DiskLight", "DomeLight",
           "CylinderLight")
 DRAWN_PURPOSES = ("default", "render")
-
-
-class StageSettings:
-    """What a stage says of its world beyond its objects: ``up`` ("y" or "z", the
-    framing's and turntables' up axis)."""
-
-    def __init__(self, up: str):
-        self.up = up
 
 
 class UsdOptions:
@@ -65,11 +65,6 @@ class UsdOptions:
         self.payloads = bool(payloads)
         self.purposes = tuple(purposes)
         self.subdivide = int(subdivide)  # refinement levels of subdivision surfaces
-
-
-def _matrix(gf) -> np.ndarray:
-    """A Gf.Matrix4d (row vectors) as facet's column-vector 4x4."""
-    return np.array(gf, dtype=np.float64).reshape(4, 4).T
 
 
 def read_usd(path: Path, finish, options: UsdOptions | None = None):

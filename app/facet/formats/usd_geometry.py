@@ -26,6 +26,19 @@ from ..srgb import linear_to_srgb
 AXES = {"X": 0, "Y": 1, "Z": 2}
 
 
+class StageSettings:
+    """What a file says of its world beyond its objects (a USD stage's upAxis, a URDF's
+    z-up): ``up`` ("y" or "z", the framing's and turntables' up axis)."""
+
+    def __init__(self, up: str):
+        self.up = up
+
+
+def matrix(gf) -> np.ndarray:
+    """A Gf.Matrix4d (USD's row vectors) as facet's column-vector 4x4."""
+    return np.array(gf, dtype=np.float64).reshape(4, 4).T
+
+
 def _array(value, dtype=np.float64, width: int | None = None) -> np.ndarray | None:
     if value is None:
         return None

@@ -55,7 +55,7 @@ def time_rig(stage, placed: list, cameras: dict, notes: list) -> Rig | None:
     (its prim or None, 4x4 geometry -> prim); ``cameras``: {name: (prim, Camera)}."""
     from pxr import Usd, UsdGeom
 
-    from .usd import _matrix
+    from .usd_geometry import matrix as _matrix
 
     tcps = stage.GetTimeCodesPerSecond()
     if not tcps > 0:  # (pxr's time sample queries do not return on such a stage)

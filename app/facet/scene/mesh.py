@@ -201,9 +201,8 @@ class Mesh:
                 m.positions, m.faces, m.normals, m.uvs, name=m.name, material=m.material,
                 colors=m.colors, uvs1=m.uvs1, tangents=m._tangents, variants=m.variants),
                 x) for (n, _, _), (m, x) in zip(parts, placed, strict=True)]
-        from .shapes import Shape
-
-        parts = [(n, _tessellated(m) if isinstance(m, Shape) else m, x) for n, m, x in parts]
+        # (an exact shape has parameters and makes its own mesh: facet.scene.shapes)
+        parts = [(n, _tessellated(m) if hasattr(m, "params") else m, x) for n, m, x in parts]
         meshes = [part for part in parts if part[1].kind == "mesh"]
         if not meshes:
             from ..errors import MeshError
