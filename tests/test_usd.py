@@ -198,6 +198,18 @@ def test_geometry_lands_where_a_ray_caster_over_pxrs_triangles_and_shapes_says(t
         assert ((which == k) & inside).sum() > 10, k
 
 
+def _variants(stage, path: str, name: str, kinds: dict) -> None:
+    """A prim at ``path`` whose variant set ``name`` holds one gprim per variant (named
+    after it, of ``kinds[variant]``); the first variant selected."""
+    sets = stage.DefinePrim(path).GetVariantSets().AddVariantSet(name)
+    for variant, kind in kinds.items():
+        sets.AddVariant(variant)
+        sets.SetVariantSelection(variant)
+        with sets.GetVariantEditContext():
+            kind.Define(stage, f"{path}/{variant}")
+    sets.SetVariantSelection(next(iter(kinds)))
+
+
 def test_composition_as_usd_defines_it(tmp_path):
     (tmp_path / "parts").mkdir()
     part = _stage(tmp_path / "parts" / "part.usda")
@@ -217,14 +229,7 @@ def test_composition_as_usd_defines_it(tmp_path):
     ref.GetReferences().AddReference("parts/part.usda")
     pay = stage.DefinePrim("/World/Pay")
     pay.GetPayloads().AddPayload("parts/heavy.usda")
-    v = stage.DefinePrim("/World/V")
-    vs = v.GetVariantSets().AddVariantSet("shape")
-    for name, kind in (("box", UsdGeom.Cube), ("ball", UsdGeom.Sphere)):
-        vs.AddVariant(name)
-        vs.SetVariantSelection(name)
-        with vs.GetVariantEditContext():
-            kind.Define(stage, f"/World/V/{name}")
-    vs.SetVariantSelection("box")
+    _variants(stage, "/World/V", "shape", {"box": UsdGeom.Cube, "ball": UsdGeom.Sphere})
     off = UsdGeom.Cube.Define(stage, "/World/Off")
     off.GetPrim().SetActive(False)
     hidden = UsdGeom.Cube.Define(stage, "/World/Hidden")
@@ -418,14 +423,7 @@ def test_the_command_line_renders_describes_and_chooses_variants(tmp_path, capsy
     from facet.cli import main
 
     stage = _stage(tmp_path / "v.usda")
-    v = stage.DefinePrim("/V")
-    vs = v.GetVariantSets().AddVariantSet("look")
-    for name, kind in (("cube", UsdGeom.Cube), ("ball", UsdGeom.Sphere)):
-        vs.AddVariant(name)
-        vs.SetVariantSelection(name)
-        with vs.GetVariantEditContext():
-            kind.Define(stage, f"/V/{name}")
-    vs.SetVariantSelection("cube")
+    _variants(stage, "/V", "look", {"cube": UsdGeom.Cube, "ball": UsdGeom.Sphere})
     UsdLux.DistantLight.Define(stage, "/Sun")
     stage.Save()
     path = tmp_path / "v.usda"
