@@ -586,3 +586,19 @@ def test_mesh_load_merges_a_stages_meshes_and_shapes(tmp_path):
         mesh = facet.Mesh.load(path)
     scene = facet.load(path)
     assert mesh.face_count == sum(o.mesh.face_count for o in scene.objects)
+
+
+def test_a_stage_of_zero_time_codes_per_second_is_drawn_still(tmp_path):
+    """timeCodesPerSecond = 0 with time samples (pxr's time-sample queries never return
+    on such a stage: facet does not ask them): drawn at its default time, said."""
+    stage = _stage(tmp_path / "z.usda")
+    stage.SetTimeCodesPerSecond(0)
+    box = UsdGeom.Cube.Define(stage, "/Box")
+    op = UsdGeom.Xformable(box).AddTranslateOp()
+    op.Set(Gf.Vec3d(0, 0, 0), 0)
+    op.Set(Gf.Vec3d(4, 0, 0), 10)
+    stage.Save()
+    with pytest.warns(FacetWarning, match="timeCodesPerSecond is 0: the stage is drawn at "
+                                          "its default time"):
+        scene = facet.load(tmp_path / "z.usda")
+    assert scene.animations == [] and len(scene.objects) == 1
