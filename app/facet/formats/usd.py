@@ -139,6 +139,11 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
                                            where):
             parts.append((name, args, world @ local))
             placed.append((prim, local))
+    if not parts:
+        empty = [str(p.GetPath()) for p in stage.Traverse() if p.IsA(UsdGeom.Gprim)]
+        raise MeshError(f"{path}: the stage draws nothing: " + (
+            f"{', '.join(empty[:3])} hold{'s' if len(empty) == 1 else ''} no faces, points "
+            "or shapes" if empty else "it has no meshes, gprims, points or curves"))
     from .usd_time import time_rig
 
     rig = time_rig(stage, placed, camera_prims, notes)
