@@ -605,3 +605,37 @@ def test_a_stage_of_zero_time_codes_per_second_is_drawn_still(tmp_path):
                                           "its default time"):
         scene = facet.load(tmp_path / "z.usda")
     assert scene.animations == [] and len(scene.objects) == 1
+
+
+def test_a_dome_turns_with_its_prim_and_its_pole_follows_a_z_up_stage(tmp_path):
+    """A dome's texture (red where x < 0 in its frame) turned 180 degrees about y: red on
+    +x, in the cube every engine draws and in the grid the path tracer samples alike. A
+    DomeLight_1 on a z-up stage (poleAxis "scene", its default): the texture's upper half
+    (its +y) lies on +z."""
+    from PIL import Image
+
+    half = np.zeros((16, 32, 3), np.uint8)
+    half[:, :16] = (255, 0, 0)  # u < 0.5: x < 0
+    Image.fromarray(half).save(tmp_path / "half.png")
+    top = np.zeros((16, 32, 3), np.uint8)
+    top[:8] = (0, 0, 255)  # v < 0.5: y > 0
+    Image.fromarray(top).save(tmp_path / "top.png")
+    stage = _stage(tmp_path / "d.usda")
+    UsdGeom.Cube.Define(stage, "/Box")
+    dome = UsdLux.DomeLight.Define(stage, "/Sky")
+    dome.CreateTextureFileAttr("half.png")
+    UsdGeom.Xformable(dome).AddRotateYOp().Set(180.0)
+    stage.Save()
+    env = facet.load(tmp_path / "d.usda").environment
+    assert env.faces[0, ..., 0].mean() > 0.99 and env.faces[1, ..., 0].mean() < 0.01
+    h, w = env.equirect.shape[:2]
+    assert env.equirect[:, 3 * w // 4, 0].mean() > 0.99  # u = 0.75: +x
+    assert env.equirect[:, w // 4, 0].mean() < 0.01
+    zup = Usd.Stage.CreateNew(str(tmp_path / "z.usda"))
+    UsdGeom.SetStageUpAxis(zup, UsdGeom.Tokens.z)
+    UsdGeom.Cube.Define(zup, "/Box")
+    d1 = UsdLux.DomeLight_1.Define(zup, "/Sky")
+    d1.CreateTextureFileAttr("top.png")
+    zup.Save()
+    env = facet.load(tmp_path / "z.usda").environment
+    assert env.faces[4, ..., 2].mean() > 0.99 and env.faces[5, ..., 2].mean() < 0.01  # +z

@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import FacetWarning, MeshError
+from ..errors import FacetError, FacetWarning, MeshError
 from ..scene.light import AreaLight, DirectionalLight, PointLight
 from .usd_geometry import (
     StageSettings,
@@ -51,7 +51,7 @@ from .usd_stage import open_stage
 
 GPRIMS = ("Cube", "Sphere", "Cylinder", "Cone", "Capsule", "Plane")
 LIGHTS = ("DistantLight", "SphereLight", "RectLight", "DiskLight", "DomeLight",
-          "CylinderLight")
+          "DomeLight_1", "CylinderLight")
 DRAWN_PURPOSES = ("default", "render")
 
 
@@ -362,23 +362,26 @@ def usd_light(prim, time, world: np.ndarray, notes: list):
         return AreaLight(position=origin, normal=minus_z, size=(max(w, 1e-6), max(h, 1e-6)),
                          color=colour, intensity=radiance * area / np.pi,
                          attenuation=(0.0, 0.0, 1.0))
-    if kind == "DomeLight":
-        return _dome(prim, time, world, emission, notes, where)
+    if kind in ("DomeLight", "DomeLight_1"):
+        from pxr import UsdGeom
+
+        return _dome(prim, time, world, emission, notes, where,
+                     str(UsdGeom.GetStageUpAxis(prim.GetStage())))
     notes.append(f"{where}: a {kind} is not drawn (facet reads distant, sphere, rect, disk "
                  "and dome lights)")
     return None
 
 
-def _dome(prim, time, world, emission, notes, where):
+def _dome(prim, time, world, emission, notes, where, up: str = "Y"):
+    """A DomeLight as the environment: its latitude-longitude texture (+Y its pole in
+    its own frame, or the stage's up axis where ``poleAxis`` says "scene", USD's default)
+    turned by the prim's placement and times its emission; a constant dome without one."""
     from pxr import UsdLux
 
     from ..scene.environment import Environment
 
     asset = UsdLux.DomeLight(prim).GetTextureFileAttr().Get(time)
     resolved = getattr(asset, "resolvedPath", "") if asset else ""
-    if not np.allclose(world[:3, :3] / np.linalg.norm(world[:3, :3], axis=0), np.eye(3),
-                       atol=1e-6):
-        notes.append(f"{where}: the dome light's rotation is not applied to its texture")
     if not resolved:
         if asset and getattr(asset, "path", ""):
             notes.append(f"{where}: its texture {asset.path} cannot be found; a constant "
@@ -390,13 +393,17 @@ def _dome(prim, time, world, emission, notes, where):
         return Environment.constant(np.clip(emission, 0, None))
     try:
         env = Environment.from_equirect(resolved)
-    except MeshError:
-        raise
-    except Exception as exc:  # noqa: BLE001 - facet's readers raise FacetError subclasses
+    except FacetError as exc:
         notes.append(f"{where}: its texture cannot be read ({exc}); a constant dome is used")
         return Environment.constant(np.clip(emission, 0, None))
-    env.faces = env.faces * emission.astype(np.float32)
-    return env
+    rotation = world[:3, :3] / np.linalg.norm(world[:3, :3], axis=0)
+    # DomeLight_1's poleAxis: "scene" (its default) puts the texture's pole on the stage's
+    # up axis, "Z" on z; the first DomeLight's pole is its own +Y.
+    pole = UsdLux.DomeLight_1(prim).GetPoleAxisAttr().Get(time) or "scene" \
+        if prim.GetTypeName() == "DomeLight_1" else "Y"
+    if pole == "Z" or (pole == "scene" and up == "Z"):  # +Y of the texture -> +Z
+        rotation = rotation @ np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]])
+    return env.transformed(rotation, np.clip(emission, 0, None))
 
 
 def stage_up(path: Path, options: UsdOptions | None = None) -> str:

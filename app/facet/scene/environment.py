@@ -42,6 +42,17 @@ def equirect_directions(width: int, height: int) -> np.ndarray:
     return np.stack([np.sin(t) * np.sin(p), np.cos(t), -np.sin(t) * np.cos(p)], -1)
 
 
+def _equirect_at(img: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """The texels of latitude-longitude ``img`` (H, W, C) nearest directions ``d`` (..., 3)."""
+    h, w = img.shape[:2]
+    n = d / np.maximum(np.linalg.norm(d, axis=-1, keepdims=True), 1e-30)
+    u = 0.5 + np.arctan2(n[..., 0], -n[..., 2]) / (2 * np.pi)
+    v = np.arccos(np.clip(n[..., 1], -1, 1)) / np.pi
+    x = np.clip((u * w).astype(int), 0, w - 1)
+    y = np.clip((v * h).astype(int), 0, h - 1)
+    return img[y, x]
+
+
 MAX_GRID_WIDTH = 4096  # the path tracer's sky grid: wider images are reduced (area_mean)
 
 
@@ -152,6 +163,37 @@ class Environment:
             cached.linear = True
             self._decoded = cached
         return cached
+
+    def transformed(self, rotation=None, scale=None) -> Environment:
+        """A linear copy turned by ``rotation`` (3x3: the environment's frame -> world) and
+        scaled by ``scale`` (3,) (a USD dome's placement and emission): its cube and its
+        latitude-longitude grid resampled alike (nearest texel), so every engine sees the
+        same sky. Without a grid (cube faces from files) the cube is kept as it is turned
+        by no more than the identity.
+
+        Parameters
+        ----------
+        rotation : (3, 3) float, optional
+            Orthonormal.
+        scale : (3,) float, optional
+            Multiplies the radiance.
+
+        Returns
+        -------
+        Environment
+            The turned, scaled, linear environment.
+        """
+        env = self.decoded()
+        faces, grid = env.faces, env.equirect
+        if rotation is not None and grid is not None and \
+                not np.allclose(rotation, np.eye(3), atol=1e-9):
+            r = np.asarray(rotation, np.float64)
+            faces = _equirect_at(grid, face_directions(env.size) @ r)  # world -> its frame
+            grid = _equirect_at(grid, equirect_directions(grid.shape[1], grid.shape[0]) @ r)
+        k = np.ones(3, np.float32) if scale is None else np.asarray(scale, np.float32)
+        out = Environment(faces * k, env.name, None if grid is None else grid * k)
+        out.linear = True
+        return out
 
     @classmethod
     @checked
