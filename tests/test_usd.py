@@ -609,7 +609,8 @@ def test_a_stage_of_zero_time_codes_per_second_is_drawn_still(tmp_path):
 
 def test_a_dome_turns_with_its_prim_and_its_pole_follows_a_z_up_stage(tmp_path):
     """A dome's texture (red where x < 0 in its frame) turned 180 degrees about y: red on
-    +x, in the cube every engine draws and in the grid the path tracer samples alike. A
+    +x, times its intensity, in the cube every engine draws and in the grid the path
+    tracer samples alike (the grid once kept the texture's unscaled values). A
     DomeLight_1 on a z-up stage (poleAxis "scene", its default): the texture's upper half
     (its +y) lies on +z."""
     from PIL import Image
@@ -624,13 +625,14 @@ def test_a_dome_turns_with_its_prim_and_its_pole_follows_a_z_up_stage(tmp_path):
     UsdGeom.Cube.Define(stage, "/Box")
     dome = UsdLux.DomeLight.Define(stage, "/Sky")
     dome.CreateTextureFileAttr("half.png")
+    dome.CreateIntensityAttr(0.5)  # the cube and the grid both carry it
     UsdGeom.Xformable(dome).AddRotateYOp().Set(180.0)
     stage.Save()
     env = facet.load(tmp_path / "d.usda").environment
-    assert env.faces[0, ..., 0].mean() > 0.99 and env.faces[1, ..., 0].mean() < 0.01
+    assert env.faces[0, ..., 0].mean() == pytest.approx(0.5) and env.faces[1, ..., 0].max() == 0
     h, w = env.equirect.shape[:2]
-    assert env.equirect[:, 3 * w // 4, 0].mean() > 0.99  # u = 0.75: +x
-    assert env.equirect[:, w // 4, 0].mean() < 0.01
+    assert env.equirect[:, 3 * w // 4, 0].mean() == pytest.approx(0.5)  # u = 0.75: +x
+    assert env.equirect[:, w // 4, 0].max() == 0
     zup = Usd.Stage.CreateNew(str(tmp_path / "z.usda"))
     UsdGeom.SetStageUpAxis(zup, UsdGeom.Tokens.z)
     UsdGeom.Cube.Define(zup, "/Box")
