@@ -641,3 +641,43 @@ def test_a_dome_turns_with_its_prim_and_its_pole_follows_a_z_up_stage(tmp_path):
     zup.Save()
     env = facet.load(tmp_path / "z.usda").environment
     assert env.faces[4, ..., 2].mean() > 0.99 and env.faces[5, ..., 2].mean() < 0.01  # +z
+
+
+def test_rect_light_textures_and_specular_colour_textures(tmp_path):
+    """A textured RectLight is a rectangle of its texture's mean linear colour (said); a
+    specular-workflow surface's specularColor texture fills KHR_materials_specular's
+    colour slot (F0 = the texture: 0.04 x 25)."""
+    from PIL import Image
+
+    from facet.srgb import srgb_to_linear
+
+    tex = np.zeros((4, 4, 3), np.uint8)
+    tex[:, :2] = (200, 100, 0)
+    Image.fromarray(tex).save(tmp_path / "glow.png")
+    stage = _stage(tmp_path / "r.usda")
+    UsdGeom.Cube.Define(stage, "/Box")
+    rect = UsdLux.RectLight.Define(stage, "/Panel")
+    rect.CreateTextureFileAttr("glow.png")
+    rect.CreateIntensityAttr(2.0)
+    box = stage.GetPrimAtPath("/Box")
+    mat = UsdShade.Material.Define(stage, "/Mat")
+    shader = UsdShade.Shader.Define(stage, "/Mat/S")
+    shader.CreateIdAttr("UsdPreviewSurface")
+    shader.CreateInput("useSpecularWorkflow", Sdf.ValueTypeNames.Int).Set(1)
+    t = UsdShade.Shader.Define(stage, "/Mat/T")
+    t.CreateIdAttr("UsdUVTexture")
+    t.CreateInput("file", Sdf.ValueTypeNames.Asset).Set("glow.png")
+    shader.CreateInput("specularColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(
+        t.ConnectableAPI(), "rgb")
+    mat.CreateSurfaceOutput().ConnectToSource(shader.ConnectableAPI(), "surface")
+    UsdShade.MaterialBindingAPI.Apply(box).Bind(mat)
+    stage.Save()
+    with pytest.warns(FacetWarning, match="uniform rectangle of its texture's mean colour"):
+        scene = facet.load(tmp_path / "r.usda")
+    mean = srgb_to_linear(np.array([200, 100, 0]) / 255.0) / 2
+    light = scene.lights[0]
+    np.testing.assert_allclose(light.color * light.intensity * np.pi,
+                               2.0 * mean, rtol=1e-5)  # I = L w h / pi, 1 x 1
+    m = scene.objects[0].material
+    assert m.specular_color_texture is not None and m.metallic == 0
+    np.testing.assert_allclose(m.specular_color, 25.0)

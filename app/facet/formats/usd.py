@@ -351,9 +351,9 @@ def usd_light(prim, time, world: np.ndarray, notes: list):
             rect = UsdLux.RectLight(prim)
             w = float(rect.GetWidthAttr().Get(time)) * axes[0]
             h = float(rect.GetHeightAttr().Get(time)) * axes[1]
-            if rect.GetTextureFileAttr().Get(time):
-                notes.append(f"{where}: a RectLight's texture is drawn as its mean colour "
-                             "(white)")
+            asset = rect.GetTextureFileAttr().Get(time)
+            if asset:
+                colour = colour * _mean_colour(asset, where, notes)
         else:
             r = float(UsdLux.DiskLight(prim).GetRadiusAttr().Get(time)) * axes[:2].mean()
             w = h = float(np.sqrt(np.pi) * r)  # a square of the disk's area
@@ -370,6 +370,26 @@ def usd_light(prim, time, world: np.ndarray, notes: list):
     notes.append(f"{where}: a {kind} is not drawn (facet reads distant, sphere, rect, disk "
                  "and dome lights)")
     return None
+
+
+def _mean_colour(asset, where: str, notes: list) -> np.ndarray:
+    """The mean linear colour of a light's texture (a RectLight's: drawn as a uniform
+    rectangle of it, said), white when it cannot be read."""
+    from ..scene.texture import Texture
+    from ..srgb import srgb_to_linear
+
+    resolved = getattr(asset, "resolvedPath", "") or ""
+    try:
+        if not resolved or "[" in resolved:
+            raise FacetError("not found")
+        pixels = Texture.load(resolved).pixels[..., :3] / 255.0
+    except FacetError:
+        notes.append(f"{where}: its texture {getattr(asset, 'path', asset)} cannot be read; "
+                     "the light is white")
+        return np.ones(3)
+    notes.append(f"{where}: a textured RectLight is drawn as a uniform rectangle of its "
+                 "texture's mean colour")
+    return srgb_to_linear(pixels).reshape(-1, 3).mean(axis=0)
 
 
 def _dome(prim, time, world, emission, notes, where, up: str = "Y"):

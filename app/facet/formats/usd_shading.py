@@ -103,10 +103,9 @@ class Shading:
             f0 = np.asarray(colour if colour is not None else (0.0, 0.0, 0.0), float)[:3]
             m.metallic, m.ior = 0.0, 1.5
             m.specular_color = f0 / 0.04  # (KHR_materials_specular: F0 = 0.04 x colour)
-            if colour_tex is not None:
-                self.notes.append(f"material {key}: a specularColor texture is drawn as its "
-                                  "mean colour")
-                m.specular_color = np.ones(3) / 0.04 * 0.04
+            if colour_tex is not None:  # KHR_materials_specular's colour texture slot
+                m.specular_color_texture = colour_tex
+                m.specular_color = np.full(3, 1.0 / 0.04)
         normal, normal_tex = read("normal", 3, normal=True)
         if normal_tex is not None:
             m.normal_texture = normal_tex
