@@ -206,3 +206,23 @@ def test_a_dataset_of_robot_poses_is_one_manifest(tmp_path):
     assert main(["batch", str(bad), "-o", str(tmp_path / "bad"), "-q"]) == 1
     record = json.loads((tmp_path / "bad" / "index.jsonl").read_text().splitlines()[0])
     assert record["status"] == "failed" and "outside its limits" in record["error"]
+
+
+def test_collada_meshes_load_as_a_robots_do(tmp_path):
+    """A link's COLLADA (.dae) mesh through trimesh's reader (pycollada, in the urdf
+    extra), scaled by its element; a .dae with a DTD is refused (its entities could name
+    any file)."""
+    import trimesh
+
+    box = trimesh.creation.box(extents=(0.2, 0.1, 0.05))
+    (tmp_path / "hand.dae").write_bytes(trimesh.exchange.dae.export_collada(box))
+    path = _robot(tmp_path, '<mesh filename="hand.dae" scale="2 2 2"/>')
+    scene = facet.load(path)
+    hand = next(o for o in scene.objects if o.name.startswith("hand/"))
+    np.testing.assert_allclose(hand.mesh.bounds[1] - hand.mesh.bounds[0], [0.2, 0.1, 0.05],
+                               atol=1e-6)
+    np.testing.assert_allclose(np.linalg.norm(hand.transform[:3, :3], axis=0), 2.0)
+    (tmp_path / "evil.dae").write_text('<?xml version="1.0"?><!DOCTYPE c [<!ENTITY x '
+                                       'SYSTEM "file:///etc/passwd">]><COLLADA>&x;</COLLADA>')
+    with pytest.raises(MeshError, match="declares a DTD or entities"):
+        facet.load(tmp_path / "evil.dae")

@@ -17,7 +17,9 @@ from ..scene.texture import Texture
 
 # Extensions we accept (lower case, no dot) and the trimesh file_type for each.
 FORMATS = {"obj": "obj", "stl": "stl", "ply": "ply", "off": "off", "glb": "glb",
-           "gltf": "gltf", "xyz": "xyz", "pts": "pts", "pcd": "pcd"}
+           "gltf": "gltf", "xyz": "xyz", "pts": "pts", "pcd": "pcd", "dae": "dae"}
+COLLADA_MISSING = ("reading COLLADA (.dae) needs pycollada: pip install "
+                   "'facet-render[urdf]'")
 
 
 def _guarded_resolver(p: Path):
@@ -227,6 +229,15 @@ def _read(p: Path):
     if p.suffix.lower() == ".obj":
         _check_obj_indices(p, data)
         resolver = _guarded_resolver(p)
+    if p.suffix.lower() == ".dae":  # XML: no DTD or entities (they could name any file)
+        if b"<!DOCTYPE" in data or b"<!ENTITY" in data:
+            raise MeshError(f"{p}: declares a DTD or entities; a COLLADA file needs neither, "
+                            "and facet does not expand them")
+        try:
+            import collada  # noqa: F401
+        except ImportError:
+            raise MeshError(f"{p}: {COLLADA_MISSING}") from None
+        resolver = _guarded_resolver(p)  # (its textures)
     try:
         loaded = trimesh.load(io.BytesIO(data), file_type=FORMATS[p.suffix.lower().lstrip(".")],
                               process=False, resolver=resolver)
