@@ -91,8 +91,7 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
 
     time = Usd.TimeCode.Default()  # (moving transforms: the time rig, facet.formats.usd_time)
     cache = UsdGeom.XformCache(time)
-    shading = Shading(stage, time, notes)
-    shading.subdivide = options.subdivide
+    shading = Shading(stage, time, notes, options.subdivide)
     parts: list = []
     placed: list = []  # per part: (its prim, 4x4 geometry -> prim) for the time rig
     cameras: dict = {}
@@ -171,8 +170,7 @@ def _make(prim, time, shading, finish, notes, path, where) -> list:
         if prim.IsA(UsdGeom.Gprim) else False
     if kind == "Mesh":
         material, uv_name = shading.material_of(prim, (rgb, alpha))
-        args = mesh_arguments(prim, time, uv_name, notes, where,
-                              getattr(shading, "subdivide", 0))
+        args = mesh_arguments(prim, time, uv_name, notes, where, shading.subdivide)
         if args is None:
             return []
         constant = args.pop("constant_color", None)

@@ -31,10 +31,13 @@ STANDARD_NORMAL = ((2.0, 2.0, 2.0), (-1.0, -1.0, -1.0))  # what facet's normal m
 
 
 class Shading:
-    """Materials of one stage, each made once (by its prim path)."""
+    """Materials of one stage, each made once (by its prim path); ``subdivide``: the
+    refinement level its subdivision meshes are read with (they are read with their
+    materials, whose st primvar they need)."""
 
-    def __init__(self, stage, time, notes: list):
+    def __init__(self, stage, time, notes: list, subdivide: int = 0):
         self.stage, self.time, self.notes = stage, time, notes
+        self.subdivide = int(subdivide)
         self.made: dict[str, tuple[PbrMaterial, str]] = {}
         self.textures: dict[tuple, Texture] = {}
 
