@@ -9,7 +9,8 @@ transform) and named cameras, used by every front (CLI, viewer, scene files, ``M
   cameras.
 * URDF robots (.urdf): facet.formats.urdf (yourdfpy, the ``urdf`` extra): each link's
   visual (or collision) geometry placed by the joint configuration.
-* OBJ, STL, PLY, OFF, COLLADA (.dae, with pycollada: the ``urdf`` extra): trimesh. An OBJ keeps one part per material (MTL: C = Kd, k_d = 1,
+* OBJ, STL, PLY, OFF, COLLADA (.dae, with pycollada: the ``urdf`` extra): trimesh. An
+  OBJ keeps one part per material (MTL: C = Kd, k_d = 1,
   k_s = mean(Ks), n = Ns, k_a = 1, map_Kd the texture); a missing .mtl or texture loads
   without it and says so in one warning line. PLY faces stored as triangle strips load.
 
