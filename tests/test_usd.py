@@ -681,3 +681,26 @@ def test_rect_light_textures_and_specular_colour_textures(tmp_path):
     m = scene.objects[0].material
     assert m.specular_color_texture is not None and m.metallic == 0
     np.testing.assert_allclose(m.specular_color, 25.0)
+
+
+def test_time_sampled_points_move_as_usd_interpolates_them(tmp_path):
+    """A quad whose points are sampled at codes 0 and 24 (24 a second): halfway at 0.5 s
+    (a morph target per code, weighed by the time rig), at the last sample after it."""
+    stage = _stage(tmp_path / "p.usda")
+    stage.SetTimeCodesPerSecond(24)
+    quad = UsdGeom.Mesh.Define(stage, "/Quad")
+    quad.CreateFaceVertexCountsAttr([4])
+    quad.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    points = quad.CreatePointsAttr()
+    flat = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+    points.Set(flat, 0)
+    points.Set([(0, 0, 0), (1, 0, 0), (1, 1, 2), (0, 1, 2)], 24)
+    stage.Save()
+    with pytest.warns(FacetWarning, match="time-sampled points move with their normals at "
+                                          "rest"):
+        scene = facet.load(tmp_path / "p.usda")
+    assert scene.animations == ["stage"]
+    for t, z in ((0.0, 0.0), (0.5, 1.0), (1.0, 2.0), (3.0, 2.0)):
+        mesh = scene.at(t).objects[0].mesh
+        top = mesh.positions[mesh.positions[:, 1] > 0.5]
+        np.testing.assert_allclose(top[:, 2], z, atol=1e-6)

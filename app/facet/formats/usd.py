@@ -12,7 +12,7 @@ prototypes at each of its instances.
 Transforms: ``UsdGeom.XformCache`` at the time code (USD's row vectors, transposed to
 facet's column vectors); the geometry stays in the file's coordinates. ``upAxis`` is
 given back for framing and turntables (the scene's ``up`` option). Time: the stage is
-read at its default time code; time-sampled transforms (and cameras) move through
+read at its start time code; time-sampled transforms, cameras and points move through
 ``--time`` / ``Scene.at`` as glTF animations do (facet.formats.usd_time).
 
 Lights (UsdLux): emission L = intensity x 2^exposure x colour (x the blackbody colour of
@@ -89,7 +89,10 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
     """The stage's parts, cameras and lights (``read_usd``'s, before its warnings)."""
     from pxr import Usd, UsdGeom
 
-    time = Usd.TimeCode.Default()  # (moving transforms: the time rig, facet.formats.usd_time)
+    # At the start time code (an attribute with only time samples has no default value;
+    # one without samples reads its default there): what moves, the time rig moves from
+    # there (facet.formats.usd_time).
+    time = Usd.TimeCode(stage.GetStartTimeCode())
     cache = UsdGeom.XformCache(time)
     shading = Shading(stage, time, notes, options.subdivide)
     parts: list = []
@@ -126,7 +129,7 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
         if kind == "PointInstancer":
             before = len(parts)
             _instancer(prim, time, world, made, shading, finish, parts, notes, path)
-            placed += [(None, m) for _, _, m in parts[before:]]
+            placed += [(None, m, None) for _, _, m in parts[before:]]
             it.PruneChildren()
             continue
         if not np.isfinite(world).all() or abs(np.linalg.det(world[:3, :3])) < 1e-12:
@@ -137,7 +140,7 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
         for name, args, local in _geometry(prim, time, made, shading, finish, notes, path,
                                            where):
             parts.append((name, args, world @ local))
-            placed.append((prim, local))
+            placed.append((prim, local, args.get("deform")))
     if not parts:
         empty = [str(p.GetPath()) for p in stage.Traverse() if p.IsA(UsdGeom.Gprim)]
         raise MeshError(f"{path}: the stage draws nothing: " + (
@@ -175,6 +178,9 @@ def _make(prim, time, shading, finish, notes, path, where) -> list:
             return []
         constant = args.pop("constant_color", None)
         scheme = args.pop("subdivision")
+        moving = _moving_points(prim, args.pop("point_index", None), args["positions"])
+        if moving is not None:
+            args["deform"] = moving
         if scheme not in ("none", "bilinear") and _has_creases(prim, time):
             notes.append(f"{where}: subdivision creases and corners are not honoured")
         if material is None:
@@ -220,6 +226,28 @@ def _sprite(args: dict, finish, where: str) -> dict:
         c = np.concatenate([linear_to_srgb(np.clip(np.asarray(rgb, float), 0, 1)), [1.0]])
         args["colors"] = np.tile(c, (len(args["positions"]), 1)).astype(np.float32)
     return finish(args, where)
+
+
+def _moving_points(prim, point_index, positions):
+    """Time-sampled points as morph targets (a Deformation, one target per time code, in
+    the order of the mesh's vertices: ``point_index`` says which point each came from), or
+    None when the points do not move; the time rig weighs them (facet.formats.usd_time)."""
+    from pxr import Usd, UsdGeom
+
+    from ..scene.animation import Deformation
+
+    attr = UsdGeom.PointBased(prim).GetPointsAttr()
+    codes = attr.GetTimeSamples()
+    if point_index is None or len(codes) < 2:
+        return None
+    rest = np.asarray(positions, np.float64)
+    targets = []
+    for code in codes:
+        pts = np.asarray(attr.Get(Usd.TimeCode(code)), np.float64).reshape(-1, 3)
+        if pts.shape[0] <= int(np.max(point_index)):
+            return None  # (a sample of another point count: drawn at rest)
+        targets.append(pts[point_index] - rest)
+    return Deformation(targets={"positions": np.asarray(targets, np.float32)})
 
 
 def _has_creases(prim, time) -> bool:

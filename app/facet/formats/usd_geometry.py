@@ -145,7 +145,7 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str,
     if shared:  # one vertex per point
         used, remap = np.unique(indices[corners.reshape(-1)], return_inverse=True)
         args = {"positions": points[used].astype(np.float32),
-                "faces": remap.reshape(-1, 3).astype(np.uint32)}
+                "faces": remap.reshape(-1, 3).astype(np.uint32), "point_index": used}
         pick = used
 
         def take(values, interp):
@@ -154,7 +154,8 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str,
             return values[pick] if pick.max(initial=-1) < len(values) else None
     else:  # one vertex per triangle corner
         args = {"positions": points[indices[corners.reshape(-1)]].astype(np.float32),
-                "faces": np.arange(corners.size, dtype=np.uint32).reshape(-1, 3)}
+                "faces": np.arange(corners.size, dtype=np.uint32).reshape(-1, 3),
+                "point_index": indices[corners.reshape(-1)]}
 
         def take(values, interp):
             return _per_corner(values, interp, indices, corners, faces)

@@ -7,8 +7,10 @@ code any of them has and split into translation, rotation and scale (linear betw
 rotations along the shorter arc: where the file turns by an Euler op, the path between
 two codes can differ a little from USD's own interpolation of each op); the others stand
 fixed. Time ``t`` seconds is time code ``startTimeCode + t x timeCodesPerSecond``. A
-camera whose prim moves is posed the same way. Time-sampled points and visibility are read
-at the default time, said in one line.
+camera whose prim moves is posed the same way. A mesh whose points are time-sampled
+carries one morph target per code (facet.formats.usd); its node's weights go from one
+code's target to the next, linearly (USD's interpolation of points); its normals stay the
+rest pose's, said once. Time-sampled visibility is read at the default time, said.
 """
 
 from __future__ import annotations
@@ -52,7 +54,8 @@ def _trs(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def time_rig(stage, placed: list, cameras: dict, notes: list) -> Rig | None:
     """The Rig of a stage's moving parts, or None when nothing moves. ``placed``: per part
-    (its prim or None, 4x4 geometry -> prim); ``cameras``: {name: (prim, Camera)}."""
+    (its prim or None, 4x4 geometry -> prim, its morph Deformation of moving points or
+    None); ``cameras``: {name: (prim, Camera)}."""
     from pxr import Usd, UsdGeom
 
     from .usd_geometry import matrix as _matrix
@@ -62,9 +65,10 @@ def time_rig(stage, placed: list, cameras: dict, notes: list) -> Rig | None:
         notes.append(f"timeCodesPerSecond is {tcps:g}: the stage is drawn at its default "
                      "time, its time samples not played")
         return None
-    moving = [sorted(_codes(prim)) if prim is not None else [] for prim, _ in placed]
+    moving = [sorted(_codes(prim)) if prim is not None else [] for prim, _, _ in placed]
     cam_codes = {name: sorted(_codes(prim)) for name, (prim, _) in cameras.items()}
-    if not any(moving) and not any(cam_codes.values()):
+    morphed = [deform is not None for _, _, deform in placed]
+    if not any(moving) and not any(cam_codes.values()) and not any(morphed):
         return None
     start = stage.GetStartTimeCode()
     caches: dict[float, object] = {}
@@ -76,10 +80,16 @@ def time_rig(stage, placed: list, cameras: dict, notes: list) -> Rig | None:
 
     n = len(placed) + len(cameras)
     rest_t, rest_r, rest_s = np.zeros((n, 3)), np.tile([0, 0, 0, 1.0], (n, 1)), np.ones((n, 3))
-    fixed, channels, bindings = {}, [], []
-    default = UsdGeom.XformCache(Usd.TimeCode.Default())
-    for node, ((prim, local), codes) in enumerate(zip(placed, moving, strict=True)):
-        bindings.append(Binding(part=node, node=node, skin=None, deform=None))
+    fixed, channels, bindings, weights = {}, [], [], {}
+    default = UsdGeom.XformCache(Usd.TimeCode(start))  # (the time the stage was read at)
+    for node, ((prim, local, deform), codes) in enumerate(zip(placed, moving, strict=True)):
+        bindings.append(Binding(part=node, node=node, skin=None, deform=deform))
+        if deform is not None:  # one target per time code of its points
+            points = UsdGeom.PointBased(prim).GetPointsAttr().GetTimeSamples()
+            count = len(points)
+            weights[node] = np.zeros(count)
+            channels.append(Channel(node, "weights", Sampler(
+                (np.array(points) - start) / tcps, np.eye(count))))
         if prim is None:
             fixed[node] = local
             continue
@@ -108,14 +118,14 @@ def time_rig(stage, placed: list, cameras: dict, notes: list) -> Rig | None:
         rest_t[node], rest_r[node], rest_s[node] = t[0], r[0], s[0]
         channels += [Channel(node, "translation", Sampler(times, t)),
                      Channel(node, "rotation", Sampler(times, r))]
-    for prim, _ in placed:
-        if prim is not None and prim.IsA(UsdGeom.PointBased):
-            points = UsdGeom.PointBased(prim).GetPointsAttr()
-            if points.GetNumTimeSamples() > 1:
-                notes.append("time-sampled points are read at the default time (transforms "
-                             "animate)")
-                break
-    return Rig(np.full(n, -1), range(n), (rest_t, rest_r, rest_s), fixed, {},
+    if any(morphed):
+        notes.append("time-sampled points move with their normals at rest")
+    for prim, _, _ in placed:
+        if prim is not None and UsdGeom.Imageable(prim).GetVisibilityAttr()\
+                .GetNumTimeSamples() > 1:
+            notes.append("time-sampled visibility is read at the default time")
+            break
+    return Rig(np.full(n, -1), range(n), (rest_t, rest_r, rest_s), fixed, weights,
                [Clip("stage", tuple(channels))], [], bindings, rig_cameras)
 
 
