@@ -366,8 +366,9 @@ def test_preview_surface_and_lights_match_the_same_scene_built_with_facets_api(t
     """The loader's material and light against facet's own: base colour = diffuseColor,
     a normalized distant light's irradiance E = intensity (facet I = E / pi, along its -z
     turned by -20 degrees about x), a sphere light of radiance L = 40 x 2^1 and radius r a
-    point light of I = L r^2 with inverse-square falloff; the three engines agree."""
-    from facet.scene.light import DirectionalLight, PointLight
+    facet SphereLight of I = L r^2 with inverse-square falloff (the path tracer's emitting
+    sphere, the others' points of it); the three engines agree."""
+    from facet.scene.light import DirectionalLight, SphereLight
     from facet.scene.pbr import PbrMaterial
 
     scene = facet.load(_surface_stage(tmp_path / "s.usda", light))
@@ -380,7 +381,8 @@ def test_preview_surface_and_lights_match_the_same_scene_built_with_facets_api(t
         built.add_light(DirectionalLight(direction=(0, -np.sin(a) * -1, -np.cos(a)),
                                          color=(1, 0.9, 0.8), intensity=3.0 / np.pi))
     else:
-        built.add_light(PointLight((0.5, 0.3, 2.0), (1, 1, 1), 80.0 * 0.01, (0, 0, 1)))
+        built.add_light(SphereLight(position=(0.5, 0.3, 2.0), intensity=80.0 * 0.01,
+                                    attenuation=(0, 0, 1), radius=0.1))
     cam = Camera.look_at((0, 0, 5), (0, 0, 0), fov_y=30)
     pictures = {}
     with facet.Renderer(32, 32) as r:
@@ -392,6 +394,13 @@ def test_preview_surface_and_lights_match_the_same_scene_built_with_facets_api(t
             pictures[e] = got.color[..., :3]
     assert pictures["raster"].mean() > 0.05  # lit
     np.testing.assert_allclose(pictures["trace"], pictures["raster"], rtol=0.02, atol=0.01)
+    if light == "sphere":  # without facet's ambient term (each engine's own): the path
+        scene.ambient = np.zeros(3)  # tracer's emitting sphere lights the plane as the
+        with facet.Renderer(32, 32) as r:  # rasterizer's point at its centre does
+            a, b = (np.median(r.render(scene, cam, engine=e, lights="scene", float_color=True,
+                                       **kw).color[..., :3])
+                    for e, kw in (("raster", {}), ("path", dict(spp=64))))
+        assert b == pytest.approx(a, rel=0.03)
 
 
 def test_a_camera_is_the_pinhole_its_focal_length_and_aperture_make(tmp_path):

@@ -32,6 +32,7 @@ _EXPORTS = {
     "PointLight": "scene.light",
     "SpotLight": "scene.light",
     "AreaLight": "scene.light",
+    "SphereLight": "scene.light",
     "Scene": "scene.scene",
     "RenderOptions": "options.render",
     "load_scene": "formats",

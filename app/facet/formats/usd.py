@@ -20,9 +20,11 @@ colorTemperature when enabled); ``normalize`` divides an area light's by its are
 makes a distant light's intensity its illuminance. facet's light of intensity I gives
 irradiance pi I (facet.scene.pbr), so: DistantLight -> DirectionalLight along its -z,
 I = E / pi with E = L x (the solid angle of its angular diameter ``angle``);
-SphereLight -> PointLight at its centre, I = L r^2 (the irradiance far from a sphere of
-radiance L); RectLight -> AreaLight facing its -z, I = L w h / pi; DiskLight -> AreaLight
-of the disk's area; DomeLight -> the environment (its texture times L, or a constant L).
+SphereLight -> facet's SphereLight of its radius, I = L r^2 (the irradiance far from a
+sphere of radiance L; a point light where treatAsPoint or radius 0; the path tracer
+samples it as an emitting sphere, the others by points of it); RectLight -> AreaLight
+facing its -z, I = L w h / pi; DiskLight -> AreaLight of the disk's area; DomeLight -> the
+environment (its texture times L, or a constant L).
 Cameras (UsdGeom.Camera): focal length and vertical aperture give the field of view,
 clipping range the near and far planes, an orthographic projection its height, f-stop and
 focus distance a thin lens. Each said-once approximation is one warning line.
@@ -36,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import FacetError, FacetWarning, MeshError
-from ..scene.light import AreaLight, DirectionalLight, PointLight
+from ..scene.light import AreaLight, DirectionalLight, PointLight, SphereLight
 from .usd_geometry import (
     StageSettings,
     curve_arguments,
@@ -369,9 +371,12 @@ def usd_light(prim, time, world: np.ndarray, notes: list):
     if kind == "SphereLight":
         r = float(UsdLux.SphereLight(prim).GetRadiusAttr().Get(time) or 0.0) * axes.mean()
         radiance = scale / (4 * np.pi * r * r) if normalize and r > 0 else scale
-        if r <= 0:
+        if r <= 0:  # (a point: its intensity as a point light's, I = L / pi)
             return PointLight(origin, colour, radiance / np.pi, (0.0, 0.0, 1.0))
-        return PointLight(origin, colour, radiance * r * r, (0.0, 0.0, 1.0))
+        if UsdLux.SphereLight(prim).GetTreatAsPointAttr().Get(time):
+            return PointLight(origin, colour, radiance * r * r, (0.0, 0.0, 1.0))
+        return SphereLight(position=origin, color=colour, intensity=radiance * r * r,
+                           attenuation=(0.0, 0.0, 1.0), radius=r)
     if kind in ("RectLight", "DiskLight"):
         if kind == "RectLight":
             rect = UsdLux.RectLight(prim)

@@ -17,7 +17,7 @@ from .antialias import point_lights_for
 from .capabilities import CAPABILITIES
 from .state import FrameState
 
-LIGHT_ORDER = ("DirectionalLight", "PointLight", "SpotLight", "AreaLight")
+LIGHT_ORDER = ("DirectionalLight", "PointLight", "SpotLight", "AreaLight", "SphereLight")
 
 
 def prepare_frame(scene, camera, opts, window: bool):

@@ -236,6 +236,54 @@ class AreaLight:
                           cast_shadows=self.cast_shadows)
 
 
+@dataclass
+class SphereLight(AreaLight):
+    """A sphere of ``radius`` around ``position`` that lights as a point light of
+    ``color * intensity`` does from afar (a USD SphereLight; ``normal`` and ``size`` are
+    not used).
+
+    The rasterizer and the Whitted tracer light by one point of its surface per supersample
+    (soft shadows; its centre without supersampling), as for an AreaLight; the path tracer
+    samples it as an emitting sphere of radiance ``color * intensity / radius^2`` (the
+    irradiance far from it is then pi I / d^2, a point light's).
+
+    Parameters
+    ----------
+    radius : float
+        > 0, scene units.
+    """
+
+    radius: float = 0.5
+
+    def __post_init__(self):
+        super().__post_init__()
+        if not (finite(self.radius) and self.radius > 0):
+            raise InputError(f"sphere light radius must be a number > 0, got {self.radius!r}")
+        self.radius = float(self.radius)
+
+    def point_light(self, u: float = 0.0, v: float = 0.0) -> PointLight:
+        """The point light at one point of the sphere.
+
+        Parameters
+        ----------
+        u, v : float
+            Coordinates in [-0.5, 0.5] over the sphere, uniform by area (0, 0: its centre).
+
+        Returns
+        -------
+        PointLight
+            A light of the sphere's colour, intensity and attenuation there.
+        """
+        p = self.position
+        if u != 0.0 or v != 0.0:
+            z = float(np.clip(2.0 * v, -1.0, 1.0))
+            phi = 2.0 * np.pi * (u + 0.5)
+            ring = np.sqrt(max(0.0, 1.0 - z * z))
+            p = p + self.radius * np.array([ring * np.cos(phi), ring * np.sin(phi), z])
+        return PointLight(p, self.color, self.intensity, self.attenuation,
+                          cast_shadows=self.cast_shadows)
+
+
 Light = DirectionalLight | PointLight | SpotLight | AreaLight
 
 

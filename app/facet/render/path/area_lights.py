@@ -1,4 +1,4 @@
-"""Area lights as the path tracer sees them: emitting rectangles (no GL).
+"""Area lights as the path tracer sees them: emitting rectangles and spheres (no GL).
 
 The rasterizer and the Whitted tracer draw an ``AreaLight`` as a point light at another
 point of its rectangle in each supersample (facet.render.antialias). The path tracer makes
@@ -8,17 +8,19 @@ ray or a reflection meets it. Its radiance keeps the light's strength: seen from
 its normal, a rectangle of area A and radiance L is a point source of intensity L A, which
 gives irradiance L A / d^2; facet's point light of intensity I gives pi I / d^2 (with
 inverse-square attenuation), so L = pi I / A, in the light's colour. The rectangle falls off
-with the inverse square of the distance whatever the light's ``attenuation`` says.
+with the inverse square of the distance whatever the light's ``attenuation`` says. A
+``SphereLight`` (an AreaLight of a radius) is an emitting sphere the same way: of radiance
+L = I / r^2, its far irradiance L pi r^2 / d^2 = pi I / d^2.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ...scene.light import AreaLight
+from ...scene.light import AreaLight, SphereLight
 from ...scene.pbr import PbrMaterial
 from ...scene.scene import SceneObject
-from ...scene.shapes import Plane
+from ...scene.shapes import Plane, Sphere
 
 
 class AreaEmitters:
@@ -34,9 +36,10 @@ class AreaEmitters:
             if not isinstance(light, AreaLight):
                 continue
             key = (light.position.tobytes(), light.normal.tobytes(), light.size,
-                   light.color.tobytes(), light.intensity)
+                   light.color.tobytes(), light.intensity, getattr(light, "radius", None))
             if key not in self._made:
-                self._made[key] = _rectangle(light)
+                self._made[key] = _sphere(light) if isinstance(light, SphereLight) else \
+                    _rectangle(light)
             obj = self._made[key]
             obj.id = len(scene.objects) + len(out)
             out.append(obj)
@@ -62,6 +65,19 @@ def _rectangle(light: AreaLight) -> SceneObject:
                            emissive=light.color, emissive_strength=np.pi * light.intensity / area,
                            name="area light")
     return SceneObject(0, shape.mesh(), material, placed, "area light", shape=shape)
+
+
+def _sphere(light: SphereLight) -> SceneObject:
+    """A sphere light as an emitting sphere of radiance I / r^2 (module docstring's
+    reasoning: a sphere of radiance L is a point source of intensity L pi r^2 from afar)."""
+    placed = np.eye(4)
+    placed[:3, 3] = light.position
+    shape = Sphere(light.radius)
+    material = PbrMaterial(base_color=(0, 0, 0, 1), metallic=0.0, specular=0.0,
+                           emissive=light.color,
+                           emissive_strength=light.intensity / light.radius ** 2,
+                           name="sphere light")
+    return SceneObject(0, shape.mesh(), material, placed, "sphere light", shape=shape)
 
 
 def strip_area_points(scene, scene_k, lights) -> tuple:
