@@ -97,8 +97,39 @@ def main() -> None:
                        pass_channels={"a": {0: "buffer-a"}, "b": {1: "buffer-a"},
                                       "image": {2: "buffer-b"}}, size=SIZE) as toy:
             ms = _median_frame(lambda t: toy.step(t, 1 / 60), finisher(toy.ctx))
-        print(f"{'3 passes (A feedback, B, image)':>30} | {'':>11} {ms * 1e3:9.2f}")
+            print(f"{'3 passes (A feedback, B, image)':>30} | {'':>11} {ms * 1e3:9.2f}")
+            headless(toy)
     assembly()
+
+
+def headless(toy) -> None:
+    """A headless picture at t = 1 s, 30 fps (31 frames): ``render`` (passes that feed no
+    later frame drawn on the frame shown only) against every pass on every frame (what
+    it did before; the same picture)."""
+    fps, end = 30.0, 1.0
+
+    def every_pass():
+        toy.restart()
+        for k in range(int(end * fps) + 1):
+            toy.step(k / fps, 1 / fps, fps=fps)
+        with toy.ctx:
+            toy.ctx.finish()
+
+    def rendered():
+        toy.restart()
+        toy.render(end, fps=fps)  # (reads the picture back: the same readback follows)
+
+    def timed(fn) -> float:
+        runs = []
+        for _ in range(5):
+            t = time.perf_counter()
+            fn()
+            runs.append(time.perf_counter() - t)
+        return statistics.median(runs)
+
+    full, carried = timed(every_pass), timed(rendered)
+    print(f"{'picture at t = 1 s, 31 frames':>30} | every pass {full * 1e3:8.1f} ms, "
+          f"render() {carried * 1e3:8.1f} ms ({full / carried:.1f}x)")
 
 
 def assembly() -> None:

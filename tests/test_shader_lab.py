@@ -481,7 +481,9 @@ def test_volume_files_from_the_command_line(tmp_path, capsys):
     out = tmp_path / "v.png"
     assert main(["shader", str(shader), "--channel", f"image:0=volume:{path}:nearest",
                  "--size", "4x2", "-o", str(out), "-q"]) == 0
-    assert out.exists()
+    _, texels = _volume(tmp_path, 1)
+    sampled = np.asarray(Image.open(out))[0, :, 0].astype(int)  # top row: fragCoord.y 1.5
+    np.testing.assert_allclose(sampled, texels[1, 1, :, 0], atol=1)  # the file's texels
     (tmp_path / "bad.bin").write_bytes(b"PNG" + bytes(40))
     assert main(["shader", str(shader), "--channel0", f"volume:{tmp_path / 'bad.bin'}",
                  "-o", str(tmp_path / "x.png")]) == 2

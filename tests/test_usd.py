@@ -440,11 +440,16 @@ def test_the_command_line_renders_describes_and_chooses_variants(tmp_path, capsy
     out = capsys.readouterr().out
     assert "usd variant sets       look = cube of ball, cube" in out
     assert "usd lights             /Sun" in out
+    from PIL import Image
+
+    shots = []
     for variant in ("look=cube", "look=ball"):
         png = tmp_path / f"{variant}.png"
         assert main(["render", str(path), "--variant", variant, "--size", "48x48", "-o",
                      str(png), "-q"]) == 0
-        assert png.exists()
+        shots.append(np.asarray(Image.open(png).convert("L")) > 10)
+    assert shots[0].mean() > 0.05 and shots[1].mean() > 0.05  # something drawn, each
+    assert (shots[0] != shots[1]).mean() > 0.02  # a cube's outline is not a ball's
     assert main(["render", str(path), "--variant", "look=cone", "-o",
                  str(tmp_path / "x.png")]) == 2
     err = capsys.readouterr().err
@@ -554,7 +559,12 @@ def test_planes_point_instancers_domes_and_cameras_by_name(tmp_path):
     png = tmp_path / "top.png"
     assert main(["render", str(tmp_path / "p.usda"), "--camera", "Top", "--size", "32x32",
                  "-q", "-o", str(png)]) == 0
-    assert png.exists()
+    top = np.asarray(Image.open(png).convert("RGB")).astype(int)
+    # From (0, 0, 6) down -z through USD's default 50 mm lens (17.4 degrees): the middle
+    # ball, above the image's centre (the others are outside the view).
+    drawn = np.abs(top - top[0, 0]).sum(axis=-1) > 30
+    rows, cols = np.nonzero(drawn)
+    assert drawn.sum() > 6 and rows.mean() < 14 and abs(cols.mean() - 15.5) < 1
 
 
 def test_subdivision_surfaces_refine_on_request():
@@ -713,3 +723,28 @@ def test_time_sampled_points_move_as_usd_interpolates_them(tmp_path):
         mesh = scene.at(t).objects[0].mesh
         top = mesh.positions[mesh.positions[:, 1] > 0.5]
         np.testing.assert_allclose(top[:, 2], z, atol=1e-6)
+
+
+def test_cubic_curves_and_varying_point_widths_are_said(tmp_path):
+    """What facet draws more simply than the file asks is one warning line each: cubic
+    curves as lines through their control points, points of varying widths at the
+    first width."""
+    stage = _stage(tmp_path / "c.usda")
+    curves = UsdGeom.BasisCurves.Define(stage, "/Hair")
+    curves.CreatePointsAttr([(0, 0, 0), (1, 1, 0), (2, 0, 0), (3, 1, 0)])
+    curves.CreateCurveVertexCountsAttr([4])
+    curves.CreateTypeAttr("cubic")
+    pts = UsdGeom.Points.Define(stage, "/Dust")
+    pts.CreatePointsAttr([(0, 2, 0), (1, 2, 0)])
+    pts.CreateWidthsAttr([0.1, 0.3])
+    stage.Save()
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        scene = facet.load(tmp_path / "c.usda")
+    lines = [str(w.message) for w in said]
+    assert any("/Hair: cubic curves are drawn as lines through their control points" in x
+               for x in lines)
+    assert any("/Dust: its points' widths vary; all are drawn at the first, 0.1" in x
+               for x in lines)
+    hair = next(o for o in scene.objects if o.name == "Hair")
+    assert len(hair.mesh.segments) == 3

@@ -174,7 +174,7 @@ def _make(prim, time, shading, finish, notes, path, where) -> list:
     double = bool(UsdGeom.Gprim(prim).GetDoubleSidedAttr().Get(time)) \
         if prim.IsA(UsdGeom.Gprim) else False
     if kind == "Mesh":
-        material, uv_name = shading.material_of(prim, (rgb, alpha))
+        material, uv_name = shading.material_of(prim)
         args = mesh_arguments(prim, time, uv_name, notes, where, shading.subdivide)
         if args is None:
             return []
@@ -197,18 +197,18 @@ def _make(prim, time, shading, finish, notes, path, where) -> list:
         shape = gprim(prim, time)
         if shape is None:
             return []
-        material, _ = shading.material_of(prim, (rgb, alpha))
+        material, _ = shading.material_of(prim)
         material = material or fallback_material(rgb, alpha, double)
         shape_kind, params, turn = shape
         args = {"kind": "shape", "shape": shape_kind, "params": params,
                 "material": material, "name": prim.GetName(), "path": str(path)}
         return [(prim.GetName(), args, turn)]
     if kind == "Points":
-        args = points_arguments(prim, time)
+        args = points_arguments(prim, time, notes)
         return [] if args is None else [(prim.GetName(), _sprite(args, finish, where),
                                          np.eye(4))]
     if kind == "BasisCurves":
-        args = curve_arguments(prim, time)
+        args = curve_arguments(prim, time, notes)
         return [] if args is None else [(prim.GetName(), _sprite(args, finish, where),
                                          np.eye(4))]
     if prim.IsA(UsdGeom.Gprim):
@@ -455,15 +455,6 @@ def _dome(prim, time, world, emission, notes, where, up: str = "Y"):
     if pole == "Z" or (pole == "scene" and up == "Z"):  # +Y of the texture -> +Z
         rotation = rotation @ np.array([[1.0, 0, 0], [0, 0, -1], [0, 1, 0]])
     return env.transformed(rotation, np.clip(emission, 0, None))
-
-
-def stage_up(path: Path, options: UsdOptions | None = None) -> str:
-    """The stage's upAxis ("Y" or "Z")."""
-    from pxr import UsdGeom
-
-    options = options or UsdOptions()
-    stage, _ = open_stage(path, options.variants, options.payloads)
-    return str(UsdGeom.GetStageUpAxis(stage))
 
 
 def describe_stage(path: Path) -> list[str]:

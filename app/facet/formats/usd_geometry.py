@@ -23,8 +23,6 @@ import numpy as np
 
 from ..srgb import linear_to_srgb
 
-AXES = {"X": 0, "Y": 1, "Z": 2}
-
 
 class StageSettings:
     """What a file says of its world beyond its objects (a USD stage's upAxis, a URDF's
@@ -292,8 +290,9 @@ def gprim(prim, time) -> tuple[str, tuple, np.ndarray] | None:
     return None
 
 
-def points_arguments(prim, time) -> dict | None:
-    """UsdGeom.Points: positions, per-point colours, widths (the first as the size)."""
+def points_arguments(prim, time, notes: list | None = None) -> dict | None:
+    """UsdGeom.Points: positions, per-point colours, widths (the first as the size; said
+    into ``notes`` when they vary)."""
     from pxr import UsdGeom
 
     pts = UsdGeom.Points(prim)
@@ -310,13 +309,16 @@ def points_arguments(prim, time) -> dict | None:
                                              np.ones((len(v), 1))], 1).astype(np.float32)
     widths = _array(pts.GetWidthsAttr().Get(time), np.float64)
     args["width"] = float(widths[0]) if widths is not None and len(widths) else None
+    if notes is not None and widths is not None and len(widths) > 1 and np.ptp(widths) > 0:
+        notes.append(f"{prim.GetPath()}: its points' widths vary; all are drawn at the "
+                     f"first, {widths[0]:g}")
     args["rgb"] = rgb
     return args
 
 
-def curve_arguments(prim, time) -> dict | None:
+def curve_arguments(prim, time, notes: list | None = None) -> dict | None:
     """UsdGeom.BasisCurves as polylines through their points (each curve's vertices in
-    order; a cubic curve's control points, a linear one's points)."""
+    order; a cubic curve's control points, said into ``notes``, a linear one's points)."""
     from pxr import UsdGeom
 
     curves = UsdGeom.BasisCurves(prim)
@@ -324,6 +326,9 @@ def curve_arguments(prim, time) -> dict | None:
     counts = _array(curves.GetCurveVertexCountsAttr().Get(time), np.int64)
     if points is None or counts is None or not len(points) or counts.sum() != len(points):
         return None
+    if notes is not None and curves.GetTypeAttr().Get(time) == "cubic":
+        notes.append(f"{prim.GetPath()}: cubic curves are drawn as lines through their "
+                     "control points")
     starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
     seg_counts = np.maximum(counts - 1, 0)
     first = np.repeat(starts, seg_counts) + (np.arange(int(seg_counts.sum())) -

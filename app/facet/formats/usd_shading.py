@@ -41,7 +41,7 @@ class Shading:
         self.made: dict[str, tuple[PbrMaterial, str]] = {}
         self.textures: dict[tuple, Texture] = {}
 
-    def material_of(self, prim, display: tuple) -> tuple[PbrMaterial | None, str]:
+    def material_of(self, prim) -> tuple[PbrMaterial | None, str]:
         """(the bound material or None, the primvar its textures read as st)."""
         from pxr import UsdShade
 
