@@ -748,3 +748,84 @@ def test_cubic_curves_and_varying_point_widths_are_said(tmp_path):
                for x in lines)
     hair = next(o for o in scene.objects if o.name == "Hair")
     assert len(hair.mesh.segments) == 3
+
+
+def test_time_sampled_visibility_shows_and_hides_parts_through_time(tmp_path):
+    """visibility {0: invisible, 24: inherited} on a parent and {0: inherited, 48:
+    invisible} on another prim: hidden, then shown at t = 1 s, then hidden at 2 s (held
+    between codes, as USD holds a token); a render at its default time draws the start."""
+    stage = _stage(tmp_path / "v.usda")
+    stage.SetTimeCodesPerSecond(24)
+    stage.SetStartTimeCode(0)
+    stage.SetEndTimeCode(48)
+    group = UsdGeom.Xform.Define(stage, "/Late")
+    UsdGeom.Cube.Define(stage, "/Late/Box")
+    vis = UsdGeom.Imageable(group).CreateVisibilityAttr()
+    vis.Set(UsdGeom.Tokens.invisible, 0)
+    vis.Set(UsdGeom.Tokens.inherited, 24)
+    ball = UsdGeom.Sphere.Define(stage, "/Gone")
+    UsdGeom.Xformable(ball).AddTranslateOp().Set(Gf.Vec3d(3, 0, 0))
+    gone = ball.CreateVisibilityAttr()
+    gone.Set(UsdGeom.Tokens.inherited, 0)
+    gone.Set(UsdGeom.Tokens.invisible, 48)
+    stage.Save()
+    scene = facet.load(tmp_path / "v.usda")
+    cam = Camera.look_at((1.5, 0, 12), (1.5, 0, 0), fov_y=40)
+    ids = {o.name: o.id for o in scene.objects}
+    seen = {}
+    with facet.Renderer(48, 32) as r:
+        for t in (None, 0.0, 0.5, 1.0, 1.9, 2.0, 3.0):
+            kw = {} if t is None else {"time": t}
+            got = r.render(scene, cam, outputs=("ids",), **kw).object_ids
+            seen[t] = {name for name, i in ids.items() if (got == i).any()}
+    assert seen == {None: {"Gone"}, 0.0: {"Gone"}, 0.5: {"Gone"}, 1.0: {"Box", "Gone"},
+                    1.9: {"Box", "Gone"}, 2.0: {"Box"}, 3.0: {"Box"}}
+    with facet.Renderer(48, 32, engine="trace") as r:
+        got = r.render(scene, cam, outputs=("ids",), time=1.0).object_ids
+    assert {name for name, i in ids.items() if (got == i).any()} == {"Box", "Gone"}
+
+
+@pytest.mark.parametrize("ortho", [False, True])
+def test_aperture_offsets_shift_the_window_as_pxrs_frustum_does(tmp_path, ortho):
+    """A camera with horizontal and vertical aperture offsets projects every point where
+    pxr's own frustum (Gf.Camera.frustum) does, and a ball lands in the pixel its shifted
+    pinhole (K's cx, cy) gives, in the rasterizer and the Whitted tracer."""
+    stage = _stage(tmp_path / "o.usda")
+    cam = UsdGeom.Camera.Define(stage, "/Cam")
+    cam.CreateFocalLengthAttr(35.0)
+    cam.CreateHorizontalApertureAttr(36.0)
+    cam.CreateVerticalApertureAttr(20.25)
+    cam.CreateHorizontalApertureOffsetAttr(4.0)
+    cam.CreateVerticalApertureOffsetAttr(-2.5)
+    if ortho:
+        cam.CreateProjectionAttr(UsdGeom.Tokens.orthographic)
+    cam.CreateClippingRangeAttr(Gf.Vec2f(0.5, 50))
+    _xform(cam.GetPrim(), (0.3, 0.2, 8), (5, 10, 0))
+    ball = UsdGeom.Sphere.Define(stage, "/Ball")
+    ball.CreateRadiusAttr(0.15)
+    UsdGeom.Xformable(ball).AddTranslateOp().Set(Gf.Vec3d(0.9, 0.1, 0))
+    stage.Save()
+    c = facet.load(tmp_path / "o.usda").cameras["Cam"]
+    w, h = 128, 72  # the aperture's 16:9, as pxr's frustum's window
+    frustum = cam.GetCamera(Usd.TimeCode.Default()).frustum
+    theirs = np.array(frustum.ComputeViewMatrix() * frustum.ComputeProjectionMatrix()).T
+    ours = c.projection(w, h) @ c.view
+    pts = np.array([[0.9, 0.1, 0, 1], [-1, 1, -2, 1], [2, 0.5, 3, 1], [0, 0, 0, 1.0]])
+
+    def ndc(m):
+        clip = pts @ m.T
+        return clip[:, :3] / clip[:, 3:]
+
+    np.testing.assert_allclose(ndc(ours), ndc(theirs), atol=1e-6)
+    centre = ((ndc(ours)[0, :2] * [1, -1] + 1) / 2) * [w, h]  # the ball, in pixels
+    if not ortho:
+        k = c.K(w, h)
+        cv = (facet.geometry.intrinsics.CV_TO_GL @ c.view @ pts[0])[:3]
+        np.testing.assert_allclose((k @ cv)[:2] / cv[2] + 0.5, centre, atol=1e-6)
+    for engine in ("raster", "trace"):
+        with facet.Renderer(w, h, engine=engine) as r:
+            ids = r.render(facet.load(tmp_path / "o.usda"), c, outputs=("ids",),
+                           aa="none").object_ids
+        rows, cols = np.nonzero(ids >= 0)
+        assert abs(cols.mean() + 0.5 - centre[0]) < 0.3, engine
+        assert abs(rows.mean() + 0.5 - centre[1]) < 0.3, engine

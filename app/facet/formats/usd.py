@@ -3,7 +3,8 @@ extra): what ``facet render stage.usda`` and ``facet.load`` read.
 
 The stage is composed as USD defines it (facet.formats.usd_stage: every layer through the
 guard, variants, payloads). Prims are visited as USD's default predicate and instance
-proxies give them: ``active``, defined, not abstract; invisible ones (``ComputeVisibility``)
+proxies give them: ``active``, defined, not abstract; invisible ones (``ComputeVisibility``;
+those whose visibility is time-sampled are kept and hidden while invisible by the time rig)
 and those whose ``purpose`` is not wanted (default and render drawn; proxy and guide on
 request) are left out. A native instance's prototype geometry is made once and placed by
 each instance (facet's instancing: the same Mesh object), as are a PointInstancer's
@@ -25,8 +26,9 @@ sphere of radiance L; a point light where treatAsPoint or radius 0; the path tra
 samples it as an emitting sphere, the others by points of it); RectLight -> AreaLight
 facing its -z, I = L w h / pi; DiskLight -> AreaLight of the disk's area; DomeLight -> the
 environment (its texture times L, or a constant L).
-Cameras (UsdGeom.Camera): focal length and vertical aperture give the field of view,
-clipping range the near and far planes, an orthographic projection its height, f-stop and
+Cameras (UsdGeom.Camera): focal length and vertical aperture give the field of view (the
+window fitted to the picture's height), the aperture offsets a shifted lens
+(``Camera.shift``), clipping range the near and far planes, an orthographic projection its height, f-stop and
 focus distance a thin lens. Each said-once approximation is one warning line.
 """
 
@@ -50,6 +52,7 @@ from .usd_geometry import (
 from .usd_geometry import matrix as _matrix
 from .usd_shading import Shading, fallback_material
 from .usd_stage import open_stage
+from .usd_time import time_rig, visibility_codes
 
 GPRIMS = ("Cube", "Sphere", "Cylinder", "Cone", "Capsule", "Plane")
 LIGHTS = ("DistantLight", "SphereLight", "RectLight", "DiskLight", "DomeLight",
@@ -109,7 +112,8 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
         if not prim.IsA(UsdGeom.Imageable):
             continue
         image = UsdGeom.Imageable(prim)
-        if image.ComputeVisibility(time) == UsdGeom.Tokens.invisible:
+        if image.ComputeVisibility(time) == UsdGeom.Tokens.invisible \
+                and not visibility_codes(prim):  # (one that shows later: the time rig's)
             it.PruneChildren()
             continue
         purpose = image.ComputePurpose()
@@ -120,8 +124,10 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
         world = _matrix(cache.GetLocalToWorldTransform(prim))
         where = str(prim.GetPath())
         if kind == "Camera":
-            cameras[prim.GetName()] = usd_camera(prim, time, world, notes)
-            camera_prims[prim.GetName()] = (prim, cameras[prim.GetName()])
+            camera = usd_camera(prim, time, world, notes)
+            if camera is not None:
+                cameras[prim.GetName()] = camera
+                camera_prims[prim.GetName()] = (prim, camera)
             continue
         if kind in LIGHTS:
             light = usd_light(prim, time, world, notes)
@@ -148,8 +154,6 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
         raise MeshError(f"{path}: the stage draws nothing: " + (
             f"{', '.join(empty[:3])} hold{'s' if len(empty) == 1 else ''} no faces, points "
             "or shapes" if empty else "it has no meshes, gprims, points or curves"))
-    from .usd_time import time_rig
-
     rig = time_rig(stage, placed, camera_prims, notes)
     up = str(UsdGeom.GetStageUpAxis(stage))
     if up not in ("Y", "Z"):
@@ -306,7 +310,8 @@ def _instancer(prim, time, world, made, shading, finish, parts, notes, path) -> 
 
 # -- cameras and lights ----------------------------------------------------------------------
 def usd_camera(prim, time, world: np.ndarray, notes: list):
-    """A UsdGeom.Camera as a facet Camera (module docstring)."""
+    """A UsdGeom.Camera as a facet Camera (module docstring), or None (said) when its
+    aperture or focal length is not positive."""
     from pxr import UsdGeom
 
     from ..geometry.camera import Camera
@@ -319,18 +324,27 @@ def usd_camera(prim, time, world: np.ndarray, notes: list):
     near, far = cam.clippingRange.min, cam.clippingRange.max
     near = max(float(near), 1e-4)
     far = max(float(far), near * 10)
-    if cam.horizontalApertureOffset or cam.verticalApertureOffset:
-        notes.append(f"{prim.GetPath()}: aperture offsets (a shifted lens) are not honoured")
-    if str(cam.projection).endswith("Orthographic"):
-        # apertures are in tenths of a scene unit
-        return Camera(view, ortho_height=float(cam.verticalAperture) / 10.0, near=near,
-                      far=far)
-    fov_y = float(np.degrees(2 * np.arctan(cam.verticalAperture / (2 * cam.focalLength))))
-    camera = Camera(view, fov_y=fov_y, near=near, far=far)
-    if cam.fStop and cam.fStop > 0 and cam.focusDistance > 0:
-        # lens diameter = focal length / f-number (focal length in tenths of a unit)
-        camera.aperture = float(cam.focalLength / 10.0 / cam.fStop)
-        camera.focus_distance = float(cam.focusDistance)
+    ortho = str(cam.projection).endswith("Orthographic")
+    if not (cam.verticalAperture > 0 and (ortho or cam.focalLength > 0)):
+        notes.append(f"{prim.GetPath()}: a camera of vertical aperture "
+                     f"{cam.verticalAperture:g} and focal length {cam.focalLength:g} sees "
+                     "nothing; left out")
+        return None
+    # The window is fitted to the picture's height (the vertical aperture; the horizontal
+    # follows the picture's aspect), centred at the aperture offsets: a shifted lens.
+    shift = (float(cam.horizontalApertureOffset) / cam.verticalAperture,
+             float(cam.verticalApertureOffset) / cam.verticalAperture)
+    if ortho:  # apertures are in tenths of a scene unit
+        camera = Camera(view, ortho_height=float(cam.verticalAperture) / 10.0, near=near,
+                        far=far)
+    else:
+        fov_y = float(np.degrees(2 * np.arctan(cam.verticalAperture / (2 * cam.focalLength))))
+        camera = Camera(view, fov_y=fov_y, near=near, far=far)
+        if cam.fStop and cam.fStop > 0 and cam.focusDistance > 0:
+            # lens diameter = focal length / f-number (focal length in tenths of a unit)
+            camera.aperture = float(cam.focalLength / 10.0 / cam.fStop)
+            camera.focus_distance = float(cam.focusDistance)
+    camera.shift = shift
     return camera
 
 

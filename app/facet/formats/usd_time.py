@@ -10,7 +10,9 @@ fixed. Time ``t`` seconds is time code ``startTimeCode + t x timeCodesPerSecond`
 camera whose prim moves is posed the same way. A mesh whose points are time-sampled
 carries one morph target per code (facet.formats.usd); its node's weights go from one
 code's target to the next, linearly (USD's interpolation of points); its normals stay the
-rest pose's, said once. Time-sampled visibility is read at the default time, said.
+rest pose's, said once. A part whose visibility (or an ancestor's) is time-sampled hangs
+below a node whose scale steps between 1 and 0 at those codes (held, as USD holds a token;
+a zero scale hides a part in every engine, facet.scene.staging).
 """
 
 from __future__ import annotations
@@ -33,6 +35,24 @@ def _codes(prim) -> set[float]:
                 codes.update(op.GetTimeSamples())
         path = path.GetParentPath()
     return codes
+
+
+def visibility_codes(prim) -> list[float]:
+    """The time codes at which ``prim``'s computed visibility may change (its own and its
+    ancestors' visibility samples, sorted), or [] when none has more than one sample."""
+    from pxr import Sdf, UsdGeom
+
+    codes: set[float] = set()
+    varies = False
+    stage, path = prim.GetStage(), prim.GetPath()
+    while path != Sdf.Path.absoluteRootPath and not path.isEmpty:
+        at = stage.GetPrimAtPath(path)
+        if at and at.IsA(UsdGeom.Imageable):
+            samples = UsdGeom.Imageable(at).GetVisibilityAttr().GetTimeSamples()
+            codes.update(samples)
+            varies = varies or len(samples) > 1
+        path = path.GetParentPath()
+    return sorted(codes) if varies else []
 
 
 def _trs(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -68,7 +88,9 @@ def time_rig(stage, placed: list, cameras: dict, notes: list) -> Rig | None:
     moving = [sorted(_codes(prim)) if prim is not None else [] for prim, _, _ in placed]
     cam_codes = {name: sorted(_codes(prim)) for name, (prim, _) in cameras.items()}
     morphed = [deform is not None for _, _, deform in placed]
-    if not any(moving) and not any(cam_codes.values()) and not any(morphed):
+    shown = [visibility_codes(prim) if prim is not None else [] for prim, _, _ in placed]
+    if not any(moving) and not any(cam_codes.values()) and not any(morphed) \
+            and not any(shown):
         return None
     start = stage.GetStartTimeCode()
     caches: dict[float, object] = {}
@@ -79,8 +101,20 @@ def time_rig(stage, placed: list, cameras: dict, notes: list) -> Rig | None:
         return _matrix(caches[code].GetLocalToWorldTransform(prim))
 
     n = len(placed) + len(cameras)
-    rest_t, rest_r, rest_s = np.zeros((n, 3)), np.tile([0, 0, 0, 1.0], (n, 1)), np.ones((n, 3))
+    hiders = [node for node, codes in enumerate(shown) if codes]  # one node above each
+    total = n + len(hiders)
+    parents = np.full(total, -1)
+    rest_t = np.zeros((total, 3))
+    rest_r, rest_s = np.tile([0, 0, 0, 1.0], (total, 1)), np.ones((total, 3))
     fixed, channels, bindings, weights = {}, [], [], {}
+    for k, node in enumerate(hiders):
+        parents[node] = n + k
+        prim = placed[node][0]
+        seen = np.array([[float(UsdGeom.Imageable(prim).ComputeVisibility(Usd.TimeCode(c))
+                                != UsdGeom.Tokens.invisible)] * 3 for c in shown[node]])
+        rest_s[n + k] = seen[0]
+        channels.append(Channel(n + k, "scale", Sampler(
+            (np.array(shown[node]) - start) / tcps, seen, "STEP")))
     default = UsdGeom.XformCache(Usd.TimeCode(start))  # (the time the stage was read at)
     for node, ((prim, local, deform), codes) in enumerate(zip(placed, moving, strict=True)):
         bindings.append(Binding(part=node, node=node, skin=None, deform=deform))
@@ -120,12 +154,8 @@ def time_rig(stage, placed: list, cameras: dict, notes: list) -> Rig | None:
                      Channel(node, "rotation", Sampler(times, r))]
     if any(morphed):
         notes.append("time-sampled points move with their normals at rest")
-    for prim, _, _ in placed:
-        if prim is not None and UsdGeom.Imageable(prim).GetVisibilityAttr()\
-                .GetNumTimeSamples() > 1:
-            notes.append("time-sampled visibility is read at the default time")
-            break
-    return Rig(np.full(n, -1), range(n), (rest_t, rest_r, rest_s), fixed, weights,
+    order = [*range(n, total), *range(n)]  # (the hiding nodes first: parents first)
+    return Rig(parents, order, (rest_t, rest_r, rest_s), fixed, weights,
                [Clip("stage", tuple(channels))], [], bindings, rig_cameras)
 
 

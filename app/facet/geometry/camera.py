@@ -62,6 +62,10 @@ class Camera:
         # viewing axis.
         self.aperture = 0.0
         self.focus_distance: float | None = None
+        # A shifted lens (a tilt-shift's shift, USD's aperture offsets): the view window's
+        # centre moved right and up by these fractions of its height, the eye and axis kept
+        # (an off-axis frustum). Perspective and parallel cameras; intrinsics give cx, cy.
+        self.shift = (0.0, 0.0)
         if ortho_height is not None and not ortho_height > 0:
             raise InputError(f"ortho_height must be > 0, got {ortho_height}")
         # Validates near/far and fov up front, so a bad camera fails where it is made.
@@ -265,9 +269,16 @@ class Camera:
         aspect = width / height
         if self.ortho_height is not None:
             h = self.ortho_height / 2.0
-            return T.orthographic(-h * aspect, h * aspect, -h, h, self.near, self.far)
-        assert self.fov_y is not None  # a perspective camera without intrinsics has one
-        return T.perspective(self.fov_y, aspect, self.near, self.far)
+            m = T.orthographic(-h * aspect, h * aspect, -h, h, self.near, self.far)
+        else:
+            assert self.fov_y is not None  # a perspective camera without intrinsics has one
+            m = T.perspective(self.fov_y, aspect, self.near, self.far)
+        sx, sy = self.shift
+        if sx or sy:  # the window's centre to NDC's: clip x' = x - 2 sx / aspect w
+            m = m.copy()
+            m[0] -= 2.0 * sx / aspect * m[3]
+            m[1] -= 2.0 * sy * m[3]
+        return m
 
     def _intrinsics_projection(self, width: int, height: int) -> np.ndarray:
         k = self.intrinsics
@@ -307,8 +318,9 @@ class Camera:
         if self.fov_y is None:
             raise InputError("an orthographic camera has no pinhole intrinsics")
         f = height / 2.0 / np.tan(np.radians(self.fov_y) / 2.0)
-        return np.array([[f, 0.0, (width - 1) / 2.0], [0.0, f, (height - 1) / 2.0],
-                         [0.0, 0.0, 1.0]])
+        sx, sy = self.shift  # (the window's centre moved right and up by heights)
+        return np.array([[f, 0.0, (width - 1) / 2.0 - sx * height],
+                         [0.0, f, (height - 1) / 2.0 + sy * height], [0.0, 0.0, 1.0]])
 
     @checked
     def orbit(self, center: Vec3, axis: Vec3, degrees: Real) -> Camera:
@@ -350,6 +362,7 @@ class Camera:
         moved = Camera(view, fov_y=self.fov_y, ortho_height=self.ortho_height,
                        intrinsics=self.intrinsics, near=self.near, far=self.far)
         moved.aperture, moved.focus_distance = self.aperture, self.focus_distance
+        moved.shift = self.shift
         return moved
 
     def describe(self, width: int, height: int) -> dict:

@@ -85,6 +85,7 @@ def lens_camera(camera: Camera, lx: float, ly: float) -> Camera:
     shear[0, 2], shear[1, 2] = -lx / f, -ly / f
     moved = Camera(shear @ shift @ camera.view, fov_y=camera.fov_y,
                    intrinsics=camera.intrinsics, near=camera.near, far=camera.far)
+    moved.shift = camera.shift
     return moved
 
 

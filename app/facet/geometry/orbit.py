@@ -90,6 +90,7 @@ class OrbitControl:
         self.fov_y = fov_y
         self.orthographic = False
         self.aperture, self.focus_distance = 0.0, None  # a thin lens, from set_camera
+        self.shift = (0.0, 0.0)  # a shifted lens, from set_camera (Camera.shift)
         self.bounds = np.asarray(bounds, dtype=np.float64).reshape(2, 3)
 
         if direction is None:  # the default view for this up axis (Camera.frame's)
@@ -120,6 +121,7 @@ class OrbitControl:
         self.rotation = matrix_to_quat(rot)
         self.orthographic = camera.is_orthographic
         self.aperture, self.focus_distance = camera.aperture, camera.focus_distance  # lens
+        self.shift = camera.shift
         if camera.is_orthographic:
             self.ortho_height = camera.ortho_height
         elif camera.fov_y is not None:
@@ -182,7 +184,9 @@ class OrbitControl:
         near = min(near, max(self.distance * 0.01, 1e-4))
         far = max(far, self.distance * 1.01)
         if self.orthographic:
-            return Camera(view, ortho_height=self.ortho_height, near=near, far=far)
-        cam = Camera(view, fov_y=self.fov_y, near=max(near, far * 1e-5), far=far)
-        cam.aperture, cam.focus_distance = self.aperture, self.focus_distance
+            cam = Camera(view, ortho_height=self.ortho_height, near=near, far=far)
+        else:
+            cam = Camera(view, fov_y=self.fov_y, near=max(near, far * 1e-5), far=far)
+            cam.aperture, cam.focus_distance = self.aperture, self.focus_distance
+        cam.shift = self.shift
         return cam
