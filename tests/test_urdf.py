@@ -226,3 +226,69 @@ def test_collada_meshes_load_as_a_robots_do(tmp_path):
                                        'SYSTEM "file:///etc/passwd">]><COLLADA>&x;</COLLADA>')
     with pytest.raises(MeshError, match="declares a DTD or entities"):
         facet.load(tmp_path / "evil.dae")
+
+
+def test_a_loaded_robot_poses_again_as_if_loaded_in_that_configuration(tmp_path):
+    """``Scene.posed`` moves every link as ``facet.load(joints=...)`` and yourdfpy's own
+    forward kinematics place them (joints not named keep their values); the pictures
+    agree; ``Scene.joints`` gives the ranges; a bad name or value is one error."""
+    path = _robot(tmp_path)
+    scene = facet.load(path)
+    assert scene.joints == {"shoulder": (-1.5, 1.5), "elbow": (-2.0, 2.0),
+                            "slide": (0.0, 0.05)}
+    posed = scene.posed({"shoulder": 0.6}).posed({"elbow": -0.8, "slide": 0.04})
+    direct = facet.load(path, joints=CONFIG)
+    for a, b in zip(posed.objects, direct.objects, strict=True):
+        np.testing.assert_allclose(a.transform, b.transform, atol=1e-12)
+    robot = yourdfpy.URDF.load(str(path), load_meshes=False)
+    robot.update_cfg(CONFIG)
+    finger = next(o for o in posed.objects if o.name.startswith("finger_b"))
+    np.testing.assert_allclose(finger.transform, robot.get_transform("finger_b", "base"),
+                               atol=1e-12)
+    with facet.Renderer(48, 36) as r:
+        a = r.render(posed, CAMERA, outputs=("depth",)).depth
+        b = r.render(direct, CAMERA, outputs=("depth",)).depth
+        c = r.render(scene, CAMERA, outputs=("depth",)).depth
+    np.testing.assert_array_equal(a, b)
+    assert (a != c).mean() > 0.02  # (the rest pose differs)
+    with pytest.raises(InputError, match="outside its limits"):
+        scene.posed({"elbow": 3.0})
+    with pytest.raises(InputError, match="no joint named 'knee'"):
+        scene.posed({"knee": 0.1})
+    plain = facet.Scene()
+    plain.add(facet.shapes.Sphere(1.0))
+    with pytest.raises(InputError, match="no robot to pose"):
+        plain.posed({"elbow": 0.1})
+
+
+def test_one_job_poses_a_robot_per_view(tmp_path):
+    """views.joints: one configuration per view, recorded in transforms.json; the views
+    differ by the pose; random_joints samples every joint within its limits (seeded); a list that does not match the count is refused before rendering."""
+    import json
+
+    from PIL import Image
+
+    from facet.cli import main
+
+    from batch_data import write_manifest
+
+    path = _robot(tmp_path)
+    configs = [{"shoulder": 0.0}, {"shoulder": 1.2, "elbow": -1.5}, {"slide": 0.05}]
+    job = {"model": str(path), "name": "arm", "size": [40, 40], "outputs": ["color"],
+           "views": {"plan": "turntable", "elevation": 30, "joints": configs}}
+    manifest = write_manifest(tmp_path, [job, dict(job, name="rnd", views={
+        "plan": "sphere", "count": 4, "random_joints": True})])
+    assert main(["batch", str(manifest), "-o", str(tmp_path / "out"), "-q"]) == 0
+    frames = json.loads((tmp_path / "out" / "arm" / "transforms.json").read_text())["frames"]
+    assert [f["joints"] for f in frames] == configs
+    images = [np.asarray(Image.open(tmp_path / "out" / "arm" / f["file_path"])).astype(int)
+              for f in frames]
+    assert all(np.abs(images[i] - images[j]).mean() > 0.5 for i, j in ((0, 1), (0, 2), (1, 2)))
+    rnd = json.loads((tmp_path / "out" / "rnd" / "transforms.json").read_text())["frames"]
+    ranges = facet.load(path).joints
+    assert len(rnd) == 4 and all(set(f["joints"]) == set(ranges) for f in rnd)
+    assert all(ranges[k][0] <= v <= ranges[k][1] for f in rnd for k, v in f["joints"].items())
+    assert len({json.dumps(f["joints"]) for f in rnd}) == 4
+    bad = write_manifest(tmp_path, [dict(job, views={"count": 2, "joints": configs})])
+    assert main(["batch", str(bad), "-o", str(tmp_path / "bad"), "-q"]) == 2
+    assert not (tmp_path / "bad").exists()

@@ -58,7 +58,7 @@ JOB_KEYS = ("model", "name", "views", "seed", "float_files", "colmap",  # and re
 LOAD_KEYS = ("joints", "variants", "payloads", "purposes", "package_path", "collision")
 FLOAT_FILES = ("npy", "exr")
 VIEW_KEYS = ("plan", "count", "elevation", "elevations", "seed", "file", "times",
-             "random_times")
+             "random_times", "joints", "random_joints")
 FRONT = "batch"  # a dataset's defaults (facet.options.render.FRONT_DEFAULTS)
 
 
@@ -352,7 +352,11 @@ def _views(v, where: str, seed) -> ViewPlan:
     plan = v.get("plan", "sphere")
     if plan not in PLANS:
         raise InputError(f"{where}.plan: {plan!r}; choose one of {', '.join(PLANS)}")
-    count = v.get("count", 8)
+    joints = _view_joints(v, where)
+    count = v.get("count", 8 if joints is None else len(joints))
+    if joints is not None and count != len(joints):
+        raise InputError(f"{where}.joints: {len(joints)} configurations for {count!r} views; "
+                         "give one per view (or leave count out)")
     if plan != "cameras" and not (_whole(count) and 1 <= count <= MAX_FRAMES):
         raise InputError(f"{where}.count: expected 1..{MAX_FRAMES} views, got {count!r}")
     if plan == "cameras" and "file" not in v:
@@ -380,9 +384,29 @@ def _views(v, where: str, seed) -> ViewPlan:
     if not isinstance(random_times, bool) or (random_times and times is None):
         raise InputError(f"{where}.random_times: expected true or false, with times = "
                          f"[start, end] (got {random_times!r})")
+    random_joints = v.get("random_joints", False)
+    if not isinstance(random_joints, bool) or (random_joints and joints is not None):
+        raise InputError(f"{where}.random_joints: expected true or false, without joints "
+                         f"(got {random_joints!r})")
     return ViewPlan(plan, int(count), float(elevation), (float(lo_hi[0]), float(lo_hi[1])),
                     int(seed), file, None if times is None else
-                    (float(times[0]), float(times[1])), random_times)
+                    (float(times[0]), float(times[1])), random_times, joints, random_joints)
+
+
+def _view_joints(v: dict, where: str) -> tuple | None:
+    """A views table's ``joints``: a list of {joint: number} tables, one per view."""
+    if "joints" not in v:
+        return None
+    value = v["joints"]
+    if not isinstance(value, list) or not value or not all(
+            isinstance(c, dict) and all(isinstance(k, str) and _real(x)
+                                        for k, x in c.items()) for c in value):
+        raise InputError(f"{where}.joints: expected a list of tables of joint values "
+                         "(radians, metres), one per view")
+    if len(value) > MAX_FRAMES:
+        raise InputError(f"{where}.joints: {len(value)} configurations; at most "
+                         f"{MAX_FRAMES} views")
+    return tuple(dict(c) for c in value)
 
 
 def _whole(value) -> bool:

@@ -47,17 +47,22 @@ def render_job(job, out: Path, renderer, load=None, on_view=None) -> dict:
         saved = tuple(dict.fromkeys(("color", *opts.outputs)))
         extra = ("depth", "position") if job.colmap else ()
         opts = replace(opts, outputs=tuple(dict.fromkeys((*saved, *extra))))
-        cameras = job.views.cameras(scene.at(opts.time, opts.animation).bounds, opts.up,
-                                    opts.width / opts.height, size=opts.size)
+        configs = job.views.view_joints(scene)
+        posed = [scene] if configs is None else [scene.posed(c) for c in configs]
+        bounds = np.array([s.at(opts.time, opts.animation).bounds for s in posed])
+        cameras = job.views.cameras(np.stack([bounds[:, 0].min(0), bounds[:, 1].max(0)]),
+                                    opts.up, opts.width / opts.height, size=opts.size)
         times = job.views.view_times(len(cameras))
         entries, points = [], []
         rng = np.random.default_rng(job.views.seed)
         for i, camera in enumerate(cameras):
             view_opts = opts if times is None else replace(opts, time=times[i])
-            frame = renderer.render(scene, camera, view_opts)
+            frame = renderer.render(posed[i % len(posed)], camera, view_opts)
             entries.append(write_view(folder, i, frame, saved, job.float_files))
             if times is not None:
                 entries[-1]["time"] = round(times[i], 6)
+            if configs is not None:
+                entries[-1]["joints"] = {k: round(x, 9) for k, x in configs[i].items()}
             if on_view is not None:
                 on_view(job)
             if job.colmap:

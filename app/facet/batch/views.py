@@ -8,6 +8,11 @@
     cameras FILE                the cameras of a transforms.json (NeRF synthetic, instant-ngp,
                                 nerfstudio: facet.batch.transforms_file)
 
+With ``joints = [{...}, ...]`` (one configuration per view, the count its length) or
+``random_joints = true`` (each joint uniform within its limits, seeded) a robot's views
+each stand in their own configuration (facet.scene.articulated); every view is framed on
+the bounds of them all, and transforms.json records each frame's ``joints``.
+
 With ``times = [A, B]`` each view also stands at its own time of the scene's animations:
 spread evenly over [A, B) in view order, or with ``random_times`` uniformly at random in
 [A, B] (seeded); transforms.json records each frame's time.
@@ -40,6 +45,19 @@ class ViewPlan:
     file: str | None = None
     times: tuple[float, float] | None = None
     random_times: bool = False
+    joints: tuple | None = None  # one {joint: value} per view
+    random_joints: bool = False
+
+    def view_joints(self, scene) -> list[dict] | None:
+        """One joint configuration per view of ``scene``'s robots (module docstring), or
+        None."""
+        if self.joints is not None:
+            return [dict(c) for c in self.joints]
+        if self.random_joints:
+            from ..scene.articulated import random_configurations
+
+            return random_configurations(scene, self.count, self.seed + 2)
+        return None
 
     def view_times(self, n: int) -> list[float] | None:
         """(n,) seconds, one per view (module docstring), or None."""

@@ -16,6 +16,12 @@ the URDF: a folder named PKG or holding PKG), ``file://`` and plain paths beside
 every one read through the guard and inside ``--confine``. A material's colour (its own or
 the robot's named one) is the part's base colour; a texture is read the same way. URDF is
 z-up: framing and turntables follow.
+
+The forward kinematics are facet's own, in numpy (Kinematics: yourdfpy's rules, checked
+against its poses in the tests, a hundred times faster than asking it for every link),
+and the parts hang on an Articulation rig, so ``Scene.posed(joints)`` poses a loaded robot
+again without reading it (facet.scene.articulated; a dataset's views each in their own
+configuration).
 """
 
 from __future__ import annotations
@@ -24,9 +30,12 @@ import io
 import os
 from pathlib import Path
 
+import warnings
+
 import numpy as np
 
-from ..errors import InputError, MeshError
+from ..errors import FacetWarning, InputError, MeshError
+from ..scene.animation import Binding, Rig
 
 URDF_MISSING = "reading URDF robots needs yourdfpy: pip install 'facet-render[urdf]'"
 
@@ -68,34 +77,135 @@ def parse_robot(path: Path):
     return robot
 
 
-def configure(robot, joints: dict | None, path) -> None:
-    """Set the joint values (the module docstring's rules)."""
-    joints = dict(joints or {})
-    known = robot.joint_map
-    cfg = {}
-    for name, value in joints.items():
-        if name not in known:
-            raise InputError(f"{path}: no joint named {name!r}; its joints are "
-                             f"{', '.join(robot.actuated_joint_names) or 'none'}")
-        joint = known[name]
-        if joint.mimic is not None:
-            raise InputError(f"{path}: joint {name!r} mimics {joint.mimic.joint!r}; set "
-                             f"{joint.mimic.joint!r} instead")
-        if joint.type == "fixed":
-            raise InputError(f"{path}: joint {name!r} is fixed; it takes no value")
-        v = float(value)
-        if not np.isfinite(v):
-            raise InputError(f"{path}: joint {name!r}: a value must be finite, got {value!r}")
-        limit = joint.limit
-        if joint.type in ("revolute", "prismatic") and limit is not None and \
-                limit.lower is not None and limit.upper is not None and \
-                not limit.lower - 1e-9 <= v <= limit.upper + 1e-9:
-            unit = "m" if joint.type == "prismatic" else "rad"
-            raise InputError(f"{path}: joint {name!r} = {v:g} {unit} is outside its limits "
-                             f"[{limit.lower:g}, {limit.upper:g}] {unit}")
-        cfg[name] = v
-    if cfg:
-        robot.update_cfg(cfg)
+class Kinematics:
+    """A robot's joint tree posed in numpy: each joint's origin, then its motion (a turn
+    by q about its unit axis for revolute and continuous joints, q times its axis for
+    prismatic ones; mimic joints q = multiplier x q(theirs) + offset; fixed, floating
+    and planar joints their origin, as yourdfpy poses them), parents first from the base
+    link. Joints not given stand at 0."""
+
+    def __init__(self, robot, path, notes: list):
+        self.path, self.base = path, robot.base_link
+        self.joint_map = robot.joint_map
+        self.actuated = list(robot.actuated_joint_names)
+        by_parent: dict = {}
+        for joint in robot.robot.joints:
+            by_parent.setdefault(joint.parent, []).append(joint)
+        self.chain, todo = [], [self.base]  # joints, parents before children
+        while todo:
+            for joint in by_parent.get(todo.pop(), []):
+                self.chain.append(joint)
+                todo.append(joint.child)
+        free = [j.name for j in self.chain if j.type in ("floating", "planar")]
+        if free:
+            notes.append(f"joints {', '.join(free)} (floating, planar) stand at their origin")
+
+    def check(self, joints: dict | None) -> dict:
+        """``joints`` checked (the module docstring's rules): {name: float}."""
+        path, cfg = self.path, {}
+        for name, value in dict(joints or {}).items():
+            if name not in self.joint_map:
+                raise InputError(f"{path}: no joint named {name!r}; its joints are "
+                                 f"{', '.join(self.actuated) or 'none'}")
+            joint = self.joint_map[name]
+            if joint.mimic is not None:
+                raise InputError(f"{path}: joint {name!r} mimics {joint.mimic.joint!r}; set "
+                                 f"{joint.mimic.joint!r} instead")
+            if joint.type not in ("revolute", "continuous", "prismatic"):
+                raise InputError(f"{path}: joint {name!r} is {joint.type}; it takes no value")
+            v = float(value)
+            if not np.isfinite(v):
+                raise InputError(f"{path}: joint {name!r}: a value must be finite, got "
+                                 f"{value!r}")
+            limit = joint.limit
+            if joint.type in ("revolute", "prismatic") and limit is not None and \
+                    limit.lower is not None and limit.upper is not None and \
+                    not limit.lower - 1e-9 <= v <= limit.upper + 1e-9:
+                unit = "m" if joint.type == "prismatic" else "rad"
+                raise InputError(f"{path}: joint {name!r} = {v:g} {unit} is outside its "
+                                 f"limits [{limit.lower:g}, {limit.upper:g}] {unit}")
+            cfg[name] = v
+        return cfg
+
+    def link_poses(self, cfg: dict) -> dict:
+        """{link: 4x4 link -> base} at the checked configuration ``cfg``."""
+        poses = {self.base: np.eye(4)}
+        for joint in self.chain:
+            m = np.eye(4) if joint.origin is None else np.asarray(joint.origin, float)
+            q = cfg.get(joint.name, 0.0)
+            if joint.mimic is not None:
+                mimic = joint.mimic
+                q = (cfg.get(mimic.joint, 0.0) if mimic.joint in self.actuated else 0.0) * \
+                    (1.0 if mimic.multiplier is None else mimic.multiplier) + \
+                    (0.0 if mimic.offset is None else mimic.offset)
+            axis = np.array([1.0, 0, 0]) if joint.axis is None else \
+                np.asarray(joint.axis, float)
+            if joint.type == "prismatic":
+                m = m @ _translation(q * axis)
+            elif joint.type in ("revolute", "continuous"):
+                m = m @ _rotation(q, axis)
+            poses[joint.child] = poses[joint.parent] @ m
+        return poses
+
+
+def _translation(v) -> np.ndarray:
+    m = np.eye(4)
+    m[:3, 3] = v
+    return m
+
+
+def _rotation(angle: float, axis) -> np.ndarray:
+    """The turn by ``angle`` radians about ``axis`` (Rodrigues)."""
+    n = np.linalg.norm(axis)
+    x, y, z = np.asarray(axis, float) / (n if n > 0 else 1.0)
+    c, s = np.cos(angle), np.sin(angle)
+    k = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+    m = np.eye(4)
+    m[:3, :3] = np.eye(3) + s * k + (1 - c) * (k @ k)
+    return m
+
+
+class Articulation(Rig):
+    """A robot's parts on its links, posed by a joint configuration: a facet Rig with no
+    clips (each part a node fixed at link pose x its local placement), so a posed robot
+    goes wherever a scene goes; ``configured(joints)`` is the same robot in another
+    configuration (the joints given set, the others kept)."""
+
+    def __init__(self, kinematics: Kinematics, links: list, local: list, cfg: dict):
+        self.kinematics, self.links, self.local = kinematics, links, local
+        self.configuration = dict(cfg)
+        n = len(links)
+        poses = kinematics.link_poses(cfg)
+        fixed = {k: poses[link] @ m for k, (link, m) in enumerate(zip(links, local,
+                                                                      strict=True))}
+        super().__init__(np.full(n, -1), range(n), (np.zeros((n, 3)), np.tile(
+            [0, 0, 0, 1.0], (n, 1)), np.ones((n, 3))), fixed, {}, [], [],
+            [Binding(k, k, None, None) for k in range(n)])
+
+    def ranges(self) -> dict[str, tuple[float, float]]:
+        """{joint: (lower, upper)} of the joints that take a value (continuous joints,
+        and those whose file gives no limits: (-pi, pi) radians, (0, 0) metres)."""
+        out = {}
+        for name in self.kinematics.actuated:
+            joint = self.kinematics.joint_map[name]
+            limit = joint.limit
+            if joint.type != "continuous" and limit is not None and \
+                    limit.lower is not None and limit.upper is not None:
+                out[name] = (float(limit.lower), float(limit.upper))
+            else:
+                out[name] = (0.0, 0.0) if joint.type == "prismatic" else (-np.pi, np.pi)
+        return out
+
+    def configured(self, joints: dict) -> Articulation:
+        """This robot with ``joints`` {name: value} set (checked; those it lacks are the
+        caller's to refuse), the others as they were."""
+        mine = {k: v for k, v in joints.items() if k in self.kinematics.joint_map}
+        return Articulation(self.kinematics, self.links, self.local,
+                            {**self.configuration, **self.kinematics.check(mine)})
+
+    def placements(self) -> list:
+        """Each part's 4x4 part -> robot base at this configuration."""
+        return [self.fixed[k] for k in range(len(self.links))]
 
 
 def _search_path(urdf: Path, extra) -> list[Path]:
@@ -124,21 +234,21 @@ def resolve(filename: str, urdf: Path, package_path) -> Path:
 def read_urdf(path: Path, load_file, crease: float, joints=None, package_path=None,
               collision: bool = False):
     """``(parts, cameras, lights, rig)`` as facet.formats.loading.load_file returns them
-    (lights hold the z-up setting); ``load_file`` reads the robot's mesh files."""
+    (lights hold the z-up setting; the rig an Articulation that ``Scene.posed`` poses
+    again); ``load_file`` reads the robot's mesh files."""
     from .usd_geometry import StageSettings, axis_turn
 
     robot = parse_robot(path)
-    configure(robot, joints, path)
+    notes: list = []
+    kinematics = Kinematics(robot, path, notes)
+    cfg = kinematics.check(joints)
     named = {m.name: m for m in (robot.robot.materials or []) if m.name}
-    parts: list = []
-    base = robot.base_link
+    found: list = []  # (name, args, link, 4x4 part -> link)
     for link in robot.robot.links:
-        pose = robot.get_transform(frame_to=link.name, frame_from=base)
         elements = link.collisions if collision else link.visuals
         for k, element in enumerate(elements or []):
             geometry = element.geometry
             origin = element.origin if element.origin is not None else np.eye(4)
-            place = pose @ origin
             name = f"{link.name}/{element.name or k}"
             material = None if collision else _material(element.material, named, path,
                                                         package_path)
@@ -147,17 +257,17 @@ def read_urdf(path: Path, load_file, crease: float, joints=None, package_path=No
             if geometry.box is not None:
                 args = {"kind": "shape", "shape": "box",
                         "params": tuple(float(v) for v in geometry.box.size)}
-                parts.append((name, _with(args, material, path, name), place))
+                found.append((name, _with(args, material, path, name), link.name, origin))
             elif geometry.cylinder is not None:
                 c = geometry.cylinder
                 args = {"kind": "shape", "shape": "cylinder",
                         "params": (float(c.radius), float(c.length))}
-                parts.append((name, _with(args, material, path, name),
-                              place @ axis_turn("Z")))
+                found.append((name, _with(args, material, path, name), link.name,
+                              origin @ axis_turn("Z")))
             elif geometry.sphere is not None:
                 args = {"kind": "shape", "shape": "sphere",
                         "params": (float(geometry.sphere.radius),)}
-                parts.append((name, _with(args, material, path, name), place))
+                found.append((name, _with(args, material, path, name), link.name, origin))
             elif geometry.mesh is not None:
                 mesh_path = resolve(geometry.mesh.filename, path, package_path)
                 scale = np.ones(3) if geometry.mesh.scale is None else \
@@ -166,11 +276,17 @@ def read_urdf(path: Path, load_file, crease: float, joints=None, package_path=No
                 for sub, args, m in raw:
                     if material is not None:
                         args = dict(args, material=material)
-                    parts.append((f"{name}/{sub}", args, place @ np.diag([*scale, 1.0]) @ m))
-    if not parts:
+                    found.append((f"{name}/{sub}", args, link.name,
+                                  origin @ np.diag([*scale, 1.0]) @ m))
+    if not found:
         raise MeshError(f"{path}: its links have no {'collision' if collision else 'visual'} "
                         "geometry to draw")
-    return parts, {}, [StageSettings("z")], None
+    for note in notes:
+        warnings.warn(f"{path.name}: {note}", FacetWarning, stacklevel=4)
+    rig = Articulation(kinematics, [f[2] for f in found], [f[3] for f in found], cfg)
+    parts = [(name, args, m) for (name, args, _, _), m in zip(found, rig.placements(),
+                                                              strict=True)]
+    return parts, {}, [StageSettings("z")], rig
 
 
 def _with(args: dict, material, path, name) -> dict:

@@ -302,6 +302,38 @@ class Scene:
 
         return pose_scene(self, time, animation)
 
+    @checked
+    def posed(self, joints: dict[str, float]) -> Scene:
+        """The scene with its robots (URDF models) in another joint configuration.
+
+        Parameters
+        ----------
+        joints : dict
+            ``{joint: value}``: radians for revolute and continuous joints, metres for
+            prismatic ones, within their limits; mimic joints follow. Joints not named
+            keep their values.
+
+        Returns
+        -------
+        Scene
+            A view sharing the meshes (facet.scene.articulated); it poses again.
+
+        Raises
+        ------
+        facet.InputError
+            A joint no robot has, a value outside its limits, or no robot in the scene.
+        """
+        from .articulated import posed
+
+        return posed(self, joints)
+
+    @property
+    def joints(self) -> dict[str, tuple[float, float]]:
+        """``{joint: (lower, upper)}`` of the scene's robots' joints that take a value."""
+        from .articulated import joint_ranges
+
+        return joint_ranges(self)
+
     @property
     def animations(self) -> list[str]:
         """The names of the animations of the scene's models."""
