@@ -292,3 +292,27 @@ def test_one_job_poses_a_robot_per_view(tmp_path):
     bad = write_manifest(tmp_path, [dict(job, views={"count": 2, "joints": configs})])
     assert main(["batch", str(bad), "-o", str(tmp_path / "bad"), "-q"]) == 2
     assert not (tmp_path / "bad").exists()
+
+
+def test_scene_add_places_a_posed_robot_that_poses_again_there(tmp_path):
+    """``Scene.add`` of a loaded robot in a configuration: its links where the robot puts
+    them, moved by the transform; the world poses it again (``posed``) there."""
+    path = _robot(tmp_path)
+    world = facet.Scene()
+    world.add(facet.shapes.Box((2.0, 2.0, 0.02)))
+    move = np.eye(4)
+    move[:3, 3] = (0.5, -0.25, 0.01)
+    ids = world.add(facet.load(path, joints=CONFIG), transform=move)
+    direct = facet.load(path, joints=CONFIG)
+    assert ids == list(range(1, 1 + len(direct.objects)))
+    for oid, o in zip(ids, direct.objects, strict=True):
+        np.testing.assert_allclose(world.objects[oid].transform, move @ o.transform,
+                                   atol=1e-12)
+    again = world.posed({"shoulder": -0.4})
+    other = facet.load(path, joints={**CONFIG, "shoulder": -0.4})
+    for oid, o in zip(ids, other.objects, strict=True):
+        np.testing.assert_allclose(again.objects[oid].transform, move @ o.transform,
+                                   atol=1e-12)
+    np.testing.assert_array_equal(again.objects[0].transform, world.objects[0].transform)
+    with pytest.raises(InputError, match="keep their materials"):
+        world.add(direct, material=facet.Material())

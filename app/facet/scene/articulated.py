@@ -70,3 +70,36 @@ def random_configurations(scene, count: int, seed: int) -> list[dict]:
     lo, hi = (np.array(x, float) for x in zip(*ranges.values(), strict=True))
     values = np.random.default_rng(seed).uniform(lo, hi, (count, len(ranges)))
     return [dict(zip(ranges, map(float, row), strict=True)) for row in values]
+
+
+def add_scene(target, source, transform) -> list[int]:
+    """``source``'s objects placed in ``target`` by ``transform`` (4x4 or None), with the
+    rigs that move them (a robot poses again there, an animation plays): their new ids.
+    Lights, cameras, an environment and splats stay behind, said in one line."""
+    import warnings
+
+    from ..errors import FacetWarning
+    from ..geometry import transforms as T
+    from .animation import Animated
+
+    base = np.eye(4) if transform is None else np.asarray(transform, dtype=np.float64)
+    if base.shape != (4, 4) or not np.all(np.isfinite(base)):
+        raise InputError(f"transform must be a finite 4x4 matrix, got shape {base.shape}")
+    T.normal_matrix(base)
+    ids: dict[int, int] = {}
+    for o in source.objects:
+        ids[o.id] = target._next_id()
+        target.objects.append(replace(o, id=ids[o.id], transform=base @ o.transform,
+                                      transform_end=None if o.transform_end is None
+                                      else base @ o.transform_end))
+    for a in source.animated:
+        target.animated.append(Animated(a.rig, [ids[i] for i in a.objects],
+                                        base @ a.placement))
+    left = [what for what, has in (("lights", source.lights), ("cameras", source.cameras),
+                                   ("environment", source.environment is not None),
+                                   ("splats", getattr(source, "splats", ()))) if has]
+    if left:
+        warnings.warn(f"Scene.add: the added scene's {', '.join(left)} are not added with "
+                      "its objects (add_light, add_camera, Scene.environment)",
+                      FacetWarning, stacklevel=3)
+    return list(ids.values())

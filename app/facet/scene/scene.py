@@ -121,11 +121,13 @@ class Scene:
 
         Parameters
         ----------
-        mesh : Mesh, Points, Lines, Splats, facet.shapes shape, or trimesh geometry
+        mesh : Mesh, Points, Lines, Splats, facet.shapes shape, trimesh geometry or Scene
             What to place (trimesh's Trimesh / PointCloud / Scene through
             facet.formats.adapters: colours, uvs, materials; a Scene's parts each placed
             by its graph, then by ``transform``; Splats: Gaussian splats, drawn by the
-            rasterizer, with no material).
+            rasterizer, with no material; a facet Scene, such as ``facet.load`` of a
+            robot in some configuration: its objects placed by ``transform``, with their
+            animations and joints, so ``posed`` and ``at`` move them there too).
         material : Material or PbrMaterial, optional
             Default: the file's own material, else a grey ``Material()``.
         transform : (4, 4) float, optional
@@ -139,12 +141,19 @@ class Scene:
         -------
         int or list of int
             The object's id (0, 1, 2, ...: its value in ``Frame.object_ids``), or a trimesh
-            Scene's parts' ids.
+            Scene's or a facet Scene's parts' ids.
         """
         from .points import Lines, Points
         from .shapes import Shape
         from .splats import SplatObject, Splats
 
+        if isinstance(mesh, Scene):  # a loaded model (a robot, a stage): its objects
+            if material is not None or transform_end is not None:
+                raise InputError("Scene.add of a scene: its objects keep their materials "
+                                 "and motion; give no material and no transform_end")
+            from .articulated import add_scene
+
+            return add_scene(self, mesh, transform)
         if isinstance(mesh, Splats):
             m = np.eye(4) if transform is None else np.asarray(transform, dtype=np.float64)
             if m.shape != (4, 4) or not np.all(np.isfinite(m)):
