@@ -50,7 +50,7 @@ from .usd_geometry import (
     points_arguments,
 )
 from .usd_geometry import matrix as _matrix
-from .usd_shading import Shading, fallback_material
+from .usd_shading import Shading
 from .usd_stage import open_stage
 from .usd_time import time_rig, visibility_codes
 
@@ -191,7 +191,7 @@ def _make(prim, time, shading, finish, notes, path, where) -> list:
             notes.append(f"{where}: subdivision creases and corners are not honoured")
         if material is None:
             c = constant or (rgb, alpha)
-            material = fallback_material(c[0], c[1], double)
+            material = shading.fallback(c[0], c[1], double)
         elif double and not material.double_sided:
             material = _copy(material, double_sided=True)
         args["material"] = material
@@ -202,7 +202,7 @@ def _make(prim, time, shading, finish, notes, path, where) -> list:
         if shape is None:
             return []
         material, _ = shading.material_of(prim)
-        material = material or fallback_material(rgb, alpha, double)
+        material = material or shading.fallback(rgb, alpha, double)
         shape_kind, params, turn = shape
         args = {"kind": "shape", "shape": shape_kind, "params": params,
                 "material": material, "name": prim.GetName(), "path": str(path)}

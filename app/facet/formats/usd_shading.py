@@ -40,6 +40,16 @@ class Shading:
         self.subdivide = int(subdivide)
         self.made: dict[str, tuple[PbrMaterial, str]] = {}
         self.textures: dict[tuple, Texture] = {}
+        self.fallbacks: dict[tuple, PbrMaterial] = {}  # (colour, alpha, double) -> one
+
+    def fallback(self, rgb, alpha: float, double_sided: bool) -> PbrMaterial:
+        """``fallback_material``, one per colour, opacity and sidedness of the stage (prims
+        of one displayColor share it: less to make, and batched alike when drawn)."""
+        key = (None if rgb is None else tuple(float(c) for c in rgb[:3]), float(alpha),
+               bool(double_sided))
+        if key not in self.fallbacks:
+            self.fallbacks[key] = fallback_material(rgb, alpha, double_sided)
+        return self.fallbacks[key]
 
     def material_of(self, prim) -> tuple[PbrMaterial | None, str]:
         """(the bound material or None, the primvar its textures read as st)."""

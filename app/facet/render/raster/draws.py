@@ -41,6 +41,9 @@ class FramePass:
     behind: object  # the picture transmission refracts, or None
     mirrored_view: bool  # the front faces' winding turned round
     ready: set = field(default_factory=set)  # programs whose frame uniforms are set
+    # id(material) -> (material, its pbr record): made once a pass for the objects that
+    # share it (a stage's thousands of prims, a few materials)
+    records: dict = field(default_factory=dict)
 
     @property
     def environment(self):
@@ -129,7 +132,7 @@ def draw_pbr(fwd, fp: FramePass, item, obj) -> None:
         prog.set("u_normal_matrix", T.normal_matrix.unchecked(obj.transform))
         prog.set("u_handedness", -1.0 if det3(obj.transform) < 0 else 1.0, strict=False)
         prog.set("u_object_id", obj.id + 1)
-    bound = set_pbr_material(prog, m, fwd.cache, fwd.samplers)
+    bound = set_pbr_material(prog, m, fwd.cache, fwd.samplers, fp.records)
     if fp.colour_pass:
         fwd.ibl.lut().use(location=unit("u_ibl_lut"))
         if env is not None:

@@ -38,17 +38,24 @@ class SlotSamplers:
         self._samplers.clear()
 
 
-def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers) -> list[int]:
+def set_pbr_material(prog, m: PbrMaterial, cache, samplers: SlotSamplers,
+                     records: dict | None = None) -> list[int]:
     """The pbr model's material: its record (facet.render.material_record) as the uniform
     array ``u_material`` and each slot's image at its sampler's unit; returns the units
-    whose sampler objects were bound (the caller clears them after the draw)."""
+    whose sampler objects were bound (the caller clears them after the draw). ``records``:
+    a pass's {id(material): (material, record)}, each made once there."""
     bound = []
     for slot_name, slot in m.slots.items():
         at = unit(SLOT_SAMPLERS[slot_name])
         cache.texture(slot.texture, slot_name in SRGB_SLOTS, slot.mipmaps).use(location=at)
         samplers.get(slot).use(location=at)
         bound.append(at)
-    prog.set_array("u_material", record_of(m, m.color), strict=False)
+    made = None if records is None else records.get(id(m))
+    if made is None or made[0] is not m:
+        made = (m, record_of(m, m.color))
+        if records is not None:
+            records[id(m)] = made
+    prog.set_array("u_material", made[1], strict=False)
     return bound
 
 

@@ -1,0 +1,108 @@
+"""Blender's side of benchmarks/stages.py, run by a Python that has ``bpy`` (Blender 4.5
+as a module: ``pip install bpy==4.5.*`` in a Python 3.11 of its own, named by
+FACET_BPY_PYTHON): import a USD stage, or a robot's link meshes, and render Workbench
+pictures, timing each step. Prints one JSON line.
+
+    python blender_peer.py stage STAGE SIZE VIEWS OUT_DIR
+    python blender_peer.py robot POSES.npz SIZE VIEWS OUT_DIR
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import bpy
+import numpy as np
+from mathutils import Matrix, Vector
+
+
+def setup(size: int) -> None:
+    scene = bpy.context.scene
+    scene.render.engine = "BLENDER_WORKBENCH"
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.image_settings.file_format = "PNG"
+    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+
+
+def look(centre, radius: float, angle: float, up_z: bool) -> None:
+    cam = bpy.context.scene.camera
+    d = 2.6 * radius
+    if up_z:
+        eye = Vector((centre[0] + d * math.cos(angle), centre[1] + d * math.sin(angle),
+                      centre[2] + 0.5 * d))
+    else:
+        eye = Vector((centre[0] + d * math.cos(angle), centre[1] + 0.5 * d,
+                      centre[2] + d * math.sin(angle)))
+    cam.location = eye
+    direction = Vector(centre) - eye
+    cam.rotation_euler = direction.to_track_quat("-Z", "Z" if up_z else "Y").to_euler()
+    cam.data.clip_end = 10 * d
+
+
+def render(out: Path, k: int) -> None:
+    bpy.context.scene.render.filepath = str(out / f"view{k:04d}.png")
+    bpy.ops.render.render(write_still=True)
+
+
+def bounds(objects) -> tuple[list, float]:
+    pts = np.array([list(o.matrix_world @ Vector(c)) for o in objects for c in o.bound_box])
+    lo, hi = pts.min(0), pts.max(0)
+    return list((lo + hi) / 2), float(np.linalg.norm(hi - lo) / 2)
+
+
+def main() -> None:
+    kind, source, size, views, out = sys.argv[1], sys.argv[2], int(sys.argv[3]), \
+        int(sys.argv[4]), Path(sys.argv[5])
+    out.mkdir(parents=True, exist_ok=True)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    setup(size)
+    t0 = time.perf_counter()
+    if kind == "stage":
+        bpy.ops.wm.usd_import(filepath=source)
+        loaded = time.perf_counter() - t0
+        meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
+        centre, radius = bounds(meshes)
+        look(centre, radius, 0.3, up_z=True)  # (Blender's import turns y-up stages z-up)
+        t1 = time.perf_counter()
+        render(out, 0)
+        first = time.perf_counter() - t1
+        t2 = time.perf_counter()
+        for k in range(1, views + 1):
+            look(centre, radius, 0.3 + 2 * math.pi * k / views, up_z=True)
+            render(out, k)
+        per_view = (time.perf_counter() - t2) / views
+    else:
+        data = np.load(source)
+        files, poses = list(data["files"]), data["poses"]  # poses (V, L, 4, 4)
+        links = []
+        for f in files:
+            bpy.ops.wm.stl_import(filepath=str(f))
+            links.append(bpy.context.selected_objects[0])
+        loaded = time.perf_counter() - t0
+        for o, m in zip(links, poses[0], strict=True):
+            o.matrix_world = Matrix(m.tolist())
+        bpy.context.view_layer.update()
+        centre, radius = bounds(links)
+        look(centre, 1.6 * radius, 0.3, up_z=True)
+        t1 = time.perf_counter()
+        render(out, 0)
+        first = time.perf_counter() - t1
+        t2 = time.perf_counter()
+        for k in range(1, views + 1):
+            for o, m in zip(links, poses[k % len(poses)], strict=True):
+                o.matrix_world = Matrix(m.tolist())
+            render(out, k)
+        per_view = (time.perf_counter() - t2) / views
+    print(json.dumps({"load": loaded, "first": first, "per_view": per_view,
+                      "version": bpy.app.version_string}))
+
+
+if __name__ == "__main__":
+    main()
