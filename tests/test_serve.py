@@ -387,3 +387,45 @@ def test_the_page_is_told_what_keys_say_and_what_engines_warn(tmp_path):
     assert "engine: trace" in notices
     assert "warning:" in notices and "wireframe" in notices
     assert "facet view keys" not in out  # (not printed on the server's terminal)
+
+
+def test_the_served_viewer_shows_a_stage_and_a_posed_robot(tmp_path):
+    """The served page opens an OpenUSD stage with its variant chosen and a URDF robot in
+    the configuration the command line gives (the view front takes the stage and robot
+    options as render does): the pictures follow the variant and the joints."""
+    pytest.importorskip("pxr", reason="the usd extra is not installed")
+    pytest.importorskip("yourdfpy", reason="the urdf extra is not installed")
+    stage = tmp_path / "ball.usda"
+    stage.write_text("""#usda 1.0
+def Sphere "Ball" (
+    variants = { string look = "blue" }
+    prepend variantSets = "look"
+)
+{
+    variantSet "look" = {
+        "blue" {
+            color3f[] primvars:displayColor = [(0.1, 0.2, 0.9)]
+        }
+        "red" {
+            color3f[] primvars:displayColor = [(0.9, 0.1, 0.1)]
+        }
+    }
+}
+""")
+
+    async def still(meta, pixels, ws):
+        return pixels if meta["lossless"] else None
+
+    def picture(model, *args):
+        with Served(*args, model=str(model)) as s:
+            return asyncio.run(watch(s.ws, (96, 72), still))
+
+    blue = picture(stage)
+    red = picture(stage, "--variant", "look=red")
+    reddest = lambda p: (p[..., 0] - p[..., 2]).max()  # noqa: E731
+    assert reddest(red) > 60 > reddest(blue)
+    arm = ROOT / "models" / "arm" / "arm.urdf"
+    rest = picture(arm, "--package-path", str(ROOT / "models"))
+    bent = picture(arm, "--package-path", str(ROOT / "models"),
+                   "--joints", "shoulder=1.2,elbow=-1.5")
+    assert rest.std() > 10 and np.abs(rest - bent).mean() > 0.5
