@@ -28,7 +28,6 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import facet  # noqa: E402
-
 from stage_models import write_robot, write_stage  # noqa: E402
 
 FACET = [sys.executable, "-m", "facet"]
@@ -56,8 +55,8 @@ def facet_stage(stage: Path, size: int, views: int, out: Path) -> dict:
         times = []
         for k in range(1, views + 1):
             t = time.perf_counter()
-            r.render(scene, _orbit(centre, radius, 0.3 + 2 * np.pi * k / views),
-                     outputs=("color",)).color
+            _ = r.render(scene, _orbit(centre, radius, 0.3 + 2 * np.pi * k / views),
+                         outputs=("color",)).color  # (read back: the frame is done)
             times.append(time.perf_counter() - t)
     cli = _wall([*FACET, "render", str(stage), "--size", f"{size}x{size}", "-q",
                  "-o", str(out / "facet_cli.png")])

@@ -263,7 +263,8 @@ def test_a_loaded_robot_poses_again_as_if_loaded_in_that_configuration(tmp_path)
 
 def test_one_job_poses_a_robot_per_view(tmp_path):
     """views.joints: one configuration per view, recorded in transforms.json; the views
-    differ by the pose; random_joints samples every joint within its limits (seeded); a list that does not match the count is refused before rendering."""
+    differ by the pose; random_joints samples every joint within its limits (seeded); a
+    list that does not match the count is refused before rendering."""
     import json
 
     from PIL import Image

@@ -31,7 +31,7 @@ MIN_STD = 4.0  # a picture with less spread than this (0-255) is blank
 
 
 ORDER = ("quickstart", "depth_and_ids", "engines", "trimesh_scene", "colormap", "point_cloud",
-         "splats", "animation", "usd_stage", "robot")  # the gallery's order; other scripts follow by name
+         "splats", "animation", "usd_stage", "robot")  # the gallery's order; others by name
 
 
 def scripts() -> list[Path]:

@@ -28,9 +28,8 @@ from __future__ import annotations
 
 import io
 import os
-from pathlib import Path
-
 import warnings
+from pathlib import Path
 
 import numpy as np
 

@@ -28,8 +28,8 @@ facing its -z, I = L w h / pi; DiskLight -> AreaLight of the disk's area; DomeLi
 environment (its texture times L, or a constant L).
 Cameras (UsdGeom.Camera): focal length and vertical aperture give the field of view (the
 window fitted to the picture's height), the aperture offsets a shifted lens
-(``Camera.shift``), clipping range the near and far planes, an orthographic projection its height, f-stop and
-focus distance a thin lens. Each said-once approximation is one warning line.
+(``Camera.shift``), clipping range the near and far planes, an orthographic projection
+its height, f-stop and focus distance a thin lens. Each said-once approximation is one warning line.
 """
 
 from __future__ import annotations
