@@ -829,3 +829,31 @@ def test_aperture_offsets_shift_the_window_as_pxrs_frustum_does(tmp_path, ortho)
         rows, cols = np.nonzero(ids >= 0)
         assert abs(cols.mean() + 0.5 - centre[0]) < 0.3, engine
         assert abs(rows.mean() + 0.5 - centre[1]) < 0.3, engine
+
+
+def test_a_skinned_stage_is_drawn_at_its_bind_pose_with_one_line(tmp_path):
+    """UsdSkel is not applied: the skinned mesh is drawn where its points are authored,
+    and one warning line says so (not one per skeleton or mesh)."""
+    from pxr import UsdSkel
+
+    stage = _stage(tmp_path / "skel.usda")
+    for name in ("A", "B"):
+        root = UsdSkel.Root.Define(stage, f"/{name}")
+        skel = UsdSkel.Skeleton.Define(stage, f"/{name}/Skel")
+        skel.CreateJointsAttr(["hip"])
+        skel.CreateBindTransformsAttr([Gf.Matrix4d(1)])
+        skel.CreateRestTransformsAttr([Gf.Matrix4d(1)])
+        mesh = UsdGeom.Mesh.Define(stage, f"/{name}/Body")
+        mesh.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+        mesh.CreateFaceVertexCountsAttr([3])
+        mesh.CreateFaceVertexIndicesAttr([0, 1, 2])
+        binding = UsdSkel.BindingAPI.Apply(mesh.GetPrim())
+        binding.CreateSkeletonRel().SetTargets([skel.GetPath()])
+        assert root
+    stage.Save()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        scene = facet.load(tmp_path / "skel.usda")
+    said = [str(w.message) for w in caught if "UsdSkel" in str(w.message)]
+    assert len(said) == 1 and "bind pose" in said[0]
+    np.testing.assert_allclose(scene.objects[0].mesh.positions.max(0), [1, 1, 0])

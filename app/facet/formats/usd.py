@@ -106,6 +106,7 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
     camera_prims: dict = {}
     lights: list = []
     made: dict[str, list] = {}  # prototype (or prim) path -> its [(name, args, local)]
+    said: set = set()  # what is said once a stage
     predicate = Usd.TraverseInstanceProxies(Usd.PrimDefaultPredicate)
     it = iter(Usd.PrimRange(stage.GetPseudoRoot(), predicate))
     for prim in it:
@@ -134,6 +135,11 @@ def _traverse(stage, path: Path, options: UsdOptions, finish, notes: list):
             if light is not None:
                 lights.append(light)
             continue
+        if kind in ("SkelRoot", "Skeleton") and "skel" not in said:
+            said.add("skel")  # (UsdSkel: one line for the stage)
+            notes.append(f"{where}: UsdSkel skinning is not applied; skinned meshes are "
+                         "drawn as authored (their bind pose), the skeleton's animation "
+                         "not played")
         if kind == "PointInstancer":
             before = len(parts)
             _instancer(prim, time, world, made, shading, finish, parts, notes, path)
