@@ -857,3 +857,26 @@ def test_a_skinned_stage_is_drawn_at_its_bind_pose_with_one_line(tmp_path):
     said = [str(w.message) for w in caught if "UsdSkel" in str(w.message)]
     assert len(said) == 1 and "bind pose" in said[0]
     np.testing.assert_allclose(scene.objects[0].mesh.positions.max(0), [1, 1, 0])
+
+
+def test_points_of_another_type_than_point3f_are_left_out_as_hydra_leaves_them(tmp_path):
+    """A mesh whose points are authored as int[] or double3[] (not the schema's point3f[];
+    float3[] and color3f[] hold the same floats) is left out with a line naming the type,
+    as usdrecord draws only the float-triple ones (schemaTests' pointsTypes)."""
+    cube = ("int[] faceVertexCounts = [3, 3]\n        int[] faceVertexIndices = [0, 1, 2, 0, 2, "
+            "3]\n        {kind} points = {value}\n")
+    square = "[(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]"
+    meshes = {"good": ("point3f[]", square), "colour": ("color3f[]", square),
+              "ints": ("int[]", "[0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0]"),
+              "doubles": ("double3[]", square)}
+    text = "#usda 1.0\n" + "".join(
+        f'def Mesh "{name}"\n{{\n        {cube.format(kind=k, value=v)}}}\n'
+        for name, (k, v) in meshes.items())
+    (tmp_path / "p.usda").write_text(text)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        scene = facet.load(tmp_path / "p.usda")
+    assert [o.name for o in scene.objects] == ["good", "colour"]
+    said = [str(w.message) for w in caught]
+    assert any("/ints: its points are authored as IntArray" in m for m in said)
+    assert any("/doubles: its points are authored as Vec3dArray" in m for m in said)

@@ -49,6 +49,23 @@ def _array(value, dtype=np.float64, width: int | None = None) -> np.ndarray | No
     return a
 
 
+def point_array(prim, time, notes: list | None, where: str) -> np.ndarray | None:
+    """A point-based prim's ``points`` (P, 3) float64, or None: when they are not an
+    array of three floats (the schema's point3f[]; float3[], color3f[], normal3f[] hold
+    the same values), as Hydra too leaves such a prim out, said into ``notes``."""
+    from pxr import Vt
+
+    value = prim.GetAttribute("points").Get(time)
+    if value is None:
+        return None
+    if not isinstance(value, Vt.Vec3fArray):  # (the value as authored, whatever its type)
+        if notes is not None:
+            notes.append(f"{where}: its points are authored as {type(value).__name__} (the "
+                         "schema's type is point3f[]); left out")
+        return None
+    return _array(value, np.float64, 3)
+
+
 def triangulate(counts: np.ndarray, holes=()) -> tuple[np.ndarray, np.ndarray]:
     """Fan triangles of polygons of ``counts`` corners: ((T, 3) corner numbers into the
     flat faceVertexIndices, (T,) face of each triangle); faces of fewer than 3 corners and
@@ -93,7 +110,7 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str,
     from pxr import UsdGeom
 
     mesh = UsdGeom.Mesh(prim)
-    points = _array(mesh.GetPointsAttr().Get(time), np.float64, 3)
+    points = point_array(prim, time, notes, where)
     counts = _array(mesh.GetFaceVertexCountsAttr().Get(time), np.int64)
     indices = _array(mesh.GetFaceVertexIndicesAttr().Get(time), np.int64)
     if points is None or counts is None or indices is None or not len(counts):
@@ -296,7 +313,7 @@ def points_arguments(prim, time, notes: list | None = None) -> dict | None:
     from pxr import UsdGeom
 
     pts = UsdGeom.Points(prim)
-    points = _array(pts.GetPointsAttr().Get(time), np.float64, 3)
+    points = point_array(prim, time, notes, str(prim.GetPath()))
     if points is None or not len(points):
         return None
     args: dict = {"kind": "points", "positions": points.astype(np.float32)}
@@ -322,7 +339,7 @@ def curve_arguments(prim, time, notes: list | None = None) -> dict | None:
     from pxr import UsdGeom
 
     curves = UsdGeom.BasisCurves(prim)
-    points = _array(curves.GetPointsAttr().Get(time), np.float64, 3)
+    points = point_array(prim, time, notes, str(prim.GetPath()))
     counts = _array(curves.GetCurveVertexCountsAttr().Get(time), np.int64)
     if points is None or counts is None or not len(points) or counts.sum() != len(points):
         return None
