@@ -880,3 +880,46 @@ def test_points_of_another_type_than_point3f_are_left_out_as_hydra_leaves_them(t
     said = [str(w.message) for w in caught]
     assert any("/ints: its points are authored as IntArray" in m for m in said)
     assert any("/doubles: its points are authored as Vec3dArray" in m for m in said)
+
+
+CUBE_MESH = """#usda 1.0
+def Mesh "{name}"
+{{
+    int[] faceVertexCounts = [4, 4, 4, 4, 4, 4]
+    int[] faceVertexIndices = [0, 1, 3, 2, 4, 6, 7, 5, 0, 4, 5, 1, 2, 3, 7, 6, 0, 2, 6, 4,
+                               1, 5, 7, 3]
+    point3f[] points = [(-1, -1, -1), (-1, -1, 1), (-1, 1, -1), (-1, 1, 1), (1, -1, -1),
+                        (1, -1, 1), (1, 1, -1), (1, 1, 1)]
+    {scheme}
+}}
+"""
+
+
+def test_meshes_without_normals_shade_as_hydra_shades_them(tmp_path):
+    """No authored normals: a subdivision surface's cage (catmullClark, the schema's
+    default, or loop) is shaded smooth, a polygonal mesh (none, bilinear) flat, as Storm
+    does (schemaTests' subdiv screenshots); the tracers bend the cage's far-leaning normals
+    continuously (no edge where the bend begins)."""
+    normals = {}
+    for name, scheme in (("cage", ""), ("poly", 'uniform token subdivisionScheme = "none"')):
+        (tmp_path / f"{name}.usda").write_text(CUBE_MESH.format(name=name, scheme=scheme))
+        mesh = facet.load(tmp_path / f"{name}.usda").objects[0].mesh
+        normals[name] = np.asarray(mesh.normals)
+        positions = np.asarray(mesh.positions)
+    cage = facet.load(tmp_path / "cage.usda").objects[0].mesh
+    np.testing.assert_allclose(normals["cage"], np.asarray(cage.positions) / np.sqrt(3),
+                               atol=1e-6)  # each corner's normal along its diagonal
+    assert np.allclose(np.abs(normals["poly"]).max(axis=1), 1.0)  # one axis each
+    assert len(positions) == 24  # (split at the cube's edges)
+    with facet.Renderer(160, 120, engine="trace") as r:  # framed from the front-right
+        frame = r.render(facet.load(tmp_path / "cage.usda"), aa="none",
+                         outputs=("color", "position", "ids"))
+    grey = frame.color[..., :3].astype(float).mean(axis=2)
+    front = (frame.object_ids >= 0) & (np.abs(frame.position[..., 2] - 1) < 1e-3)
+    for _ in range(3):  # (away from the face's edges)
+        front &= np.roll(front, 1, 1) & np.roll(front, -1, 1) & np.roll(front, 1, 0) & \
+            np.roll(front, -1, 0)
+    step = np.maximum(np.abs(np.diff(grey, axis=1, append=grey[:, -1:])),
+                      np.abs(np.diff(grey, axis=0, append=grey[-1:])))
+    # (the stepwise bend left a ring of 21 levels where it began; now a gradient)
+    assert front.sum() > 2000 and step[front].max() < 8, step[front].max()

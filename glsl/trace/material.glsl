@@ -103,9 +103,14 @@ float lets_through(Surface s, vec3 d, bool refracting) {
 // A shading normal (a normal map's, or interpolated) bent towards the geometric normal ng
 // until V's mirror direction leaves the surface (as Cycles' ensure_valid_reflection does):
 // otherwise the BSDF's main lobe points into the surface and its light is lost (dark rims
-// on normal-mapped metal). Each step halves the angle between them.
+// on normal-mapped metal). The mirror direction R is lifted just above the surface and the
+// normal made the half vector of V and it (Keller et al. 2017, "The Iray light transport
+// simulation and rendering system"): continuous in n, so normals that lean far from the
+// surface's (a cube's smoothed corners) shade without a visible edge where the bend begins.
 vec3 valid_normal(vec3 n, vec3 ng, vec3 V) {
     float enough = min(0.9 * dot(ng, V), 0.01);
-    for (int k = 0; k < 6 && dot(ng, reflect(-V, n)) < enough; ++k) n = normalize(n + ng);
-    return n;
+    vec3 R = reflect(-V, n);
+    float above = dot(ng, R);
+    if (above >= enough) return n;
+    return normalize(V + normalize(R + (enough - above) * ng));
 }

@@ -107,7 +107,9 @@ def _check_crease(crease) -> float:
 def _finish(arrays: dict, p: Path, where: str, crease: float) -> dict:
     """Checked ``Mesh`` arguments: finite positions, faces in range, some triangle with
     area, normals split at creases when the file has none. Points and lines (``kind``):
-    finite positions within float32's reach."""
+    finite positions within float32's reach. A reader's own ``crease`` (a USD mesh's
+    subdivision scheme decides its normals) comes before the loader's."""
+    crease = float(arrays.pop("crease", crease))
     vertices = np.asarray(arrays["positions"])
     if vertices.dtype not in (np.float32, np.float64):
         vertices = vertices.astype(np.float64)

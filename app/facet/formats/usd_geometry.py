@@ -153,8 +153,6 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str,
     if opacity and opacity.HasAuthoredValue():
         per_corner["opacity"] = (_array(opacity.ComputeFlattened(time), np.float64, 1),
                                  opacity.GetInterpolation())
-    if scheme == "none" and "normals" not in per_corner:
-        pass  # (facet's crease angle decides: flat across sharp edges)
     shared = all(interp in ("vertex", "varying", "constant")
                  for _, interp in per_corner.values())
     if shared:  # one vertex per point
@@ -190,9 +188,41 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str,
             args["colors_rgb"] = np.asarray(got, np.float64)
         else:
             args["colors_alpha"] = np.asarray(got, np.float64)
+    scheme = scheme or "catmullClark"
+    if "normals" not in args:  # Hydra's (Storm's): a subdivision surface's cage smooth,
+        if scheme in ("none", "bilinear"):  # a polygonal mesh flat
+            args["crease"] = 0.0
+        else:
+            args["normals"] = _smooth_normals(
+                points, counts, indices, holes,
+                mesh.GetOrientationAttr().Get(time) == "leftHanded", args["point_index"])
     _vertex_colours(args)
-    args["subdivision"] = scheme or "catmullClark"
+    args["subdivision"] = scheme
     return args
+
+
+def _smooth_normals(points: np.ndarray, counts: np.ndarray, indices: np.ndarray, holes,
+                    left: bool, point_index: np.ndarray) -> np.ndarray:
+    """(V, 3) float32: each vertex's point's smooth normal as Hydra computes it (the sum
+    over the polygons around the point of the cross product of its two edges there: each
+    polygon counts once, however it is triangulated), holes and faces of fewer than 3
+    corners left out."""
+    keep = counts >= 3
+    if holes is not None and len(holes):
+        h = np.asarray(holes, np.int64)
+        keep[h[(h >= 0) & (h < len(counts))]] = False
+    starts = np.repeat(np.cumsum(counts) - counts, counts)
+    sizes = np.repeat(counts, counts)
+    k = np.arange(len(indices)) - starts  # each corner's place in its polygon
+    used = np.repeat(keep, counts)
+    here = indices[used]
+    after = indices[(starts + (k + 1) % np.maximum(sizes, 1))[used]]
+    before = indices[(starts + (k - 1) % np.maximum(sizes, 1))[used]]
+    turn = np.cross(points[after] - points[here], points[before] - points[here])
+    total = np.zeros_like(points)
+    np.add.at(total, here, -turn if left else turn)
+    norm = np.linalg.norm(total, axis=1, keepdims=True)
+    return (total / np.where(norm > 0, norm, 1.0))[point_index].astype(np.float32)
 
 
 def _refined(points, counts, indices, holes, scheme, level, prim, time, notes, where,
