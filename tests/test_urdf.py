@@ -317,3 +317,36 @@ def test_scene_add_places_a_posed_robot_that_poses_again_there(tmp_path):
     np.testing.assert_array_equal(again.objects[0].transform, world.objects[0].transform)
     with pytest.raises(InputError, match="keep their materials"):
         world.add(direct, material=facet.Material())
+
+
+def test_continuous_floating_and_planar_joints(tmp_path):
+    """A continuous joint turns without limits (as yourdfpy turns it); floating and planar
+    joints stand at their origin, said in one line; none of them takes a value unless it
+    moves."""
+    path = tmp_path / "joints.urdf"
+    path.write_text("""<?xml version="1.0"?>
+<robot name="j">
+  <link name="base"><visual><geometry><box size="0.2 0.2 0.2"/></geometry></visual></link>
+  <link name="wheel"><visual><origin xyz="0.3 0 0"/><geometry><sphere radius="0.05"/>
+    </geometry></visual></link>
+  <link name="free"><visual><geometry><sphere radius="0.04"/></geometry></visual></link>
+  <link name="slab"><visual><geometry><box size="0.1 0.1 0.01"/></geometry></visual></link>
+  <joint name="spin" type="continuous"><parent link="base"/><child link="wheel"/>
+    <origin xyz="0 0 0.2"/><axis xyz="0 0 1"/></joint>
+  <joint name="drift" type="floating"><parent link="base"/><child link="free"/>
+    <origin xyz="0 0.5 0"/></joint>
+  <joint name="glide" type="planar"><parent link="base"/><child link="slab"/>
+    <origin xyz="0 -0.5 0"/><axis xyz="0 0 1"/></joint>
+</robot>""")
+    with pytest.warns(facet.errors.FacetWarning, match="drift, glide .* stand at their origin"):
+        scene = facet.load(path, joints={"spin": 7.5})
+    robot = yourdfpy.URDF.load(str(path), load_meshes=False)
+    robot.update_cfg({"spin": 7.5})
+    at = {o.name.split("/")[0]: o.transform for o in scene.objects}
+    want = robot.get_transform("wheel", "base") @ np.array(
+        [[1, 0, 0, 0.3], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+    np.testing.assert_allclose(at["wheel"], want, atol=1e-12)
+    np.testing.assert_allclose(at["free"][:3, 3], [0, 0.5, 0], atol=1e-12)
+    assert scene.joints == {"spin": (-np.pi, np.pi)}
+    with pytest.raises(InputError, match="'glide' is planar; it takes no value"):
+        scene.posed({"glide": 0.1})

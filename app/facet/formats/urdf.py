@@ -87,6 +87,9 @@ class Kinematics:
         self.path, self.base = path, robot.base_link
         self.joint_map = robot.joint_map
         self.actuated = list(robot.actuated_joint_names)
+        self.movable = [name for name in self.actuated  # (the joints that take a value)
+                        if self.joint_map[name].type in ("revolute", "continuous",
+                                                         "prismatic")]
         by_parent: dict = {}
         for joint in robot.robot.joints:
             by_parent.setdefault(joint.parent, []).append(joint)
@@ -105,7 +108,7 @@ class Kinematics:
         for name, value in dict(joints or {}).items():
             if name not in self.joint_map:
                 raise InputError(f"{path}: no joint named {name!r}; its joints are "
-                                 f"{', '.join(self.actuated) or 'none'}")
+                                 f"{', '.join(self.movable) or 'none'}")
             joint = self.joint_map[name]
             if joint.mimic is not None:
                 raise InputError(f"{path}: joint {name!r} mimics {joint.mimic.joint!r}; set "
@@ -185,7 +188,7 @@ class Articulation(Rig):
         """{joint: (lower, upper)} of the joints that take a value (continuous joints,
         and those whose file gives no limits: (-pi, pi) radians, (0, 0) metres)."""
         out = {}
-        for name in self.kinematics.actuated:
+        for name in self.kinematics.movable:
             joint = self.kinematics.joint_map[name]
             limit = joint.limit
             if joint.type != "continuous" and limit is not None and \
