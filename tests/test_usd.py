@@ -910,7 +910,7 @@ def test_meshes_without_normals_shade_as_hydra_shades_them(tmp_path):
     np.testing.assert_allclose(normals["cage"], np.asarray(cage.positions) / np.sqrt(3),
                                atol=1e-6)  # each corner's normal along its diagonal
     assert np.allclose(np.abs(normals["poly"]).max(axis=1), 1.0)  # one axis each
-    assert len(positions) == 24  # (split at the cube's edges)
+    assert len(positions) == 36  # (a vertex a triangle corner: flat)
     with facet.Renderer(160, 120, engine="trace") as r:  # framed from the front-right
         frame = r.render(facet.load(tmp_path / "cage.usda"), aa="none",
                          outputs=("color", "position", "ids"))

@@ -153,8 +153,10 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str,
     if opacity and opacity.HasAuthoredValue():
         per_corner["opacity"] = (_array(opacity.ComputeFlattened(time), np.float64, 1),
                                  opacity.GetInterpolation())
-    shared = all(interp in ("vertex", "varying", "constant")
-                 for _, interp in per_corner.values())
+    # (a polygonal mesh without normals is flat, as Storm draws it: a vertex a corner)
+    flat = (scheme or "catmullClark") in ("none", "bilinear") and "normals" not in per_corner
+    shared = not flat and all(interp in ("vertex", "varying", "constant")
+                              for _, interp in per_corner.values())
     if shared:  # one vertex per point
         used, remap = np.unique(indices[corners.reshape(-1)], return_inverse=True)
         args = {"positions": points[used].astype(np.float32),
@@ -191,7 +193,10 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str,
     scheme = scheme or "catmullClark"
     if "normals" not in args:  # Hydra's (Storm's): a subdivision surface's cage smooth,
         if scheme in ("none", "bilinear"):  # a polygonal mesh flat
-            args["crease"] = 0.0
+            if shared:  # (its normals given but unreadable: split where faces meet)
+                args["crease"] = 0.0
+            else:
+                args["normals"] = _flat_normals(args["positions"])
         else:
             args["normals"] = _smooth_normals(
                 points, counts, indices, holes,
@@ -199,6 +204,17 @@ def mesh_arguments(prim, time, uv_name: str, notes: list, where: str,
     _vertex_colours(args)
     args["subdivision"] = scheme
     return args
+
+
+def _flat_normals(corners: np.ndarray) -> np.ndarray:
+    """(3T, 3) float32: each triangle's unit normal at its three corners (``corners``
+    (3T, 3), a vertex a corner); +z where a triangle has no area (nothing of it is drawn)."""
+    p = np.asarray(corners, np.float64).reshape(-1, 3, 3)
+    a, b = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    n = a[:, [1, 2, 0]] * b[:, [2, 0, 1]] - a[:, [2, 0, 1]] * b[:, [1, 2, 0]]  # a x b
+    length = np.sqrt((n * n).sum(axis=1))[:, None]
+    n = np.where(length > 0, n / np.where(length > 0, length, 1.0), [0.0, 0.0, 1.0])
+    return np.repeat(n, 3, axis=0).astype(np.float32)
 
 
 def _smooth_normals(points: np.ndarray, counts: np.ndarray, indices: np.ndarray, holes,
