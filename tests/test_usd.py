@@ -584,15 +584,21 @@ def test_subdivision_surfaces_refine_on_request():
     assert tuple(np.round([5 / 9] * 3, 6)) in found
 
 
+CUBE_MESH = """#usda 1.0
+def Mesh "{name}"
+{{
+    int[] faceVertexCounts = [4, 4, 4, 4, 4, 4]
+    int[] faceVertexIndices = [0, 1, 3, 2, 4, 6, 7, 5, 0, 4, 5, 1, 2, 3, 7, 6, 0, 2, 6, 4,
+                               1, 5, 7, 3]
+    point3f[] points = [(-1, -1, -1), (-1, -1, 1), (-1, 1, -1), (-1, 1, 1), (1, -1, -1),
+                        (1, -1, 1), (1, 1, -1), (1, 1, 1)]
+    {scheme}
+}}
+"""
+
+
 def test_a_stage_subdivides_its_catmull_clark_meshes_when_asked(tmp_path):
-    stage = _stage(tmp_path / "s.usda")
-    mesh = UsdGeom.Mesh.Define(stage, "/Box")
-    corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
-    mesh.CreatePointsAttr(corners)
-    mesh.CreateFaceVertexCountsAttr([4] * 6)
-    mesh.CreateFaceVertexIndicesAttr([0, 1, 3, 2, 4, 6, 7, 5, 0, 4, 5, 1, 2, 3, 7, 6,
-                                      0, 2, 6, 4, 1, 5, 7, 3])
-    stage.Save()
+    (tmp_path / "s.usda").write_text(CUBE_MESH.format(name="Box", scheme=""))
     cage = facet.load(tmp_path / "s.usda").objects[0].mesh
     smooth = facet.load(tmp_path / "s.usda", subdivide=3).objects[0].mesh
     assert cage.face_count == 12 and smooth.face_count == 6 * 4 ** 3 * 2
@@ -882,19 +888,6 @@ def test_points_of_another_type_than_point3f_are_left_out_as_hydra_leaves_them(t
     assert any("/doubles: its points are authored as Vec3dArray" in m for m in said)
 
 
-CUBE_MESH = """#usda 1.0
-def Mesh "{name}"
-{{
-    int[] faceVertexCounts = [4, 4, 4, 4, 4, 4]
-    int[] faceVertexIndices = [0, 1, 3, 2, 4, 6, 7, 5, 0, 4, 5, 1, 2, 3, 7, 6, 0, 2, 6, 4,
-                               1, 5, 7, 3]
-    point3f[] points = [(-1, -1, -1), (-1, -1, 1), (-1, 1, -1), (-1, 1, 1), (1, -1, -1),
-                        (1, -1, 1), (1, 1, -1), (1, 1, 1)]
-    {scheme}
-}}
-"""
-
-
 def test_meshes_without_normals_shade_as_hydra_shades_them(tmp_path):
     """No authored normals: a subdivision surface's cage (catmullClark, the schema's
     default, or loop) is shaded smooth, a polygonal mesh (none, bilinear) flat, as Storm
@@ -923,3 +916,16 @@ def test_meshes_without_normals_shade_as_hydra_shades_them(tmp_path):
                       np.abs(np.diff(grey, axis=0, append=grey[-1:])))
     # (the stepwise bend left a ring of 21 levels where it began; now a gradient)
     assert front.sum() > 2000 and step[front].max() < 8, step[front].max()
+
+
+def test_a_crease_angle_given_for_a_stage_says_where_it_applies(tmp_path):
+    """--crease / crease= does not change how a stage's meshes without normals shade
+    (Storm's rule decides): one line says so, not a silently ignored option."""
+    (tmp_path / "c.usda").write_text(CUBE_MESH.format(name="cage", scheme=""))
+    with pytest.warns(FacetWarning, match="crease angle applies to meshes refined"):
+        scene = facet.load(tmp_path / "c.usda", crease=10)
+    np.testing.assert_allclose(np.abs(scene.objects[0].mesh.normals), 1 / np.sqrt(3),
+                               atol=1e-6)  # (still the smooth cage)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        facet.load(tmp_path / "c.usda", crease=10, subdivide=1)  # (used there: no line)

@@ -105,6 +105,18 @@ def open_scene(path: FilePath, *, crease: Crease = None,
             raise InputError(f"{path}: joints, package_path and collision pose and find a "
                              "URDF robot; this is not one")
         urdf = {"joints": joints, "package_path": package_path, "collision": collision}
+    if crease is not None and not subdivide:
+        from .usd_stage import USD_SUFFIXES
+
+        if Path(path).suffix.lower() in USD_SUFFIXES:
+            import warnings
+
+            from ..errors import FacetWarning
+
+            warnings.warn(f"{Path(path).name}: crease: a stage's meshes without normals are "
+                          "shaded as usdview shades them (subdivision cages smooth, polygonal "
+                          "meshes flat); the crease angle applies to meshes refined by "
+                          "subdivide only", FacetWarning, stacklevel=3)
     parts, cameras, lights, rig = read_parts(path, crease, usd, urdf)
     scene = Scene()
     ids = [cast(int, scene.add(mesh, transform=matrix, name=name))  # one geometry: an id

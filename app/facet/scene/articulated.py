@@ -1,4 +1,5 @@
-"""Robots in a scene posed by joint values (no GL): ``Scene.posed`` and ``Scene.joints``.
+"""Robots in a scene posed by joint values (no GL): ``Scene.posed`` and ``Scene.joints``,
+and ``Scene.add`` of a loaded scene (a robot, a stage), which keeps the rigs that move it.
 
 A robot (a URDF, facet.formats.urdf.Articulation) stands in ``scene.animated`` as a rig
 with no clips whose parts are fixed at their links' poses; posing it again is a view of
