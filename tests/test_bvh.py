@@ -265,3 +265,50 @@ def test_a_one_leaf_mesh_beside_others_is_traced_exactly():
     both, alone = seen(depth(floor, box)), np.minimum(seen(depth(floor)), seen(depth(box)))
     np.testing.assert_allclose(both, alone, rtol=1e-5)
     assert np.isfinite(both).sum() > 2000
+
+
+def _chain(n: int, base: float) -> tuple[np.ndarray, np.ndarray]:
+    """n triangles across the x axis at x = base^-k (the hierarchy grows deep where they
+    crowd towards 0); two of every three moved off the axis so that their boxes hold it and
+    they do not: a ray along it opens boxes it finds nothing in, and waits on the stack."""
+    x = float(base) ** -np.arange(n)
+    s = np.full(n, 0.01)
+    off = np.where(np.arange(n) % 3 == 0, 0.0, -0.2) * s
+    corners = [np.stack([x, -s + off, -s + off], 1), np.stack([x, s + off, -s + off], 1),
+               np.stack([x, -s + off, s + off], 1)]
+    return np.stack(corners, 1).reshape(-1, 3), np.arange(3 * n).reshape(-1, 3)
+
+
+@pytest.mark.parametrize("n, base, stack", [(300, 1.2, 24), (4000, 1.02, 48)])
+def test_the_traversal_stack_holds_the_deepest_hierarchy(renderer, n, base, stack):
+    """A mesh traversal's stack is as deep as the scene's deepest hierarchy
+    (pack.stack_entries): held in shifting variables up to 32 entries, in an array above
+    (glsl/trace/stack.glsl). Through both, every pixel of a deep chain of triangles, seen
+    along it from either end, finds the nearest triangle that the equations find."""
+    import facet
+    from facet.render.rays.pack import mesh_data, stack_entries
+
+    from reference import ray_triangles
+
+    v, f = _chain(n, base)
+    data = mesh_data(facet.Mesh(v, f))
+    assert stack_entries([data]) == stack
+    assert stack_entries([data, mesh_data(facet.primitives.cube(1.0))]) == stack
+    scene = facet.Scene()
+    scene.add(facet.Mesh(v, f))
+    size, tri = 24, v[f]
+    for eye, target in (((-1.0, 0, 0), (1.0, 0, 0)), ((3.0, 0, 0), (0.0, 0, 0))):
+        cam = facet.Camera.look_at(eye, target, ortho_height=0.03, near=0.01, far=10)
+        depth = renderer(size, size).render(scene, cam, outputs=("depth",), engine="trace",
+                                            aa="none").depth
+        inv = np.linalg.inv(cam.projection(size, size) @ cam.view)
+        expected = np.zeros((size, size))
+        for row in range(size):
+            for col in range(size):
+                ndc = np.array([2 * (col + 0.5) / size - 1, 1 - 2 * (row + 0.5) / size])
+                near, far = (inv @ [*ndc, z, 1.0] for z in (-1.0, 1.0))
+                o, d = near[:3] / near[3], far[:3] / far[3] - near[:3] / near[3]
+                t = ray_triangles(tri, o, d / np.linalg.norm(d)).min()
+                expected[row, col] = t + 0.01 if np.isfinite(t) else 0.0  # from the eye
+        assert (expected > 0).sum() > 150  # (a third of the view)
+        np.testing.assert_allclose(depth, expected, rtol=0, atol=1e-5)

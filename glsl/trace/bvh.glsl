@@ -2,8 +2,10 @@
 // each node): the nearer child first, the farther one on a stack; leaves are tested as soon
 // as their box is hit, so the nearest hit so far prunes the rest.
 #include "trace/data.glsl"
+#include "trace/stack.glsl"
 
-const int STACK_SIZE = 48;  // deeper than any hierarchy facet builds (about 30 levels)
+// The top level's stack (trace/scene.glsl WALK; a mesh's: trace/stack.glsl).
+const int STACK_SIZE = 48;
 
 // A mesh's primitives are triangles, or (points and lines: facet.render.rays.sprites)
 // spheres and capsules, the kind in the first texel's w.
@@ -109,8 +111,7 @@ bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout ve
     vec3 scale = uintBitsToFloat(fetch_uint(u_nodes, head + 1).xyz);
     vec3 o_q = (o - origin) * scale;
     vec3 inv = safe_inverse(d * scale);
-    int stack[STACK_SIZE];
-    int sp = 0;
+    STACK_DECLARE
     int node = root + 1;
     int k = 0, end = 0;    // the triangles being tested
     int k2 = 0, end2 = 0;  // a second leaf of the same node, tested next
@@ -140,12 +141,12 @@ bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout ve
             }
             if (inner0 >= 0 && inner1 >= 0) {
                 bool near0 = e0 <= e1;
-                if (sp < STACK_SIZE) stack[sp++] = near0 ? inner1 : inner0;
+                STACK_PUSH(near0 ? inner1 : inner0)
                 node = near0 ? inner0 : inner1;
             } else if (inner0 >= 0 || inner1 >= 0) {
                 node = max(inner0, inner1);
             } else {
-                node = sp > 0 ? stack[--sp] : -1;
+                STACK_POP(node)
             }
         }
         // Then its leaves' triangles.

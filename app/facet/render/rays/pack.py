@@ -68,6 +68,7 @@ class MeshData:
     has_colors: bool
     has_tangents: bool
     bounds: np.ndarray | None = None  # (2, 3) object space: points' and lines' with radii
+    depth: int = 1  # the hierarchy's levels (stack_entries)
 
 
 def pack_nodes(bvh) -> np.ndarray:
@@ -169,7 +170,7 @@ def mesh_data(mesh, tangents: bool = False, radii=None) -> MeshData:
         tris, index, vertices, bvh = sprite_data(mesh, radii, VERTEX_TEXELS)
         bounds = np.stack([bvh.lo.min(axis=0), bvh.hi.max(axis=0)]).astype(np.float64)
         return MeshData(tris, index, vertices, pack_mesh_nodes(bvh), mesh.colors is not None,
-                        False, bounds)
+                        False, bounds, bvh.depth)
     faces = mesh.faces.astype(np.int64)
     tri = mesh.positions[faces].astype(np.float32)  # (N, 3, 3) object space
     rest = getattr(mesh, "rest", None)  # a skinned or morphed pose of this mesh
@@ -200,7 +201,15 @@ def mesh_data(mesh, tangents: bool = False, radii=None) -> MeshData:
         vertices[:, 3, :2] = mesh.uvs1
     vertices[:, 3, 2] = 1.0 if mesh.colors is None else mesh.colors[:, 3]
     return MeshData(tris, index, vertices, pack_mesh_nodes(bvh), mesh.colors is not None,
-                    frames is not None)
+                    frames is not None, depth=bvh.depth)
+
+
+def stack_entries(meshes: list[MeshData]) -> int:
+    """MESH_STACK of glsl/trace/stack.glsl: entries enough for the deepest of ``meshes``'
+    hierarchies (an ordered traversal holds at most one waiting child per level), rounded up
+    to a multiple of 8 so that scenes of similar meshes share their programs."""
+    deepest = max((m.depth for m in meshes), default=1)
+    return 8 * -(-deepest // 8)
 
 
 def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:

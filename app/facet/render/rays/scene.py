@@ -77,6 +77,7 @@ class RayScene:
         self._geometry_key: tuple | None = None
         self._geometry_refs: list = []  # the meshes of the uploaded geometry (alive)
         self.roots: dict[int, int] = {}
+        self.stack_entries = 8  # MESH_STACK of the uploaded geometry (pack.stack_entries)
         self.first_tri: dict[int, int] = {}
         self.textures: dict[str, object] = {}
         self._layers_key: tuple | None = None
@@ -147,6 +148,7 @@ class RayScene:
         self.upload("tri_index", geo["index"], "i4")
         self.upload("vertices", geo["vertices"])
         self.upload("nodes", geo["nodes"], "u4")
+        self.stack_entries = pack.stack_entries(data)
         self.roots = {id(m): int(r) for m, r in zip(meshes, geo["root"], strict=False)}
         self.first_tri = {id(m): int(f) for m, f in zip(meshes, geo["first_tri"],
                                                         strict=False)}
@@ -198,7 +200,7 @@ class RayScene:
         and one program serves every light set."""
         model = "phong" if state.shading in ("auto", "pbr") else state.shading
         defines = {SHADING_MODELS[model].define: None, "MAX_LIGHTS": MAX_LIGHTS,
-                   **pack.layout_defines()}
+                   **pack.layout_defines(), "MESH_STACK": self.stack_entries}
         if self._in_blocks:
             defines["SCENE_BLOCKS"] = self.block_texels
         defines.update(dict.fromkeys(self._scene_defines))
