@@ -3,16 +3,22 @@ size and position, written as PLY), 256x256, 8 views each on a sphere, colour + 
 normals + transforms.json: one worker, local workers, and Ray on this machine; and what a
 model costs besides its views (load, upload, teardown).
 
-    python benchmarks/batch.py [--models N]
+    python benchmarks/batch.py [--models N] [--blender PYTHON]
 
-Prints tables; asserts nothing.
+Then path-traced datasets: the same models at 16 paths a pixel (``engine = "path"``,
+colour), grey under a white sky, one worker, beside Blender's Cycles on the CPU at 16
+samples (no denoiser, no adaptive sampling) rendering views of the first model (its
+import not counted) when PYTHON (or FACET_BPY_PYTHON) is a Python with ``bpy``
+(benchmarks/blender_peer.py). Prints tables; asserts nothing.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import statistics
+import subprocess
 import tempfile
 import time
 from pathlib import Path
@@ -177,10 +183,49 @@ def table(n: int) -> None:
               f"{extra * 1e3:.0f} ms, {extra / views:.0%} of its 8 views' {views * 1e3:.0f} ms")
 
 
+PATH_SPP = 16
+
+
+def path_table(n: int, blender_python: str | None) -> None:
+    """Path-traced views a second: facet batch against Cycles (module docstring)."""
+    from facet.batch import render_dataset
+
+    with tempfile.TemporaryDirectory() as tmp:
+        manifest = make_models(Path(tmp) / "models", n)
+        lines = manifest.read_text().splitlines()
+        head = json.loads(lines[0])
+        head["defaults"].update(engine="path", spp=PATH_SPP, outputs=["color"],
+                                environment={"color": [1.0, 1.0, 1.0]})
+        path_manifest = manifest.with_name("path.jsonl")
+        path_manifest.write_text("\n".join([json.dumps(head), *lines[1:]]) + "\n")
+        print(f"\nPath-traced dataset: {n} models of 20k triangles, 256x256, 8 views each, "
+              f"{PATH_SPP} paths a pixel, colour, under a white sky")
+        print(f"{'':>28} | {'views/s':>8} {'s':>7}")
+        _row("facet batch, 1 worker", render_dataset, path_manifest, Path(tmp) / "path",
+             workers=1)
+        if not blender_python:
+            print(f"{'Cycles (CPU)':>28} | not run (give --blender or FACET_BPY_PYTHON)")
+            return
+        views = 8
+        cmd = [blender_python, str(Path(__file__).with_name("blender_peer.py")), "cycles",
+               str(Path(tmp) / "models" / "m0000.ply"), "256", str(views),
+               str(Path(tmp) / "cycles"), str(PATH_SPP)]
+        done = subprocess.run(cmd, capture_output=True, text=True)
+        if done.returncode != 0:
+            print(f"(blender failed: {done.stderr.strip().splitlines()[-1:]})")
+            return
+        got = json.loads(done.stdout.strip().splitlines()[-1])
+        print(f"{'Cycles ' + got['version'] + ' (CPU)':>28} | {1 / got['per_view']:8.1f} "
+              f"{views * got['per_view']:7.1f}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--models", type=int, default=200)
-    table(ap.parse_args().models)
+    ap.add_argument("--blender", default=os.environ.get("FACET_BPY_PYTHON"))
+    a = ap.parse_args()
+    table(a.models)
+    path_table(max(2, a.models // 20), a.blender)
 
 
 if __name__ == "__main__":

@@ -5,6 +5,11 @@ pictures, timing each step. Prints one JSON line.
 
     python blender_peer.py stage STAGE SIZE VIEWS OUT_DIR
     python blender_peer.py robot POSES.npz SIZE VIEWS OUT_DIR
+    python blender_peer.py cycles MODEL.ply SIZE VIEWS OUT_DIR SAMPLES
+
+``cycles`` (benchmarks/batch.py's path-traced row): one model, grey and diffuse, under a
+white sky, rendered by Cycles on the CPU at SAMPLES paths a pixel (no denoiser, no
+adaptive sampling, 8 bounces) from VIEWS directions around it.
 """
 
 from __future__ import annotations
@@ -20,9 +25,9 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 
-def setup(size: int) -> None:
+def setup(size: int, engine: str = "BLENDER_WORKBENCH") -> None:
     scene = bpy.context.scene
-    scene.render.engine = "BLENDER_WORKBENCH"
+    scene.render.engine = engine
     scene.render.resolution_x = scene.render.resolution_y = size
     scene.render.resolution_percentage = 100
     scene.render.image_settings.file_format = "PNG"
@@ -46,6 +51,20 @@ def look(centre, radius: float, angle: float, up_z: bool) -> None:
     cam.data.clip_end = 10 * d
 
 
+def cycles(samples: int) -> None:
+    """Cycles on every CPU core at ``samples`` paths a pixel, under a white sky."""
+    scene = bpy.context.scene
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = samples
+    scene.cycles.use_adaptive_sampling = False
+    scene.cycles.use_denoising = False
+    scene.cycles.max_bounces = 8
+    world = bpy.data.worlds.new("sky")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    scene.world = world
+
+
 def render(out: Path, k: int) -> None:
     bpy.context.scene.render.filepath = str(out / f"view{k:04d}.png")
     bpy.ops.render.render(write_still=True)
@@ -62,9 +81,30 @@ def main() -> None:
         int(sys.argv[4]), Path(sys.argv[5])
     out.mkdir(parents=True, exist_ok=True)
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    setup(size)
+    setup(size, "CYCLES" if kind == "cycles" else "BLENDER_WORKBENCH")
     t0 = time.perf_counter()
-    if kind == "stage":
+    if kind == "cycles":
+        cycles(int(sys.argv[6]))
+        bpy.ops.wm.ply_import(filepath=source)
+        loaded = time.perf_counter() - t0
+        model = bpy.context.selected_objects[0]
+        grey = bpy.data.materials.new("grey")
+        grey.use_nodes = True
+        grey.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = \
+            (0.6, 0.6, 0.6, 1.0)
+        grey.node_tree.nodes["Principled BSDF"].inputs["Roughness"].default_value = 1.0
+        model.data.materials.append(grey)
+        centre, radius = bounds([model])
+        look(centre, radius, 0.3, up_z=True)
+        t1 = time.perf_counter()
+        render(out, 0)
+        first = time.perf_counter() - t1
+        t2 = time.perf_counter()
+        for k in range(1, views + 1):
+            look(centre, radius, 0.3 + 2 * math.pi * k / views, up_z=True)
+            render(out, k)
+        per_view = (time.perf_counter() - t2) / views
+    elif kind == "stage":
         bpy.ops.wm.usd_import(filepath=source)
         loaded = time.perf_counter() - t0
         meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]

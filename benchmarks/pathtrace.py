@@ -27,6 +27,7 @@ asserts nothing.
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from pathlib import Path
@@ -181,7 +182,7 @@ def efficiency_table(quick: bool) -> None:
     ref_spp = 1024 if quick else 2048
     facet_spp = (4, 16) if quick else (4, 16, 64)
     mitsuba_spp = (16, 64) if quick else (16, 64, 256)
-    print(f"\nPath tracing against Mitsuba 3 scalar_rgb, {size}x{size}, max_depth 8 "
+    print(f"\nPath tracing against Mitsuba 3 {mitsuba_scene.VARIANT}, {size}x{size}, max_depth 8 "
           f"(Mitsuba's 10); error: RMSE of linear radiance against Mitsuba at "
           f"{ref_spp} spp (the glTF and glossy scenes: against each renderer's own at that "
           "count); Mitsuba: its default sampler (independent), Mitsuba ld: its "
@@ -289,10 +290,14 @@ def default_table(quick: bool) -> None:
         print(f"{'facet render (scene settings)':>32} | {time.perf_counter() - start:>8.3f}")
     if mitsuba_scene.available():
         _, seconds = _mitsuba(scene, camera, size, spp, None)
-        print(f"{'Mitsuba scalar_rgb, same spp':>32} | {seconds:>8.3f}")
+        print(f"{'Mitsuba ' + mitsuba_scene.VARIANT + ', same spp':>32} | {seconds:>8.3f}")
 
 
 def main(quick: bool = False) -> None:
+    import mitsuba_scene
+
+    # (a machine whose CPU runs it, a GPU machine's say: FACET_MITSUBA_VARIANT=llvm_ad_rgb)
+    mitsuba_scene.VARIANT = os.environ.get("FACET_MITSUBA_VARIANT", mitsuba_scene.VARIANT)
     efficiency_table(quick)
     default_table(quick)
     rate_table(quick)

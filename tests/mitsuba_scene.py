@@ -1,5 +1,6 @@
 """An independent reference: a facet scene rendered by Mitsuba 3 (the ``mitsuba`` package,
-variant scalar_rgb; llvm_ad_rgb crashes on this CPU), for the path tracer's tests and
+variant scalar_rgb: llvm_ad_rgb crashes on this CPU; the benchmarks may set ``VARIANT``),
+for the path tracer's tests and
 benchmarks. Every object goes over as its triangle mesh (a PLY with its vertex normals),
 so both renderers see the same geometry; the materials Mitsuba can match exactly are
 translated and any other is refused:
@@ -33,6 +34,8 @@ from pathlib import Path
 import numpy as np
 
 from facet.scene.pbr import PbrMaterial
+
+VARIANT = "scalar_rgb"
 
 
 def available() -> bool:
@@ -82,7 +85,7 @@ def timed_render(scene, camera, width: int, height: int, spp: int, max_depth: in
     import mitsuba as mi
     import trimesh
 
-    mi.set_variant("scalar_rgb")
+    mi.set_variant(VARIANT)
     with tempfile.TemporaryDirectory() as tmp:
         desc = {"type": "scene",
                 "integrator": {"type": "path", "max_depth": max_depth + 2},

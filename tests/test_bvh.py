@@ -279,21 +279,30 @@ def _chain(n: int, base: float) -> tuple[np.ndarray, np.ndarray]:
     return np.stack(corners, 1).reshape(-1, 3), np.arange(3 * n).reshape(-1, 3)
 
 
+def test_the_stacks_are_as_deep_as_the_scene_needs():
+    """A mesh's stack holds a waiting child per level of the deepest hierarchy, the top
+    level's one more than the objects; in variables up to 32, in an array above."""
+    from facet.render.rays.pack import stack_defines
+
+    assert stack_defines(1, 1) == {"MESH_STACK": 8, "TOP_STACK": 8, "REGISTER_STACK": 8}
+    assert stack_defines(21, 8) == {"MESH_STACK": 24, "TOP_STACK": 16, "REGISTER_STACK": 24}
+    assert stack_defines(43, 31) == {"MESH_STACK": 48, "TOP_STACK": 32, "REGISTER_STACK": 32}
+    assert stack_defines(9, 500) == {"MESH_STACK": 16, "TOP_STACK": 48, "REGISTER_STACK": 16}
+
+
 @pytest.mark.parametrize("n, base, stack", [(300, 1.2, 24), (4000, 1.02, 48)])
 def test_the_traversal_stack_holds_the_deepest_hierarchy(renderer, n, base, stack):
     """A mesh traversal's stack is as deep as the scene's deepest hierarchy
-    (pack.stack_entries): held in shifting variables up to 32 entries, in an array above
+    (pack.stack_defines): held in shifting variables up to 32 entries, in an array above
     (glsl/trace/stack.glsl). Through both, every pixel of a deep chain of triangles, seen
     along it from either end, finds the nearest triangle that the equations find."""
     import facet
-    from facet.render.rays.pack import mesh_data, stack_entries
+    from facet.render.rays.pack import mesh_data, stack_defines
 
     from reference import ray_triangles
 
     v, f = _chain(n, base)
-    data = mesh_data(facet.Mesh(v, f))
-    assert stack_entries([data]) == stack
-    assert stack_entries([data, mesh_data(facet.primitives.cube(1.0))]) == stack
+    assert stack_defines(mesh_data(facet.Mesh(v, f)).depth, 1)["MESH_STACK"] == stack
     scene = facet.Scene()
     scene.add(facet.Mesh(v, f))
     size, tri = 24, v[f]

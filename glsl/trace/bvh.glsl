@@ -4,9 +4,6 @@
 #include "trace/data.glsl"
 #include "trace/stack.glsl"
 
-// The top level's stack (trace/scene.glsl WALK; a mesh's: trace/stack.glsl).
-const int STACK_SIZE = 48;
-
 // A mesh's primitives are triangles, or (points and lines: facet.render.rays.sprites)
 // spheres and capsules, the kind in the first texel's w.
 const float PRIM_TRIANGLE = 0.0, PRIM_SPHERE = 1.0, PRIM_CAPSULE = 2.0;
@@ -111,7 +108,7 @@ bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout ve
     vec3 scale = uintBitsToFloat(fetch_uint(u_nodes, head + 1).xyz);
     vec3 o_q = (o - origin) * scale;
     vec3 inv = safe_inverse(d * scale);
-    STACK_DECLARE
+    MESH_STACK_DECLARE
     int node = root + 1;
     int k = 0, end = 0;    // the triangles being tested
     int k2 = 0, end2 = 0;  // a second leaf of the same node, tested next
@@ -141,12 +138,12 @@ bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout ve
             }
             if (inner0 >= 0 && inner1 >= 0) {
                 bool near0 = e0 <= e1;
-                STACK_PUSH(near0 ? inner1 : inner0)
+                MESH_STACK_PUSH(near0 ? inner1 : inner0)
                 node = near0 ? inner0 : inner1;
             } else if (inner0 >= 0 || inner1 >= 0) {
                 node = max(inner0, inner1);
             } else {
-                STACK_POP(node)
+                MESH_STACK_POP(node)
             }
         }
         // Then its leaves' triangles.

@@ -86,24 +86,31 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
 // far), nearer child first. One loop with one call of hit_instance: every call site of it
 // inlines a whole mesh traversal, and on CPU-emulated GL (llvmpipe) each copy costs time
 // even where it never runs. WALK(t_max, body) runs body with int i for each candidate;
-// the stack holds top-level children: a node index, or a leaf -(first + 1) and its count.
-// Two inner loops, as trace_mesh's: the candidates a lane holds, then top-level nodes
-// until it holds more (a turn of one loop paid for a whole mesh traversal in every lane).
+// the stack (trace/stack.glsl TOP_STACK) holds top-level children: a node index, or a
+// leaf -1 - (first | count << 24). Two inner loops, as trace_mesh's: the candidates a lane
+// holds, then top-level nodes until it holds more (a turn of one loop paid for a whole
+// mesh traversal in every lane). A body ends the walk with ``over_ = true``.
+int leaf_entry(float first_ref, float count) {  // (a top-level leaf's texels' w)
+    return -1 - (int(-first_ref - 1.0) | int(count) << 24);
+}
+
 #define WALK(T_MAX, BODY) {                                                             \
     vec3 inv_ = safe_inverse(d);                                                       \
-    int stack_[STACK_SIZE], count_[STACK_SIZE];                                        \
-    int sp_ = 0, k_ = 0, node_ = u_has_tlas ? 0 : -1;                                  \
+    TOP_STACK_DECLARE                                                                  \
+    bool over_ = false;                                                                \
+    int k_ = 0, node_ = u_has_tlas ? 0 : -1;                                           \
     int end_ = u_unbounded + (!u_has_tlas && u_single >= 0 ? 1 : 0);                   \
     do {                                                                               \
         while (k_ < end_) {                                                            \
             int i = k_++;                                                              \
             BODY                                                                       \
         }                                                                              \
-        while (k_ >= end_ && (node_ >= 0 || sp_ > 0)) {                                \
+        while (k_ >= end_ && !over_ && (node_ >= 0 || !TOP_STACK_EMPTY)) {             \
             if (node_ < 0) {                                                           \
-                int e_ = stack_[--sp_];                                                \
+                int e_;                                                                \
+                TOP_STACK_POP(e_)                                                      \
                 if (e_ >= 0) node_ = e_;                                               \
-                else { k_ = -e_ - 1; end_ = k_ + count_[sp_]; }                        \
+                else { k_ = (-1 - e_) & 0xFFFFFF; end_ = k_ + ((-1 - e_) >> 24); }     \
                 continue;                                                              \
             }                                                                          \
             int b_ = node_ * NODE_TEXELS;                                              \
@@ -112,15 +119,11 @@ bool hit_instance(int i, vec3 o, vec3 d, inout Hit h, bool any_hit) {
             float e0 = box_entry(lo0.xyz, hi0.xyz, o, inv_, T_MAX);                    \
             float e1 = box_entry(lo1.xyz, hi1.xyz, o, inv_, T_MAX);                    \
             bool near0 = e0 <= e1;                                                     \
+            int ref0 = lo0.w >= 0.0 ? int(lo0.w) : leaf_entry(lo0.w, hi0.w);          \
+            int ref1 = lo1.w >= 0.0 ? int(lo1.w) : leaf_entry(lo1.w, hi1.w);          \
             node_ = -1;                                                                \
-            if (max(e0, e1) < INF && sp_ < STACK_SIZE) {                               \
-                stack_[sp_] = int(near0 ? lo1.w : lo0.w);                              \
-                count_[sp_++] = int(near0 ? hi1.w : hi0.w);                            \
-            }                                                                          \
-            if (min(e0, e1) < INF && sp_ < STACK_SIZE) {                               \
-                stack_[sp_] = int(near0 ? lo0.w : lo1.w);                              \
-                count_[sp_++] = int(near0 ? hi0.w : hi1.w);                            \
-            }                                                                          \
+            if (max(e0, e1) < INF) TOP_STACK_PUSH(near0 ? ref1 : ref0)                 \
+            if (min(e0, e1) < INF) TOP_STACK_PUSH(near0 ? ref0 : ref1)                 \
         }                                                                              \
     } while (k_ < end_);                                                               \
 }
@@ -146,7 +149,7 @@ float trace_shadow(vec3 o, vec3 d, float t_max) {
         Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
         if (i != g_shadow_skip && hit_instance(i, o, d, h, true))
             through *= 1.0 - instance_opacity(i);
-        if (through <= 0.0) { end_ = k_; node_ = -1; sp_ = 0; }  // (the walk ends)
+        if (through <= 0.0) { end_ = k_; over_ = true; }  // (the walk ends)
     })
     return through;
 }

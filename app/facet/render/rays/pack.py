@@ -53,6 +53,8 @@ def layout_defines() -> dict:
             "FLAG_COLORS": FLAG_COLORS, "FLAG_ONE_SIDED": FLAG_ONE_SIDED,
             "FLAG_OPEN_VOLUME": FLAG_OPEN_VOLUME,
             **{f"KIND_{name.upper()}": kind for name, kind in KINDS.items()}}
+REGISTER_LIMIT = 32  # the largest stack held in variables (glsl/trace/stack.glsl)
+TOP_ARRAY = 48  # the top level's stack over more objects than that (stack_defines)
 MAX_REFERENCE = 1 << 24  # node and triangle indices are exact in float32 up to here
 EMPTY_CHILD = ((1e30, 1e30, 1e30, -1.0), (-1e30, -1e30, -1e30, 0.0))  # lo > hi: never hit
 
@@ -68,7 +70,7 @@ class MeshData:
     has_colors: bool
     has_tangents: bool
     bounds: np.ndarray | None = None  # (2, 3) object space: points' and lines' with radii
-    depth: int = 1  # the hierarchy's levels (stack_entries)
+    depth: int = 1  # the hierarchy's levels (stack_defines)
 
 
 def pack_nodes(bvh) -> np.ndarray:
@@ -204,12 +206,23 @@ def mesh_data(mesh, tangents: bool = False, radii=None) -> MeshData:
                     frames is not None, depth=bvh.depth)
 
 
-def stack_entries(meshes: list[MeshData]) -> int:
-    """MESH_STACK of glsl/trace/stack.glsl: entries enough for the deepest of ``meshes``'
-    hierarchies (an ordered traversal holds at most one waiting child per level), rounded up
-    to a multiple of 8 so that scenes of similar meshes share their programs."""
-    deepest = max((m.depth for m in meshes), default=1)
-    return 8 * -(-deepest // 8)
+def stack_defines(deepest: int, objects: int) -> dict:
+    """The traversals' stack depths of glsl/trace/stack.glsl for meshes whose deepest
+    hierarchy has ``deepest`` levels and ``objects`` placed objects, each rounded up to a
+    multiple of 8 so that scenes of similar meshes share their programs. MESH_STACK:
+    entries enough for the deepest hierarchy (an ordered traversal holds at most one
+    waiting child per level). TOP_STACK: enough for any top level over the objects (one
+    more than their count: a tree of n leaves has fewer than n levels, and the walk holds a
+    waiting child per level and two new ones), or above REGISTER_LIMIT an array of
+    TOP_ARRAY (the top level is built after the program is chosen; binned SAH over the
+    objects' boxes keeps it near log2 n levels). REGISTER_STACK: the variables that the
+    stacks of at most REGISTER_LIMIT entries need."""
+    mesh = 8 * -(-max(deepest, 1) // 8)
+    top = 8 * -(-(objects + 1) // 8)
+    if top > REGISTER_LIMIT:
+        top = TOP_ARRAY
+    held = [n for n in (mesh, top) if n <= REGISTER_LIMIT]
+    return {"MESH_STACK": mesh, "TOP_STACK": top, "REGISTER_STACK": max(held, default=8)}
 
 
 def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:

@@ -77,7 +77,8 @@ class RayScene:
         self._geometry_key: tuple | None = None
         self._geometry_refs: list = []  # the meshes of the uploaded geometry (alive)
         self.roots: dict[int, int] = {}
-        self.stack_entries = 8  # MESH_STACK of the uploaded geometry (pack.stack_entries)
+        self.deepest = 1  # the uploaded hierarchies' most levels (pack.stack_defines)
+        self._stacks: dict = {}  # the prepared scene's stack depths (pack.stack_defines)
         self.first_tri: dict[int, int] = {}
         self.textures: dict[str, object] = {}
         self._layers_key: tuple | None = None
@@ -114,6 +115,7 @@ class RayScene:
         self._texture_layers(requests, state.srgb)
         # What the scene holds decides what the programs hold (scene_defines).
         self._scene_defines = scene_defines(scene)
+        self._stacks = pack.stack_defines(self.deepest, len(scene.objects))
         n = len(scene.objects)  # (a top level has fewer than 2 n nodes)
         self._in_blocks = RayScene.use_blocks and max(
             n * pack.INSTANCE_TEXELS, (2 * n + 1) * pack.NODE_TEXELS) <= self.block_texels
@@ -148,7 +150,7 @@ class RayScene:
         self.upload("tri_index", geo["index"], "i4")
         self.upload("vertices", geo["vertices"])
         self.upload("nodes", geo["nodes"], "u4")
-        self.stack_entries = pack.stack_entries(data)
+        self.deepest = max(d.depth for d in data)
         self.roots = {id(m): int(r) for m, r in zip(meshes, geo["root"], strict=False)}
         self.first_tri = {id(m): int(f) for m, f in zip(meshes, geo["first_tri"],
                                                         strict=False)}
@@ -200,7 +202,7 @@ class RayScene:
         and one program serves every light set."""
         model = "phong" if state.shading in ("auto", "pbr") else state.shading
         defines = {SHADING_MODELS[model].define: None, "MAX_LIGHTS": MAX_LIGHTS,
-                   **pack.layout_defines(), "MESH_STACK": self.stack_entries}
+                   **pack.layout_defines(), **self._stacks}
         if self._in_blocks:
             defines["SCENE_BLOCKS"] = self.block_texels
         defines.update(dict.fromkeys(self._scene_defines))
