@@ -191,6 +191,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small meshes and few repetitions")
     ap.add_argument("--frames", type=int, default=None)
+    ap.add_argument("--blender", default=os.environ.get("FACET_BPY_PYTHON"),
+                    help="a Python with bpy: Cycles beside the path-traced datasets")
     a = ap.parse_args()
     subs = [5] if a.quick else list(SUBDIVISIONS)
     frames = a.frames or (5 if a.quick else 21)
@@ -245,6 +247,7 @@ def main() -> None:
     raytrace.frame(a.quick)
     pathtrace.main(a.quick)
     batch.table(20 if a.quick else 200)
+    batch.path_table(2 if a.quick else 10, a.blender)
 
 
 if __name__ == "__main__":
