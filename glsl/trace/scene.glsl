@@ -130,9 +130,14 @@ int leaf_entry(float first_ref, float count) {  // (a top-level leaf's texels' w
 
 // The nearest hit of o + t d for t in (0, t_max); ``opaque_only`` skips transparent objects
 // (the exact channels describe the nearest opaque surface, as the rasterizer's do).
+// ESCAPED: the program of the pixels whose eye rays all miss the scene's bounds
+// (facet.render.rays.scene RayScene.draw_colour): nothing is ever hit, so the compiler
+// leaves out every traversal and all shading, and such a pixel costs its sky alone.
 Hit trace_scene(vec3 o, vec3 d, float t_max, bool opaque_only) {
     Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
+#ifndef ESCAPED
     WALK(h.t, if (!opaque_only || opaque_instance(i)) hit_instance(i, o, d, h, false);)
+#endif
     return h;
 }
 
@@ -145,11 +150,13 @@ int g_shadow_skip = -1;
 // times (1 - opacity) for each transparent one (as the rasterizer's shadow maps count it).
 float trace_shadow(vec3 o, vec3 d, float t_max) {
     float through = 1.0;
+#ifndef ESCAPED
     WALK(t_max, {
         Hit h = Hit(t_max, -1, -1, vec2(0.0), vec3(0.0), vec2(0.0));
         if (i != g_shadow_skip && hit_instance(i, o, d, h, true))
             through *= 1.0 - instance_opacity(i);
         if (through <= 0.0) { end_ = k_; over_ = true; }  // (the walk ends)
     })
+#endif
     return through;
 }

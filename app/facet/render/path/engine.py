@@ -119,7 +119,8 @@ class PathEngine(Engine):
         own = self._own_positions and state.jitter is not None  # (else the centre, or the
         if own:                                                  # pattern's offsets)
             states = [s.with_(jitter=None) for s in states]
-        inverse = b"".join(mat_bytes(np.linalg.inv(s.view_projection())) for s in states)
+        views = [s.view_projection() for s in states]
+        inverse = b"".join(mat_bytes(np.linalg.inv(v)) for v in views)
         inverse += bytes(64 * (MAX_MOSAIC - len(states)))  # (the array's unused part)
         scene = self._with_rectangles(scene)
         if not state.srgb:  # a display value here; the output is encoded (Engine.radiance)
@@ -139,7 +140,7 @@ class PathEngine(Engine):
         if sky is not None:
             textures.update(u_sky_cdf=sky[0], u_sky_pdf=sky[1], u_sky_radiance=sky[2])
         self.rays.draw_colour(
-            scene, state, program, textures, self._emitter_rows,
+            scene, state, program, textures, self._emitter_rows, views,
             u_background=background, u_max_depth=int(opts.max_depth),
             u_sample=self._sample, u_flip_y=int(state.flip_y), u_seed=int(opts.seed),
             u_strategy=STRATEGIES[self.strategy],

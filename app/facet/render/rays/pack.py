@@ -367,6 +367,22 @@ def slot_mode(name: str, slot) -> str:
 _CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)])
 
 
+def bounded_box(objects, tlas, unbounded: int, boxes: dict | None = None):
+    """The (2, 3) world box every ray that hits one of ``objects`` passes through (the top
+    level's root, ``tlas`` from pack_instances, or the one bounded object's box; lo > hi
+    when there is none); None when one of them is unbounded (an infinite plane)."""
+    if unbounded:
+        return None
+    if tlas is not None:
+        root = np.asarray(tlas[0], np.float64)  # (left lo, left hi, right lo, right hi)
+        return np.stack([np.minimum(root[0, :3], root[2, :3]),
+                         np.maximum(root[1, :3], root[3, :3])])
+    bounded = [o for o in objects if not o.infinite]
+    if not bounded:
+        return np.array([[np.inf] * 3, [-np.inf] * 3])
+    return _world_boxes(bounded, boxes or {})[0]
+
+
 def _world_boxes(objects, boxes: dict) -> np.ndarray:
     """(n, 2, 3) world boxes of ``objects``: each one's object-space box (its shape's, its
     mesh's, or ``boxes``' for id(mesh)) through its transform, corner by corner."""

@@ -45,6 +45,44 @@ def pixel_cone(state: FrameState) -> tuple[float, float]:
     return (size, 0.0) if p[3, 3] == 1.0 else (0.0, size)
 
 
+def scene_rect(box, views, width: int, height: int):
+    """The pixels that rays through the scene's world ``box`` (2, 3) can come from, for the
+    view-projections ``views`` (one per sample drawn): (x, y, w, h) in GL's window
+    coordinates, a pixel wider all round than the box's corners fall (a pixel's rays
+    leave from anywhere in it), empty when the box is; None when every pixel may see the
+    scene (an unbounded object, a corner at or behind the eye, a box over the picture)."""
+    if box is None:
+        return None
+    box = np.asarray(box, np.float64)
+    if not np.all(box[0] <= box[1]):
+        return (0, 0, 0, 0)  # nothing there to see
+    corners = np.array([[box[i, 0], box[j, 1], box[k, 2], 1.0]
+                        for i in (0, 1) for j in (0, 1) for k in (0, 1)])
+    lo, hi = np.array([np.inf, np.inf]), np.array([-np.inf, -np.inf])
+    for view in views:
+        clip = corners @ np.asarray(view, np.float64).T
+        if not np.all(clip[:, 3] > 1e-9 * np.abs(clip[:, :3]).max(initial=1.0)):
+            return None
+        ndc = clip[:, :2] / clip[:, 3:]
+        lo, hi = np.minimum(lo, ndc.min(axis=0)), np.maximum(hi, ndc.max(axis=0))
+    size = np.array([width, height], np.float64)
+    x0, y0 = np.clip(np.floor((lo + 1.0) / 2.0 * size) - 1.0, 0, size).astype(int)
+    x1, y1 = np.clip(np.ceil((hi + 1.0) / 2.0 * size) + 1.0, 0, size).astype(int)
+    if x0 == 0 and y0 == 0 and x1 == width and y1 == height:
+        return None  # (the whole picture)
+    return (int(x0), int(y0), max(int(x1 - x0), 0), max(int(y1 - y0), 0))
+
+
+def _set_uniforms(program: FullScreenPass, values: dict) -> None:
+    for name, value in values.items():
+        if isinstance(value, bytes):  # an array, as GL lays it out
+            member = program.program.gl.get(name, None)
+            if member is not None:
+                member.write(value)
+        else:
+            program.program.set(name, value, strict=False)
+
+
 def scene_defines(scene) -> tuple:
     """The kinds of object ``scene`` lacks, as defines that leave their code out of the
     tracers' programs: NO_SPRITES (no points or lines: no sphere or capsule in a triangle
@@ -68,10 +106,13 @@ class RayScene:
     and defines."""
 
     use_blocks = True  # a small scene's rows from uniform blocks (False: textures only)
+    use_rects = True  # escaped pixels by the escaped program (False: one program for all)
 
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache
         self.programs: dict[tuple, FullScreenPass] = {}
+        self._defines: dict[FullScreenPass, tuple] = {}  # a program's stage and defines
+        self.world_box = None  # the bound objects' (2, 3) world box; None: unbounded
         self.meshes = weakref.WeakKeyDictionary()  # Mesh -> pack.MeshData
         self._sprite_sizes: dict[int, int | None] = {}  # id(points) -> its radii's hash
         self._geometry_key: tuple | None = None
@@ -191,6 +232,7 @@ class RayScene:
                 self.blocks[name].write(np.ascontiguousarray(data, np.float32).tobytes())
                 self.blocks[name].bind_to_uniform_block(BLOCKS[name])
         single = unbounded if tlas is None and len(rows) > unbounded else -1
+        self.world_box = pack.bounded_box(scene.objects, tlas, unbounded, boxes)
         return unbounded, tlas is not None, single
 
     # -- programs and draws ----------------------------------------------------------------
@@ -214,19 +256,33 @@ class RayScene:
         defines.update(dict(k if isinstance(k, tuple) else (k, None) for k in extra))
         for name, location in aux_locations(aux).items():
             defines[f"OUT_{name.upper()}"] = location
+        return self._compiled(stage, defines)
+
+    def _compiled(self, stage: str, defines: dict) -> FullScreenPass:
         key = (stage, tuple(sorted(defines.items())))
         if key not in self.programs:
             root = glsl_root()
             prog = compile_program(self.ctx, root / "post" / "fullscreen.vert",
                                    root / "trace" / f"{stage}.frag", defines)
             self.programs[key] = FullScreenPass(self.ctx, None, program=prog)
+            self._defines[self.programs[key]] = (stage, defines)
         return self.programs[key]
+
+    def escaped(self, program: FullScreenPass) -> FullScreenPass:
+        """``program`` compiled for pixels whose eye rays miss the scene (ESCAPED:
+        glsl/trace/scene.glsl): their sky, without a traversal."""
+        stage, defines = self._defines[program]
+        return self._compiled(stage, {**defines, "ESCAPED": None})
 
     def bind(self, scene, state: FrameState, program: FullScreenPass, more_rows=None) -> None:
         """The scene's textures, instances and lights for ``program``, and the camera."""
-        unbounded, has_tlas, single = self.instances(scene, state, more_rows)
+        self._placed = self.instances(scene, state, more_rows)
         self.lights_ubo.write(state.lights_block)
         self.lights_ubo.bind_to_uniform_block(BLOCKS["Lights"])
+        self._bind_program(state, program)
+
+    def _bind_program(self, state: FrameState, program: FullScreenPass) -> None:
+        unbounded, has_tlas, single = self._placed
         prog = program.program
         for name in ("tris", "tri_index", "vertices", "nodes", "instances", "tlas",
                      "textures"):
@@ -239,31 +295,57 @@ class RayScene:
         prog.set("u_viewport", (float(state.width), float(state.height)))
 
     def draw_colour(self, scene, state: FrameState, program: FullScreenPass, textures=None,
-                    more_rows=None, **uniforms) -> None:
+                    more_rows=None, views=None, **uniforms) -> None:
         """Draw a colour ``program`` over the scene into the bound target, with the
         environment, ``textures`` ({sampler: texture, or the name of one of the scene's
         textures, made while binding}) and ``uniforms`` (those it lacks skipped; a callable
-        is asked for its value after binding, when ``more_rows`` has made it)."""
+        is asked for its value after binding, when ``more_rows`` has made it). ``views``:
+        the view-projection matrices of the samples stacked in the target (default:
+        ``state``'s alone).
+
+        Pixels whose eye rays all miss the scene's bounds are drawn by the program's
+        escaped variant (``escaped``), the program itself only over the rectangle
+        (``scene_rect``) that holds the rest: llvmpipe runs every line of a program in all
+        8 lanes of a group whichever way their branches go, so a pixel of sky beside an
+        object paid for the object's whole traversal and shading."""
         self.bind(scene, state, program, more_rows)
         textures = {k: self.textures[v] if isinstance(v, str) else v
                     for k, v in (textures or {}).items()}
+        values = {}
         for name, value in uniforms.items():
             value = value() if callable(value) else value
             if value is None:
                 continue
-            if isinstance(value, bytes):  # an array, as GL lays it out
-                member = program.program.gl.get(name, None)
-                if member is not None:
-                    member.write(value)
-                continue
-            if not isinstance(value, int):  # a vector: ints stay ints (ivec uniforms)
+            if not isinstance(value, (int, bytes)):  # a vector: ints stay ints (ivec)
                 value = tuple(v if isinstance(v, int) else float(v) for v in value)
-            program.program.set(name, value, strict=False)
+            values[name] = value
         if state.environment is not None:
             textures["u_environment"] = self.cache.cube(state.environment)
+        rect = scene_rect(self.world_box, views or [state.view_projection()],
+                          state.width, state.height) if RayScene.use_rects else None
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
-        program.draw(textures)
+        if rect is None:
+            _set_uniforms(program, values)
+            program.draw(textures)
+        else:
+            sky = self.escaped(program)
+            self._bind_program(state, sky)
+            _set_uniforms(sky, values)
+            sky.draw(textures)
+            if rect[2] > 0 and rect[3] > 0:
+                _set_uniforms(program, values)
+                self._scissored(program, textures, rect, state.height)
         self.ctx.enable(self.ctx.DEPTH_TEST)
+
+    def _scissored(self, program: FullScreenPass, textures, rect, height: int) -> None:
+        """``program`` over ``rect`` (x, y, w, h) of each picture stacked in the target
+        (samples drawn in parts of ``height`` rows: glsl/trace/path.frag)."""
+        x, y, w, h = rect
+        parts = max(1, self.ctx.fbo.viewport[3] // height)
+        for part in range(parts):
+            self.ctx.scissor = (x, part * height + y, w, h)
+            program.draw(textures)
+        self.ctx.scissor = None
 
     def draw_exact(self, scene, state: FrameState, aux, defines=(), more_rows=None) -> None:
         """The exact channels ``aux`` at pixel centres into the bound target (cleared), by
@@ -275,7 +357,13 @@ class RayScene:
         prog.set("u_eye_world", tuple(float(v) for v in camera.eye), strict=False)
         prog.set("u_forward", tuple(float(v) for v in camera.forward), strict=False)
         self.ctx.disable(self.ctx.DEPTH_TEST | self.ctx.BLEND)
-        program.draw()
+        # (pixels whose rays miss the scene's bounds stay cleared: nothing hit)
+        rect = scene_rect(self.world_box, [state.view_projection()], state.width,
+                          state.height) if RayScene.use_rects else None
+        if rect is None:
+            program.draw()
+        elif rect[2] > 0 and rect[3] > 0:
+            self._scissored(program, None, rect, state.height)
         self.ctx.enable(self.ctx.DEPTH_TEST)
 
     def release(self) -> None:
