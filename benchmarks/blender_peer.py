@@ -76,6 +76,21 @@ def bounds(objects) -> tuple[list, float]:
     return list((lo + hi) / 2), float(np.linalg.norm(hi - lo) / 2)
 
 
+def orbit(objects, views: int, out: Path) -> tuple[float, float]:
+    """(seconds of the first picture, seconds a picture after it) of ``objects`` seen from
+    ``views`` + 1 directions around them, z up."""
+    centre, radius = bounds(objects)
+    look(centre, radius, 0.3, up_z=True)
+    t1 = time.perf_counter()
+    render(out, 0)
+    first = time.perf_counter() - t1
+    t2 = time.perf_counter()
+    for k in range(1, views + 1):
+        look(centre, radius, 0.3 + 2 * math.pi * k / views, up_z=True)
+        render(out, k)
+    return first, (time.perf_counter() - t2) / views
+
+
 def main() -> None:
     kind, source, size, views, out = sys.argv[1], sys.argv[2], int(sys.argv[3]), \
         int(sys.argv[4]), Path(sys.argv[5])
@@ -94,30 +109,13 @@ def main() -> None:
             (0.6, 0.6, 0.6, 1.0)
         grey.node_tree.nodes["Principled BSDF"].inputs["Roughness"].default_value = 1.0
         model.data.materials.append(grey)
-        centre, radius = bounds([model])
-        look(centre, radius, 0.3, up_z=True)
-        t1 = time.perf_counter()
-        render(out, 0)
-        first = time.perf_counter() - t1
-        t2 = time.perf_counter()
-        for k in range(1, views + 1):
-            look(centre, radius, 0.3 + 2 * math.pi * k / views, up_z=True)
-            render(out, k)
-        per_view = (time.perf_counter() - t2) / views
+        first, per_view = orbit([model], views, out)
     elif kind == "stage":
         bpy.ops.wm.usd_import(filepath=source)
         loaded = time.perf_counter() - t0
+        # (Blender's import turns y-up stages z-up)
         meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
-        centre, radius = bounds(meshes)
-        look(centre, radius, 0.3, up_z=True)  # (Blender's import turns y-up stages z-up)
-        t1 = time.perf_counter()
-        render(out, 0)
-        first = time.perf_counter() - t1
-        t2 = time.perf_counter()
-        for k in range(1, views + 1):
-            look(centre, radius, 0.3 + 2 * math.pi * k / views, up_z=True)
-            render(out, k)
-        per_view = (time.perf_counter() - t2) / views
+        first, per_view = orbit(meshes, views, out)
     else:
         data = np.load(source)
         files, poses = list(data["files"]), data["poses"]  # poses (V, L, 4, 4)

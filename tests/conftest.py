@@ -151,6 +151,19 @@ def ray_cluster():
     ray.shutdown()
 
 
+def both_ways(owner, attribute: str, render) -> tuple:
+    """``render()`` with the class flag ``owner.attribute`` on, then off (restored on after):
+    the two ways of a choice that must draw alike."""
+    out = {}
+    for on in (True, False):
+        setattr(owner, attribute, on)
+        try:
+            out[on] = render()
+        finally:
+            setattr(owner, attribute, True)
+    return out[True], out[False]
+
+
 def sphere_mesh(subdivisions: int = 6, radius: float = 1.0):
     """A fine icosphere with exact sphere normals (positions / radius)."""
     import trimesh

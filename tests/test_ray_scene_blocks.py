@@ -9,18 +9,9 @@ import pytest
 import facet
 from facet.render.rays.scene import RayScene
 
+from conftest import both_ways
+
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
-
-
-def _both(render):
-    out = {}
-    for blocks in (True, False):
-        RayScene.use_blocks = blocks
-        try:
-            out[blocks] = render()
-        finally:
-            RayScene.use_blocks = True
-    return out[True], out[False]
 
 
 @pytest.mark.parametrize("engine", ["path", "trace"])
@@ -34,7 +25,7 @@ def test_blocks_and_textures_draw_the_same_picture(engine):
             used = r._engines[engine].rays._in_blocks
             return frame.color, frame.depth, frame.object_ids, frame.normals, used
 
-    a, b = _both(render)
+    a, b = both_ways(RayScene, "use_blocks", render)
     assert a[4] and not b[4]  # (each way was taken)
     for x, y in zip(a[:4], b[:4], strict=True):
         np.testing.assert_array_equal(x, y)

@@ -10,16 +10,7 @@ import pytest
 import facet
 from facet.render.rays.scene import RayScene
 
-
-def _both(render):
-    out = {}
-    for rects in (True, False):
-        RayScene.use_rects = rects
-        try:
-            out[rects] = render()
-        finally:
-            RayScene.use_rects = True
-    return out[True], out[False]
+from conftest import both_ways
 
 
 def _scene(case: str) -> facet.Scene:
@@ -56,7 +47,7 @@ def test_escaped_pixels_draw_as_one_program_draws_them(engine, case):
             f = r.render(scene, camera, **kw)
             return f.color, f.depth, f.object_ids, f.normals
 
-    a, b = _both(render)
+    a, b = both_ways(RayScene, "use_rects", render)
     for x, y in zip(a, b, strict=True):
         np.testing.assert_array_equal(x, y)
     if case != "plane":  # (most of the picture is sky: the rectangle mattered)
