@@ -78,3 +78,38 @@ def test_the_rectangle_holds_every_pixel_a_ray_through_the_box_leaves():
     assert scene_rect(np.array([[-9, -9, -1], [9, 9, 1]]), [view], 200, 100) is None
     empty = np.array([[np.inf] * 3, [-np.inf] * 3])
     assert scene_rect(empty, [view], 200, 100) == (0, 0, 0, 0)
+
+
+def test_the_rectangle_stays_within_a_strip_being_drawn():
+    """A long sample is drawn in strips, each under its scissor (facet.render.sequence):
+    the rectangle's draws stay inside the strip and leave its scissor as they found it
+    (they once drew the whole rectangle in every strip and then cleared the scissor)."""
+    from types import SimpleNamespace
+
+    import moderngl
+
+    from facet.gl.context import create_headless
+
+    ctx = create_headless()
+    try:
+        target = ctx.texture((40, 30), 4)
+        fbo = ctx.framebuffer([target])
+        fbo.use()
+        fbo.clear(0.0, 0.0, 0.0, 0.0)
+        program = ctx.program(
+            vertex_shader="#version 330\nvoid main() { vec2 p = vec2(gl_VertexID & 1, "
+                          "gl_VertexID >> 1) * 4.0 - 1.0; gl_Position = vec4(p, 0, 1); }",
+            fragment_shader="#version 330\nout vec4 c; void main() { c = vec4(1.0); }")
+        vao = ctx.vertex_array(program, [])
+        white = SimpleNamespace(draw=lambda textures: vao.render(moderngl.TRIANGLES, 3))
+        strip = (0, 10, 40, 10)
+        ctx.scissor = strip
+        RayScene._scissored(SimpleNamespace(ctx=ctx), white, None, (5, 5, 20, 20), 30)
+        assert tuple(ctx.scissor) == strip
+        ctx.scissor = None
+        drawn = np.frombuffer(fbo.read(components=1), np.uint8).reshape(30, 40) > 0
+        expected = np.zeros((30, 40), bool)
+        expected[10:20, 5:25] = True  # (rows from the bottom: GL's window y)
+        np.testing.assert_array_equal(drawn, expected)
+    finally:
+        ctx.release()

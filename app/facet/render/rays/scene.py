@@ -73,6 +73,13 @@ def scene_rect(box, views, width: int, height: int):
     return (int(x0), int(y0), max(int(x1 - x0), 0), max(int(y1 - y0), 0))
 
 
+def _overlap(a, b):
+    """The overlap of rectangles (x, y, w, h), or None."""
+    x0, y0 = max(a[0], b[0]), max(a[1], b[1])
+    x1, y1 = min(a[0] + a[2], b[0] + b[2]), min(a[1] + a[3], b[1] + b[3])
+    return (x0, y0, x1 - x0, y1 - y0) if x1 > x0 and y1 > y0 else None
+
+
 def _set_uniforms(program: FullScreenPass, values: dict) -> None:
     for name, value in values.items():
         if isinstance(value, bytes):  # an array, as GL lays it out
@@ -338,14 +345,19 @@ class RayScene:
         self.ctx.enable(self.ctx.DEPTH_TEST)
 
     def _scissored(self, program: FullScreenPass, textures, rect, height: int) -> None:
-        """``program`` over ``rect`` (x, y, w, h) of each picture stacked in the target
-        (samples drawn in parts of ``height`` rows: glsl/trace/path.frag)."""
+        """``program`` over ``rect`` (x, y, w, h) of each picture stacked in the viewport
+        (samples drawn in parts of ``height`` rows: glsl/trace/path.frag), within the
+        scissor already set (a strip of a sample: facet.render.sequence), which is kept."""
+        fbo = self.ctx.fbo
+        vx, vy, _, vh = fbo.viewport
+        before = self.ctx.scissor
         x, y, w, h = rect
-        parts = max(1, self.ctx.fbo.viewport[3] // height)
-        for part in range(parts):
-            self.ctx.scissor = (x, part * height + y, w, h)
-            program.draw(textures)
-        self.ctx.scissor = None
+        for part in range(max(1, vh // height)):
+            box = _overlap((vx + x, vy + part * height + y, w, h), before)
+            if box is not None:
+                self.ctx.scissor = box
+                program.draw(textures)
+        self.ctx.scissor = None if tuple(before) == (0, 0, *fbo.size) else before
 
     def draw_exact(self, scene, state: FrameState, aux, defines=(), more_rows=None) -> None:
         """The exact channels ``aux`` at pixel centres into the bound target (cleared), by
