@@ -7,9 +7,10 @@
 # It runs from the repository's root with the Python it finds: .venv/bin/python when the
 # checkout has one, else python3 with the packages of .whl/ installed under /tmp/site (no
 # network there: download them here first, docs/performance.md "On a GPU" says how), and
-# facet from app/. Where NVIDIA's EGL vendor file is installed, EGL is pointed at it, so
-# facet's context is the GPU's and not a software one; the tables' first line names the
-# GL that ran them. Mitsuba runs its scalar_rgb variant, then llvm_ad_rgb (its vectorised
+# facet from app/; GL's loader packages in .gl/, when there, are unpacked first (the
+# `device` tool's notes say how to download them). Where NVIDIA's EGL vendor file is
+# installed, EGL is pointed at it, so facet's context is the GPU's and not a software one;
+# the tables' first line names the GL that ran them. Mitsuba runs its scalar_rgb variant, then llvm_ad_rgb (its vectorised
 # CPU variant, which crashes on the 2-core development machine) where that one loads.
 set -eu
 cd "$(dirname "$0")/.."
@@ -24,6 +25,10 @@ else
     fi
     PYTHONPATH="$PWD/app${PYTHONPATH:+:$PYTHONPATH}"
     export PYTHONPATH
+fi
+if [ -d .gl ]; then  # GL's loaders where the machine lacks them (libEGL, libglvnd)
+    for f in .gl/*.deb; do dpkg -x "$f" /; done
+    ldconfig
 fi
 vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 if [ -f "$vendor" ] && [ -z "${__EGL_VENDOR_LIBRARY_FILENAMES:-}" ]; then
