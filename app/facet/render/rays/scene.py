@@ -382,6 +382,7 @@ class RayScene:
         for program in self.programs.values():
             program.release()
         self.programs.clear()
+        self._defines.clear()
         for tex in self.textures.values():
             tex.release()
         self.textures.clear()
