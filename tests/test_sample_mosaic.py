@@ -12,12 +12,14 @@ from facet.render.path.engine import PathEngine
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
 
 
-@pytest.mark.parametrize("spp, size", [(7, (24, 24)), (20, (24, 24)), (22, (64, 64)),
-                                       (6, (160, 96))])
-def test_a_mosaic_draws_the_picture_sample_by_sample_draws(spp, size):
+@pytest.mark.parametrize("spp, size, per", [(7, (24, 24), 1), (20, (24, 24), 1),
+                                            (22, (128, 128), 4), (6, (160, 96), 2)])
+def test_a_mosaic_draws_the_picture_sample_by_sample_draws(spp, size, per, monkeypatch):
     """Stacked parts (small pictures) and several paths run one after the other in each
-    fragment (64 x 64: 4 parts of 4, then 3 parts of 2; 160 x 96: one part of 4, then 2)
-    draw the samples that single draws draw."""
+    fragment (two rasterizer threads: 128 x 128 draws 4 parts of 4, then 3 parts of 2;
+    160 x 96 its 6 samples as 3 parts of 2; 24 x 24 16 parts of 1) draw the samples that
+    single draws draw."""
+    monkeypatch.setenv("LP_NUM_THREADS", "2")
     scene = facet.load(ROOT / "models" / "cornell.toml")
     out = {}
     stacked = []
@@ -37,14 +39,31 @@ def test_a_mosaic_draws_the_picture_sample_by_sample_draws(spp, size):
                                  outputs=("color", "spp"))
                 out[mosaic] = frame
                 assert bool(stacked) == mosaic  # (each way was taken)
-                if mosaic and size != (24, 24):
-                    assert stacked[0][1] == 4  # (paths one after the other in a fragment)
+                if mosaic:
+                    assert stacked[0][1] == per  # (paths one after the other a fragment)
         finally:
             PathEngine.mosaic = True
             PathEngine.draw_mosaic = draw_mosaic
     np.testing.assert_allclose(out[True].color, out[False].color, rtol=1e-4, atol=1e-6)
     assert (out[True].spp == spp).all() and (out[False].spp == spp).all()
     assert out[True].color[..., :3].mean() > 0.05  # a lit room
+
+
+@pytest.mark.parametrize("threads, size, parts", [
+    ("2", (128, 128), (4, 4)), ("2", (256, 256), (1, 8)), ("2", (64, 64), (16, 1)),
+    ("2", (1024, 768), (1, 8)), ("0", (128, 128), (2, 8)), ("16", (256, 256), (8, 2))])
+def test_a_mosaic_gives_each_rasterizer_thread_its_tiles(threads, size, parts, monkeypatch):
+    """A draw fills at least eight of llvmpipe's 64 x 64 tiles for each of its threads
+    (LP_NUM_THREADS, 0: one), at most 16 samples at once, paths one after the other in a
+    fragment (up to the engine's eight) before more parts."""
+    from types import SimpleNamespace
+
+    from facet.render.sequence import _mosaic_parts
+
+    monkeypatch.setenv("LP_NUM_THREADS", threads)
+    scene = facet.load(ROOT / "models" / "cornell.toml")
+    opts = SimpleNamespace(width=size[0], height=size[1])
+    assert _mosaic_parts(PathEngine, scene, opts, False, None) == parts
 
 
 def test_one_program_draws_one_sample_and_a_mosaic():

@@ -329,25 +329,50 @@ class PassSequence:
         return t.read_color(t.output(out), out)
 
 
-MOSAIC_PIXELS = 128 * 128  # a picture smaller than this draws samples stacked to fill it
+TILE_PIXELS = 64 * 64  # llvmpipe's tile, the unit of work one of its threads takes
+TILES_PER_THREAD = 8  # a draw's tiles a rasterizer thread gets (mosaic_pixels)
 MAX_MOSAIC = 16
+
+
+def rasterizer_threads() -> int:
+    """The threads llvmpipe shades with: LP_NUM_THREADS where set (0: the caller's own,
+    one), else this process's cores (its default)."""
+    import os
+
+    given = os.environ.get("LP_NUM_THREADS", "").strip()
+    if given.isdigit():
+        return max(1, int(given))
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else \
+        os.cpu_count() or 1
+
+
+def mosaic_pixels() -> int:
+    """The picture a draw should fill: TILES_PER_THREAD tiles for each rasterizer thread
+    (65536 pixels, 256 x 256, on two cores)."""
+    return TILE_PIXELS * TILES_PER_THREAD * rasterizer_threads()
 
 
 def _mosaic_parts(engine, scene, opts, plain: bool, budget) -> tuple[int, int]:
     """How many samples to draw at once: (parts stacked one above the other, samples each
     fragment of a part draws one after the other; their product at most MAX_MOSAIC).
 
-    A picture smaller than about 2 x 2 of llvmpipe's 64-pixel tiles keeps one core busy
-    per tile (64 x 64: one of two cores; the Cornell box drew 48k paths a second there
-    against 89k at 256 x 256), so the path tracer draws several of its samples as one
-    taller picture; and a fragment draws the engine's ``per_fragment`` paths in one loop.
-    Only where samples differ in camera and shift alone (no motion blur), and where no
-    budget watches sample by sample (a time limit, noise, a progress callback: each
-    counts, and may stop, single samples)."""
+    llvmpipe's threads each take a 64 x 64 tile of a draw at a time, and a draw ends when
+    its slowest tile does: a picture of few tiles leaves cores idle (64 x 64: one of two;
+    the Cornell box drew 48k paths a second there against 89k at 256 x 256), and tiles of
+    unequal cost (sky beside a mesh) leave one waiting at the end of each draw (128 x 128,
+    four tiles: 1.7 of 2 cores busy on the glass and glTF-spheres scenes of
+    benchmarks/pathtrace.py). So the path tracer draws several of its samples as one
+    taller picture of at least ``mosaic_pixels()`` (128 x 128: four parts, 17% faster on
+    those two scenes, 1.9 cores busy); and a fragment draws the engine's ``per_fragment``
+    paths in one loop (more parts and fewer paths a fragment were slower: 16 x 1 and 8 x 2
+    against 4 x 4 at 128 x 128). Only where samples differ in camera and shift alone (no
+    motion blur), and where no budget watches sample by sample (a time limit, noise, a
+    progress callback: each counts, and may stop, single samples)."""
     pixels = opts.width * opts.height
     if not engine.mosaic or plain or (budget is not None and budget.synced) or \
             getattr(scene, "moving", None) is not None or \
             any(o.transform_end is not None for o in scene.objects):
         return 1, 1
-    parts = min(MAX_MOSAIC, MOSAIC_PIXELS // pixels) if pixels * 2 <= MOSAIC_PIXELS else 1
+    fill = mosaic_pixels()
+    parts = min(MAX_MOSAIC, fill // pixels) if pixels * 2 <= fill else 1
     return parts, max(1, min(engine.per_fragment, MAX_MOSAIC // parts))
