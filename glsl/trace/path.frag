@@ -114,49 +114,62 @@ void main() {
     int j = first - 1;
     bool fresh = true, done = false;
     do {
-        if (fresh) {  // the next sample's eye ray
-            ++j;
-            g_rng = pcg_hash(uint(frag.x) + pcg_hash(uint(row) +
-                             pcg_hash(uint(u_sample + j) + pcg_hash(uint(u_seed)))));
-            g_pixel = pcg_hash(uint(frag.x) + pcg_hash(uint(row) + pcg_hash(uint(u_seed))));
-            g_index = uint(u_sample + j);
-            g_bounce = 0;
-            vec2 at = ndc;
-            if (u_own_positions) {  // (its offset from the picture's top left)
-                vec2 xi = sample2(QMC_PIXEL);
-                at = (floor(frag) + vec2(xi.x, u_flip_y ? xi.y : 1.0 - xi.y)) / u_viewport
-                   * 2.0 - 1.0;
+        // Rays until this lane's hits something: an escaping ray ends its path (its sky
+        // or background) and the next sample's eye ray is traced in the same turn, so a
+        // turn's shading below (which llvmpipe runs for all 8 lanes of a SIMD group, a lane
+        // using it or not) is paid for hits alone: a path under a sky ended with a turn
+        // that shaded nothing, and an eye ray that missed cost a turn of its own. One call
+        // site of trace_scene (each inlines a whole traversal).
+        Hit h;
+        bool going;
+        do {
+            if (fresh) {  // the next sample's eye ray
+                ++j;
+                g_rng = pcg_hash(uint(frag.x) + pcg_hash(uint(row) +
+                                 pcg_hash(uint(u_sample + j) + pcg_hash(uint(u_seed)))));
+                g_pixel = pcg_hash(uint(frag.x) + pcg_hash(uint(row) + pcg_hash(uint(u_seed))));
+                g_index = uint(u_sample + j);
+                g_bounce = 0;
+                vec2 at = ndc;
+                if (u_own_positions) {  // (its offset from the picture's top left)
+                    vec2 xi = sample2(QMC_PIXEL);
+                    at = (floor(frag) + vec2(xi.x, u_flip_y ? xi.y : 1.0 - xi.y)) / u_viewport
+                       * 2.0 - 1.0;
+                }
+                mat4 inv_view_projection = u_inv_view_projections[j];
+                vec4 near = inv_view_projection * vec4(at, -1.0, 1.0);
+                vec4 far = inv_view_projection * vec4(at, 1.0, 1.0);
+                o = near.xyz / near.w;
+                vec3 span = far.xyz / far.w - o;
+                d = normalize(span);
+                t_max = length(span);  // the eye ray stops at the far plane, as rasterized
+                radiance = vec3(0.0);
+                throughput = vec3(1.0);
+                alpha = 1.0;
+                prev_pdf = 0.0;
+                prev_ng = vec3(0.0);
+                sigma = vec3(0.0);
+                eta_scale = 1.0;
+                bounce = 0;
+                step = 0;
+                channel = -1;
+                travelled = 0.0;
+                fresh = false;
             }
-            mat4 inv_view_projection = u_inv_view_projections[j];
-            vec4 near = inv_view_projection * vec4(at, -1.0, 1.0);
-            vec4 far = inv_view_projection * vec4(at, 1.0, 1.0);
-            o = near.xyz / near.w;
-            vec3 span = far.xyz / far.w - o;
-            d = normalize(span);
-            t_max = length(span);  // the eye ray stops at the far plane, as rasterized
-            radiance = vec3(0.0);
-            throughput = vec3(1.0);
-            alpha = 1.0;
-            prev_pdf = 0.0;
-            prev_ng = vec3(0.0);
-            sigma = vec3(0.0);
-            eta_scale = 1.0;
-            bounce = 0;
-            step = 0;
-            channel = -1;
-            travelled = 0.0;
-            fresh = false;
-        }
-        // One ray (the last call site of trace_scene: each inlines a traversal), then
-        // what it found.
-        g_camera_ray = bounce == 0;  // (past cut-outs, the eye ray goes on)
-        Hit h = trace_scene(o, d, t_max, false);
-        g_camera_ray = false;
-        bool going = segment(h, sigma, travelled, throughput);
-        if (!going) {
-            escape(radiance, alpha, bounce, d, throughput, prev_pdf, prev_ng,
-                   sample_environment, bsdf_hits);
-        } else {
+            g_camera_ray = bounce == 0;  // (past cut-outs, the eye ray goes on)
+            h = trace_scene(o, d, t_max, false);
+            g_camera_ray = false;
+            going = segment(h, sigma, travelled, throughput);
+            if (!going) {
+                escape(radiance, alpha, bounce, d, throughput, prev_pdf, prev_ng,
+                       sample_environment, bsdf_hits);
+                total += vec4(radiance, alpha);
+                fresh = true;
+                done = j + 1 >= last;
+            }
+        } while (!going && !done);
+        if (!going) break;  // (every sample of this fragment is done)
+        {
             g_travelled = travelled - h.t;
             Surface s = surface_at(h, o, d);
 #ifdef HAS_ALPHA
