@@ -12,6 +12,7 @@ import numpy as np
 
 import facet
 from facet.geometry.camera import Camera
+from facet.render.rays.scene import reads_images
 
 from test_animation import ref_skin, skinned_strip
 
@@ -116,10 +117,11 @@ def test_every_program_binds_each_sampler_to_its_own_unit(tmp_path, renderer, mo
 
     def recording(program, own, label="program"):
         bind(program, own, label)
-        linked.append((label, bindings.samplers(program)))
+        linked.append((label, bindings.samplers(program), bindings.images(program)))
 
     monkeypatch.setattr(bindings, "bind", recording)
     r = facet.Renderer(32, 32)  # a fresh one: every program is linked in this test
+    as_images = reads_images(r.ctx)
     outputs = ("color", "depth", "ids", "normals", "position", "uv")
     cam = Camera.look_at((0, 2, 6), (0, 0, 0), fov_y=50)
     try:
@@ -134,13 +136,17 @@ def test_every_program_binds_each_sampler_to_its_own_unit(tmp_path, renderer, mo
     assert len(linked) > 25, len(linked)
     units = bindings.SAMPLERS
     assert len(set(units.values())) == len(units)  # one unit, one name
-    for label, samplers in linked:
+    for label, samplers, images in linked:
         assert all(samplers[n] == units[n] for n in samplers), (label, samplers)
         assert len(set(samplers.values())) == len(samplers), (label, samplers)
-    seen = {n for _, s in linked for n in s}
+        assert images <= set(bindings.IMAGES), (label, images)
+    seen = {n for _, s, _ in linked for n in s}
+    # The ray scene's arrays are images where the context reads them so (GL 4.2).
+    arrays = {n for _, _, i in linked for n in i} if as_images else seen
     assert {"u_joints", "u_targets", "u_tex_mr", "u_tex_clearcoat_normal", "u_behind",
-            "u_irradiance", "u_shadow_atlas", "u_tris", "u_emitters", "u_mirror",
+            "u_irradiance", "u_shadow_atlas", "u_emitters", "u_mirror",
             "u_edl_shade"} <= seen, sorted(set(units) - seen)
+    assert {"u_tris", "u_nodes", "u_vertices", "u_tri_index"} <= arrays, arrays
 
 
 def test_a_sampler_without_a_unit_is_refused_at_link_time(renderer):
@@ -161,5 +167,30 @@ def test_a_sampler_without_a_unit_is_refused_at_link_time(renderer):
             with pytest.raises(ShaderError, match="u_nobody"):
                 bindings.bind(prog, own=True)
             bindings.bind(prog, own=False)  # a user's own sampler is left to its host
+        finally:
+            prog.release()
+
+
+def test_an_image_without_a_unit_is_refused_at_link_time(renderer):
+    """Nor an image uniform the table of image units lacks (IMAGES)."""
+    import pytest
+
+    from facet.errors import ShaderError
+    from facet.gl import bindings
+
+    ctx = renderer(8, 8).ctx
+    if not reads_images(ctx):
+        pytest.skip("this context has no image load and store (GL 4.2)")
+    with ctx:
+        prog = ctx.program(
+            vertex_shader="#version 330\nvoid main() { gl_Position = vec4(0.0); }",
+            fragment_shader="#version 420\nlayout(binding = 5, rgba32f) readonly uniform "
+                            "image2D u_nobody; out vec4 c;\n"
+                            "void main() { c = imageLoad(u_nobody, ivec2(0)); }")
+        try:
+            with pytest.raises(ShaderError, match="u_nobody"):
+                bindings.bind(prog, own=True)
+            bindings.bind(prog, own=False)
+            assert bindings.images(prog) == {"u_nobody"}
         finally:
             prog.release()

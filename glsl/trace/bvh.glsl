@@ -59,10 +59,10 @@ bool hit_sprite(vec4 t0, vec3 e1, vec3 e2, vec3 o, vec3 d, inout float t, out ve
 // ``front_only``: not when the ray meets its back (det < 0: the ray runs along the normal
 // cross(e1, e2), which object space keeps whatever the transform's determinant).
 bool hit_triangle(int tri, vec3 o, vec3 d, inout float t, out vec2 bary, bool front_only) {
-    vec4 t0 = fetch(u_tris, 3 * tri);
+    vec4 t0 = TEXEL(u_tris, 3 * tri);
     vec3 v0 = t0.xyz;
-    vec3 e1 = fetch(u_tris, 3 * tri + 1).xyz;
-    vec3 e2 = fetch(u_tris, 3 * tri + 2).xyz;
+    vec3 e1 = TEXEL(u_tris, 3 * tri + 1).xyz;
+    vec3 e2 = TEXEL(u_tris, 3 * tri + 2).xyz;
 #ifndef NO_SPRITES
     if (t0.w != PRIM_TRIANGLE) return hit_sprite(t0, e1, e2, o, d, t, bary);
 #endif
@@ -104,8 +104,8 @@ void child_box(uvec4 c, out vec3 lo, out vec3 hi) {
 bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout vec2 bary,
                 bool any_hit, bool front_only) {
     int head = root * MESH_NODE_TEXELS;
-    vec3 origin = uintBitsToFloat(fetch_uint(u_nodes, head).xyz);
-    vec3 scale = uintBitsToFloat(fetch_uint(u_nodes, head + 1).xyz);
+    vec3 origin = uintBitsToFloat(TEXEL(u_nodes, head).xyz);
+    vec3 scale = uintBitsToFloat(TEXEL(u_nodes, head + 1).xyz);
     vec3 o_q = (o - origin) * scale;
     vec3 inv = safe_inverse(d * scale);
     MESH_STACK_DECLARE
@@ -117,7 +117,7 @@ bool trace_mesh(int root, vec3 o, vec3 d, inout float t, inout int tri, inout ve
         // Inner nodes until this lane has a leaf to test (or nothing left).
         while (node >= 0 && k >= end) {
             int base = node * MESH_NODE_TEXELS;
-            uvec4 c0 = fetch_uint(u_nodes, base), c1 = fetch_uint(u_nodes, base + 1);
+            uvec4 c0 = TEXEL(u_nodes, base), c1 = TEXEL(u_nodes, base + 1);
             vec3 lo0, hi0, lo1, hi1;
             child_box(c0, lo0, hi0);
             child_box(c1, lo1, hi1);

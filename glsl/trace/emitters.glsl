@@ -147,8 +147,8 @@ vec3 sample_emitter(vec3 p, out vec3 L, out float dist, out float pdf, out int c
     {
         vec2 b = xi;
         if (b.x + b.y > 1.0) b = 1.0 - b;
-        vec3 p_obj = fetch(u_tris, 3 * tri).xyz + b.x * fetch(u_tris, 3 * tri + 1).xyz
-                   + b.y * fetch(u_tris, 3 * tri + 2).xyz;
+        vec3 p_obj = TEXEL(u_tris, 3 * tri).xyz + b.x * TEXEL(u_tris, 3 * tri + 1).xyz
+                   + b.y * TEXEL(u_tris, 3 * tri + 2).xyz;
         vec3 to = apply_rows(inst * INSTANCE_TEXELS + 3, p_obj, 1.0) - p;
         dist = length(to);
         L = to / max(dist, 1e-20);

@@ -1,4 +1,8 @@
 #version 330 core
+#ifdef SCENE_IMAGES  // (glsl/trace/data.glsl)
+#extension GL_ARB_shader_image_load_store : require
+#extension GL_ARB_shading_language_420pack : require
+#endif
 // The path tracer: one path per fragment and supersample, added to the accumulation
 // (facet.render.path.engine), on the ray tracer's hierarchy (trace/scene.glsl).
 // Unidirectional. At each hit the material (trace/material.glsl: glTF metallic-roughness

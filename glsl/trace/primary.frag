@@ -1,4 +1,8 @@
 #version 330 core
+#ifdef SCENE_IMAGES  // (glsl/trace/data.glsl)
+#extension GL_ARB_shader_image_load_store : require
+#extension GL_ARB_shading_language_420pack : require
+#endif
 // The exact channels of the ray tracer: the nearest opaque surface on the ray through each
 // pixel's centre (the pinhole camera, no shift), written like the rasterizer's
 // (facet.gl.targets): linear depth along the camera axis, object id + 1, the normal facing

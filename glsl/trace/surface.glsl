@@ -68,8 +68,8 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
     {
 #endif
         vec3 w = vec3(1.0 - h.bary.x - h.bary.y, h.bary);
-        vec4 t0 = fetch(u_tris, 3 * h.tri);
-        vec3 e1 = fetch(u_tris, 3 * h.tri + 1).xyz, e2 = fetch(u_tris, 3 * h.tri + 2).xyz;
+        vec4 t0 = TEXEL(u_tris, 3 * h.tri);
+        vec3 e1 = TEXEL(u_tris, 3 * h.tri + 1).xyz, e2 = TEXEL(u_tris, 3 * h.tri + 2).xyz;
 #ifdef NO_SPRITES
         t0.w = PRIM_TRIANGLE;
 #endif
@@ -81,11 +81,11 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
             vec3 axis = t0.w == PRIM_SPHERE ? t0.xyz : t0.xyz + e1 * h.bary.y;
             ng_obj = p_obj - axis;
         }
-        ivec4 vi = fetch_int(u_tri_index, h.tri);
+        ivec4 vi = TEXEL(u_tri_index, h.tri);
         ivec3 at = vi.xyz * VERTEX_TEXELS;
-        vec4 a0 = fetch(u_vertices, at.x), b0 = fetch(u_vertices, at.x + 1);
-        vec4 a1 = fetch(u_vertices, at.y), b1 = fetch(u_vertices, at.y + 1);
-        vec4 a2 = fetch(u_vertices, at.z), b2 = fetch(u_vertices, at.z + 1);
+        vec4 a0 = TEXEL(u_vertices, at.x), b0 = TEXEL(u_vertices, at.x + 1);
+        vec4 a1 = TEXEL(u_vertices, at.y), b1 = TEXEL(u_vertices, at.y + 1);
+        vec4 a2 = TEXEL(u_vertices, at.z), b2 = TEXEL(u_vertices, at.z + 1);
         n_obj = t0.w == PRIM_TRIANGLE ? a0.xyz * w.x + a1.xyz * w.y + a2.xyz * w.z : ng_obj;
         uv = vec2(a0.w, b0.x) * w.x + vec2(a1.w, b1.x) * w.y + vec2(a2.w, b2.x) * w.z;
 #ifndef NO_SLOT_IMAGES
@@ -114,12 +114,12 @@ Surface surface_at(Hit h, vec3 o, vec3 d) {
                            !defined(NO_ANISOTROPY))
         // (uv1 and tangents are for images and anisotropy; the alpha of vertex colours for
         // BLEND / MASK)
-        vec3 extra = mat3(fetch(u_vertices, at.x + 3).xyz, fetch(u_vertices, at.y + 3).xyz,
-                          fetch(u_vertices, at.z + 3).xyz) * w;  // (uv1, alpha)
+        vec3 extra = mat3(TEXEL(u_vertices, at.x + 3).xyz, TEXEL(u_vertices, at.y + 3).xyz,
+                          TEXEL(u_vertices, at.z + 3).xyz) * w;  // (uv1, alpha)
         uv1 = extra.xy;
         alpha = extra.z;
-        tangent = fetch(u_vertices, at.x + 2) * w.x + fetch(u_vertices, at.y + 2) * w.y
-                + fetch(u_vertices, at.z + 2) * w.z;
+        tangent = TEXEL(u_vertices, at.x + 2) * w.x + TEXEL(u_vertices, at.y + 2) * w.y
+                + TEXEL(u_vertices, at.z + 2) * w.z;
 #endif
     }
 #ifndef NO_SHAPES

@@ -1,4 +1,8 @@
 #version 330 core
+#ifdef SCENE_IMAGES  // (glsl/trace/data.glsl)
+#extension GL_ARB_shader_image_load_store : require
+#extension GL_ARB_shading_language_420pack : require
+#endif
 // The ray tracer (notes §2.6-2.11): one supersample of one pixel per fragment, added to the
 // accumulation (facet.render.trace.engine). The eye ray goes through this sample's point of the
 // pixel (and lens, and shutter time: the camera and instances of this sample); at each hit

@@ -16,7 +16,7 @@ import weakref
 
 import numpy as np
 
-from ...gl.bindings import BLOCKS, unit
+from ...gl.bindings import BLOCKS, IMAGES, image_defines, unit
 from ...gl.fullscreen import FullScreenPass
 from ...gl.glsl_source import glsl_root
 from ...gl.shaders import compile_program
@@ -108,12 +108,20 @@ def scene_defines(scene) -> tuple:
               if kind != "mesh" and kind not in kinds)
 
 
+def reads_images(ctx) -> bool:
+    """Whether programs on ``ctx`` can read the scene's arrays as images (glsl/trace/data.glsl
+    SCENE_IMAGES): GL 4.2, or image load and store with layout bindings as extensions."""
+    return ctx.version_code >= 420 or {"GL_ARB_shader_image_load_store",
+                                       "GL_ARB_shading_language_420pack"} <= ctx.extensions
+
+
 class RayScene:
     """One engine's ray scene (module docstring). ``programs``: compiled passes by stage
     and defines."""
 
     use_blocks = True  # a small scene's rows from uniform blocks (False: textures only)
     use_rects = True  # escaped pixels by the escaped program (False: one program for all)
+    use_images = True  # the scene's arrays as images where the context can (reads_images)
 
     def __init__(self, ctx, cache):
         self.ctx, self.cache = ctx, cache
@@ -142,6 +150,7 @@ class RayScene:
         self.blocks = {name: ctx.buffer(reserve=self.block_texels * 16)
                        for name in ("Instances", "Tlas")}
         self._in_blocks = False  # the prepared scene's rows fit them (``prepare``)
+        self._images = reads_images(ctx)
         self._scene_defines: tuple = ()  # the prepared scene's (scene_defines)
 
     # -- uploads ---------------------------------------------------------------------------
@@ -254,6 +263,8 @@ class RayScene:
                    **pack.layout_defines(), **self._stacks}
         if self._in_blocks:
             defines["SCENE_BLOCKS"] = self.block_texels
+        if self._images and RayScene.use_images:
+            defines.update(SCENE_IMAGES=None, **image_defines())
         defines.update(dict.fromkeys(self._scene_defines))
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
                  "LINEAR_OUT": state.linear_out,
@@ -291,9 +302,14 @@ class RayScene:
     def _bind_program(self, state: FrameState, program: FullScreenPass) -> None:
         unbounded, has_tlas, single = self._placed
         prog = program.program
+        images = self._images and RayScene.use_images  # (as ``program`` compiled it)
         for name in ("tris", "tri_index", "vertices", "nodes", "instances", "tlas",
                      "textures"):
-            self.textures[name].use(location=unit(f"u_{name}"))
+            if images and f"u_{name}" in IMAGES:
+                self.textures[name].bind_to_image(IMAGES[f"u_{name}"], read=True,
+                                                  write=False)
+            else:
+                self.textures[name].use(location=unit(f"u_{name}"))
         prog.set("u_unbounded", unbounded, strict=False)
         prog.set("u_has_tlas", has_tlas, strict=False)
         prog.set("u_single", single, strict=False)
