@@ -1,7 +1,8 @@
-"""The ray scene's two ways of reading a scene's rows (facet.render.rays.scene): a small
-scene's instance rows and top level from uniform blocks, or every row from its texture.
-Both must draw the same picture, bit for bit, in the path tracer, the Whitted tracer and
-the exact channels; and a scene too large for the blocks reads textures."""
+"""The ray scene's two ways of reading a scene's rows by texel fetches (facet.render.rays.scene,
+a context without image load and store): a small scene's instance rows and top level from
+uniform blocks, or every row from its texture. Both must draw the same picture, bit for bit,
+in the path tracer, the Whitted tracer and the exact channels; a scene too large for the
+blocks reads textures; and where the rows are images (cheaper still) no blocks are used."""
 
 import numpy as np
 import pytest
@@ -15,7 +16,8 @@ ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
 
 
 @pytest.mark.parametrize("engine", ["path", "trace"])
-def test_blocks_and_textures_draw_the_same_picture(engine):
+def test_blocks_and_textures_draw_the_same_picture(engine, monkeypatch):
+    monkeypatch.setattr(RayScene, "use_images", False)
     scene = facet.load(ROOT / "models" / "cornell.toml")
 
     def render():
@@ -30,6 +32,14 @@ def test_blocks_and_textures_draw_the_same_picture(engine):
     for x, y in zip(a[:4], b[:4], strict=True):
         np.testing.assert_array_equal(x, y)
     assert a[0][..., :3].mean() > 0.05  # a lit room
+
+
+def test_images_leave_the_blocks_unused():
+    scene = facet.load(ROOT / "models" / "cornell.toml")
+    with facet.Renderer(16, 16) as r:
+        r.render(scene, scene.cameras["front"], engine="path", spp=1)
+        rays = r._engines["path"].rays
+        assert rays._in_blocks != rays.images
 
 
 def test_a_scene_too_large_for_the_blocks_reads_textures():

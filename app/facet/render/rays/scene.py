@@ -142,10 +142,12 @@ class RayScene:
         self.lights_ubo = ctx.buffer(reserve=len(pack_lights((), np.zeros(3))))
         limit = int(ctx.info["GL_MAX_TEXTURE_SIZE"])
         self.max_texels = pack.TEX_WIDTH * limit
-        # Small scenes' instance rows and top level are read from uniform blocks: on
-        # llvmpipe a uniform is much cheaper than a texel fetch (the Cornell box: 610 ->
-        # 414 ms a sample at 256 x 256); larger ones stay in their textures. (Storage
-        # buffers, GL 4.3, were measured slower than both there: 906 ms.)
+        # Without images (reads_images), small scenes' instance rows and top level are read
+        # from uniform blocks: on llvmpipe a uniform is much cheaper than a texel fetch (the
+        # Cornell box: 610 -> 414 ms a sample at 256 x 256); larger ones stay in their
+        # textures. An image is cheaper than both (the Cornell box at 128 x 128: 24.9 ms a
+        # sample from blocks, 18.7 from images). (Storage buffers, GL 4.3, were measured
+        # slower than blocks and texel fetches: 906 ms.)
         self.block_texels = min(int(ctx.info["GL_MAX_UNIFORM_BLOCK_SIZE"]) // 16, 4096)
         self.blocks = {name: ctx.buffer(reserve=self.block_texels * 16)
                        for name in ("Instances", "Tlas")}
@@ -174,8 +176,13 @@ class RayScene:
         self._scene_defines = scene_defines(scene)
         self._stacks = pack.stack_defines(self.deepest, len(scene.objects))
         n = len(scene.objects)  # (a top level has fewer than 2 n nodes)
-        self._in_blocks = RayScene.use_blocks and max(
+        self._in_blocks = RayScene.use_blocks and not self.images and max(
             n * pack.INSTANCE_TEXELS, (2 * n + 1) * pack.NODE_TEXELS) <= self.block_texels
+
+    @property
+    def images(self) -> bool:
+        """Whether the programs read the scene's arrays as images (reads_images)."""
+        return self._images and RayScene.use_images
 
     def _geometry(self, scene, state) -> None:
         """Every mesh's triangles and hierarchy, uploaded when the set of meshes changed (or,
@@ -263,7 +270,7 @@ class RayScene:
                    **pack.layout_defines(), **self._stacks}
         if self._in_blocks:
             defines["SCENE_BLOCKS"] = self.block_texels
-        if self._images and RayScene.use_images:
+        if self.images:
             defines.update(SCENE_IMAGES=None, **image_defines())
         defines.update(dict.fromkeys(self._scene_defines))
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
@@ -302,7 +309,7 @@ class RayScene:
     def _bind_program(self, state: FrameState, program: FullScreenPass) -> None:
         unbounded, has_tlas, single = self._placed
         prog = program.program
-        images = self._images and RayScene.use_images  # (as ``program`` compiled it)
+        images = self.images  # (as ``program`` compiled it)
         for name in ("tris", "tri_index", "vertices", "nodes", "instances", "tlas",
                      "textures"):
             if images and f"u_{name}" in IMAGES:
