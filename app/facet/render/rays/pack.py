@@ -7,6 +7,10 @@ normal, uv sets, colour and tangent frame (``VERTEX_TEXELS`` each), and its hier
 instancing a mesh never rebuilds this; a skinned or morphed pose (facet.scene.animation)
 refits its rest mesh's hierarchy (built once) to the moved triangles.
 
+Meshes with the same arrays (``same_geometry``: a glTF's spheres that differ only in
+their materials share their accessors, as MetalRoughSpheresNoTextures' 98 do) are uploaded
+once and share one hierarchy.
+
 Per scene (``pack_geometry``): every mesh's arrays concatenated, references shifted by
 their offsets. Per frame, or per supersample when objects move (``pack_instances``): one
 row of ``INSTANCE_TEXELS`` texels per placed object (matrices, kind, material) and a top
@@ -155,6 +159,51 @@ def pack_mesh_nodes(bvh) -> np.ndarray:
         ref = np.where(is_leaf, leaf_ref(bvh.first[child], bvh.count[child]), packed[child])
         out[:, slot] = texels(q_lo, q_hi, ref.astype(np.uint32))
     return np.concatenate([header, out])
+
+
+# A mesh's arrays' digest, kept while it lives (same_geometry).
+_DIGESTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _digest(mesh) -> bytes:
+    if mesh not in _DIGESTS:
+        import hashlib
+
+        h = hashlib.blake2b(digest_size=16)
+        for a in (mesh.positions, mesh.faces, mesh.normals, mesh.uvs, mesh.uvs1, mesh.colors,
+                  mesh._tangents):
+            h.update(b"-" if a is None else str((a.dtype, a.shape)).encode())
+            if a is not None:
+                h.update(np.ascontiguousarray(a).data)
+        _DIGESTS[mesh] = h.digest()
+    return _DIGESTS[mesh]
+
+
+def same_geometry(meshes: list, framed: set) -> list[int]:
+    """For each of ``meshes``, the index of the first one with the same arrays (positions,
+    faces, normals, uv sets, colours, tangents; both framed for a normal map or both not):
+    its own where none before it has them. Triangle meshes at rest only (a pose's arrays
+    are its own; points and lines are sized per draw). Arrays are hashed only where two
+    meshes agree in kind and counts and in their first and last vertices."""
+    def rough(m):
+        if m.kind != "mesh" or getattr(m, "rest", None) is not None:
+            return None
+        return (len(m.positions), len(m.faces), id(m) in framed,
+                m.positions[0].tobytes(), m.positions[-1].tobytes())
+
+    keys = [rough(m) for m in meshes]
+    groups: dict = {}
+    for key in keys:
+        if key is not None:
+            groups[key] = groups.get(key, 0) + 1
+    first: dict = {}
+    out = []
+    for i, (m, key) in enumerate(zip(meshes, keys, strict=True)):
+        if key is None or groups[key] < 2:
+            out.append(i)
+            continue
+        out.append(first.setdefault((key, _digest(m)), i))
+    return out
 
 
 # Rest meshes' hierarchies, kept while the rest mesh lives (its poses refit them).

@@ -197,7 +197,11 @@ class RayScene:
         if key == self._geometry_key and "tris" in self.textures:
             return
         data = []
-        for mesh in meshes:
+        twin = pack.same_geometry(meshes, framed)  # (uploaded once)
+        for k, mesh in enumerate(meshes):
+            if twin[k] != k:
+                self.meshes[mesh] = self.meshes[meshes[twin[k]]]
+                continue
             cached = self.meshes.get(mesh)
             if cached is None or (id(mesh) in framed and not cached.has_tangents) or \
                     self._sprite_sizes.get(id(mesh)) != sized.get(id(mesh)):
@@ -210,14 +214,16 @@ class RayScene:
 
             data = [pack.mesh_data(Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]))]
         geo = pack.pack_geometry(data, self.max_texels)
+        own = [twin[k] == k for k in range(len(meshes))]
+        slot = np.cumsum(own) - 1  # each mesh's place in ``data``: its twin's
         self.upload("tris", geo["tris"])
         self.upload("tri_index", geo["index"], "i4")
         self.upload("vertices", geo["vertices"])
         self.upload("nodes", geo["nodes"], "u4")
         self.deepest = max(d.depth for d in data)
-        self.roots = {id(m): int(r) for m, r in zip(meshes, geo["root"], strict=False)}
-        self.first_tri = {id(m): int(f) for m, f in zip(meshes, geo["first_tri"],
-                                                        strict=False)}
+        self.roots = {id(m): int(geo["root"][slot[twin[k]]]) for k, m in enumerate(meshes)}
+        self.first_tri = {id(m): int(geo["first_tri"][slot[twin[k]]])
+                          for k, m in enumerate(meshes)}
         self._geometry_key, self._geometry_refs = key, meshes
 
     def _texture_layers(self, requests: list, srgb: bool) -> None:
