@@ -171,6 +171,13 @@ def test_a_sampler_without_a_unit_is_refused_at_link_time(renderer):
             prog.release()
 
 
+def test_the_image_units_fit_every_gl_4_2_fragment_shader():
+    from facet.gl import bindings
+
+    assert len(bindings.IMAGES) <= bindings.MAX_IMAGES == 8
+    assert sorted(bindings.IMAGES.values()) == list(range(len(bindings.IMAGES)))
+
+
 def test_an_image_without_a_unit_is_refused_at_link_time(renderer):
     """Nor an image uniform the table of image units lacks (IMAGES)."""
     import pytest

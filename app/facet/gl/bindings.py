@@ -41,6 +41,9 @@ SAMPLERS: dict[str, int] = {name: unit for unit, name in enumerate(
 BLOCKS: dict[str, int] = {"Lights": 0, "Instances": 1, "Tlas": 2}  # glsl/lib/lights.glsl
 # Image units: the ray scene's arrays where the context reads them as images
 # (glsl/trace/data.glsl SCENE_IMAGES, bound with layout(binding = IMAGE_*): image_defines).
+# At most MAX_IMAGES: GL 4.2's least number of image uniforms a fragment shader may hold
+# (and of image units), so every context that lists image load and store links them.
+MAX_IMAGES = 8
 IMAGES: dict[str, int] = {name: unit for unit, name in enumerate(
     ("u_tris", "u_tri_index", "u_vertices", "u_nodes", "u_instances", "u_tlas"))}
 

@@ -110,9 +110,10 @@ def scene_defines(scene) -> tuple:
 
 def reads_images(ctx) -> bool:
     """Whether programs on ``ctx`` can read the scene's arrays as images (glsl/trace/data.glsl
-    SCENE_IMAGES): GL 4.2, or image load and store with layout bindings as extensions."""
-    return ctx.version_code >= 420 or {"GL_ARB_shader_image_load_store",
-                                       "GL_ARB_shading_language_420pack"} <= ctx.extensions
+    SCENE_IMAGES): its GLSL 3.30 programs require image load and store and layout bindings
+    as extensions (core in GL 4.2, whose contexts list them: Mesa's, NVIDIA's, AMD's)."""
+    return {"GL_ARB_shader_image_load_store",
+            "GL_ARB_shading_language_420pack"} <= set(ctx.extensions)
 
 
 class RayScene:
