@@ -282,13 +282,80 @@ def _chain(n: int, base: float) -> tuple[np.ndarray, np.ndarray]:
 
 def test_the_stacks_are_as_deep_as_the_scene_needs():
     """A mesh's stack holds a waiting child per level of the deepest hierarchy, the top
-    level's one more than the objects; in variables up to 32, in an array above."""
-    from facet.render.rays.pack import stack_defines
+    level's one more than the objects up to 16, then 16 (its tree built to fit) up to
+    16,384 objects, an array of 48 above; in variables up to 32, in an array above."""
+    from facet.render.rays.pack import stack_defines, top_levels
 
     assert stack_defines(1, 1) == {"MESH_STACK": 8, "TOP_STACK": 8, "REGISTER_STACK": 8}
     assert stack_defines(21, 8) == {"MESH_STACK": 24, "TOP_STACK": 16, "REGISTER_STACK": 24}
-    assert stack_defines(43, 31) == {"MESH_STACK": 48, "TOP_STACK": 32, "REGISTER_STACK": 32}
-    assert stack_defines(9, 500) == {"MESH_STACK": 16, "TOP_STACK": 48, "REGISTER_STACK": 16}
+    assert stack_defines(43, 31) == {"MESH_STACK": 48, "TOP_STACK": 16, "REGISTER_STACK": 16}
+    assert stack_defines(9, 500) == {"MESH_STACK": 16, "TOP_STACK": 16, "REGISTER_STACK": 16}
+    assert stack_defines(9, 20000) == {"MESH_STACK": 16, "TOP_STACK": 48,
+                                       "REGISTER_STACK": 16}
+    assert top_levels(500) == top_levels(1 << 14) == 15 and top_levels(20000) == 47
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 7, 125, 1000, 16384])
+def test_a_balanced_hierarchy_has_log2_levels_and_holds_every_box(n):
+    """The top level's fallback where SAH's tree is deeper than its stack holds."""
+    import math
+
+    rng = np.random.default_rng(n)
+    lo = rng.uniform(-10, 10, (n, 3)) * rng.uniform(0, 1, (n, 1)) ** 3  # (clustered)
+    hi = lo + rng.uniform(0.01, 2, (n, 3))
+    bvh = B.build_bvh(lo, hi, "balanced")
+    assert bvh.depth == math.ceil(math.log2(n)) + 1
+    reach = _reachable(bvh)
+    leaf = np.flatnonzero(bvh.left < 0)
+    leaf = leaf[np.isin(leaf, reach)]
+    assert (bvh.count[leaf] == 1).all() and sorted(bvh.order[bvh.first[leaf]]) == list(range(n))
+    boxes = bvh.order[bvh.first[leaf]]
+    assert (bvh.lo[leaf] <= lo[boxes]).all() and (bvh.hi[leaf] >= hi[boxes]).all()
+    inner = np.flatnonzero(bvh.left >= 0)
+    for child in (bvh.left[inner], bvh.right[inner]):
+        assert (bvh.lo[inner] <= bvh.lo[child]).all() and (bvh.hi[inner] >= bvh.hi[child]).all()
+
+
+def _reachable(bvh) -> np.ndarray:
+    out, frontier = [], np.array([0])
+    while frontier.size:
+        out.append(frontier)
+        inner = frontier[bvh.left[frontier] >= 0]
+        frontier = np.concatenate([bvh.left[inner], bvh.right[inner]])
+    return np.concatenate(out)
+
+
+def test_a_top_level_too_deep_for_its_stack_is_built_balanced(renderer, monkeypatch):
+    """A top level whose SAH tree is deeper than the program's stack (here one of 8
+    entries over 40 objects in a line of growing gaps) is built balanced: the objects
+    each ray finds are those the default program finds."""
+    import facet
+    from facet.geometry.camera import Camera
+    from facet.render.rays import pack
+
+    scene = facet.Scene()
+    for i in range(40):
+        scene.add(facet.primitives.cube(0.8),
+                  transform=facet.transforms.translate((1.1 ** i - 20.0, 0.0, 0.0)))
+    camera = Camera.look_at((0.0, 0.0, 60.0), (0.0, 0.0, 0.0), fov_y=10)
+    outputs = ("depth", "ids")
+    with facet.Renderer(160, 40) as r:
+        want = r.render(scene, camera, engine="trace", outputs=outputs)
+    built = []
+    real = pack.build_bvh
+    monkeypatch.setattr(pack, "build_bvh",
+                        lambda *a, **k: built.append(a[2] if len(a) > 2 else "sah") or
+                        real(*a, **k))
+    monkeypatch.setattr(pack, "TOP_REGISTERS", 8)
+    pack._TOP_LEVELS.clear()
+    with facet.Renderer(160, 40) as r:
+        got = r.render(scene, camera, engine="trace", outputs=outputs)
+        assert r._engines["trace"].rays._stacks["TOP_STACK"] == 8
+    pack._TOP_LEVELS.clear()
+    assert "balanced" in built
+    np.testing.assert_array_equal(got.object_ids, want.object_ids)
+    np.testing.assert_array_equal(got.depth, want.depth)
+    assert len(np.unique(want.object_ids[want.object_ids >= 0])) > 30
 
 
 @pytest.mark.parametrize("n, base, stack", [(300, 1.2, 24), (4000, 1.02, 48)])

@@ -100,7 +100,9 @@ def _area(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 def build_bvh(lo, hi, method: str = "auto", leaf_items: int = LEAF_SIZE) -> BVH:
     """The hierarchy of N boxes ``lo``, ``hi`` (N, 3); N >= 1 (module docstring).
-    ``method``: "sah", "clustered", or "auto" (SAH up to ``SAH_LIMIT`` boxes);
+    ``method``: "sah", "clustered", "balanced" (one box a leaf, ceil(log2 N) + 1 levels:
+    a traversal's stack of that many entries holds it), or "auto" (SAH up to
+    ``SAH_LIMIT`` boxes);
     ``leaf_items``: 1 splits down to single boxes (the top level over placed objects, whose
     every test is a whole mesh's traversal: each is tested only where its own box is hit)."""
     lo = np.asarray(lo, dtype=np.float32).reshape(-1, 3)
@@ -109,6 +111,8 @@ def build_bvh(lo, hi, method: str = "auto", leaf_items: int = LEAF_SIZE) -> BVH:
         raise ValueError("a BVH needs at least one primitive")
     if method == "auto":
         method = "sah" if len(lo) <= SAH_LIMIT else "clustered"
+    if method == "balanced":
+        return _balanced(lo, hi)
     bvh = _sah(lo, hi, leaf_items=leaf_items) if method == "sah" else _clustered(lo, hi)
     # Widen every box by a few float32 steps of its coordinates: a ray grazing a face, or
     # running in a box's face plane with a zero direction component, still enters it
@@ -212,6 +216,34 @@ def _clustered(lo, hi) -> BVH:
     for arr in (left, right, first, count):
         arr[leaf] = arr[root]
     return BVH(lo_all, hi_all, left, right, first, count, order)
+
+
+def _balanced(lo, hi) -> BVH:
+    """One box a leaf, the boxes in the Morton order of their centres, each node's range
+    split in halves (the larger first): ceil(log2 N) + 1 levels, whatever the layout."""
+    n = len(lo)
+    centroid = (lo + hi) * np.float32(0.5)
+    c_lo, c_hi = centroid.min(axis=0), centroid.max(axis=0)
+    cells = np.clip(((centroid - c_lo) / np.maximum(c_hi - c_lo, 1e-30) * 1024), 0, 1023)
+    order = np.argsort(_morton(cells.astype(np.int64)), kind="stable").astype(np.int32)
+    left = np.full(2 * n, -1, np.int32)
+    right = np.full(2 * n, -1, np.int32)
+    first = np.zeros(2 * n, np.int32)
+    count = np.zeros(2 * n, np.int32)
+    count[0], used, active = n, 1, np.array([0], np.int64)
+    while active.size:  # a depth at a time
+        active = active[count[active] > 1]
+        kids = used + 2 * np.arange(active.size)
+        used += 2 * active.size
+        big = (count[active] + 1) // 2
+        left[active], right[active] = kids, kids + 1
+        first[kids], count[kids] = first[active], big
+        first[kids + 1], count[kids + 1] = first[active] + big, count[active] - big
+        count[active] = 0
+        active = np.concatenate([kids, kids + 1])
+    empty = np.zeros((used, 3), np.float32)
+    tree = BVH(empty, empty, left[:used], right[:used], first[:used], count[:used], order)
+    return tree.refit(lo, hi)  # (its boxes, padded)
 
 
 def _morton(cells: np.ndarray) -> np.ndarray:

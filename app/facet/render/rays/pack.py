@@ -58,7 +58,13 @@ def layout_defines() -> dict:
             "FLAG_OPEN_VOLUME": FLAG_OPEN_VOLUME,
             **{f"KIND_{name.upper()}": kind for name, kind in KINDS.items()}}
 REGISTER_LIMIT = 32  # the largest stack held in variables (glsl/trace/stack.glsl)
-TOP_ARRAY = 48  # the top level's stack over more objects than that (stack_defines)
+# The top level's stack (top_stack): over more than 15 objects TOP_REGISTERS variables,
+# the tree built to fit (the glTF spheres' 125 objects: 12% faster than an array of 48,
+# whose pushes llvmpipe stores lane by lane; 32 variables were slower than the array),
+# over more than TOP_CAPPED objects an array of TOP_ARRAY.
+TOP_REGISTERS = 16
+TOP_CAPPED = 1 << 14  # (a balanced tree of 15 levels has that many leaves)
+TOP_ARRAY = 48
 MAX_REFERENCE = 1 << 24  # node and triangle indices are exact in float32 up to here
 EMPTY_CHILD = ((1e30, 1e30, 1e30, -1.0), (-1e30, -1e30, -1e30, 0.0))  # lo > hi: never hit
 
@@ -255,21 +261,32 @@ def mesh_data(mesh, tangents: bool = False, radii=None) -> MeshData:
                     frames is not None, depth=bvh.depth)
 
 
+def top_stack(objects: int) -> int:
+    """The top level's stack entries over ``objects`` placed objects: one more than their
+    count up to TOP_REGISTERS (a tree of n leaves has at most n levels, and the walk holds a
+    waiting child per level and the two new ones of the last), rounded up to a multiple of
+    8; then TOP_REGISTERS, or above TOP_CAPPED objects TOP_ARRAY. The tree has at most
+    ``top_levels``: binned SAH where its tree is that shallow, else a balanced one (its
+    ceil(log2 n) + 1 levels fit: 15 for TOP_CAPPED objects, 47 for 2^46)."""
+    if objects + 1 <= TOP_REGISTERS:
+        return 8 * -(-(objects + 1) // 8)
+    return TOP_REGISTERS if objects <= TOP_CAPPED else TOP_ARRAY
+
+
+def top_levels(objects: int) -> int:
+    """The most levels of the top level over ``objects`` (its stack's entries less one)."""
+    return top_stack(objects) - 1
+
+
 def stack_defines(deepest: int, objects: int) -> dict:
     """The traversals' stack depths of glsl/trace/stack.glsl for meshes whose deepest
-    hierarchy has ``deepest`` levels and ``objects`` placed objects, each rounded up to a
-    multiple of 8 so that scenes of similar meshes share their programs. MESH_STACK:
-    entries enough for the deepest hierarchy (an ordered traversal holds at most one
-    waiting child per level). TOP_STACK: enough for any top level over the objects (one
-    more than their count: a tree of n leaves has fewer than n levels, and the walk holds a
-    waiting child per level and two new ones), or above REGISTER_LIMIT an array of
-    TOP_ARRAY (the top level is built after the program is chosen; binned SAH over the
-    objects' boxes keeps it near log2 n levels). REGISTER_STACK: the variables that the
-    stacks of at most REGISTER_LIMIT entries need."""
+    hierarchy has ``deepest`` levels and ``objects`` placed objects. MESH_STACK: entries
+    enough for the deepest hierarchy (an ordered traversal holds at most one waiting child
+    per level), rounded up to a multiple of 8 so that scenes of similar meshes share their
+    programs. TOP_STACK: ``top_stack``. REGISTER_STACK: the variables that the stacks of at
+    most REGISTER_LIMIT entries need."""
     mesh = 8 * -(-max(deepest, 1) // 8)
-    top = 8 * -(-(objects + 1) // 8)
-    if top > REGISTER_LIMIT:
-        top = TOP_ARRAY
+    top = top_stack(objects)
     held = [n for n in (mesh, top) if n <= REGISTER_LIMIT]
     return {"MESH_STACK": mesh, "TOP_STACK": top, "REGISTER_STACK": max(held, default=8)}
 
@@ -321,7 +338,7 @@ def pack_instances(objects, mesh_root: dict, material_color, layers: dict,
     tlas = None
     if len(bounded) > 1:
         boxes = _world_boxes(bounded, boxes or {})
-        order, tlas = _top_level(boxes)
+        order, tlas = _top_level(boxes, top_levels(len(objects)))
         bounded = [bounded[i] for i in order]
         tlas = tlas.copy()
         tlas[:, [0, 2], 3] = np.where(tlas[:, [0, 2], 3] >= 0, tlas[:, [0, 2], 3],
@@ -341,14 +358,16 @@ def pack_instances(objects, mesh_root: dict, material_color, layers: dict,
 _TOP_LEVELS: dict = {}  # the world boxes' bytes -> (order, packed nodes): the last few
 
 
-def _top_level(boxes: np.ndarray):
-    """The top level over placed objects' world ``boxes`` (n, 2, 3): (their order, its
-    packed nodes), built again only when a box changed (a series of renders of one scene
-    builds it once)."""
-    key = boxes.tobytes()
+def _top_level(boxes: np.ndarray, levels: int):
+    """The top level over placed objects' world ``boxes`` (n, 2, 3), of at most ``levels``
+    levels (top_levels): (their order, its packed nodes), built again only when a box
+    changed (a series of renders of one scene builds it once)."""
+    key = (boxes.tobytes(), levels)
     made = _TOP_LEVELS.pop(key, None)
     if made is None:
         bvh = build_bvh(boxes[:, 0], boxes[:, 1], leaf_items=1)
+        if bvh.depth > levels:  # (a layout SAH splits unevenly: the program's stack holds
+            bvh = build_bvh(boxes[:, 0], boxes[:, 1], "balanced")  # this one)
         made = (bvh.order, pack_nodes(bvh))
     _TOP_LEVELS[key] = made
     while len(_TOP_LEVELS) > 4:
