@@ -190,10 +190,7 @@ def _clustered(lo, hi) -> BVH:
     SAH over the clusters at the top, and inside each cluster splits at the highest
     differing Morton bit (a spatial median), all clusters a depth at a time. The SAH
     decides where it matters most, the top; the bottom is built in O(N) per depth."""
-    centroid = (lo + hi) * np.float32(0.5)
-    c_lo, c_hi = centroid.min(axis=0), centroid.max(axis=0)
-    cells = np.clip(((centroid - c_lo) / np.maximum(c_hi - c_lo, 1e-30) * 1024), 0, 1023)
-    codes = _morton(cells.astype(np.int64))
+    codes = _centre_codes(lo, hi)
     order = np.argsort(codes, kind="stable").astype(np.int32)
     codes = codes[order]
     s_lo, s_hi = lo[order], hi[order]
@@ -222,10 +219,7 @@ def _balanced(lo, hi) -> BVH:
     """One box a leaf, the boxes in the Morton order of their centres, each node's range
     split in halves (the larger first): ceil(log2 N) + 1 levels, whatever the layout."""
     n = len(lo)
-    centroid = (lo + hi) * np.float32(0.5)
-    c_lo, c_hi = centroid.min(axis=0), centroid.max(axis=0)
-    cells = np.clip(((centroid - c_lo) / np.maximum(c_hi - c_lo, 1e-30) * 1024), 0, 1023)
-    order = np.argsort(_morton(cells.astype(np.int64)), kind="stable").astype(np.int32)
+    order = np.argsort(_centre_codes(lo, hi), kind="stable").astype(np.int32)
     left = np.full(2 * n, -1, np.int32)
     right = np.full(2 * n, -1, np.int32)
     first = np.zeros(2 * n, np.int32)
@@ -244,6 +238,14 @@ def _balanced(lo, hi) -> BVH:
     empty = np.zeros((used, 3), np.float32)
     tree = BVH(empty, empty, left[:used], right[:used], first[:used], count[:used], order)
     return tree.refit(lo, hi)  # (its boxes, padded)
+
+
+def _centre_codes(lo, hi) -> np.ndarray:
+    """The Morton codes of the boxes' centres in a 1024^3 grid over their bounds."""
+    centroid = (lo + hi) * np.float32(0.5)
+    c_lo, c_hi = centroid.min(axis=0), centroid.max(axis=0)
+    cells = np.clip(((centroid - c_lo) / np.maximum(c_hi - c_lo, 1e-30) * 1024), 0, 1023)
+    return _morton(cells.astype(np.int64))
 
 
 def _morton(cells: np.ndarray) -> np.ndarray:

@@ -325,7 +325,7 @@ def pack_geometry(meshes: list[MeshData], max_texels: int) -> dict:
 
 
 def pack_instances(objects, mesh_root: dict, material_color, layers: dict,
-                   boxes: dict | None = None):
+                   boxes: dict | None = None, levels: int | None = None):
     """(instances (n, INSTANCE_TEXELS, 4) float32, top-level nodes or None, unbounded count,
     the objects in instance order) for the scene's ``objects``: infinite planes first, then
     the rest in top-level order
@@ -338,7 +338,8 @@ def pack_instances(objects, mesh_root: dict, material_color, layers: dict,
     tlas = None
     if len(bounded) > 1:
         boxes = _world_boxes(bounded, boxes or {})
-        order, tlas = _top_level(boxes, top_levels(len(objects)))
+        order, tlas = _top_level(boxes, top_levels(len(objects)) if levels is None
+                                 else levels)
         bounded = [bounded[i] for i in order]
         tlas = tlas.copy()
         tlas[:, [0, 2], 3] = np.where(tlas[:, [0, 2], 3] >= 0, tlas[:, [0, 2], 3],

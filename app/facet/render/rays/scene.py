@@ -248,8 +248,10 @@ class RayScene:
         -1)."""
         boxes = {id(o.mesh): self.meshes[o.mesh].bounds for o in scene.objects
                  if o.mesh.kind != "mesh" and o.shape is None}
+        top = self._stacks.get("TOP_STACK")  # (the top level fits the programs' stack)
         rows, tlas, unbounded, ordered = pack.pack_instances(
-            scene.objects, self.roots, lambda m: phong_color(m, state), self.layers, boxes)
+            scene.objects, self.roots, lambda m: phong_color(m, state), self.layers, boxes,
+            None if top is None else top - 1)
         if more_rows is not None:
             more_rows(rows, ordered)
         tlas_rows = tlas.reshape(-1, 4) if tlas is not None else np.zeros((4, 4), np.float32)
