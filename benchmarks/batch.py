@@ -6,10 +6,13 @@ model costs besides its views (load, upload, teardown).
     python benchmarks/batch.py [--models N] [--blender PYTHON]
 
 Then path-traced datasets: the same models at 16 paths a pixel (``engine = "path"``,
-colour), grey under a white sky, one worker, beside Blender's Cycles on the CPU at 16
-samples (no denoiser, no adaptive sampling) rendering views of the first model (its
-import not counted) when PYTHON (or FACET_BPY_PYTHON) is a Python with ``bpy``
-(benchmarks/blender_peer.py). Prints tables; asserts nothing.
+colour) under a white sky, one worker: equal work, the sky alone (``lights = "scene"``),
+and the default call, the sky and facet's camera rig (two directional lights). Beside
+them Blender's Cycles on the CPU when PYTHON (or FACET_BPY_PYTHON) is a Python with
+``bpy`` (benchmarks/blender_peer.py ``dataset``): the same models, the same cameras,
+material, sky, lights, samples and bounces (no denoiser, no adaptive sampling), every
+model imported and every view written as a PNG, timed whole as facet's run is. Prints
+tables; asserts nothing.
 """
 
 from __future__ import annotations
@@ -149,7 +152,7 @@ def _row(label: str, render_dataset, manifest: Path, out: Path, **kw) -> None:
     t = time.perf_counter()
     counts = render_dataset(manifest, out, **kw)
     dt = time.perf_counter() - t
-    print(f"{label:>28} | {counts['views'] / dt:8.1f} {dt:7.1f}")
+    print(f"{label:>38} | {counts['views'] / dt:8.1f} {dt:7.1f}")
 
 
 def table(n: int) -> None:
@@ -160,12 +163,12 @@ def table(n: int) -> None:
         extra, views = overhead(manifest)
         print(f"\nBatch: {n} models of 20k triangles, 256x256, 8 views each, colour + depth + "
               "normals + transforms.json")
-        print(f"{'':>28} | {'views/s':>8} {'s':>7}")
+        print(f"{'':>38} | {'views/s':>8} {'s':>7}")
         for label, kw in [("1 worker", dict(workers=1)), ("2 local workers", dict(workers=2))]:
             _row(label, render_dataset, manifest, Path(tmp) / label.replace(" ", "-"), **kw)
         # Equal work against the bare moderngl floor: colour PNGs only, one process.
         floor = floor_seconds(sorted((Path(tmp) / "models").glob("*.ply")), Path(tmp) / "floor")
-        print(f"{'floor, colour only':>28} | {n * 8 / floor:8.1f} {floor:7.1f}")
+        print(f"{'floor, colour only':>38} | {n * 8 / floor:8.1f} {floor:7.1f}")
         _row("1 worker, colour only", render_dataset, manifest, Path(tmp) / "colour",
              workers=1, defaults={"outputs": ["color"]})
         try:
@@ -184,6 +187,7 @@ def table(n: int) -> None:
 
 
 PATH_SPP = 16
+PATH_LIGHTS = (("sky", "scene"), ("sky + rig (default call)", "auto"))
 
 
 def path_table(n: int, blender_python: str | None) -> None:
@@ -193,30 +197,63 @@ def path_table(n: int, blender_python: str | None) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         manifest = make_models(Path(tmp) / "models", n)
         lines = manifest.read_text().splitlines()
-        head = json.loads(lines[0])
-        head["defaults"].update(engine="path", spp=PATH_SPP, outputs=["color"],
-                                environment={"color": [1.0, 1.0, 1.0]})
-        path_manifest = manifest.with_name("path.jsonl")
-        path_manifest.write_text("\n".join([json.dumps(head), *lines[1:]]) + "\n")
         print(f"\nPath-traced dataset: {n} models of 20k triangles, 256x256, 8 views each, "
               f"{PATH_SPP} paths a pixel, colour, under a white sky")
-        print(f"{'':>28} | {'views/s':>8} {'s':>7}")
-        _row("facet batch, 1 worker", render_dataset, path_manifest, Path(tmp) / "path",
-             workers=1)
+        print(f"{'':>38} | {'views/s':>8} {'s':>7}")
+        for label, lights in PATH_LIGHTS:
+            head = json.loads(lines[0])
+            head["defaults"].update(engine="path", spp=PATH_SPP, outputs=["color"],
+                                    environment={"color": [1.0, 1.0, 1.0]}, lights=lights)
+            path_manifest = manifest.with_name(f"path-{lights}.jsonl")
+            path_manifest.write_text("\n".join([json.dumps(head), *lines[1:]]) + "\n")
+            _row(f"facet batch, {label}", render_dataset, path_manifest,
+                 Path(tmp) / f"path-{lights}", workers=1)
+            if not blender_python:
+                continue
+            jobs = Path(tmp) / f"cycles-{lights}.json"
+            jobs.write_text(json.dumps(cycles_jobs(path_manifest)))
+            cmd = [blender_python, str(Path(__file__).with_name("blender_peer.py")),
+                   "dataset", str(jobs), str(Path(tmp) / f"cycles-{lights}")]
+            done = subprocess.run(cmd, capture_output=True, text=True)
+            if done.returncode != 0:
+                print(f"(blender failed: {done.stderr.strip().splitlines()[-1:]})")
+                continue
+            got = json.loads(done.stdout.strip().splitlines()[-1])
+            name = f"Cycles {got['version'].split()[0]}, {label}"
+            print(f"{name:>38} | {got['views'] / got['seconds']:8.1f} {got['seconds']:7.1f}")
         if not blender_python:
-            print(f"{'Cycles (CPU)':>28} | not run (give --blender or FACET_BPY_PYTHON)")
-            return
-        views = 8
-        cmd = [blender_python, str(Path(__file__).with_name("blender_peer.py")), "cycles",
-               str(Path(tmp) / "models" / "m0000.ply"), "256", str(views),
-               str(Path(tmp) / "cycles"), str(PATH_SPP)]
-        done = subprocess.run(cmd, capture_output=True, text=True)
-        if done.returncode != 0:
-            print(f"(blender failed: {done.stderr.strip().splitlines()[-1:]})")
-            return
-        got = json.loads(done.stdout.strip().splitlines()[-1])
-        print(f"{'Cycles ' + got['version'] + ' (CPU)':>28} | {1 / got['per_view']:8.1f} "
-              f"{views * got['per_view']:7.1f}")
+            print(f"{'Cycles (CPU)':>38} | not run (give --blender or FACET_BPY_PYTHON)")
+
+
+def cycles_jobs(manifest: Path) -> dict:
+    """The dataset of ``manifest`` as blender_peer.py's ``dataset`` reads it: each model's
+    path and views (facet's cameras, and the world directions and strengths of the lights
+    facet adds, if any), with facet's material for a PLY, the sky, samples and bounces."""
+    from facet.batch.manifest import load_manifest
+    from facet.formats.source import open_scene
+    from facet.render.capabilities import CAPABILITIES
+    from facet.render.materials import as_pbr
+    from facet.scene.light import active_lights
+
+    models = []
+    for job in load_manifest(manifest):
+        scene = open_scene(job.model)
+        pbr = as_pbr(scene.objects[0].material)
+        lights = job.options.get("lights", "auto")
+        views = []
+        for camera in job.views.cameras(np.array(scene.bounds), (0.0, 1.0, 0.0), 1.0,
+                                        size=(256, 256)):
+            # A Cycles sun of strength S gives irradiance S; facet's directional light of
+            # intensity i gives pi i (its radiance off white diffuse is i cos).
+            suns = [[*map(float, light.direction), float(np.pi * light.intensity)]
+                    for light in active_lights(scene.lights, camera.view, lights)]
+            views.append({"to_world": np.linalg.inv(camera.view).tolist(),
+                          "fov_y": camera.fov_y, "near": camera.near, "far": camera.far,
+                          "suns": suns})
+        models.append({"path": str(job.model), "views": views})
+    return {"size": 256, "samples": PATH_SPP, "bounces": CAPABILITIES["path"].max_depth,
+            "sky": [1.0, 1.0, 1.0], "base_color": [float(c) for c in pbr.base_color[:3]],
+            "roughness": float(pbr.roughness), "ior": float(pbr.ior), "models": models}
 
 
 def main() -> None:
