@@ -158,3 +158,19 @@ def test_an_unchanged_sky_file_is_read_once(tmp_path):
     os.utime(path, ns=(1, 1))  # (a new modification time even on a coarse clock)
     again = load_environment(str(path))
     assert again is not first and again.equirect.mean() == pytest.approx(2.0)
+
+
+def test_an_environment_of_one_colour_knows_it(tmp_path):
+    """Environment.uniform_color: the one radiance of a constant environment, or of images
+    of one colour; None as soon as one texel differs."""
+    np.testing.assert_array_equal(Environment.constant((0.2, 0.4, 0.8)).uniform_color,
+                                  np.float32([0.2, 0.4, 0.8]))
+    assert Environment.sky().uniform_color is None
+    faces = np.full((6, 4, 4, 3), 0.5, np.float32)
+    grid = np.full((8, 16, 3), 0.5, np.float32)
+    assert Environment(faces, equirect=grid).uniform_color is not None
+    faces[3, 2, 1, 0] = 0.6  # (one texel of one face)
+    assert Environment(faces, equirect=grid).uniform_color is None
+    faces[3, 2, 1, 0] = 0.5
+    grid[7, 15, 2] = 0.0  # (the grid the path tracer samples)
+    assert Environment(faces, equirect=grid).uniform_color is None

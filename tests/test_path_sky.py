@@ -150,6 +150,41 @@ def test_a_constant_sky_lights_a_lambertian_floor_without_noise(strategy):
         np.testing.assert_allclose(img.reshape(-1, 3).mean(axis=0), want, rtol=0.01)
 
 
+@pytest.mark.parametrize("engine", ["path", "trace"])
+def test_a_sky_of_one_colour_is_a_value_that_draws_what_its_cube_map_drew(engine,
+                                                                           monkeypatch):
+    """An environment of one colour (Environment.uniform_color) reaches the tracers'
+    programs as a value (SKY_CONSTANT), not as a cube map looked up by every ray that
+    escapes (on llvmpipe a tenth of a path-traced view of one object under a white sky):
+    the same picture as through the cube map, eye rays, bounces and light sampling alike."""
+    from facet.scene.environment import Environment
+
+    scene = facet.Scene(ambient=0.0)
+    scene.add(facet.primitives.plane(6), PbrMaterial(base_color=(0.7, 0.5, 0.3),
+                                                     metallic=0.0, roughness=0.6))
+    scene.add(facet.primitives.sphere(0.5), PbrMaterial(base_color=(1, 1, 1), metallic=1.0,
+                                                        roughness=0.0),
+              facet.transforms.translate((0, 0.5, 0)))
+    camera = Camera.look_at((0, 1.5, 3), (0, 0.4, 0), fov_y=40, near=0.5, far=20)
+    sky = Environment.constant((1.0, 0.9, 0.7))
+
+    def draw():
+        with facet.Renderer(32, 32) as r:
+            frames = [r.render(scene, camera, engine=engine, spp=4, float_color=f,
+                               environment=sky, lights="scene").color for f in (True, False)]
+            held = [dict(key[1]) for key in r._engines[engine].rays.programs]
+        return frames, any("SKY_CONSTANT" in d for d in held)
+
+    value, constant = draw()
+    monkeypatch.setattr(Environment, "uniform_color", property(lambda self: None))
+    cube, cube_constant = draw()
+    assert constant and not cube_constant
+    np.testing.assert_allclose(value[0], cube[0], rtol=1e-5, atol=1e-6)
+    # (8-bit: a float's last bits may round a value the other way)
+    assert np.abs(value[1].astype(int) - cube[1].astype(int)).max() <= 1
+    assert (np.abs(value[0][..., :3] - (1.0, 0.9, 0.7)).max(axis=-1) < 1e-6).sum() > 32
+
+
 @pytest.mark.parametrize("srgb", [False, True])
 @pytest.mark.parametrize("kind", ["sky", "png", "hdr"])
 def test_the_path_tracer_shows_the_sky_the_rasterizer_shows(tmp_path, kind, srgb):

@@ -103,6 +103,7 @@ void main() {
 #else
     bool sample_environment = light_nee && any(greaterThan(u_ambient.rgb, vec3(0.0)));
 #endif
+    g_pixel = pcg_hash(uint(frag.x) + pcg_hash(uint(row) + pcg_hash(uint(u_seed))));
     vec4 total = vec4(0.0);  // premultiplied colour and coverage of the samples
     // One path's state.
     vec3 o, d, radiance, throughput;
@@ -131,7 +132,6 @@ void main() {
                 ++j;
                 g_rng = pcg_hash(uint(frag.x) + pcg_hash(uint(row) +
                                  pcg_hash(uint(u_sample + j) + pcg_hash(uint(u_seed)))));
-                g_pixel = pcg_hash(uint(frag.x) + pcg_hash(uint(row) + pcg_hash(uint(u_seed))));
                 g_index = uint(u_sample + j);
                 g_bounce = 0;
                 vec2 at = ndc;

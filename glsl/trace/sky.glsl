@@ -5,7 +5,11 @@
 #include "lib/sampling.glsl"
 #include "trace/random.glsl"
 
-#ifdef HAS_ENVIRONMENT
+#if defined(SKY_CONSTANT)
+// An environment of one colour (facet.render.rays.scene): a value, not a cube map, whose
+// lookups cost llvmpipe a tenth of a path-traced view of one object under a white sky.
+uniform vec3 u_sky_color;
+#elif defined(HAS_ENVIRONMENT)
 uniform samplerCube u_environment;
 #endif
 #ifdef SKY_DISTRIBUTION
@@ -34,7 +38,9 @@ vec2 sky_uv(vec3 d) {
 // image) spread a small sun seen directly into a different amount of light (a 1-texel sun
 // 5x too bright, a 3 x 3 one 20% too dark: the picture's mean with it).
 vec3 escaped(vec3 d) {
-#if defined(SKY_DISTRIBUTION)
+#if defined(SKY_CONSTANT)
+    return u_sky_color;
+#elif defined(SKY_DISTRIBUTION)
     return textureLod(u_sky_radiance, sky_uv(d), 0.0).rgb;
 #elif defined(HAS_ENVIRONMENT)
     // The finest level: neighbouring pixels' random directions are no footprint (texture()

@@ -24,7 +24,9 @@ uniform vec2 u_viewport;
 uniform vec4 u_background;  // straight RGB (linear) and alpha, for eye rays that escape
 uniform int u_max_depth;
 uniform vec2 u_gloss_jitter;  // this sample's tilt of glossy reflection and transmission
-#ifdef HAS_ENVIRONMENT
+#if defined(SKY_CONSTANT)
+uniform vec3 u_sky_color;  // an environment of one colour (facet.render.rays.scene)
+#elif defined(HAS_ENVIRONMENT)
 uniform samplerCube u_environment;
 #endif
 out vec4 f_color;  // premultiplied colour and coverage of this sample
@@ -34,7 +36,9 @@ const int MAX_SEGMENTS = 32;        // bounds the work per sample
 const float MIN_WEIGHT = 1.0 / 1024.0;  // rays that would change nothing are not traced
 
 vec3 escaped(vec3 d) {
-#ifdef HAS_ENVIRONMENT
+#if defined(SKY_CONSTANT)
+    return u_sky_color;
+#elif defined(HAS_ENVIRONMENT)
     return texture(u_environment, d).rgb;
 #else
     return u_background.rgb;

@@ -285,3 +285,23 @@ class Environment:
     @property
     def size(self) -> int:
         return self.faces.shape[1]
+
+    @property
+    def uniform_color(self) -> np.ndarray | None:
+        """The one radiance of an environment that is the same in every direction
+        (``constant``, or images of one colour), else None: the tracers then read it as a
+        value, not a cube map (a texture lookup for every ray that escapes).
+
+        Returns
+        -------
+        (3,) float32 or None
+            Its texels' value, as stored (display values unless ``linear``).
+        """
+        cached = getattr(self, "_uniform", False)
+        if cached is False:
+            first = self.faces[0, 0, 0]
+            same = bool(np.all(self.faces == first)) and (
+                self.equirect is None or bool(np.all(self.equirect == first)))
+            cached = first.copy() if same else None
+            self._uniform = cached
+        return cached

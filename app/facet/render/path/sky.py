@@ -27,9 +27,10 @@ class SkyLight:
 
     def textures(self, environment):
         """(cdf, pdf, radiance, (W, H)) of ``environment``'s latitude-longitude grid; None
-        without one (or a sky that holds no light)."""
+        without one, for a sky of one colour (sampled by the cosine about the surface:
+        glsl/trace/sky.glsl sample_sky), or a sky that holds no light."""
         equirect = getattr(environment, "equirect", None)
-        if equirect is None:
+        if equirect is None or environment.uniform_color is not None:
             self.release()
             return None
         entry = self._entry

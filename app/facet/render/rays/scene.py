@@ -108,6 +108,12 @@ def scene_defines(scene) -> tuple:
               if kind != "mesh" and kind not in kinds)
 
 
+def constant_sky(state: FrameState):
+    """The frame's environment's one colour (Environment.uniform_color) or None: the
+    programs read it as a value (SKY_CONSTANT: glsl/trace/sky.glsl, trace.frag)."""
+    return None if state.environment is None else state.environment.uniform_color
+
+
 def reads_images(ctx) -> bool:
     """Whether programs on ``ctx`` can read the scene's arrays as images (glsl/trace/data.glsl
     SCENE_IMAGES): its GLSL 3.30 programs require image load and store and layout bindings
@@ -285,7 +291,8 @@ class RayScene:
         flags = {"SHADOWS": shadows and stage == "trace", "COLOR_SRGB": state.srgb,
                  "LINEAR_OUT": state.linear_out,
                  "SECONDARY": secondary and stage == "trace",
-                 "HAS_ENVIRONMENT": state.environment is not None and stage != "primary"}
+                 "HAS_ENVIRONMENT": state.environment is not None and stage != "primary",
+                 "SKY_CONSTANT": constant_sky(state) is not None and stage != "primary"}
         defines.update({k: None for k, on in flags.items() if on})
         defines.update(dict(k if isinstance(k, tuple) else (k, None) for k in extra))
         for name, location in aux_locations(aux).items():
@@ -358,7 +365,9 @@ class RayScene:
             if not isinstance(value, (int, bytes)):  # a vector: ints stay ints (ivec)
                 value = tuple(v if isinstance(v, int) else float(v) for v in value)
             values[name] = value
-        if state.environment is not None:
+        if constant_sky(state) is not None:
+            values["u_sky_color"] = tuple(float(c) for c in constant_sky(state))
+        elif state.environment is not None:
             textures["u_environment"] = self.cache.cube(state.environment)
         rect = scene_rect(self.world_box, views or [state.view_projection()],
                           state.width, state.height) if RayScene.use_rects else None
