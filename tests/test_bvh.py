@@ -281,7 +281,8 @@ def _chain(n: int, base: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def test_the_stacks_are_as_deep_as_the_scene_needs():
-    """A mesh's stack holds a waiting child per level of the deepest hierarchy, the top
+    """A mesh's stack holds a waiting child per level of the deepest hierarchy but the last
+    two (test_a_mesh_stack_of_depth_less_two_holds_every_waiting_child), the top
     level's one more than the objects up to 16, then 16 (its tree built to fit) up to
     16,384 objects, an array of 48 above; in variables up to 32, in an array above."""
     from facet.render.rays.pack import stack_defines, top_levels
@@ -289,9 +290,10 @@ def test_the_stacks_are_as_deep_as_the_scene_needs():
     assert stack_defines(1, 1) == {"MESH_STACK": 8, "TOP_STACK": 8, "REGISTER_STACK": 8}
     assert stack_defines(21, 8) == {"MESH_STACK": 24, "TOP_STACK": 16, "REGISTER_STACK": 24}
     assert stack_defines(43, 31) == {"MESH_STACK": 48, "TOP_STACK": 16, "REGISTER_STACK": 16}
-    assert stack_defines(9, 500) == {"MESH_STACK": 16, "TOP_STACK": 16, "REGISTER_STACK": 16}
-    assert stack_defines(9, 20000) == {"MESH_STACK": 16, "TOP_STACK": 48,
-                                       "REGISTER_STACK": 16}
+    assert stack_defines(9, 500) == {"MESH_STACK": 8, "TOP_STACK": 16, "REGISTER_STACK": 16}
+    assert stack_defines(11, 500) == {"MESH_STACK": 16, "TOP_STACK": 16, "REGISTER_STACK": 16}
+    assert stack_defines(10, 20000) == {"MESH_STACK": 8, "TOP_STACK": 48,
+                                        "REGISTER_STACK": 8}
     assert top_levels(500) == top_levels(1 << 14) == 15 and top_levels(20000) == 47
 
 
@@ -356,6 +358,90 @@ def test_a_top_level_too_deep_for_its_stack_is_built_balanced(renderer, monkeypa
     np.testing.assert_array_equal(got.object_ids, want.object_ids)
     np.testing.assert_array_equal(got.depth, want.depth)
     assert len(np.unique(want.object_ids[want.object_ids >= 0])) > 30
+
+
+def _comb(m: int, side: int):
+    """A hierarchy of m + 2 levels that a ray along +x from x = -1 fills: root R0, each
+    R_i's children R_(i+1) (nearer) and a side node S_i of two one-triangle leaves (farther),
+    R_m two leaves. Every triangle stands across the x axis, its box holding the axis, and
+    all but S_side's first miss it (corners moved off, as _chain's), so the ray descends to
+    R_m with S_(m-1) ... S_0 waiting, m = depth - 2 entries, and finds its hit in S_side's.
+    (vertices, faces, the BVH, the hit's x)."""
+    s = 0.01
+    xs = [1.0 + 0.1 * (m - i) + d for i in range(m) for d in (0.0, 0.05)] + [0.5, 0.55]
+    tris = []
+    for k, x in enumerate(xs):
+        if k == 2 * side:  # (wide, the axis well inside it)
+            tris.append([(x, -s, -s), (x, 3 * s, -s), (x, -s, 3 * s)])
+        else:
+            o = -0.2 * s
+            tris.append([(x, -s + o, -s + o), (x, s + o, -s + o), (x, -s + o, s + o)])
+    v = np.array(tris, np.float32).reshape(-1, 3)
+    t = v.reshape(-1, 3, 3)
+    t_lo, t_hi = t.min(axis=1) - 1e-4, t.max(axis=1) + 1e-4
+    lo, hi, left, right, first, count = [], [], [], [], [], []
+
+    def node(prims, kids=None):
+        lo.append(t_lo[prims].min(axis=0))
+        hi.append(t_hi[prims].max(axis=0))
+        left.append(-1), right.append(-1), first.append(prims[0] if kids is None else 0)
+        count.append(len(prims) if kids is None else 0)
+        return len(lo) - 1
+
+    def inner(a, b):
+        k = node(list(range(len(xs))))  # (its box set below, from its children's)
+        left[k], right[k] = a(), b()
+        lo[k], hi[k] = np.minimum(lo[left[k]], lo[right[k]]), \
+            np.maximum(hi[left[k]], hi[right[k]])
+        first[k] = count[k] = 0
+        return k
+
+    def r(i):
+        if i == m:
+            return inner(lambda: node([2 * m]), lambda: node([2 * m + 1]))
+        return inner(lambda: inner(lambda: node([2 * i]), lambda: node([2 * i + 1])),
+                     lambda: r(i + 1))
+
+    r(0)
+    tree = B.BVH(np.array(lo, np.float32), np.array(hi, np.float32), np.array(left, np.int32),
+                 np.array(right, np.int32), np.array(first, np.int32),
+                 np.array(count, np.int32), np.arange(len(xs), dtype=np.int32))
+    return v, np.arange(len(v)).reshape(-1, 3), tree, xs[2 * side]
+
+
+@pytest.mark.parametrize("m", [8, 16, 32, 40])
+def test_a_mesh_stack_of_depth_less_two_holds_every_waiting_child(renderer, monkeypatch, m):
+    """pack.stack_defines gives a mesh hierarchy of D levels D - 2 entries (rounded up to
+    8): in a comb that fills them exactly (_comb: 8, 16, 32 in variables, 40 in an array)
+    the ray along its axis finds the triangle in the entry pushed first (variables: those
+    drop the bottom entry when full) or last (an array: it drops the entry pushed onto a
+    full one); with 8 variables fewer, or an array of one entry fewer, that entry is lost
+    and the ray finds nothing (so the scene does fill the stack)."""
+    import facet
+    from facet.render.rays import pack
+
+    in_array = m > pack.REGISTER_LIMIT
+    v, f, tree, hit_x = _comb(m, m - 1 if in_array else 0)
+    assert tree.depth == m + 2
+    monkeypatch.setattr(pack, "build_bvh", lambda lo, hi: tree)
+    stacks = pack.stack_defines
+    assert stacks(m + 2, 1)["MESH_STACK"] == m
+    cam = facet.Camera.look_at((-1.0, 0, 0), (1.0, 0, 0), ortho_height=0.004, near=0.01,
+                               far=10)
+
+    def depth(mesh_stack=None):
+        if mesh_stack is not None:
+            monkeypatch.setattr(pack, "stack_defines", lambda d, n: {
+                **stacks(d, n), "MESH_STACK": mesh_stack,
+                "REGISTER_STACK": mesh_stack if mesh_stack <= pack.REGISTER_LIMIT else 8})
+        scene = facet.Scene()
+        scene.add(facet.Mesh(v, f))  # (a new mesh: its hierarchy is built again)
+        return renderer(8, 8).render(scene, cam, outputs=("depth",), engine="trace",
+                                     aa="none").depth
+
+    np.testing.assert_allclose(depth(), hit_x + 1.0, atol=1e-5)  # (from the eye at -1)
+    if m > 8:  # (8 variables are the least a program holds)
+        assert (depth(m - 1 if in_array else m - 8) == 0).all()
 
 
 @pytest.mark.parametrize("n, base, stack", [(300, 1.2, 24), (4000, 1.02, 48)])

@@ -1,7 +1,8 @@
 // The stacks of the traversals: a mesh's (trace/bvh.glsl trace_mesh, MESH_STACK entries:
-// as many as the scene's deepest hierarchy has levels, since an ordered traversal holds at
-// most one waiting child per level) and the top level's (trace/scene.glsl WALK, TOP_STACK:
-// one more than the placed objects). facet.render.rays.pack stack_defines sets both.
+// the scene's deepest hierarchy's levels less two, since an ordered traversal holds at most
+// one waiting child per level and trace_mesh pushes none where a child is a leaf) and the
+// top level's (trace/scene.glsl WALK, TOP_STACK: one more than the placed objects).
+// facet.render.rays.pack stack_defines sets both.
 //
 // Up to 32 entries a stack is held in variables, s00 on top, that all shift by one on a
 // push and on a pop (REGISTER_STACK of them: the larger of the two stacks held so). An
