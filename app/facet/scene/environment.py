@@ -297,11 +297,9 @@ class Environment:
         (3,) float32 or None
             Its texels' value, as stored (display values unless ``linear``).
         """
-        cached = getattr(self, "_uniform", False)
-        if cached is False:
+        if not hasattr(self, "_uniform"):
             first = self.faces[0, 0, 0]
             same = bool(np.all(self.faces == first)) and (
                 self.equirect is None or bool(np.all(self.equirect == first)))
-            cached = first.copy() if same else None
-            self._uniform = cached
-        return cached
+            self._uniform: np.ndarray | None = first.copy() if same else None
+        return self._uniform
