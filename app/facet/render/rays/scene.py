@@ -365,8 +365,9 @@ class RayScene:
             if not isinstance(value, (int, bytes)):  # a vector: ints stay ints (ivec)
                 value = tuple(v if isinstance(v, int) else float(v) for v in value)
             values[name] = value
-        if constant_sky(state) is not None:
-            values["u_sky_color"] = tuple(float(c) for c in constant_sky(state))
+        one_colour = constant_sky(state)
+        if one_colour is not None:
+            values["u_sky_color"] = tuple(float(c) for c in one_colour)
         elif state.environment is not None:
             textures["u_environment"] = self.cache.cube(state.environment)
         rect = scene_rect(self.world_box, views or [state.view_projection()],
