@@ -55,7 +55,12 @@ def test_resume_bad_models_and_identical_files_across_worker_counts(tmp_path, ca
 @pytest.mark.slow
 def test_a_run_stopped_from_outside_resumes(tmp_path):
     models = make_models(tmp_path / "models", 6)
-    manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}"} for m in models],
+    # m00 has 600 views: the run is still on it when this test, looking late on a loaded
+    # machine, stops it (with 30 views a look ~1 s late could find the whole run done).
+    long = {"views": {"plan": "sphere", "count": 600}}
+    manifest = write_manifest(tmp_path, [{"model": f"models/{m.name}",
+                                          **(long if m.stem == "m00" else {})}
+                                         for m in models],
                               {"size": [128, 128], "views": {"plan": "sphere", "count": 30}})
     out = tmp_path / "out"
     env = {**os.environ, "PYTHONPATH": str(ROOT / "app")}
@@ -111,7 +116,12 @@ def test_a_gpu_that_does_not_exist_stops_the_run_with_one_error(tmp_path, capsys
 def test_a_worker_killed_mid_run_does_not_stop_or_hang_the_run(tmp_path):
     """A worker process dies (as one killed for memory by a huge model would): the jobs it
     had are tried again, alone, and the run finishes with every job done."""
-    models, out, proc = _start_batch(tmp_path, 6, views=40, workers=2)
+    # m00 and m05 have 600 views: one worker is on m00 and the other on a short job or on
+    # m05 when this test, looking late on a loaded machine, kills a worker (with 40 views a
+    # look ~1 s late could find no worker left, or m00 alone: it would fail as the culprit).
+    long = {"views": {"plan": "sphere", "count": 600}}
+    models, out, proc = _start_batch(tmp_path, 6, views=40, workers=2,
+                                     own={"m00": long, "m05": long})
     end = time.time() + 60
     while time.time() < end and len(list(out.glob("*/images/*.png"))) < 5:
         time.sleep(0.05)
@@ -146,11 +156,14 @@ def test_a_job_that_kills_its_worker_every_time_fails_alone(tmp_path):
     """A job whose worker dies each time it runs it (as a model too large for memory
     would; here the test kills the worker whenever the job writes a view) is found by
     running the suspects alone, fails with its one line, and the others are done."""
-    # m02 has many more views, so each attempt at it runs long enough for this loop to see
-    # its first view and kill its worker mid-job on a loaded machine (with 30 views it could
-    # finish between two looks, and a later kill hit another job running alone).
+    # This loop can look late on a loaded machine (CI once saw m02 only after every other
+    # job had finished: m02 was alone at its first death, and failed at once). So m02 has so
+    # many views that no attempt at it ends before this loop sees it, and m03, which starts
+    # beside it, has enough (about 5 s of rendering) to be still in flight when the loop
+    # sees m02's first view late. m02's views cost nothing: each attempt dies at its first.
     models, out, proc = _start_batch(tmp_path, 5, views=30, workers=2,
-                                     own={"m02": {"views": {"plan": "sphere", "count": 600}}})
+                                     own={"m02": {"views": {"plan": "sphere", "count": 6000}},
+                                          "m03": {"views": {"plan": "sphere", "count": 1000}}})
     killed, last = 0, 0.0
     end = time.time() + 120
     while proc.poll() is None and time.time() < end:
